@@ -1,0 +1,45 @@
+# liftcheck: two commands on a fresh Debian machine.
+#   make validate   install missing packages, build, run every scenario on every engine, write the report
+#   make test       install missing packages, build, run the test suite (ctest)
+
+PACKAGES := cmake g++ make pkg-config git python3 \
+            libeigen3-dev libboost-dev nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev \
+            libbullet-dev libode-dev libosmesa6-dev libpng-dev gnuplot-nox
+BUILD_DIR ?= build
+REPORT_DIR ?= $(BUILD_DIR)/report
+JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+
+.PHONY: all deps configure build validate test clean
+
+all: build
+
+deps:
+	@missing=""; \
+	for p in $(PACKAGES); do \
+	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || missing="$$missing $$p"; \
+	done; \
+	if [ -n "$$missing" ]; then \
+	  if [ "$$(id -u)" = 0 ]; then \
+	    echo "installing:$$missing"; \
+	    apt-get update -qq && DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends $$missing; \
+	  else \
+	    echo "liftcheck needs these Debian packages; run:"; \
+	    echo "  sudo apt-get install -y$$missing"; \
+	    exit 1; \
+	  fi; \
+	fi
+
+configure: deps
+	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release >/dev/null
+
+build: configure
+	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+validate: build
+	./$(BUILD_DIR)/liftcheck validate --out $(REPORT_DIR)
+
+test: build
+	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+clean:
+	rm -rf $(BUILD_DIR)

@@ -1,0 +1,57 @@
+// The small interface every engine implements. An engine offers vehicles (capabilities);
+// the analytic model is one more engine.
+#pragma once
+
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "models/car.hpp"
+#include "models/lift.hpp"
+#include "models/path.hpp"
+
+namespace liftcheck {
+
+/// Everything needed to build and drive one car. Engine settings that an engine does not use
+/// are ignored by it (the analytic engine ignores all of them but sample_dt_s).
+struct CarSetup {
+  car::CarDef car;              ///< R, l
+  car::DriveDef drive;          ///< speed, steering rate, ramps
+  double dt_s = 1e-3;           ///< engine time step
+  double sample_dt_s = 0.01;    ///< spacing of the reported trace
+  double mu = 1.0;              ///< Coulomb friction coefficient, wheel against ground
+  double gravity_mps2 = 9.81;   ///< magnitude of gravity (down -Z)
+  int solver_iterations = 100;  ///< constraint solver iterations (where the engine has them)
+  std::string wheel_shape = "sphere";     ///< sphere | cylinder
+  std::string friction_dirs = "wheel";    ///< wheel (first friction direction along rolling) | world
+};
+
+/// A car in an engine: reset to a configuration, drive a base path, report (alpha, beta, x, y, phi).
+class CarEngine {
+ public:
+  virtual ~CarEngine() = default;
+  virtual void reset(const CarSetup& setup, const car::Config& q0) = 0;
+  /// Drives `path` from the reset configuration; returns the realized configuration over time,
+  /// starting at t = 0 and ending at the path's end, every setup.sample_dt_s.
+  virtual std::vector<car::TimedConfig> drive(const car::BasePath& path) = 0;
+};
+
+/// Thrown by an engine whose simulation failed (NaN, explosion, bad setup): reported as an error run.
+struct EngineError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct EngineInfo {
+  std::string name;
+  std::string version;
+  std::string description;
+  std::function<std::unique_ptr<CarEngine>()> make_car;  ///< empty: the engine has no car
+};
+
+/// Every engine compiled in, in a fixed order (analytic first).
+const std::vector<EngineInfo>& engines();
+const EngineInfo* find_engine(const std::string& name);
+
+}  // namespace liftcheck

@@ -1,0 +1,21 @@
+#include "engines/analytic/analytic.hpp"
+#include "engines/engine.hpp"
+
+namespace liftcheck {
+
+const std::vector<EngineInfo>& engines() {
+  static const std::vector<EngineInfo> all = [] {
+    std::vector<EngineInfo> v;
+    v.push_back(analytic_engine());
+    return v;
+  }();
+  return all;
+}
+
+const EngineInfo* find_engine(const std::string& name) {
+  for (const EngineInfo& e : engines())
+    if (e.name == name) return &e;
+  return nullptr;
+}
+
+}  // namespace liftcheck

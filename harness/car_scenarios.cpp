@@ -1,0 +1,333 @@
+// The car scenarios of the catalogue (Fecko). Each builds a base path, lets the engine drive it,
+// and compares the realized motion with the exact lift of the commanded path.
+#include <cmath>
+#include <fmt/format.h>
+#include <numbers>
+
+#include "harness/car_scenarios.hpp"
+#include "harness/fit.hpp"
+#include "models/holonomy.hpp"
+#include "models/lift.hpp"
+
+namespace liftcheck {
+
+namespace {
+
+using car::Config;
+using car::Vec5;
+constexpr double kHalfPi = std::numbers::pi / 2.0;
+
+ParamSpec number(std::string key, std::string def, std::string unit, std::string help,
+                 double min = -INFINITY, bool min_exclusive = false, double max = INFINITY) {
+  return {std::move(key), ParamKind::kNumber, std::move(def), std::move(unit), std::move(help), min,
+          min_exclusive, max, {}};
+}
+
+/// Parameters every car scenario shares: geometry, start pose, driving, engine settings.
+std::vector<ParamSpec> car_params(const std::string& beta_default) {
+  return {
+      number("R", "0.3", "m", "front wheel radius", 0.0, true),
+      number("l", "1.0", "m", "tie-rod length (rear-axle centre to front-axle centre)", 0.0, true),
+      number("beta", beta_default, "rad", "start steering angle, left positive", -1.4, false, 1.4),
+      number("x", "0", "m", "start front-axle centre, world x"),
+      number("y", "0", "m", "start front-axle centre, world y"),
+      number("phi", "0", "rad", "start heading of the tie rod"),
+      number("speed", "0.5", "m/s", "cruise speed of the front wheel", 0.0, true, 50.0),
+      number("steer_rate", "0.5", "rad/s", "cruise steering rate", 0.0, true, 50.0),
+      number("ramp", "0.2", "s", "duration of each smooth speed ramp", 0.0, false, 10.0),
+      number("dt", "0.001", "s", "engine time step", 0.0, true, 0.1),
+      number("sample_dt", "0.01", "s", "spacing of the recorded trace", 0.0, true, 10.0),
+      number("mu", "1.0", "1", "Coulomb friction coefficient, wheel against ground", 0.0, true, 10.0),
+      number("gravity", "9.81", "m/s^2", "gravity magnitude (down)", 0.0, true, 100.0),
+      {"iterations", ParamKind::kInteger, "100", "1", "constraint solver iterations", 1.0, false, 10000.0, {}},
+      {"wheel", ParamKind::kChoice, "sphere", "", "wheel collision shape", -INFINITY, false, INFINITY,
+       {"sphere", "cylinder"}},
+      {"friction_dirs", ParamKind::kChoice, "wheel", "",
+       "first friction direction: along the wheel's rolling direction, or fixed world axes", -INFINITY,
+       false, INFINITY, {"wheel", "world"}},
+  };
+}
+
+std::vector<ParamSpec> with(std::vector<ParamSpec> base, std::vector<ParamSpec> extra) {
+  base.insert(base.end(), extra.begin(), extra.end());
+  return base;
+}
+
+CarSetup setup_from(const Params& p) {
+  CarSetup s;
+  s.car = {p.num("R"), p.num("l")};
+  s.drive = {p.num("R"), p.num("speed"), p.num("steer_rate"), p.num("ramp")};
+  s.dt_s = p.num("dt");
+  s.sample_dt_s = p.num("sample_dt");
+  s.mu = p.num("mu");
+  s.gravity_mps2 = p.num("gravity");
+  s.solver_iterations = p.integer("iterations");
+  s.wheel_shape = p.str("wheel");
+  s.friction_dirs = p.str("friction_dirs");
+  return s;
+}
+
+Config start_from(const Params& p) { return {0.0, p.num("beta"), p.num("x"), p.num("y"), p.num("phi")}; }
+
+/// Drives `path` and checks the trace: non-empty and finite, or the engine failed.
+std::vector<car::TimedConfig> drive_checked(CarEngine& engine, const CarSetup& setup, const Config& q0,
+                                            const car::BasePath& path) {
+  engine.reset(setup, q0);
+  auto trace = engine.drive(path);
+  if (trace.empty()) throw EngineError("engine returned an empty trace");
+  for (const auto& s : trace)
+    if (!s.q.vec().allFinite() || !std::isfinite(s.t_s))
+      throw EngineError(fmt::format("engine state is not finite at t = {:.4f} s", s.t_s));
+  return trace;
+}
+
+/// At most ~400 rows [t, alpha, beta, x, y, phi] for plots and snapshots.
+nlohmann::json trace_json(const std::vector<car::TimedConfig>& trace) {
+  nlohmann::json rows = nlohmann::json::array();
+  const std::size_t stride = std::max<std::size_t>(1, trace.size() / 400);
+  for (std::size_t i = 0; i < trace.size(); i += stride) {
+    const auto& s = trace[i];
+    rows.push_back({s.t_s, s.q.alpha_rad, s.q.beta_rad, s.q.x_m, s.q.y_m, s.q.phi_rad});
+  }
+  if ((trace.size() - 1) % stride != 0) {
+    const auto& s = trace.back();
+    rows.push_back({s.t_s, s.q.alpha_rad, s.q.beta_rad, s.q.x_m, s.q.y_m, s.q.phi_rad});
+  }
+  return rows;
+}
+
+// ---- car.circle ----------------------------------------------------------------------------
+
+Outcome run_circle(const Params& p, CarEngine& engine) {
+  const CarSetup setup = setup_from(p);
+  const Config q0 = start_from(p);
+  if (std::abs(q0.beta_rad) < 1e-3)
+    throw InputError("car.circle needs |beta| >= 0.001 rad: beta = 0 drives a straight line");
+  const double d_alpha = p.num("drive") / setup.car.R_m;
+  const car::BasePath path({{d_alpha, 0.0}}, 0.0, q0.beta_rad, setup.drive);
+  const auto trace = drive_checked(engine, setup, q0, path);
+
+  std::vector<Eigen::Vector2d> front, rear;
+  for (const auto& s : trace) {
+    front.emplace_back(s.q.x_m, s.q.y_m);
+    rear.push_back(car::rear_axle_W(setup.car, s.q));
+  }
+  const CircleFit ff = fit_circle(front), rf = fit_circle(rear);
+  const car::Circle fe = car::front_circle(setup.car, q0), re = car::rear_circle(setup.car, q0);
+  const Config end_exact = car::flow_alpha(setup.car, q0, d_alpha);
+  const Config& end = trace.back().q;
+
+  Outcome o;
+  o.values["front_radius"] = {fe.radius_m, ff.radius_m};
+  o.values["rear_radius"] = {re.radius_m, rf.radius_m};
+  o.values["center_x"] = {fe.cx_m, ff.cx_m};
+  o.values["center_y"] = {fe.cy_m, ff.cy_m};
+  o.values["final_offset"] = {0.0, std::hypot(end.x_m - end_exact.x_m, end.y_m - end_exact.y_m)};
+  o.values["final_heading_error"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - end_exact.phi_rad))};
+  o.details = {{"trace", trace_json(trace)},
+               {"front_fit_rms_m", ff.rms_residual_m},
+               {"rear_fit_rms_m", rf.radius_m > 0 ? rf.rms_residual_m : 0.0},
+               {"path_length_m", p.num("drive")}};
+  return o;
+}
+
+// ---- holonomy of parking cycles ------------------------------------------------------------
+
+/// Size of a pose change: root mean square of the displacements of the rod's two ends (front- and
+/// rear-axle centres). Every component of a holonomy is compared relative to this size; a heading
+/// change counts through the length l it swings the rod.
+double rod_shift(const car::CarDef& c, const Config& from, const Config& to) {
+  const Eigen::Vector2d front(to.x_m - from.x_m, to.y_m - from.y_m);
+  const Eigen::Vector2d rear = car::rear_axle_W(c, to) - car::rear_axle_W(c, from);
+  return std::sqrt(0.5 * (front.squaredNorm() + rear.squaredNorm()));
+}
+
+/// Drives `steps`, compares the net pose change with the exact holonomy and with the bracket
+/// prediction (a tangent vector: its rod shift is taken to first order).
+Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Step>& steps,
+                  const Vec5& predicted, double lo_factor) {
+  const CarSetup setup = setup_from(p);
+  const Config q0 = start_from(p);
+  const car::BasePath path(car::to_segments(steps), 0.0, q0.beta_rad, setup.drive);
+  const auto trace = drive_checked(engine, setup, q0, path);
+  const Vec5 d = trace.back().q.vec() - q0.vec();
+  const Config end_exact = car::apply_exact(setup.car, q0, steps);
+  const Vec5 exact = end_exact.vec() - q0.vec();
+
+  const double l = setup.car.l_m;
+  const double size = rod_shift(setup.car, q0, end_exact);
+  const Config lo_end = Config::from(q0.vec() + predicted);
+  const double lo_size = rod_shift(setup.car, q0, lo_end);
+  Outcome o;
+  o.values["dx"] = {exact[car::kX], d[car::kX], size};
+  o.values["dy"] = {exact[car::kY], d[car::kY], size};
+  o.values["dphi"] = {exact[car::kPhi], d[car::kPhi], size / l};
+  o.values["base_closure"] = {0.0, std::hypot(d[car::kAlpha], d[car::kBeta])};
+  o.values["lo_dx"] = {predicted[car::kX], d[car::kX], lo_size, lo_factor};
+  o.values["lo_dy"] = {predicted[car::kY], d[car::kY], lo_size, lo_factor};
+  o.values["lo_dphi"] = {predicted[car::kPhi], d[car::kPhi], lo_size / l, lo_factor};
+  o.details = {{"trace", trace_json(trace)}, {"steps", steps.size()}, {"holonomy_size_m", size},
+               {"exact_end", {end_exact.x_m, end_exact.y_m, end_exact.phi_rad}}};
+  return o;
+}
+
+Outcome run_simple_cycle(const Params& p, CarEngine& engine) {
+  const double ea = p.num("eps_alpha"), eb = p.num("eps_beta");
+  const car::CarDef c{p.num("R"), p.num("l")};
+  return run_cycle(p, engine, car::simple_cycle(ea, eb), car::predicted_simple(c, start_from(p), ea, eb),
+                   std::max(std::abs(ea), std::abs(eb)));
+}
+
+Outcome run_iterated_alpha(const Params& p, CarEngine& engine) {
+  const double e = p.num("eps");
+  const car::CarDef c{p.num("R"), p.num("l")};
+  // The (5.8) cycle changes phi by exactly zero: each steering level drives a net zero alpha.
+  return run_cycle(p, engine, car::iterated_cycle_alpha(e), car::predicted_iterated_alpha(c, start_from(p), e),
+                   std::abs(e));
+}
+
+Outcome run_iterated_beta(const Params& p, CarEngine& engine) {
+  const double e = p.num("eps");
+  const car::CarDef c{p.num("R"), p.num("l")};
+  return run_cycle(p, engine, car::iterated_cycle_beta(e), car::predicted_iterated_beta(c, start_from(p), e),
+                   std::abs(e));
+}
+
+// ---- car.steer-in-place --------------------------------------------------------------------
+
+Outcome run_steer_in_place(const Params& p, CarEngine& engine) {
+  const CarSetup setup = setup_from(p);
+  const Config q0 = start_from(p);
+  const double d_beta = p.num("d_beta");
+  if (std::abs(q0.beta_rad + d_beta) > 1.4) throw InputError("beta + d_beta must stay within [-1.4, 1.4] rad");
+  const car::BasePath path({{0.0, d_beta}}, 0.0, q0.beta_rad, setup.drive);
+  const auto trace = drive_checked(engine, setup, q0, path);
+  double max_shift = 0.0;
+  for (const auto& s : trace) max_shift = std::max(max_shift, std::hypot(s.q.x_m - q0.x_m, s.q.y_m - q0.y_m));
+  const Config& end = trace.back().q;
+  Outcome o;
+  o.values["front_shift"] = {0.0, max_shift};
+  o.values["dphi"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - q0.phi_rad))};
+  o.values["beta_reached"] = {q0.beta_rad + d_beta, end.beta_rad};
+  o.details = {{"trace", trace_json(trace)}};
+  return o;
+}
+
+// ---- car.reparam ---------------------------------------------------------------------------
+
+/// A path with segments that steer while driving (forwards and backwards): no closed form,
+/// so the reference is the lift (4.1) integrated at tolerance 1e-13.
+std::vector<car::Segment> reparam_segments() {
+  return {{2.0, 0.3}, {3.0, -0.5}, {-2.0, 0.2}, {1.5, 0.0}};
+}
+
+Outcome run_reparam(const Params& p, CarEngine& engine) {
+  const CarSetup base = setup_from(p);
+  const Config q0 = start_from(p);
+  const double f = p.num("factor");
+  std::vector<Config> ends;
+  nlohmann::json traces = nlohmann::json::array();
+  for (double k : {1.0 / f, 1.0, f}) {
+    CarSetup s = base;
+    s.drive.speed_mps *= k;
+    s.drive.steer_rate_radps *= k;
+    const car::BasePath path(reparam_segments(), 0.0, q0.beta_rad, s.drive);
+    const auto trace = drive_checked(engine, s, q0, path);
+    ends.push_back(trace.back().q);
+    traces.push_back({{"speed_mps", s.drive.speed_mps}, {"duration_s", path.duration_s()}, {"trace", trace_json(trace)}});
+  }
+  const car::BasePath ref_path(reparam_segments(), 0.0, q0.beta_rad, base.drive);
+  const Config ref = car::lift_end(base.car, ref_path, q0);
+  double spread = 0.0, heading_spread = 0.0;
+  for (const auto& a : ends)
+    for (const auto& b : ends) {
+      spread = std::max(spread, std::hypot(a.x_m - b.x_m, a.y_m - b.y_m));
+      heading_spread = std::max(heading_spread, std::abs(e2::wrap_angle(a.phi_rad - b.phi_rad)));
+    }
+  Outcome o;
+  o.values["end_spread"] = {0.0, spread};
+  o.values["heading_spread"] = {0.0, heading_spread};
+  o.values["end_error"] = {0.0, std::hypot(ends[1].x_m - ref.x_m, ends[1].y_m - ref.y_m)};
+  o.details = {{"runs", traces}, {"reference_end", {ref.x_m, ref.y_m, ref.phi_rad}}};
+  return o;
+}
+
+MetricDef rel(std::string name, std::string unit, double analytic, double engines, std::string help) {
+  return {std::move(name), std::move(unit), TolKind::kRelative, {{"analytic", analytic}, {"default", engines}},
+          std::move(help)};
+}
+MetricDef abs_(std::string name, std::string unit, double analytic, double engines, std::string help) {
+  return {std::move(name), std::move(unit), TolKind::kAbsolute, {{"analytic", analytic}, {"default", engines}},
+          std::move(help)};
+}
+
+std::vector<MetricDef> cycle_metrics() {
+  const std::string size = ", relative to the size of the holonomy (rms shift of the rod's ends)";
+  return {
+      rel("dx", "m", 1e-9, 0.02, "net x change against the exact holonomy" + size),
+      rel("dy", "m", 1e-9, 0.02, "net y change against the exact holonomy" + size),
+      rel("dphi", "rad", 1e-9, 0.02, "net heading change against the exact holonomy" + size + " / l"),
+      abs_("base_closure", "rad", 1e-12, 1e-3, "the realized (alpha, beta) path closes"),
+      // Leading-order predictions are off by O(eps) relative: tolerance 1.0 x eps for every engine.
+      rel("lo_dx", "m", 1.0, 1.0, "net x change against the bracket prediction (tolerance x eps)"),
+      rel("lo_dy", "m", 1.0, 1.0, "net y change against the bracket prediction (tolerance x eps)"),
+      rel("lo_dphi", "rad", 1.0, 1.0, "net heading change against the bracket prediction (tolerance x eps)"),
+  };
+}
+
+}  // namespace
+
+std::vector<Scenario> car_scenarios() {
+  std::vector<Scenario> v;
+  v.push_back({"car.circle", "car",
+               "Fixed steering: the front-axle centre draws a circle of radius l/sin(beta0), the rear-axle "
+               "centre one of radius l/tan(beta0), about the same centre.",
+               "(4.1), (D.1), appendix D",
+               with(car_params("0.3"), {number("drive", "10", "m", "front-wheel path length", 0.0, true, 1e4)}),
+               {rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path"),
+                rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path"),
+                abs_("center_x", "m", 1e-9, 1e-3, "fitted circle centre, world x"),
+                abs_("center_y", "m", 1e-9, 1e-3, "fitted circle centre, world y"),
+                abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact arc"),
+                abs_("final_heading_error", "rad", 1e-9, 1e-3, "heading at the end against the exact arc")},
+               run_circle});
+  v.push_back({"car.cycle", "car",
+               "Simple parking cycle (section 5, steps i-iv): the net pose change is the holonomy of the loop, "
+               "to leading order eps_alpha eps_beta [H_alpha, H_beta].",
+               "(5.3), (5.5), (E.1)",
+               with(car_params("0.2"), {number("eps_alpha", "0.1", "rad", "drive step in alpha", 0.0, true, 100.0),
+                                        number("eps_beta", "0.1", "rad", "steering step in beta", 0.0, true, 1.0)}),
+               cycle_metrics(), run_simple_cycle});
+  v.push_back({"car.iterated", "car",
+               "Iterated cycle (5.8), ten steps: a sideways shift of the tie rod, -eps^4 [H_alpha, [H_alpha, H_beta]] "
+               "= eps^4 R^2/l (sin phi, -cos phi) to leading order, heading unchanged.",
+               "(5.6), (5.8), (5.9), (E.3)",
+               with(car_params("0.2"), {number("eps", "0.3", "rad", "step size eps (alpha and beta)", 0.0, true, 1.0)}),
+               cycle_metrics(), run_iterated_alpha});
+  v.push_back({"car.iterated-beta", "car",
+               "Iterated cycle (5.10), ten steps: the car slides as if alpha changed without the wheel turning, "
+               "-eps^4 [H_beta, [H_alpha, H_beta]] = -eps^4 (H_alpha - d_alpha) to leading order.",
+               "(5.7), (5.10), (E.3)",
+               with(car_params("0.2"), {number("eps", "0.3", "rad", "step size eps (alpha and beta)", 0.0, true, 1.0)}),
+               cycle_metrics(), run_iterated_beta});
+  v.push_back({"car.steer-in-place", "car",
+               "Turning the steering wheel alone moves no tie rod: H_beta = d/dbeta.",
+               "(4.4), (C.10)",
+               with(car_params("0.0"), {number("d_beta", "0.35", "rad", "steering change", -2.8, false, 2.8)}),
+               {abs_("front_shift", "m", 1e-12, 1e-4, "largest displacement of the front-axle centre"),
+                abs_("dphi", "rad", 1e-12, 1e-3, "heading change"),
+                abs_("beta_reached", "rad", 1e-12, 1e-3, "realized steering angle at the end")},
+               run_steer_in_place});
+  v.push_back({"car.reparam", "car",
+               "The same path in (alpha, beta), steering while driving, at speed/f, speed and speed*f: the lift "
+               "(4.1) is reparametrisation invariant, so every run ends in the same pose.",
+               "(4.1), section 4",
+               with(car_params("0.1"), {number("factor", "4", "1", "speed factor f", 1.0, true, 100.0)}),
+               {abs_("end_spread", "m", 1e-9, 1e-3, "largest distance between the end positions of the runs"),
+                abs_("heading_spread", "rad", 1e-9, 1e-3, "largest difference between the end headings"),
+                abs_("end_error", "m", 1e-9, 1e-3, "end position at the middle speed against the reference lift")},
+               run_reparam});
+  return v;
+}
+
+}  // namespace liftcheck

@@ -1,0 +1,14 @@
+#include "harness/car_scenarios.hpp"
+#include "harness/scenario.hpp"
+
+namespace liftcheck {
+
+const std::vector<Scenario>& scenarios() {
+  static const std::vector<Scenario> all = [] {
+    std::vector<Scenario> v = car_scenarios();
+    return v;
+  }();
+  return all;
+}
+
+}  // namespace liftcheck

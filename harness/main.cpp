@@ -1,0 +1,184 @@
+// liftcheck: validation harness for physics engines against the analytic car and disk models.
+#include <CLI/CLI.hpp>
+#include <chrono>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fnmatch.h>
+#include <iostream>
+#include <sstream>
+
+#include "harness/results.hpp"
+#include "liftcheck_version.hpp"
+#include "harness/runner.hpp"
+#include "reports/html.hpp"
+
+using namespace liftcheck;
+
+namespace {
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+const Scenario& scenario_or_throw(const std::string& name) {
+  if (const Scenario* s = find_scenario(name)) return *s;
+  throw InputError(fmt::format("unknown scenario '{}' (see 'liftcheck list')", name));
+}
+
+const EngineInfo& engine_or_throw(const std::string& name) {
+  if (const EngineInfo* e = find_engine(name)) return *e;
+  std::vector<std::string> names;
+  for (const auto& e : engines()) names.push_back(e.name);
+  throw InputError(fmt::format("unknown engine '{}' (available: {})", name, fmt::join(names, ", ")));
+}
+
+int cmd_list(bool json) {
+  if (json) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& s : scenarios()) j.push_back(s.to_json());
+    std::cout << j.dump(2) << "\n";
+    return 0;
+  }
+  for (const auto& s : scenarios()) {
+    std::cout << s.name << "  [" << s.vehicle << "; " << s.equations << "]\n  " << s.summary << "\n";
+    for (const auto& p : s.params)
+      std::cout << fmt::format("    {:<14} {:<10} {:<6} {}\n", p.key, p.default_text, p.unit, p.help);
+  }
+  std::cout << "engines:";
+  for (const auto& e : engines()) std::cout << " " << e.name;
+  std::cout << "\n";
+  return 0;
+}
+
+void print_record(const RunRecord& r) {
+  std::cout << fmt::format("{} on {}: {}{}\n", r.scenario, r.engine, to_string(r.status),
+                           r.message.empty() ? "" : " (" + r.message + ")");
+  std::cout << fmt::format("  {:<20} {:>14} {:>14} {:>10} {:>10} {:>10}  {}\n", "metric", "expected", "measured",
+                           "abs_err", "rel_err", "tolerance", "");
+  for (const auto& m : r.metrics)
+    std::cout << fmt::format("  {:<20} {:>14.8g} {:>14.8g} {:>10.3g} {:>10.3g} {:>6.3g} {:<3} {} {}\n", m.name,
+                             m.expected, m.measured, m.abs_error, m.rel_error, m.tolerance,
+                             m.kind == TolKind::kRelative ? "rel" : "abs", m.unit, m.pass ? "ok" : "FAIL");
+}
+
+int cmd_run(const std::string& scenario, const std::string& engine, const std::vector<std::string>& sets, bool json) {
+  const Scenario& s = scenario_or_throw(scenario);
+  const EngineInfo& e = engine_or_throw(engine);
+  Overrides ov;
+  for (const auto& a : sets) ov.push_back(split_assignment(a));
+  const RunRecord r = run_scenario(s, e, ov);
+  if (json) std::cout << r.to_json().dump() << "\n";
+  else print_record(r);
+  return r.status == Status::kPass ? 0 : 1;
+}
+
+int cmd_validate(const std::string& engine_list, const std::string& filter, const std::string& out_dir) {
+  std::vector<const EngineInfo*> es;
+  if (engine_list.empty()) {
+    for (const auto& e : engines()) es.push_back(&e);
+  } else {
+    for (const auto& n : split_list(engine_list)) es.push_back(&engine_or_throw(n));
+  }
+  if (es.empty()) throw InputError("--engines names no engine");
+  std::vector<const Scenario*> ss;
+  for (const auto& s : scenarios())
+    if (fnmatch(filter.c_str(), s.name.c_str(), 0) == 0) ss.push_back(&s);
+  if (ss.empty()) throw InputError(fmt::format("no scenario matches '{}'", filter));
+
+  const std::filesystem::path out(out_dir);
+  std::error_code ec;
+  std::filesystem::create_directories(out, ec);
+  if (ec || !std::filesystem::is_directory(out))
+    throw InputError(fmt::format("cannot create output folder '{}'", out_dir));
+
+  const auto t0 = std::chrono::steady_clock::now();
+  std::vector<RunRecord> runs;
+  bool all_pass = true;
+  for (const Scenario* s : ss)
+    for (const EngineInfo* e : es) {
+      RunRecord r;
+      try {
+        r = run_scenario(*s, *e);
+      } catch (const InputError& err) {  // defaults rejected by the scenario: a defect, reported per run
+        r.scenario = s->name;
+        r.engine = e->name;
+        r.status = Status::kError;
+        r.message = err.what();
+      }
+      all_pass = all_pass && (r.status == Status::kPass || r.status == Status::kSkip);
+      std::cout << fmt::format("{:<6} {:<22} {:<9} {:8.3f} s  {}\n", to_string(r.status), s->name, e->name, r.wall_s,
+                               r.message);
+      runs.push_back(std::move(r));
+    }
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const nlohmann::json results = results_json(runs, context_json(es, wall));
+  try {
+    write_file_atomic(out / "results.json", results.dump(1));
+    write_file_atomic(out / "index.html", index_html(results));
+  } catch (const std::runtime_error& err) {
+    throw InputError(err.what());
+  }
+  const auto& sum = results["summary"];
+  std::cout << fmt::format("{} passed, {} failed, {} errors, {} skipped; report: {}\n", sum["pass"].get<int>(),
+                           sum["fail"].get<int>(), sum["error"].get<int>(), sum["skip"].get<int>(),
+                           (out / "index.html").string());
+  return all_pass ? 0 : 1;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"liftcheck: validates physics engines against exact kinematics (rolling without slipping, "
+               "reaction mechanisms)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(LIFTCHECK_VERSION_STRING));
+
+  bool list_json = false;
+  auto* list = app.add_subcommand("list", "list the scenarios with their parameters, defaults and units");
+  list->add_flag("--json", list_json, "print JSON");
+
+  std::string scenario, engine = "analytic";
+  std::vector<std::string> sets;
+  bool run_json = false;
+  auto* run = app.add_subcommand("run", "run one scenario on one engine");
+  run->add_option("scenario", scenario, "scenario name (see 'liftcheck list')")->required();
+  run->add_option("--engine", engine, "engine name")->capture_default_str();
+  run->add_option("--set", sets, "override a parameter, KEY=VALUE (repeatable)")->allow_extra_args(false);
+  run->add_flag("--json", run_json, "print the run record as one JSON object");
+
+  std::string engine_list, filter = "*", out_dir = "build/report";
+  auto* validate = app.add_subcommand("validate", "run every scenario on every engine and write the report");
+  validate->add_option("--engines", engine_list, "comma-separated engine names (default: all)");
+  validate->add_option("--filter", filter, "glob on scenario names")->capture_default_str();
+  validate->add_option("--out", out_dir, "output folder")->capture_default_str();
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "liftcheck: error: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    if (*list) return cmd_list(list_json);
+    if (*run) return cmd_run(scenario, engine, sets, run_json);
+    if (*validate) return cmd_validate(engine_list, filter, out_dir);
+  } catch (const InputError& e) {
+    std::cerr << "liftcheck: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "liftcheck: internal error: " << e.what() << "\n";
+    return 3;
+  }
+  return 2;
+}

@@ -1,0 +1,66 @@
+#include "harness/results.hpp"
+
+#include <chrono>
+#include <ctime>
+#include <fmt/format.h>
+#include <fstream>
+#include <thread>
+#include <unistd.h>
+#include <sys/utsname.h>
+
+#include "liftcheck_version.hpp"
+
+namespace liftcheck {
+
+nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, double wall_s) {
+  nlohmann::json es = nlohmann::json::array();
+  for (const EngineInfo* e : engines) es.push_back({{"name", e->name}, {"version", e->version}, {"description", e->description}});
+  char host[256] = "unknown";
+  gethostname(host, sizeof host - 1);
+  utsname u{};
+  uname(&u);
+  const std::time_t now = std::time(nullptr);
+  char date[32];
+  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  return {{"liftcheck", {{"version", LIFTCHECK_VERSION}, {"commit", LIFTCHECK_COMMIT}}},
+          {"date", date},
+          {"machine", {{"host", host}, {"os", fmt::format("{} {} {}", u.sysname, u.release, u.machine)},
+                       {"cpus", std::thread::hardware_concurrency()}, {"compiler", LIFTCHECK_COMPILER}}},
+          {"engines", es},
+          {"wall_s", wall_s}};
+}
+
+nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::json& context) {
+  nlohmann::json rs = nlohmann::json::array();
+  std::map<std::string, int> counts{{"pass", 0}, {"fail", 0}, {"error", 0}, {"skip", 0}};
+  for (const auto& r : runs) {
+    rs.push_back(r.to_json());
+    ++counts[to_string(r.status)];
+  }
+  nlohmann::json summary(counts);
+  summary["total"] = runs.size();
+  return {{"context", context}, {"summary", summary}, {"runs", rs}};
+}
+
+void write_file_atomic(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path tmp = path.string() + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw std::runtime_error(fmt::format("cannot write '{}'", path.string()));
+    out << text;
+    out.close();
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw std::runtime_error(fmt::format("cannot write '{}'", path.string()));
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw std::runtime_error(fmt::format("cannot write '{}'", path.string()));
+  }
+}
+
+}  // namespace liftcheck

@@ -1,0 +1,24 @@
+// results.json: a context block (who, what, where) and flat run records, the source of truth for
+// every report.
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "harness/runner.hpp"
+
+namespace liftcheck {
+
+/// liftcheck version and commit, engines, machine, date, wall time.
+nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, double wall_s);
+
+/// {"context", "summary", "runs"}.
+nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::json& context);
+
+/// Writes `text` to `path` through a temporary file in the same folder and a rename, so a reader
+/// never sees half a file. Throws std::runtime_error naming the path.
+void write_file_atomic(const std::filesystem::path& path, const std::string& text);
+
+}  // namespace liftcheck

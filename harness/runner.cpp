@@ -1,0 +1,102 @@
+#include "harness/runner.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <fmt/format.h>
+
+namespace liftcheck {
+
+const char* to_string(Status s) {
+  switch (s) {
+    case Status::kPass: return "pass";
+    case Status::kFail: return "fail";
+    case Status::kError: return "error";
+    case Status::kSkip: return "skip";
+  }
+  return "error";
+}
+
+double RunRecord::worst_ratio() const {
+  double worst = 0.0;
+  for (const auto& m : metrics) {
+    const double err = m.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
+    worst = std::max(worst, m.tolerance > 0 ? err / m.tolerance : (err > 0 ? INFINITY : 0.0));
+  }
+  return worst;
+}
+
+nlohmann::json RunRecord::to_json() const {
+  nlohmann::json ms = nlohmann::json::object();
+  for (const auto& m : metrics) ms[m.name] = m.to_json();
+  return {{"scenario", scenario}, {"engine", engine},   {"params", params},
+          {"status", to_string(status)}, {"message", message}, {"metrics", ms},
+          {"worst_ratio", metrics.empty() ? nlohmann::json() : nlohmann::json(worst_ratio())},
+          {"wall_s", wall_s}, {"details", details}};
+}
+
+std::vector<Metric> score(const Scenario& scenario, const std::string& engine, const Outcome& outcome) {
+  std::vector<Metric> out;
+  for (const MetricDef& def : scenario.metrics) {
+    const auto it = outcome.values.find(def.name);
+    if (it == outcome.values.end()) continue;  // a metric the scenario does not produce for these params
+    const Measurement& v = it->second;
+    Metric m{def.name, def.unit, v.expected, v.measured, 0, 0, 0, def.kind, false};
+    m.abs_error = std::abs(v.measured - v.expected);
+    const double scale = v.scale > 0.0 ? v.scale : std::abs(v.expected);
+    m.rel_error = scale > 0.0 ? m.abs_error / scale : (m.abs_error == 0.0 ? 0.0 : INFINITY);
+    m.tolerance = def.tolerance_for(engine) * v.tolerance_factor;
+    const double err = def.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
+    m.pass = std::isfinite(err) && err <= m.tolerance;
+    out.push_back(m);
+  }
+  for (const auto& [name, v] : outcome.values)
+    if (!scenario.metric(name))
+      throw std::logic_error(fmt::format("scenario '{}' measured undeclared metric '{}'", scenario.name, name));
+  return out;
+}
+
+RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
+  RunRecord r;
+  r.scenario = scenario.name;
+  r.engine = engine.name;
+  const Params params = Params::resolve(scenario.params, overrides, scenario.name);
+  r.params = params.to_json();
+  if (scenario.vehicle == "car" && !engine.make_car) {
+    r.status = Status::kSkip;
+    r.message = fmt::format("engine '{}' has no car", engine.name);
+    return r;
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    auto car = engine.make_car();
+    const Outcome outcome = scenario.run_car(params, *car);
+    r.metrics = score(scenario, engine.name, outcome);
+    r.details = outcome.details;
+    bool finite = true, pass = !r.metrics.empty();
+    for (const auto& m : r.metrics) {
+      finite = finite && std::isfinite(m.measured);
+      pass = pass && m.pass;
+    }
+    if (!finite) {
+      r.status = Status::kError;
+      r.message = "engine produced a non-finite measurement";
+    } else {
+      r.status = pass ? Status::kPass : Status::kFail;
+      if (!pass) {
+        std::vector<std::string> failed;
+        for (const auto& m : r.metrics)
+          if (!m.pass) failed.push_back(m.name);
+        r.message = fmt::format("out of tolerance: {}", fmt::join(failed, ", "));
+      }
+    }
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    r.status = Status::kError;
+    r.message = e.what();
+  }
+  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return r;
+}
+
+}  // namespace liftcheck

@@ -1,0 +1,38 @@
+// Runs one scenario on one engine and scores it against the scenario's tolerance data.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "engines/engine.hpp"
+#include "harness/scenario.hpp"
+
+namespace liftcheck {
+
+enum class Status { kPass, kFail, kError, kSkip };
+const char* to_string(Status s);
+
+struct RunRecord {
+  std::string scenario, engine;
+  nlohmann::json params = nlohmann::json::object();
+  Status status = Status::kError;
+  std::string message;
+  std::vector<Metric> metrics;
+  nlohmann::json details = nlohmann::json::object();
+  double wall_s = 0.0;
+
+  /// Largest error relative to its tolerance over all metrics (<= 1 when all pass).
+  double worst_ratio() const;
+  nlohmann::json to_json() const;
+};
+
+/// Resolves parameters (InputError on bad ones), runs, scores. Engine failures become an error
+/// record; InputError raised by the scenario for non-physical combinations propagates.
+RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides = {});
+
+/// Scores an outcome against the metric definitions for `engine`.
+std::vector<Metric> score(const Scenario& scenario, const std::string& engine, const Outcome& outcome);
+
+}  // namespace liftcheck

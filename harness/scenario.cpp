@@ -1,0 +1,44 @@
+#include "harness/scenario.hpp"
+
+#include <fmt/format.h>
+
+namespace liftcheck {
+
+double MetricDef::tolerance_for(const std::string& engine) const {
+  if (auto it = tolerance.find(engine); it != tolerance.end()) return it->second;
+  if (auto it = tolerance.find("default"); it != tolerance.end()) return it->second;
+  throw std::logic_error(fmt::format("metric '{}' has no tolerance for engine '{}'", name, engine));
+}
+
+nlohmann::json Metric::to_json() const {
+  return {{"expected", expected},   {"measured", measured},
+          {"abs_error", abs_error}, {"rel_error", rel_error},
+          {"tolerance", tolerance}, {"tolerance_kind", kind == TolKind::kRelative ? "rel" : "abs"},
+          {"unit", unit},           {"pass", pass}};
+}
+
+const MetricDef* Scenario::metric(const std::string& n) const {
+  for (const auto& m : metrics)
+    if (m.name == n) return &m;
+  return nullptr;
+}
+
+nlohmann::json Scenario::to_json() const {
+  nlohmann::json ps = nlohmann::json::array();
+  for (const auto& p : params) ps.push_back(p.to_json());
+  nlohmann::json ms = nlohmann::json::array();
+  for (const auto& m : metrics)
+    ms.push_back({{"name", m.name}, {"unit", m.unit},
+                  {"tolerance_kind", m.kind == TolKind::kRelative ? "rel" : "abs"},
+                  {"tolerance", m.tolerance}, {"help", m.help}});
+  return {{"name", name}, {"vehicle", vehicle}, {"summary", summary},
+          {"equations", equations}, {"params", ps}, {"metrics", ms}};
+}
+
+const Scenario* find_scenario(const std::string& name) {
+  for (const auto& s : scenarios())
+    if (s.name == name) return &s;
+  return nullptr;
+}
+
+}  // namespace liftcheck

@@ -1,0 +1,74 @@
+// A scenario is data (parameters, metric definitions with per-engine tolerances) plus one function.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engines/engine.hpp"
+#include "harness/params.hpp"
+
+namespace liftcheck {
+
+enum class TolKind { kRelative, kAbsolute };
+
+/// A metric's definition: what it measures and how close each engine must come.
+struct MetricDef {
+  std::string name;
+  std::string unit;
+  TolKind kind = TolKind::kRelative;
+  /// Tolerance per engine name; "default" applies to engines not listed.
+  std::map<std::string, double> tolerance;
+  std::string help;
+
+  double tolerance_for(const std::string& engine) const;
+};
+
+/// One value a scenario function measured, with the value the theory expects.
+struct Measurement {
+  double expected = 0.0;
+  double measured = 0.0;
+  /// Relative errors are abs_error / scale; 0 means |expected|.
+  double scale = 0.0;
+  /// The engine's tolerance is multiplied by this (for leading-order predictions whose error
+  /// shrinks with eps, the multiplier is eps).
+  double tolerance_factor = 1.0;
+};
+
+/// What a scenario function returns: measurements by metric name, plus free-form details
+/// (traces, fitted values) kept in the record for the reports.
+struct Outcome {
+  std::map<std::string, Measurement> values;
+  nlohmann::json details = nlohmann::json::object();
+};
+
+/// A scored metric of a run record.
+struct Metric {
+  std::string name, unit;
+  double expected, measured, abs_error, rel_error, tolerance;
+  TolKind kind;
+  bool pass;
+  nlohmann::json to_json() const;
+};
+
+struct Scenario {
+  std::string name;
+  std::string vehicle;   ///< "car" (the engine must offer make_car)
+  std::string summary;   ///< what it checks
+  std::string equations; ///< the paper's equations it exercises
+  std::vector<ParamSpec> params;
+  std::vector<MetricDef> metrics;
+  std::function<Outcome(const Params&, CarEngine&)> run_car;
+
+  const MetricDef* metric(const std::string& name) const;
+  nlohmann::json to_json() const;
+};
+
+/// The catalogue, in a fixed order.
+const std::vector<Scenario>& scenarios();
+const Scenario* find_scenario(const std::string& name);
+
+}  // namespace liftcheck

@@ -1,0 +1,32 @@
+// The horizontal lift of a driver's path: the parallel-transport equations (4.1),
+//   phi' = alpha' (R/l) sin(beta),  x' = alpha' R cos(beta + phi),  y' = alpha' R sin(beta + phi),
+// integrated with Boost.Odeint's error-controlled Dormand-Prince 5(4) stepper.
+#pragma once
+
+#include <vector>
+
+#include "models/car.hpp"
+#include "models/path.hpp"
+
+namespace liftcheck::car {
+
+struct LiftDef {
+  double abs_tol = 1e-13;   ///< odeint absolute error tolerance per step [m, rad]
+  double rel_tol = 1e-13;   ///< odeint relative error tolerance per step
+  double sample_dt_s = 0.0; ///< spacing of the returned trace (0: only the segment corners)
+};
+
+struct TimedConfig {
+  double t_s;
+  Config q;
+};
+
+/// Lifts `path` from the rod position of `q0` (its alpha, beta are taken from the path's start).
+/// Returns the trace: start, every sample_dt_s, and each segment end.
+std::vector<TimedConfig> lift(const CarDef& car, const BasePath& path, const Config& q0,
+                              const LiftDef& def = {});
+
+/// Only the end configuration of the lift.
+Config lift_end(const CarDef& car, const BasePath& path, const Config& q0, const LiftDef& def = {});
+
+}  // namespace liftcheck::car

@@ -1,0 +1,75 @@
+#!/usr/bin/env bash
+# End-to-end checks of the liftcheck CLI: exit codes, one-line errors, JSON output, report files.
+set -u
+bin="$1"
+fails=0
+passes=0
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+check() {  # check NAME EXPECTED_STATUS COMMAND...
+  local name="$1" want="$2"
+  shift 2
+  "$@" >"$tmp/out" 2>"$tmp/err"
+  local got=$?
+  if [ "$got" -ne "$want" ]; then
+    echo "FAIL $name: exit $got, wanted $want"; cat "$tmp/err"; fails=$((fails + 1)); return 1
+  fi
+  passes=$((passes + 1))
+}
+
+bad_input() {  # bad_input NAME PATTERN ARGS...: exit 2, exactly one stderr line naming the problem
+  local name="$1" pattern="$2"
+  shift 2
+  check "$name" 2 "$bin" "$@" || return
+  if [ "$(wc -l <"$tmp/err")" -ne 1 ] || ! grep -qF -- "$pattern" "$tmp/err" || [ -s "$tmp/out" ]; then
+    echo "FAIL $name: wanted one line with '$pattern' on stderr and nothing on stdout, got:"; cat "$tmp/err" "$tmp/out"
+    fails=$((fails + 1)); passes=$((passes - 1))
+  fi
+}
+
+bad_input unknown-scenario "unknown scenario 'car.nope'" run car.nope
+bad_input unknown-engine "unknown engine 'warp'" run car.circle --engine warp
+bad_input unknown-param "unknown parameter 'speeed'" run car.circle --set speeed=1
+bad_input non-number "parameter 'R' needs a finite number, got 'abc'" run car.circle --set R=abc
+bad_input zero-l "parameter 'l' must be > 0" run car.circle --set l=0
+bad_input negative-R "parameter 'R' must be > 0" run car.cycle --set R=-0.3
+bad_input no-equals "--set needs KEY=VALUE" run car.circle --set R
+bad_input straight-circle "needs |beta| >= 0.001" run car.circle --set beta=0
+bad_input unknown-subcommand "error" frobnicate
+bad_input validate-unknown-engine "unknown engine 'warp'" validate --engines warp --out "$tmp/r0"
+bad_input validate-no-match "no scenario matches 'zzz*'" validate --filter 'zzz*' --out "$tmp/r1"
+[ -e "$tmp/r1/results.json" ] && { echo "FAIL validate-no-match left a results.json"; fails=$((fails + 1)); }
+
+check run-json 0 "$bin" run car.cycle --engine analytic --set R=0.3 --set l=1.2 --set beta=0.4 --set phi=0.7 \
+  --set eps_alpha=0.01 --set eps_beta=0.01 --json
+if python3 - "$tmp/out" <<'PY'
+import json, sys
+text = open(sys.argv[1]).read()
+rec = json.loads(text)                      # exactly one JSON object: json.loads rejects trailing data
+assert text.count("\n") == 1, "one line"
+assert rec["status"] == "pass" and rec["scenario"] == "car.cycle" and rec["engine"] == "analytic"
+for k in ("dx", "dy", "dphi"):
+    m = rec["metrics"][k]
+    assert abs(m["measured"] - m["expected"]) <= 1e-9 * abs(m["expected"]), (k, m)
+    assert set(m) >= {"expected", "measured", "abs_error", "rel_error", "tolerance", "unit", "pass"}
+assert rec["params"]["l"] == 1.2 and rec["params"]["eps_beta"] == 0.01
+PY
+then passes=$((passes + 1)); else echo "FAIL run-json record"; fails=$((fails + 1)); fi
+
+check list-json 0 "$bin" list --json
+python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert any(s["name"]=="car.iterated-beta" for s in d)' "$tmp/out" \
+  && passes=$((passes + 1)) || { echo "FAIL list-json"; fails=$((fails + 1)); }
+
+check validate 0 "$bin" validate --engines analytic --filter 'car.*' --out "$tmp/report"
+python3 -c '
+import json,sys
+d=json.load(open(sys.argv[1]))
+assert d["summary"]["total"] == 6 and d["summary"]["pass"] == 6, d["summary"]
+assert d["context"]["engines"][0]["name"] == "analytic"
+' "$tmp/report/results.json" && [ -s "$tmp/report/index.html" ] && passes=$((passes + 1)) \
+  || { echo "FAIL validate outputs"; fails=$((fails + 1)); }
+ls "$tmp/report" | grep -q '\.tmp$' && { echo "FAIL temporary files left"; fails=$((fails + 1)); }
+
+echo "$passes passed, $fails failed"
+[ "$fails" -eq 0 ]

@@ -1,0 +1,50 @@
+#include <gtest/gtest.h>
+
+#include "harness/params.hpp"
+#include "harness/scenario.hpp"
+
+using namespace liftcheck;
+
+namespace {
+const std::vector<ParamSpec>& circle_params() { return find_scenario("car.circle")->params; }
+
+std::string error_of(const Overrides& ov) {
+  try {
+    Params::resolve(circle_params(), ov, "car.circle");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+}  // namespace
+
+TEST(Params, DefaultsAndOverrides) {
+  const Params p = Params::resolve(circle_params(), {{"R", "0.25"}, {"wheel", "cylinder"}}, "car.circle");
+  EXPECT_EQ(p.num("R"), 0.25);
+  EXPECT_EQ(p.num("l"), 1.0);
+  EXPECT_EQ(p.str("wheel"), "cylinder");
+  EXPECT_EQ(p.to_json()["R"], 0.25);
+}
+
+TEST(Params, BadInputNamesTheProblem) {
+  EXPECT_EQ(error_of({{"bogus", "1"}}), "unknown parameter 'bogus' for scenario 'car.circle'");
+  EXPECT_EQ(error_of({{"R", "abc"}}), "parameter 'R' needs a finite number, got 'abc'");
+  EXPECT_EQ(error_of({{"R", "0.3m"}}), "parameter 'R' needs a finite number, got '0.3m'");
+  EXPECT_EQ(error_of({{"R", "nan"}}), "parameter 'R' needs a finite number, got 'nan'");
+  EXPECT_EQ(error_of({{"R", ""}}), "parameter 'R' needs a finite number, got ''");
+  EXPECT_EQ(error_of({{"l", "0"}}), "parameter 'l' must be > 0 (got 0)");
+  EXPECT_EQ(error_of({{"R", "-1"}}), "parameter 'R' must be > 0 (got -1)");
+  EXPECT_EQ(error_of({{"iterations", "2.5"}}), "parameter 'iterations' needs a whole number, got '2.5'");
+  EXPECT_EQ(error_of({{"wheel", "square"}}), "parameter 'wheel' must be one of sphere|cylinder, got 'square'");
+  EXPECT_EQ(error_of({{"R", "1e3"}}), "");
+}
+
+TEST(Params, SplitAssignment) {
+  EXPECT_EQ(split_assignment("R=0.3"), (std::pair<std::string, std::string>{"R", "0.3"}));
+  EXPECT_THROW(split_assignment("R0.3"), InputError);
+  EXPECT_THROW(split_assignment("=1"), InputError);
+}
+
+TEST(Params, EveryScenarioDefaultParses) {
+  for (const auto& s : scenarios()) EXPECT_NO_THROW(Params::resolve(s.params, {}, s.name)) << s.name;
+}

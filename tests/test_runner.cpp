@@ -1,0 +1,110 @@
+// Scoring, error handling and the analytic engine's records against exact computations.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "harness/runner.hpp"
+#include "models/holonomy.hpp"
+
+using namespace liftcheck;
+
+namespace {
+
+/// An engine that blows up: its trace turns to NaN.
+class ExplodingCar final : public CarEngine {
+ public:
+  void reset(const CarSetup&, const car::Config& q0) override { q0_ = q0; }
+  std::vector<car::TimedConfig> drive(const car::BasePath& path) override {
+    car::Config bad = q0_;
+    bad.x_m = std::nan("");
+    return {{0.0, q0_}, {path.duration_s(), bad}};
+  }
+  car::Config q0_;
+};
+
+class ThrowingCar final : public CarEngine {
+ public:
+  void reset(const CarSetup&, const car::Config&) override {}
+  std::vector<car::TimedConfig> drive(const car::BasePath&) override { throw EngineError("solver diverged"); }
+};
+
+}  // namespace
+
+TEST(Runner, AnExplodingEngineIsAnErrorRunNotACrash) {
+  const EngineInfo bad{"exploding", "0", "test double", [] { return std::make_unique<ExplodingCar>(); }};
+  const RunRecord r = run_scenario(*find_scenario("car.cycle"), bad);
+  EXPECT_EQ(r.status, Status::kError);
+  EXPECT_NE(r.message.find("not finite"), std::string::npos) << r.message;
+  const EngineInfo thrower{"thrower", "0", "test double", [] { return std::make_unique<ThrowingCar>(); }};
+  const RunRecord t = run_scenario(*find_scenario("car.circle"), thrower);
+  EXPECT_EQ(t.status, Status::kError);
+  EXPECT_EQ(t.message, "solver diverged");
+}
+
+TEST(Runner, EngineWithoutCarIsSkipped) {
+  const EngineInfo none{"none", "0", "no vehicles", {}};
+  EXPECT_EQ(run_scenario(*find_scenario("car.circle"), none).status, Status::kSkip);
+}
+
+TEST(Runner, ScoringUsesPerEngineToleranceData) {
+  Scenario s;
+  s.name = "t";
+  s.metrics = {{"m", "m", TolKind::kRelative, {{"a", 1e-3}, {"default", 1e-1}}, ""},
+               {"z", "m", TolKind::kAbsolute, {{"default", 1e-6}}, ""}};
+  Outcome o;
+  o.values["m"] = {2.0, 2.01};
+  o.values["z"] = {0.0, 5e-7};
+  const auto strict = score(s, "a", o), loose = score(s, "b", o);
+  EXPECT_FALSE(strict[0].pass);
+  EXPECT_TRUE(loose[0].pass);
+  EXPECT_NEAR(strict[0].rel_error, 0.005, 1e-12);
+  EXPECT_TRUE(strict[1].pass);
+  o.values["m"].tolerance_factor = 10.0;  // tolerance scaled, e.g. by eps for leading-order metrics
+  EXPECT_TRUE(score(s, "a", o)[0].pass);
+  o.values["q"] = {1.0, 1.0};
+  EXPECT_THROW(score(s, "a", o), std::logic_error);
+}
+
+TEST(Runner, CycleRecordMatchesExactHolonomy) {
+  // The run of the README: measured and expected against a direct composition of the exact flows.
+  const Overrides ov{{"R", "0.3"}, {"l", "1.2"}, {"beta", "0.4"}, {"phi", "0.7"}, {"eps_alpha", "0.01"}, {"eps_beta", "0.01"}};
+  const RunRecord r = run_scenario(*find_scenario("car.cycle"), *find_engine("analytic"), ov);
+  ASSERT_EQ(r.status, Status::kPass) << r.message;
+  const car::CarDef c{0.3, 1.2};
+  const car::Config q0{0.0, 0.4, 0.0, 0.0, 0.7};
+  const car::Config end = car::apply_exact(c, q0, car::simple_cycle(0.01, 0.01));
+  const double exact[] = {end.x_m - q0.x_m, end.y_m - q0.y_m, end.phi_rad - q0.phi_rad};
+  const char* names[] = {"dx", "dy", "dphi"};
+  for (int i = 0; i < 3; ++i) {
+    const Metric* m = nullptr;
+    for (const auto& x : r.metrics)
+      if (x.name == names[i]) m = &x;
+    ASSERT_NE(m, nullptr);
+    EXPECT_NEAR(m->expected, exact[i], 1e-15 * std::abs(exact[i]) + 1e-300);
+    EXPECT_LT(std::abs(m->measured - exact[i]), 1e-9 * std::abs(exact[i])) << names[i];
+  }
+}
+
+TEST(Runner, CircleRadiiOfTheAnalyticEngine) {
+  const RunRecord r = run_scenario(*find_scenario("car.circle"), *find_engine("analytic"), {{"beta", "0.3"}});
+  ASSERT_EQ(r.status, Status::kPass) << r.message;
+  for (const auto& m : r.metrics) {
+    if (m.name == "front_radius") {
+      EXPECT_NEAR(m.measured, 1.0 / std::sin(0.3), 1e-9);
+    }
+    if (m.name == "rear_radius") {
+      EXPECT_NEAR(m.measured, 1.0 / std::tan(0.3), 1e-9);
+    }
+  }
+}
+
+TEST(Runner, NonPhysicalCombinationIsAnInputError) {
+  EXPECT_THROW(run_scenario(*find_scenario("car.circle"), *find_engine("analytic"), {{"beta", "0"}}), InputError);
+}
+
+TEST(Runner, RecordsAreDeterministic) {
+  const auto a = run_scenario(*find_scenario("car.iterated"), *find_engine("analytic")).to_json();
+  const auto b = run_scenario(*find_scenario("car.iterated"), *find_engine("analytic")).to_json();
+  EXPECT_EQ(a["metrics"], b["metrics"]);
+  EXPECT_EQ(a["details"], b["details"]);
+}
