@@ -1,4 +1,6 @@
 #include "engines/analytic/analytic.hpp"
+#include "engines/bullet/bullet_car.hpp"
+#include "engines/ode/ode_car.hpp"
 #include "engines/engine.hpp"
 
 namespace liftcheck {
@@ -7,6 +9,8 @@ const std::vector<EngineInfo>& engines() {
   static const std::vector<EngineInfo> all = [] {
     std::vector<EngineInfo> v;
     v.push_back(analytic_engine());
+    v.push_back(bullet_engine());
+    v.push_back(ode_engine());
     return v;
   }();
   return all;

@@ -11,15 +11,21 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 }
 
-Profile::Profile(double distance, double cruise_rate, double ramp_s)
-    : D_(std::abs(distance)), V_(cruise_rate), ramp_(ramp_s) {
-  if (!(cruise_rate > 0.0)) throw std::invalid_argument("profile rate must be positive");
-  if (D_ == 0.0) { T_ = 0.0; return; }
+Profile::Profile(double distance, double cruise_rate, double peak_accel)
+    : D_(std::abs(distance)), V_(cruise_rate) {
+  if (!(cruise_rate > 0.0) || !(peak_accel > 0.0)) throw std::invalid_argument("profile rate and acceleration must be positive");
+  if (D_ == 0.0) return;
+  // A ramp v = V (1 - cos(pi t / ramp)) / 2 has peak acceleration pi V / (2 ramp).
+  ramp_ = kPi * V_ / (2.0 * peak_accel);
   if (D_ >= V_ * ramp_) {
     T_ = D_ / V_ + ramp_;  // each ramp covers V ramp / 2
   } else {
+    // Bell v = V' (1 - cos(2 pi t / T)) / 2 with T = 2 ramp', covering V' ramp' = D at the same
+    // peak acceleration pi V' / (2 ramp') = A.
     bell_ = true;
-    T_ = 2.0 * D_ / V_;   // v(t) = V (1 - cos(2 pi t / T)) / 2 covers V T / 2
+    ramp_ = std::sqrt(kPi * D_ / (2.0 * peak_accel));
+    V_ = D_ / ramp_;
+    T_ = 2.0 * ramp_;
   }
 }
 
@@ -45,20 +51,21 @@ BasePath::BasePath(std::vector<Segment> segments, double alpha0_rad, double beta
                    const DriveDef& drive)
     : segments_(std::move(segments)) {
   if (!(drive.R_m > 0.0) || !(drive.speed_mps > 0.0) || !(drive.steer_rate_radps > 0.0) ||
-      !(drive.ramp_s >= 0.0))
-    throw std::invalid_argument("drive needs R > 0, speed > 0, steer_rate > 0, ramp >= 0");
+      !(drive.accel_mps2 > 0.0) || !(drive.steer_accel_radps2 > 0.0))
+    throw std::invalid_argument("drive needs R, speed, steer_rate, accel, steer_accel > 0");
   double t = 0.0, a = alpha0_rad, b = beta0_rad;
   for (const Segment& s : segments_) {
     start_s_.push_back(t);
     alpha0_.push_back(a);
     beta0_.push_back(b);
     // Normalised progress u in [0, 1]: the segment takes as long as its slower component needs.
-    const Profile pa(s.d_alpha_rad * drive.R_m, drive.speed_mps, drive.ramp_s);
-    const Profile pb(s.d_beta_rad, drive.steer_rate_radps, drive.ramp_s);
-    const Profile& slow = pa.duration() >= pb.duration() ? pa : pb;
-    const double dist = (&slow == &pa) ? std::abs(s.d_alpha_rad * drive.R_m) : std::abs(s.d_beta_rad);
-    const double rate = (&slow == &pa) ? drive.speed_mps : drive.steer_rate_radps;
-    profile_.push_back(dist > 0.0 ? Profile(1.0, rate / dist, drive.ramp_s) : Profile());
+    const Profile pa(s.d_alpha_rad * drive.R_m, drive.speed_mps, drive.accel_mps2);
+    const Profile pb(s.d_beta_rad, drive.steer_rate_radps, drive.steer_accel_radps2);
+    const bool a_slow = pa.duration() >= pb.duration();
+    const double dist = a_slow ? std::abs(s.d_alpha_rad * drive.R_m) : std::abs(s.d_beta_rad);
+    const double rate = a_slow ? drive.speed_mps : drive.steer_rate_radps;
+    const double accel = a_slow ? drive.accel_mps2 : drive.steer_accel_radps2;
+    profile_.push_back(dist > 0.0 ? Profile(1.0, rate / dist, accel / dist) : Profile());
     t += profile_.back().duration();
     a += s.d_alpha_rad;
     b += s.d_beta_rad;

@@ -12,20 +12,23 @@ struct Segment {
   double d_beta_rad = 0.0;
 };
 
-/// How fast the driver moves through the base.
+/// How fast the driver moves through the base. The accelerations bound every segment, long or
+/// short, so that a rigid-body car can follow without exceeding its traction.
 struct DriveDef {
-  double R_m = 0.3;                 ///< front wheel radius: converts alpha to front-wheel travel
-  double speed_mps = 0.5;           ///< cruise speed of the front wheel's contact point
-  double steer_rate_radps = 0.5;    ///< cruise rate of the steering angle
-  double ramp_s = 0.2;              ///< duration of each smooth acceleration or deceleration
+  double R_m = 0.3;                  ///< front wheel radius: converts alpha to front-wheel travel
+  double speed_mps = 0.5;            ///< cruise speed of the front wheel's contact point
+  double steer_rate_radps = 0.5;     ///< cruise rate of the steering angle
+  double accel_mps2 = 1.0;           ///< peak acceleration of the front wheel's contact point
+  double steer_accel_radps2 = 4.0;   ///< peak angular acceleration of the steering
 };
 
-/// Smooth rest-to-rest motion over a distance D: cosine ramps up to V, cruise, cosine ramp down;
-/// a single cosine bell when D is too short to reach V.
+/// Smooth rest-to-rest motion over a distance D with cruise rate V and peak acceleration A:
+/// cosine ramps of duration pi V / (2 A), cruise, cosine ramp down; a single cosine bell of the
+/// same peak acceleration when D is too short to reach V.
 class Profile {
  public:
   Profile() = default;
-  Profile(double distance, double cruise_rate, double ramp_s);
+  Profile(double distance, double cruise_rate, double peak_accel);
   double duration() const { return T_; }
   double position(double t) const;  ///< in [0, D]
   double rate(double t) const;

@@ -119,7 +119,7 @@ TEST(Cycles, HolonomyIsEquivariant) {
 }
 
 TEST(Cycles, ExactFlowsAgreeWithIntegratedLift) {
-  const DriveDef drive{kCar.R_m, 0.5, 0.5, 0.2};
+  const DriveDef drive{kCar.R_m, 0.5, 0.5, 1.0, 4.0};
   for (const auto& steps : {simple_cycle(0.1, 0.15), iterated_cycle_alpha(0.3), iterated_cycle_beta(0.3)}) {
     const BasePath path(to_segments(steps), kStart.alpha_rad, kStart.beta_rad, drive);
     const Config integrated = lift_end(kCar, path, kStart);

@@ -1,0 +1,7 @@
+#pragma once
+#include "engines/engine.hpp"
+namespace liftcheck {
+/// Open Dynamics Engine: a tricycle of rigid bodies, hinge-2 front wheel, contact joints with
+/// Coulomb friction (dContactApprox1), dWorldStep.
+EngineInfo ode_engine();
+}  // namespace liftcheck

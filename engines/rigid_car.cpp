@@ -1,0 +1,73 @@
+#include "engines/rigid_car.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+#include "models/e2.hpp"
+
+namespace liftcheck {
+
+TricycleDef TricycleDef::from(const CarSetup& setup) {
+  TricycleDef d;
+  d.R_m = setup.car.R_m;
+  d.l_m = setup.car.l_m;
+  d.track_m = 0.8 * setup.car.l_m;
+  d.wheel_width_m = 0.3 * setup.car.R_m;
+  d.chassis_height_m = std::min(0.1, 0.5 * setup.car.R_m);
+  return d;
+}
+
+void RigidCar::reset(const CarSetup& setup, const car::Config& q0) {
+  setup_ = setup;
+  def_ = TricycleDef::from(setup);
+  q0_ = q0;
+  build(setup_, def_, q0_);
+}
+
+std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
+  const double dt = setup_.dt_s;
+  const double T = path.duration_s();
+  const long settle_steps = std::lround(servo_.settle_s / dt);
+  const long steps = static_cast<long>(std::ceil((T + servo_.hold_s) / dt - 1e-9));
+  const long sample_every = std::max(1L, std::lround(setup_.sample_dt_s / dt));
+
+  RigidCarState s = read();
+  double alpha = 0.0;  // unwrapped wheel angle
+  double prev_joint = s.spin_joint_rad;
+  double prev_phi = s.phi_rad;
+  double phi = q0_.phi_rad + e2::wrap_angle(s.phi_rad - q0_.phi_rad);  // unwrapped from the start heading
+  std::vector<car::TimedConfig> trace;
+
+  // One step: servo towards (target_alpha, target_beta) with feed-forward rates, then read and check.
+  const auto advance = [&](double t_end, double target_alpha, double target_beta, double alpha_rate, double beta_rate) {
+    actuate(alpha_rate + servo_.spin_gain_per_s * (target_alpha - alpha),
+            beta_rate + servo_.steer_gain_per_s * (target_beta - s.steer_rad), servo_);
+    step(dt);
+    s = read();
+    alpha += e2::wrap_angle(s.spin_joint_rad - prev_joint);
+    prev_joint = s.spin_joint_rad;
+    phi += e2::wrap_angle(s.phi_rad - prev_phi);
+    prev_phi = s.phi_rad;
+    const bool finite = std::isfinite(s.x_m) && std::isfinite(s.y_m) && std::isfinite(s.z_m) &&
+                        std::isfinite(s.phi_rad) && std::isfinite(s.steer_rad) && std::isfinite(alpha);
+    if (!finite) throw EngineError(fmt::format("simulation produced NaN at t = {:.4f} s", t_end));
+    if (std::abs(s.z_m - def_.R_m) > def_.R_m || std::abs(s.rear_z_m - def_.R_m) > def_.R_m)
+      throw EngineError(fmt::format("car left the ground (wheel centre at z = {:.3f} m) at t = {:.4f} s", s.z_m, t_end));
+  };
+
+  // Settle on the wheels: the contacts load up while the servos hold alpha = 0 and beta = beta0.
+  for (long k = 0; k < settle_steps; ++k) advance(-(settle_steps - k - 1) * dt, 0.0, q0_.beta_rad, 0.0, 0.0);
+  alpha = 0.0;  // the drive starts at alpha = 0
+
+  const auto sample = [&](double t) { trace.push_back({t, car::Config{alpha, s.steer_rad, s.x_m, s.y_m, phi}}); };
+  sample(0.0);
+  for (long k = 0; k < steps; ++k) {
+    const double t1 = (k + 1) * dt;
+    const car::BaseSample mid = path.at(t1 - 0.5 * dt), end = path.at(t1);
+    advance(t1, end.alpha_rad, end.beta_rad, mid.alpha_rate_radps, mid.beta_rate_radps);
+    if ((k + 1) % sample_every == 0 || k + 1 == steps) sample(t1);
+  }
+  return trace;
+}
+
+}  // namespace liftcheck

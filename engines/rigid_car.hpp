@@ -1,0 +1,70 @@
+// What the Bullet and ODE cars share: the tricycle's dimensions, the servo that makes the wheel
+// angle and steering follow the commanded base path, and the stepping loop that samples the
+// realized (alpha, beta, x, y, phi). Each engine implements only build, actuate, step and read.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "engines/engine.hpp"
+
+namespace liftcheck {
+
+/// The tricycle of the paper as rigid bodies (all lengths in m, masses in kg). Chassis frame:
+/// x forward along the tie rod, y left, z up; origin at the front-axle centre.
+struct TricycleDef {
+  double R_m = 0.3;              ///< front and rear wheel radius
+  double l_m = 1.0;              ///< tie rod: rear-axle centre to front-axle centre
+  double track_m = 0.8;          ///< distance between the two rear wheels
+  double wheel_width_m = 0.09;   ///< cylinder wheels only
+  double chassis_mass_kg = 40.0;
+  double wheel_mass_kg = 2.0;
+  double chassis_height_m = 0.1; ///< box thickness (the chassis does not collide)
+
+  static TricycleDef from(const CarSetup& setup);
+  /// Rear wheel centres in the chassis frame: y = +track/2 (left) and -track/2.
+  double rear_x_m() const { return -l_m; }
+};
+
+/// Servo gains: rate command = commanded rate + gain * (commanded angle - realized angle).
+/// Before t = 0 the car settles on its wheels with the servos holding alpha and beta; after the
+/// path's end it holds still a little longer, so the servos finish converging.
+struct ServoDef {
+  double settle_s = 0.5;
+  double hold_s = 0.2;
+  double spin_gain_per_s = 40.0;
+  double steer_gain_per_s = 40.0;
+  double spin_torque_max_Nm = 500.0;
+  double steer_torque_max_Nm = 500.0;
+};
+
+/// The realized state an engine reads off its bodies and joints.
+struct RigidCarState {
+  double spin_joint_rad;  ///< wheel angle about the axle relative to the steering knuckle, wrapped
+  double steer_rad;       ///< steering angle, left positive (offset to the start beta applied)
+  double x_m, y_m;        ///< front wheel centre
+  double z_m;             ///< front wheel centre height (for blow-up detection)
+  double phi_rad;         ///< chassis heading
+  double rear_z_m;        ///< lowest rear wheel centre height
+};
+
+class RigidCar : public CarEngine {
+ public:
+  void reset(const CarSetup& setup, const car::Config& q0) final;
+  std::vector<car::TimedConfig> drive(const car::BasePath& path) final;
+
+ protected:
+  /// Builds the world with the car at q0 (steering at q0.beta), at rest on the ground.
+  virtual void build(const CarSetup& setup, const TricycleDef& car, const car::Config& q0) = 0;
+  /// Sets the wheel's spin rate about its axle (positive rolls forward) and the steering rate.
+  virtual void actuate(double spin_radps, double steer_radps, const ServoDef& servo) = 0;
+  virtual void step(double dt_s) = 0;
+  virtual RigidCarState read() const = 0;
+
+  CarSetup setup_;
+  TricycleDef def_;
+  ServoDef servo_;
+  car::Config q0_;
+};
+
+}  // namespace liftcheck
