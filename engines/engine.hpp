@@ -48,6 +48,8 @@ struct EngineInfo {
   std::string version;
   std::string description;
   std::function<std::unique_ptr<CarEngine>()> make_car;  ///< empty: the engine has no car
+  /// Simulates contact forces with friction, so wheels can slip (the analytic model cannot).
+  bool contact_dynamics = false;
 };
 
 /// Every engine compiled in, in a fixed order (analytic first).

@@ -97,6 +97,42 @@ nlohmann::json trace_json(const std::vector<car::TimedConfig>& trace) {
   return rows;
 }
 
+/// Actuation error against contact error: the lift of the (alpha, beta) path the engine realized
+/// tells how far the commanded path was missed (actuation) and how far the car strayed from the
+/// lift of what its wheels did (contact: slip, compliance, friction model).
+nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedConfig>& trace, const Config& commanded_end) {
+  const Config realized = car::lift_of_samples(c, trace);
+  const Config& eng = trace.back().q;
+  return {{"commanded_lift_end", {commanded_end.x_m, commanded_end.y_m, commanded_end.phi_rad}},
+          {"realized_lift_end", {realized.x_m, realized.y_m, realized.phi_rad}},
+          {"engine_end", {eng.x_m, eng.y_m, eng.phi_rad}},
+          {"actuation_error_m", std::hypot(realized.x_m - commanded_end.x_m, realized.y_m - commanded_end.y_m)},
+          {"contact_error_m", std::hypot(eng.x_m - realized.x_m, eng.y_m - realized.y_m)}};
+}
+
+/// How much the front wheel slid: its centre's path length against R times the angle it turned,
+/// and the largest speed of its centre across the wheel's rolling direction.
+struct Slip {
+  double ratio;             ///< |path length / (R sum |d alpha|) - 1|
+  double lateral_max_mps;   ///< max |v . n| with n normal to the wheel's heading phi + beta
+};
+
+Slip slip_of(const car::CarDef& c, const std::vector<car::TimedConfig>& trace) {
+  double path = 0.0, rolled = 0.0, lateral = 0.0;
+  for (std::size_t i = 1; i < trace.size(); ++i) {
+    const Config& a = trace[i - 1].q;
+    const Config& b = trace[i].q;
+    const double dx = b.x_m - a.x_m, dy = b.y_m - a.y_m, dt = trace[i].t_s - trace[i - 1].t_s;
+    path += std::hypot(dx, dy);
+    rolled += c.R_m * std::abs(b.alpha_rad - a.alpha_rad);
+    if (dt > 0) {
+      const double h = 0.5 * (a.phi_rad + a.beta_rad + b.phi_rad + b.beta_rad);
+      lateral = std::max(lateral, std::abs(-std::sin(h) * dx + std::cos(h) * dy) / dt);
+    }
+  }
+  return {rolled > 0.0 ? std::abs(path / rolled - 1.0) : 0.0, lateral};
+}
+
 // ---- car.circle ----------------------------------------------------------------------------
 
 Outcome run_circle(const Params& p, CarEngine& engine) {
@@ -125,10 +161,73 @@ Outcome run_circle(const Params& p, CarEngine& engine) {
   o.values["center_y"] = {fe.cy_m, ff.cy_m};
   o.values["final_offset"] = {0.0, std::hypot(end.x_m - end_exact.x_m, end.y_m - end_exact.y_m)};
   o.values["final_heading_error"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - end_exact.phi_rad))};
+  const Slip slip = slip_of(setup.car, trace);
+  o.values["slip_ratio"] = {0.0, slip.ratio};
+  o.values["lateral_speed_max"] = {0.0, slip.lateral_max_mps};
+  // Lateral acceleration of the front wheel against the friction limit: the kinematic model holds
+  // only while v^2 / (r g) is well below mu.
+  const double grip_use = setup.drive.speed_mps * setup.drive.speed_mps / (fe.radius_m * setup.gravity_mps2) / setup.mu;
   o.details = {{"trace", trace_json(trace)},
                {"front_fit_rms_m", ff.rms_residual_m},
-               {"rear_fit_rms_m", rf.radius_m > 0 ? rf.rms_residual_m : 0.0},
-               {"path_length_m", p.num("drive")}};
+               {"rear_fit_rms_m", rf.rms_residual_m},
+               {"path_length_m", p.num("drive")},
+               {"grip_use", grip_use},
+               {"errors", error_split(setup.car, trace, end_exact)}};
+  return o;
+}
+
+Outcome run_slip(const Params& p, CarEngine& engine) {
+  Outcome o = run_circle(p, engine);
+  for (const char* keep_out : {"center_x", "center_y", "final_heading_error"}) o.values.erase(keep_out);
+  return o;
+}
+
+// ---- car.covariance ------------------------------------------------------------------------
+
+/// The pose `q` seen from the frame of `start`: g^{-1} q with g the element of (A.5) for `start`.
+e2::Pose in_frame_of(const Config& start, const Config& q) {
+  const double c = std::cos(start.phi_rad), s = std::sin(start.phi_rad);
+  const double dx = q.x_m - start.x_m, dy = q.y_m - start.y_m;
+  return {c * dx + s * dy, -s * dx + c * dy, q.phi_rad - start.phi_rad};
+}
+
+Outcome run_covariance(const Params& p, CarEngine& engine) {
+  const CarSetup setup = setup_from(p);
+  const Config q0 = start_from(p);
+  const int n = p.integer("headings");
+  const Eigen::Vector2d shift = p.vec("shift");
+  const double d_alpha = p.num("drive") / setup.car.R_m;
+  // The manoeuvre: a fixed-steering arc, then the simple parking cycle.
+  std::vector<car::Segment> segs{{d_alpha, 0.0}};
+  for (const auto& seg : car::to_segments(car::simple_cycle(0.3, 0.3))) segs.push_back(seg);
+  const car::BasePath path(segs, 0.0, q0.beta_rad, setup.drive);
+  const e2::Pose exact = in_frame_of(q0, car::lift_end(setup.car, path, q0));
+
+  double spread_xy = 0.0, spread_phi = 0.0, worst = 0.0;
+  nlohmann::json rows = nlohmann::json::array();
+  std::vector<e2::Pose> seen;
+  for (int k = 0; k < n; ++k) {
+    const double theta = 2.0 * std::numbers::pi * k / n;
+    const Config start = car::act(e2::element(theta, k % 2 ? shift.x() : 0.0, k % 2 ? shift.y() : 0.0), q0);
+    const auto trace = drive_checked(engine, setup, start, path);
+    const e2::Pose local = in_frame_of(trace.front().q, trace.back().q);
+    seen.push_back(local);
+    worst = std::max(worst, std::hypot(local.x_m - exact.x_m, local.y_m - exact.y_m));
+    rows.push_back({{"theta_rad", theta}, {"start", {start.x_m, start.y_m, start.phi_rad}},
+                    {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}}});
+  }
+  for (const auto& a : seen)
+    for (const auto& b : seen) {
+      spread_xy = std::max(spread_xy, std::hypot(a.x_m - b.x_m, a.y_m - b.y_m));
+      spread_phi = std::max(spread_phi, std::abs(e2::wrap_angle(a.phi_rad - b.phi_rad)));
+    }
+  Outcome o;
+  o.values["spread_xy"] = {0.0, spread_xy};
+  o.values["spread_phi"] = {0.0, spread_phi};
+  // In the default regime the wheels slide a little, identically at every heading: the distance
+  // from the no-slip lift is information here, the no-slip check is car.circle's.
+  o.details = {{"runs", rows}, {"exact_end_in_start_frame", {exact.x_m, exact.y_m, exact.phi_rad}},
+               {"largest_distance_from_no_slip_lift_m", worst}};
   return o;
 }
 
@@ -169,7 +268,7 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   o.values["lo_dy"] = {predicted[car::kY], d[car::kY], lo_size, lo_factor};
   o.values["lo_dphi"] = {predicted[car::kPhi], d[car::kPhi], lo_size / l, lo_factor};
   o.details = {{"trace", trace_json(trace)}, {"steps", steps.size()}, {"holonomy_size_m", size},
-               {"exact_end", {end_exact.x_m, end_exact.y_m, end_exact.phi_rad}}};
+               {"errors", error_split(setup.car, trace, end_exact)}};
   return o;
 }
 
@@ -211,7 +310,7 @@ Outcome run_steer_in_place(const Params& p, CarEngine& engine) {
   o.values["front_shift"] = {0.0, max_shift};
   o.values["dphi"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - q0.phi_rad))};
   o.values["beta_reached"] = {q0.beta_rad + d_beta, end.beta_rad};
-  o.details = {{"trace", trace_json(trace)}};
+  o.details = {{"trace", trace_json(trace)}, {"errors", error_split(setup.car, trace, car::flow_beta(q0, d_beta))}};
   return o;
 }
 
@@ -291,7 +390,10 @@ std::vector<Scenario> car_scenarios() {
                 abs_("center_x", "m", 1e-9, 1e-3, "fitted circle centre, world x"),
                 abs_("center_y", "m", 1e-9, 1e-3, "fitted circle centre, world y"),
                 abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact arc"),
-                abs_("final_heading_error", "rad", 1e-9, 1e-3, "heading at the end against the exact arc")},
+                abs_("final_heading_error", "rad", 1e-9, 1e-3, "heading at the end against the exact arc"),
+                // Sampled quantities: chords against arcs leave ~1e-7 at the default sampling.
+                abs_("slip_ratio", "1", 1e-6, 1e-3, "|front-wheel path length / (R x turned angle) - 1|"),
+                abs_("lateral_speed_max", "m/s", 1e-6, 1e-3, "largest sideways speed of the front wheel")},
                run_circle});
   v.push_back({"car.cycle", "car",
                "Simple parking cycle (section 5, steps i-iv): the net pose change is the holonomy of the loop, "
@@ -329,6 +431,47 @@ std::vector<Scenario> car_scenarios() {
                 abs_("heading_spread", "rad", 1e-9, 1e-3, "largest difference between the end headings"),
                 abs_("end_error", "m", 1e-9, 1e-3, "end position at the middle speed against the reference lift")},
                run_reparam});
+  {
+    auto params = with(car_params("0.3"), {number("drive", "2", "m", "arc length before the cycle", 0.0, true, 1e3),
+                                           {"headings", ParamKind::kInteger, "8", "1", "start headings over the full turn", 2.0, false, 64.0, {}},
+                                           {"shift", ParamKind::kVec2, "3,-2", "m", "translation of every other start", -INFINITY, false, INFINITY, {}}});
+    for (auto& ps : params) {
+      if (ps.key == "mu") ps.default_text = "0.1";
+      if (ps.key == "speed") ps.default_text = "2.0";
+    }
+    v.push_back({"car.covariance", "car",
+                 "E(2) covariance (A.6): the same manoeuvre (an arc, then a parking cycle) started from 8 headings "
+                 "over the full turn, every other one translated, must end in the same pose relative to its start. "
+                 "At 2 m/s on the 3.4 m arc with mu = 0.1 the grip use v^2/(r g mu) = 1.2 lies between 1 and sqrt(2): "
+                 "isotropic friction slides the same at every heading, a friction box fixed to the world axes does not.",
+                 "(A.6), equivariance of the lift",
+                 params,
+                 {abs_("spread_xy", "m", 1e-9, 1e-3, "largest distance between end positions in the start frames"),
+                  abs_("spread_phi", "rad", 1e-9, 1e-3, "largest difference between end headings in the start frames")},
+                 run_covariance});
+  }
+  {
+    auto params = with(car_params("0.3"), {number("drive", "10", "m", "front-wheel path length", 0.0, true, 1e4)});
+    for (auto& ps : params) {
+      if (ps.key == "mu") ps.default_text = "0.1";
+      if (ps.key == "speed") ps.default_text = "3.0";
+    }
+    Scenario slip{"car.slip", "car",
+                  "Negative control: at 3 m/s on a 3.4 m circle with mu = 0.1 the lateral acceleration needs "
+                  "v^2/(r g) = 0.27 > mu, so the car slides; the harness must detect it and the no-slip "
+                  "comparison must fail.",
+                  "(4.1) fails without grip",
+                  params,
+                  {rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path"),
+                   rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path"),
+                   abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact arc"),
+                   abs_("slip_ratio", "1", 1e-9, 1e-3, "|front-wheel path length / (R x turned angle) - 1|"),
+                   abs_("lateral_speed_max", "m/s", 1e-9, 1e-3, "largest sideways speed of the front wheel")},
+                  run_slip};
+    slip.needs_contact_dynamics = true;
+    slip.negative_control = true;
+    v.push_back(slip);
+  }
   return v;
 }
 

@@ -74,7 +74,7 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   const RunRecord r = run_scenario(s, e, ov);
   if (json) std::cout << r.to_json().dump() << "\n";
   else print_record(r);
-  return r.status == Status::kPass ? 0 : 1;
+  return r.as_expected() ? 0 : 1;
 }
 
 int cmd_validate(const std::string& engine_list, const std::string& filter, const std::string& out_dir) {
@@ -110,9 +110,9 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
         r.status = Status::kError;
         r.message = err.what();
       }
-      all_pass = all_pass && (r.status == Status::kPass || r.status == Status::kSkip);
-      std::cout << fmt::format("{:<6} {:<22} {:<9} {:8.3f} s  {}\n", to_string(r.status), s->name, e->name, r.wall_s,
-                               r.message);
+      all_pass = all_pass && r.as_expected();
+      std::cout << fmt::format("{:<6} {:<22} {:<9} {:8.3f} s  {}{}\n", to_string(r.status), s->name, e->name, r.wall_s,
+                               r.negative_control && r.status == Status::kFail && r.as_expected() ? "(expected: negative control) " : "", r.message);
       runs.push_back(std::move(r));
     }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

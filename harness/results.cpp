@@ -39,6 +39,9 @@ nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::
   }
   nlohmann::json summary(counts);
   summary["total"] = runs.size();
+  int unexpected = 0;
+  for (const auto& r : runs) unexpected += r.as_expected() ? 0 : 1;
+  summary["unexpected"] = unexpected;
   return {{"context", context}, {"summary", summary}, {"runs", rs}};
 }
 

@@ -16,6 +16,11 @@ const char* to_string(Status s) {
   return "error";
 }
 
+bool RunRecord::as_expected() const {
+  if (status == Status::kSkip) return true;
+  return negative_control ? status == Status::kFail : status == Status::kPass;
+}
+
 double RunRecord::worst_ratio() const {
   double worst = 0.0;
   for (const auto& m : metrics) {
@@ -31,6 +36,7 @@ nlohmann::json RunRecord::to_json() const {
   return {{"scenario", scenario}, {"engine", engine},   {"params", params},
           {"status", to_string(status)}, {"message", message}, {"metrics", ms},
           {"worst_ratio", metrics.empty() ? nlohmann::json() : nlohmann::json(worst_ratio())},
+          {"negative_control", negative_control}, {"as_expected", as_expected()},
           {"wall_s", wall_s}, {"details", details}};
 }
 
@@ -61,9 +67,15 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
   r.engine = engine.name;
   const Params params = Params::resolve(scenario.params, overrides, scenario.name);
   r.params = params.to_json();
+  r.negative_control = scenario.negative_control;
   if (scenario.vehicle == "car" && !engine.make_car) {
     r.status = Status::kSkip;
     r.message = fmt::format("engine '{}' has no car", engine.name);
+    return r;
+  }
+  if (scenario.needs_contact_dynamics && !engine.contact_dynamics) {
+    r.status = Status::kSkip;
+    r.message = fmt::format("engine '{}' simulates no contact forces", engine.name);
     return r;
   }
   const auto t0 = std::chrono::steady_clock::now();

@@ -22,6 +22,10 @@ struct RunRecord {
   std::vector<Metric> metrics;
   nlohmann::json details = nlohmann::json::object();
   double wall_s = 0.0;
+  bool negative_control = false;  ///< the scenario is meant to fail
+
+  /// Pass, skip, or the expected fail of a negative control.
+  bool as_expected() const;
 
   /// Largest error relative to its tolerance over all metrics (<= 1 when all pass).
   double worst_ratio() const;

@@ -32,7 +32,8 @@ nlohmann::json Scenario::to_json() const {
                   {"tolerance_kind", m.kind == TolKind::kRelative ? "rel" : "abs"},
                   {"tolerance", m.tolerance}, {"help", m.help}});
   return {{"name", name}, {"vehicle", vehicle}, {"summary", summary},
-          {"equations", equations}, {"params", ps}, {"metrics", ms}};
+          {"equations", equations}, {"params", ps}, {"metrics", ms},
+          {"needs_contact_dynamics", needs_contact_dynamics}, {"negative_control", negative_control}};
 }
 
 const Scenario* find_scenario(const std::string& name) {

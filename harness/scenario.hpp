@@ -62,6 +62,10 @@ struct Scenario {
   std::vector<ParamSpec> params;
   std::vector<MetricDef> metrics;
   std::function<Outcome(const Params&, CarEngine&)> run_car;
+  /// Runs only on engines with contact dynamics (skipped elsewhere).
+  bool needs_contact_dynamics = false;
+  /// A negative control: its comparison is meant to fail; validation counts a fail as expected.
+  bool negative_control = false;
 
   const MetricDef* metric(const std::string& name) const;
   nlohmann::json to_json() const;

@@ -47,6 +47,19 @@ std::vector<TimedConfig> lift(const CarDef& car, const BasePath& path, const Con
   return trace;
 }
 
+Config lift_of_samples(const CarDef& car, const std::vector<TimedConfig>& samples) {
+  if (samples.empty()) return {};
+  Config q = samples.front().q;
+  for (std::size_t i = 1; i < samples.size(); ++i) {
+    const Config& b = samples[i].q;
+    const double half = 0.5 * (b.beta_rad - q.beta_rad);
+    q = flow_beta(q, half);
+    q = flow_alpha(car, q, b.alpha_rad - q.alpha_rad);
+    q = flow_beta(q, b.beta_rad - q.beta_rad);
+  }
+  return q;
+}
+
 Config lift_end(const CarDef& car, const BasePath& path, const Config& q0, const LiftDef& def) {
   LiftDef d = def;
   d.sample_dt_s = 0.0;

@@ -26,6 +26,12 @@ struct TimedConfig {
 std::vector<TimedConfig> lift(const CarDef& car, const BasePath& path, const Config& q0,
                               const LiftDef& def = {});
 
+/// Lift of a sampled base path (alpha_i, beta_i), e.g. the one an engine realized, from the rod
+/// position of samples.front(): between samples, steer half-way, drive the exact arc, steer the
+/// rest (a symmetric composition of exact flows, second order in the sample spacing; exact when
+/// only one of alpha and beta changes between two samples). Returns the end configuration.
+Config lift_of_samples(const CarDef& car, const std::vector<TimedConfig>& samples);
+
 /// Only the end configuration of the lift.
 Config lift_end(const CarDef& car, const BasePath& path, const Config& q0, const LiftDef& def = {});
 

@@ -65,11 +65,17 @@ check validate 0 "$bin" validate --engines analytic --filter 'car.*' --out "$tmp
 python3 -c '
 import json,sys
 d=json.load(open(sys.argv[1]))
-assert d["summary"]["total"] == 6 and d["summary"]["pass"] == 6, d["summary"]
+assert d["summary"]["total"] == 8 and d["summary"]["unexpected"] == 0, d["summary"]
+assert d["summary"]["pass"] == 7 and d["summary"]["skip"] == 1, d["summary"]
 assert d["context"]["engines"][0]["name"] == "analytic"
 ' "$tmp/report/results.json" && [ -s "$tmp/report/index.html" ] && passes=$((passes + 1)) \
   || { echo "FAIL validate outputs"; fails=$((fails + 1)); }
 ls "$tmp/report" | grep -q '\.tmp$' && { echo "FAIL temporary files left"; fails=$((fails + 1)); }
+
+# A run out of tolerance exits 1; a negative control that fails as designed exits 0.
+check failing-run-exit-1 1 "$bin" run car.covariance --engine ode --set friction_dirs=world
+check negative-control-exit-0 0 "$bin" run car.slip --engine ode
+grep -q "^car.slip on ode: fail" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL car.slip did not fail"; fails=$((fails + 1)); }
 
 echo "$passes passed, $fails failed"
 [ "$fails" -eq 0 ]

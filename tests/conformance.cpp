@@ -21,11 +21,47 @@ TEST_P(Conformance, DefaultRunPasses) {
   ASSERT_NE(e, nullptr) << "unknown engine " << g_engine;
   const Scenario* s = find_scenario(GetParam());
   if (s->vehicle == "car" && !e->make_car) GTEST_SKIP() << g_engine << " has no car";
+  if (s->needs_contact_dynamics && !e->contact_dynamics) GTEST_SKIP() << g_engine << " simulates no contact forces";
   const RunRecord r = run_scenario(*s, *e);
   for (const auto& m : r.metrics)
     std::cout << "  " << m.name << ": expected " << m.expected << " measured " << m.measured << " err "
               << (m.kind == TolKind::kRelative ? m.rel_error : m.abs_error) << " tol " << m.tolerance << "\n";
-  EXPECT_EQ(r.status, Status::kPass) << r.message;
+  if (s->negative_control) {
+    // A negative control must fail its no-slip comparison, and through the metrics built to see
+    // slip, not through an engine error.
+    EXPECT_EQ(r.status, Status::kFail) << r.message;
+    for (const auto& m : r.metrics)
+      if (m.name == "slip_ratio" || m.name == "lateral_speed_max") EXPECT_FALSE(m.pass) << m.name;
+  } else {
+    EXPECT_EQ(r.status, Status::kPass) << r.message;
+  }
+}
+
+// Sign conventions on every engine with a car: steering left is positive beta, forward is positive
+// alpha. Driving forward with beta > 0 turns the car left (phi grows) and moves the front axle
+// along its heading.
+TEST(Signs, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
+  const EngineInfo* e = find_engine(g_engine);
+  ASSERT_NE(e, nullptr);
+  if (!e->make_car) GTEST_SKIP();
+  auto car = e->make_car();
+  CarSetup setup;
+  for (double beta : {0.3, -0.3}) {
+    const car::Config q0{0.0, beta, 1.0, 2.0, 0.5};
+    car->reset(setup, q0);
+    const car::BasePath path({{2.0, 0.0}}, 0.0, beta, setup.drive);
+    const auto trace = car->drive(path);
+    const car::Config& end = trace.back().q;
+    EXPECT_NEAR(end.alpha_rad, 2.0, 1e-3);
+    EXPECT_NEAR(end.beta_rad, beta, 1e-3);
+    EXPECT_GT((end.x_m - q0.x_m) * std::cos(0.5) + (end.y_m - q0.y_m) * std::sin(0.5), 0.5);  // went forward
+    EXPECT_GT((end.phi_rad - q0.phi_rad) * beta, 0.0);                                          // turned to the steered side
+  }
+  // Steering alone: the realized beta follows the command with its sign.
+  const car::Config q0{0.0, 0.0, 0.0, 0.0, 0.0};
+  car->reset(setup, q0);
+  const auto trace = car->drive(car::BasePath({{0.0, 0.4}}, 0.0, 0.0, setup.drive));
+  EXPECT_NEAR(trace.back().q.beta_rad, 0.4, 1e-3);
 }
 
 std::vector<std::string> scenario_names() {

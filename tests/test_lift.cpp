@@ -92,3 +92,21 @@ TEST(Lift, SteeringAloneMovesNoRod) {
   EXPECT_EQ(q.phi_rad, q0.phi_rad);
   EXPECT_NEAR(q.beta_rad, 0.1, 1e-15);
 }
+
+TEST(Lift, LiftOfSamplesConvergesToTheIntegratedLift) {
+  // Second order in the sample spacing along a path that steers while driving.
+  const std::vector<Segment> segs{{2.0, 0.3}, {3.0, -0.5}};
+  const BasePath path(segs, 0.0, 0.1, {kCar.R_m, 0.5, 0.5, 1.0, 4.0});
+  const Config q0{0.0, 0.1, 0.5, -0.5, 0.3};
+  const Config ref = lift_end(kCar, path, q0);
+  std::vector<double> err;
+  for (double h : {0.04, 0.02, 0.01}) {
+    LiftDef def;
+    def.sample_dt_s = h;
+    const Config q = lift_of_samples(kCar, lift(kCar, path, q0, def));
+    err.push_back((q.vec() - ref.vec()).norm());
+  }
+  EXPECT_LT(err[2], 1e-5);
+  EXPECT_NEAR(err[0] / err[1], 4.0, 0.5);
+  EXPECT_NEAR(err[1] / err[2], 4.0, 0.5);
+}

@@ -78,6 +78,9 @@ class BulletCar final : public RigidCar {
     info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     // Fixed world axes when not aligned: no velocity-dependent friction direction either.
     info.m_solverMode |= SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
+    // The solver keeps preset friction directions (BT_CONTACT_FLAG_LATERAL_FRICTION_INITIALIZED)
+    // only with direction caching on; without it, it recomputes them from the normal every step.
+    if (world_->align) info.m_solverMode |= SOLVER_ENABLE_FRICTION_DIRECTION_CACHING;
 
     // Ground plane z = 0.
     auto* ground_shape = add_shape(std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0));
@@ -207,7 +210,7 @@ class BulletCar final : public RigidCar {
 EngineInfo bullet_engine() {
   return {"bullet", fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
           "Bullet: btHinge2Constraint front wheel, hinge rear wheels, 2 friction directions, fixed step",
-          [] { return std::make_unique<BulletCar>(); }};
+          [] { return std::make_unique<BulletCar>(); }, true};
 }
 
 }  // namespace liftcheck

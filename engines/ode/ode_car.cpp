@@ -194,7 +194,7 @@ class OdeCar final : public RigidCar {
 EngineInfo ode_engine() {
   return {"ode", fmt::format("{} ({})", LIFTCHECK_ODE_VERSION, sizeof(dReal) == 8 ? "double" : "single"),
           "Open Dynamics Engine: hinge-2 front wheel, contact joints (dContactApprox1), dWorldStep",
-          [] { return std::make_unique<OdeCar>(); }};
+          [] { return std::make_unique<OdeCar>(); }, true};
 }
 
 }  // namespace liftcheck
