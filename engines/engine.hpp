@@ -50,6 +50,8 @@ struct EngineInfo {
   std::function<std::unique_ptr<CarEngine>()> make_car;  ///< empty: the engine has no car
   /// Simulates contact forces with friction, so wheels can slip (the analytic model cannot).
   bool contact_dynamics = false;
+  /// Fixed settings of the engine's model (joints, contact and friction handling), for the record.
+  std::vector<std::pair<std::string, std::string>> settings;
 };
 
 /// Every engine compiled in, in a fixed order (analytic first).

@@ -268,6 +268,8 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   o.values["lo_dy"] = {predicted[car::kY], d[car::kY], lo_size, lo_factor};
   o.values["lo_dphi"] = {predicted[car::kPhi], d[car::kPhi], lo_size / l, lo_factor};
   o.details = {{"trace", trace_json(trace)}, {"steps", steps.size()}, {"holonomy_size_m", size},
+               {"measured_size_m", rod_shift(setup.car, trace.front().q, trace.back().q)},
+               {"holonomy_error_m", rod_shift(setup.car, end_exact, Config::from(trace.back().q.vec() - trace.front().q.vec() + q0.vec()))},
                {"errors", error_split(setup.car, trace, end_exact)}};
   return o;
 }

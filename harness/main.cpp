@@ -10,6 +10,7 @@
 #include "harness/results.hpp"
 #include "liftcheck_version.hpp"
 #include "harness/runner.hpp"
+#include "harness/sweeps.hpp"
 #include "reports/html.hpp"
 
 using namespace liftcheck;
@@ -77,7 +78,7 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   return r.as_expected() ? 0 : 1;
 }
 
-int cmd_validate(const std::string& engine_list, const std::string& filter, const std::string& out_dir) {
+int cmd_validate(const std::string& engine_list, const std::string& filter, const std::string& out_dir, bool sweeps) {
   std::vector<const EngineInfo*> es;
   if (engine_list.empty()) {
     for (const auto& e : engines()) es.push_back(&e);
@@ -115,8 +116,18 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
                                r.negative_control && r.status == Status::kFail && r.as_expected() ? "(expected: negative control) " : "", r.message);
       runs.push_back(std::move(r));
     }
+  nlohmann::json sweep_results = nlohmann::json::array();
+  if (sweeps)
+    for (const SweepDef& sw : sweep_catalogue()) {
+      if (fnmatch(filter.c_str(), sw.scenario.c_str(), 0) != 0) continue;
+      const auto ts = std::chrono::steady_clock::now();
+      sweep_results.push_back(run_sweep(sw, es));
+      std::cout << fmt::format("sweep  {:<32} {:8.3f} s\n", sw.name,
+                               std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count());
+    }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const nlohmann::json results = results_json(runs, context_json(es, wall));
+  nlohmann::json results = results_json(runs, context_json(es, wall));
+  results["sweeps"] = sweep_results;
   try {
     write_file_atomic(out / "results.json", results.dump(1));
     write_file_atomic(out / "index.html", index_html(results));
@@ -156,6 +167,8 @@ int main(int argc, char** argv) {
   validate->add_option("--engines", engine_list, "comma-separated engine names (default: all)");
   validate->add_option("--filter", filter, "glob on scenario names")->capture_default_str();
   validate->add_option("--out", out_dir, "output folder")->capture_default_str();
+  bool no_sweeps = false;
+  validate->add_flag("--no-sweeps", no_sweeps, "skip the parameter sweeps");
 
   try {
     app.parse(argc, argv);
@@ -172,7 +185,7 @@ int main(int argc, char** argv) {
   try {
     if (*list) return cmd_list(list_json);
     if (*run) return cmd_run(scenario, engine, sets, run_json);
-    if (*validate) return cmd_validate(engine_list, filter, out_dir);
+    if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps);
   } catch (const InputError& e) {
     std::cerr << "liftcheck: error: " << e.what() << "\n";
     return 2;

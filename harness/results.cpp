@@ -14,7 +14,12 @@ namespace liftcheck {
 
 nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, double wall_s) {
   nlohmann::json es = nlohmann::json::array();
-  for (const EngineInfo* e : engines) es.push_back({{"name", e->name}, {"version", e->version}, {"description", e->description}});
+  for (const EngineInfo* e : engines) {
+    nlohmann::json settings = nlohmann::json::object();
+    for (const auto& [k, v] : e->settings) settings[k] = v;
+    es.push_back({{"name", e->name}, {"version", e->version}, {"description", e->description},
+                  {"contact_dynamics", e->contact_dynamics}, {"settings", settings}});
+  }
   char host[256] = "unknown";
   gethostname(host, sizeof host - 1);
   utsname u{};

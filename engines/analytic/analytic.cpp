@@ -25,7 +25,8 @@ class AnalyticCar final : public CarEngine {
 
 EngineInfo analytic_engine() {
   return {"analytic", "1", "horizontal lift (4.1), Boost.Odeint dopri5 at 1e-13",
-          [] { return std::make_unique<AnalyticCar>(); }};
+          [] { return std::make_unique<AnalyticCar>(); }, false,
+          {{"integrator", "Boost.Odeint runge_kutta_dopri5, dense output, abs and rel tolerance 1e-13"}}};
 }
 
 }  // namespace liftcheck

@@ -1,0 +1,114 @@
+#include "harness/sweeps.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+#include "harness/runner.hpp"
+
+namespace liftcheck {
+
+double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double lx = std::log(x[i]), ly = std::log(y[i]);
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+const std::vector<SweepDef>& sweep_catalogue() {
+  static const std::vector<SweepDef> all = [] {
+    std::vector<SweepDef> v;
+    v.push_back({"radius_vs_beta", "Circle radius against steering angle (appendix D: l/sin beta0, l/tan beta0)",
+                 "car.circle", "beta", {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8}, {},
+                 {"metric:front_radius", "metric:rear_radius"}, false, "", "", 0.0, ""});
+    v.push_back({"error_vs_dt", "Front circle radius error against the engine time step",
+                 "car.circle", "dt", {0.0005, 0.001, 0.002, 0.005, 0.01}, {},
+                 {"metric:front_radius", "metric:final_offset"}, false, "", "", 0.0, ""});
+    // mu = 0.3 on the 3.38 m circle: v^2/(r g) reaches mu at sqrt(0.3 * 9.81 * 3.3839) = 3.155 m/s.
+    v.push_back({"error_vs_speed", "Front circle radius error against speed (mu = 0.3)",
+                 "car.circle", "speed", {0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0},
+                 {{"mu", "0.3"}, {"drive", "40"}},
+                 {"metric:front_radius", "metric:slip_ratio", "detail:grip_use"}, false, "", "",
+                 std::sqrt(0.3 * 9.81 / std::sin(0.3)), "v^2/(r g) = mu"});
+    v.push_back({"holonomy_vs_eps", "Simple parking cycle: holonomy against eps (slope 2)",
+                 "car.cycle", "eps", {0.01, 0.02, 0.05, 0.1, 0.2, 0.4}, {},
+                 {"detail:holonomy_size_m", "detail:measured_size_m", "detail:holonomy_error_m"}, true,
+                 "detail:measured_size_m", "detail:holonomy_error_m", 0.0, ""});
+    v.push_back({"holonomy_iterated_vs_eps", "Iterated cycle (5.8): holonomy against eps (slope 4)",
+                 "car.iterated", "eps", {0.05, 0.1, 0.2, 0.3, 0.5, 0.7}, {},
+                 {"detail:holonomy_size_m", "detail:measured_size_m", "detail:holonomy_error_m"}, true,
+                 "detail:measured_size_m", "detail:holonomy_error_m", 0.0, ""});
+    return v;
+  }();
+  return all;
+}
+
+namespace {
+
+/// The cycle scenario takes eps_alpha and eps_beta: "eps" sets both.
+Overrides point_overrides(const SweepDef& s, double x) {
+  Overrides ov = s.fixed;
+  const std::string value = fmt::format("{}", x);
+  if (s.param == "eps" && s.scenario == "car.cycle") {
+    ov.emplace_back("eps_alpha", value);
+    ov.emplace_back("eps_beta", value);
+  } else {
+    ov.emplace_back(s.param, value);
+  }
+  return ov;
+}
+
+nlohmann::json value_of(const nlohmann::json& record, const std::string& key) {
+  const auto colon = key.find(':');
+  const std::string kind = key.substr(0, colon), name = key.substr(colon + 1);
+  if (kind == "metric") {
+    const auto& ms = record["metrics"];
+    if (!ms.contains(name)) return nullptr;
+    const auto& m = ms[name];
+    return {{"expected", m["expected"]}, {"measured", m["measured"]}, {"rel_error", m["rel_error"]},
+            {"abs_error", m["abs_error"]}, {"pass", m["pass"]}};
+  }
+  const auto& d = record["details"];
+  return d.contains(name) ? d[name] : nlohmann::json();
+}
+
+}  // namespace
+
+nlohmann::json run_sweep(const SweepDef& s, const std::vector<const EngineInfo*>& engines) {
+  const Scenario* scenario = find_scenario(s.scenario);
+  nlohmann::json per_engine = nlohmann::json::array();
+  for (const EngineInfo* e : engines) {
+    if (!e->make_car) continue;
+    nlohmann::json points = nlohmann::json::array();
+    std::vector<double> fx, fy;
+    for (double x : s.values) {
+      const RunRecord r = run_scenario(*scenario, *e, point_overrides(s, x));
+      const nlohmann::json rec = r.to_json();
+      nlohmann::json pt{{"x", x}, {"status", to_string(r.status)}, {"message", r.message}};
+      for (const auto& key : s.record) pt[key] = value_of(rec, key);
+      if (s.loglog_fit && r.status != Status::kError) {
+        const nlohmann::json y = value_of(rec, s.fit_y), noise = value_of(rec, s.fit_noise);
+        // Above the noise floor: the engine's error is under a tenth of what it measures.
+        if (y.is_number() && noise.is_number() && y.get<double>() > 10.0 * noise.get<double>()) {
+          fx.push_back(x);
+          fy.push_back(y.get<double>());
+          pt["fitted"] = true;
+        }
+      }
+      points.push_back(pt);
+    }
+    nlohmann::json entry{{"engine", e->name}, {"points", points}};
+    if (s.loglog_fit)
+      entry["fit"] = fx.size() >= 2 ? nlohmann::json{{"slope", loglog_slope(fx, fy)}, {"points", fx.size()}}
+                                    : nlohmann::json{{"slope", nullptr}, {"points", fx.size()}};
+    per_engine.push_back(entry);
+  }
+  nlohmann::json j{{"name", s.name}, {"title", s.title}, {"scenario", s.scenario}, {"param", s.param},
+                   {"fixed", s.fixed}, {"record", s.record}, {"engines", per_engine}};
+  if (s.marker > 0.0) j["marker"] = {{"x", s.marker}, {"label", s.marker_label}};
+  return j;
+}
+
+}  // namespace liftcheck

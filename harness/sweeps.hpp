@@ -1,0 +1,38 @@
+// Parameter sweeps for the report: one scenario run over a grid of one parameter on each engine,
+// stored as flat points in results.json ("sweeps"), with fitted slopes where the sweep asks.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "engines/engine.hpp"
+#include "harness/params.hpp"
+
+namespace liftcheck {
+
+struct SweepDef {
+  std::string name;
+  std::string title;
+  std::string scenario;
+  std::string param;             ///< the swept parameter
+  std::vector<double> values;
+  Overrides fixed;               ///< other parameters held for the whole sweep
+  /// What each point records: "metric:NAME" (expected, measured, errors) or "detail:KEY".
+  std::vector<std::string> record;
+  bool loglog_fit = false;       ///< fit log y against log x above the engine's noise floor
+  std::string fit_y;             ///< the recorded quantity that is fitted ("detail:measured_size_m")
+  std::string fit_noise;         ///< its error against the exact value, which defines the noise floor
+  double marker = 0.0;           ///< an x value to mark on the plot (0: none)
+  std::string marker_label;
+};
+
+const std::vector<SweepDef>& sweep_catalogue();
+
+/// Runs one sweep on the given engines. Engines that cannot run the scenario are left out.
+nlohmann::json run_sweep(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines);
+
+/// Least-squares slope of log y on log x.
+double loglog_slope(const std::vector<double>& x, const std::vector<double>& y);
+
+}  // namespace liftcheck
