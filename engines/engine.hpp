@@ -8,7 +8,10 @@
 #include <string>
 #include <vector>
 
+#include <optional>
+
 #include "models/car.hpp"
+#include "models/disks.hpp"
 #include "models/lift.hpp"
 #include "models/path.hpp"
 
@@ -38,6 +41,33 @@ class CarEngine {
   virtual std::vector<car::TimedConfig> drive(const car::BasePath& path) = 0;
 };
 
+/// Two unit disks: N moves along a known path (kinematic), M's velocity follows a rule from the
+/// engine's measured state. Rigid-body engines detect contact with their own collision pipeline.
+struct DiskSetup {
+  double radius_m = 1.0;
+  double dt_s = 1e-3;         ///< engine step
+  double sample_dt_s = 0.02;  ///< spacing of the reported trace
+};
+
+struct DiskProblem {
+  disks::Rule rule;
+  disks::NPath path;
+  disks::Vec2 cM0;
+  double T_s = 6.0;
+};
+
+struct DiskRun {
+  std::optional<double> t_contact_s;  ///< first contact (analytic: root; engines: first step in contact)
+  double min_distance = 0.0;          ///< smallest |c_M - c_N| seen
+  std::vector<disks::Sample> trace;   ///< from t = 0 to T, every sample_dt
+};
+
+class DiskEngine {
+ public:
+  virtual ~DiskEngine() = default;
+  virtual DiskRun run(const DiskSetup& setup, const DiskProblem& problem) = 0;
+};
+
 /// Thrown by an engine whose simulation failed (NaN, explosion, bad setup): reported as an error run.
 struct EngineError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -48,6 +78,7 @@ struct EngineInfo {
   std::string version;
   std::string description;
   std::function<std::unique_ptr<CarEngine>()> make_car;  ///< empty: the engine has no car
+  std::function<std::unique_ptr<DiskEngine>()> make_disks;  ///< empty: no two-disk vehicles
   /// Simulates contact forces with friction, so wheels can slip (the analytic model cannot).
   bool contact_dynamics = false;
   /// Fixed settings of the engine's model (joints, contact and friction handling), for the record.

@@ -1,4 +1,5 @@
 #include "harness/car_scenarios.hpp"
+#include "harness/disk_scenarios.hpp"
 #include "harness/scenario.hpp"
 
 namespace liftcheck {
@@ -6,6 +7,7 @@ namespace liftcheck {
 const std::vector<Scenario>& scenarios() {
   static const std::vector<Scenario> all = [] {
     std::vector<Scenario> v = car_scenarios();
+    for (auto& s : disk_scenarios()) v.push_back(std::move(s));
     return v;
   }();
   return all;

@@ -68,9 +68,9 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
   const Params params = Params::resolve(scenario.params, overrides, scenario.name);
   r.params = params.to_json();
   r.negative_control = scenario.negative_control;
-  if (scenario.vehicle == "car" && !engine.make_car) {
+  if ((scenario.vehicle == "car" && !engine.make_car) || (scenario.vehicle == "disks" && !engine.make_disks)) {
     r.status = Status::kSkip;
-    r.message = fmt::format("engine '{}' has no car", engine.name);
+    r.message = fmt::format("engine '{}' has no {}", engine.name, scenario.vehicle == "car" ? "car" : "two-disk vehicles");
     return r;
   }
   if (scenario.needs_contact_dynamics && !engine.contact_dynamics) {
@@ -80,8 +80,14 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
   }
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    auto car = engine.make_car();
-    const Outcome outcome = scenario.run_car(params, *car);
+    Outcome outcome;
+    if (scenario.vehicle == "disks") {
+      auto d = engine.make_disks();
+      outcome = scenario.run_disks(params, *d);
+    } else {
+      auto car = engine.make_car();
+      outcome = scenario.run_car(params, *car);
+    }
     r.metrics = score(scenario, engine.name, outcome);
     r.details = outcome.details;
     bool finite = true, pass = !r.metrics.empty();

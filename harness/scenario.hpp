@@ -56,12 +56,13 @@ struct Metric {
 
 struct Scenario {
   std::string name;
-  std::string vehicle;   ///< "car" (the engine must offer make_car)
+  std::string vehicle;   ///< "car" or "disks" (the engine must offer make_car or make_disks)
   std::string summary;   ///< what it checks
   std::string equations; ///< the paper's equations it exercises
   std::vector<ParamSpec> params;
   std::vector<MetricDef> metrics;
   std::function<Outcome(const Params&, CarEngine&)> run_car;
+  std::function<Outcome(const Params&, DiskEngine&)> run_disks;
   /// Runs only on engines with contact dynamics (skipped elsewhere).
   bool needs_contact_dynamics = false;
   /// A negative control: its comparison is meant to fail; validation counts a fail as expected.

@@ -4,6 +4,7 @@
 #include <boost/numeric/odeint.hpp>
 #include <cmath>
 #include <fmt/format.h>
+#include <algorithm>
 #include <numbers>
 #include <cstdint>
 #include <stdexcept>
@@ -96,15 +97,27 @@ std::string NPath::name() const {
   return "";
 }
 
-LiftResult lift(const Mechanism& m, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def) {
+Rule rule_of(const Mechanism& m) {
+  return [m](double, const Vec2& cM, const Vec2& cN, const Vec2& vN) { return m.velocity(cM, cN, vN); };
+}
+
+Rule rule_following(std::function<Vec2(double)> q, double T, double gain_per_s) {
+  return [q = std::move(q), T, gain_per_s](double t, const Vec2& cM, const Vec2&, const Vec2&) {
+    constexpr double h = 1e-6;
+    const double lo = std::clamp(t - h, 0.0, T - 2.0 * h), hi = lo + 2.0 * h;
+    return Vec2((q(hi) - q(lo)) / (2.0 * h) + gain_per_s * (q(std::clamp(t, 0.0, T)) - cM));
+  };
+}
+
+LiftResult lift(const Rule& rule, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def) {
   namespace odeint = boost::numeric::odeint;
   using State = std::array<double, 2>;
   const auto rhs = [&](const State& x, State& dx, double t) {
-    const Vec2 v = m.velocity(Vec2(x[0], x[1]), path.position(t), path.velocity(t));
+    const Vec2 v = rule(t, Vec2(x[0], x[1]), path.position(t), path.velocity(t));
     dx[0] = v.x();
     dx[1] = v.y();
   };
-  auto stepper = odeint::make_dense_output(def.abs_tol, def.rel_tol, odeint::runge_kutta_dopri5<State>());
+  auto stepper = odeint::make_dense_output(def.abs_tol, def.rel_tol, def.max_step_s, odeint::runge_kutta_dopri5<State>());
   stepper.initialize(State{cM0.x(), cM0.y()}, 0.0, std::min(1e-3, T_s / 16.0));
 
   LiftResult r;

@@ -54,6 +54,13 @@ struct NPath {
   std::string name() const;
 };
 
+/// M's velocity rule: a reaction mechanism (time-independent) or a prescribed motion.
+using Rule = std::function<Vec2(double t, const Vec2& cM, const Vec2& cN, const Vec2& vN)>;
+Rule rule_of(const Mechanism& m);
+/// M follows a prescribed trajectory q(t) on [0, T]: its velocity is q'(t) (central differences,
+/// h = 1e-6 s; one-sided at the ends) plus gain (q(t) - c_M), which holds it on the trajectory.
+Rule rule_following(std::function<Vec2(double)> q, double T, double gain_per_s = 20.0);
+
 struct Sample {
   double t_s;
   Vec2 cM, cN;
@@ -61,6 +68,9 @@ struct Sample {
 
 struct LiftDef {
   double abs_tol = 1e-12, rel_tol = 1e-12;
+  /// Largest step: where M's velocity vanishes (M at rest, N far away) the error estimate is zero
+  /// and an unbounded step would jump over N's whole approach.
+  double max_step_s = 0.01;
   double sample_dt_s = 0.02;
 };
 
@@ -75,7 +85,10 @@ struct LiftResult {
 /// Integrates the lift (21): c_M' = L(c_M, c_N(t), c_N'(t)) with Boost.Odeint (dopri5, dense
 /// output) over [0, T]; the first contact is the root of |c_M - c_N| - 2 on the dense output
 /// (TOMS 748), bracketed step by step.
-LiftResult lift(const Mechanism& m, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def = {});
+LiftResult lift(const Rule& rule, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def = {});
+inline LiftResult lift(const Mechanism& m, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def = {}) {
+  return lift(rule_of(m), path, cM0, T_s, def);
+}
 
 /// Lemma 4.4: does the mechanism satisfy (25) and (26), i.e. come from an Ehresmann connection?
 /// Checked at `trials` random states and velocities (fixed seed) to relative precision 1e-12.

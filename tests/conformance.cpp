@@ -21,6 +21,7 @@ TEST_P(Conformance, DefaultRunPasses) {
   ASSERT_NE(e, nullptr) << "unknown engine " << g_engine;
   const Scenario* s = find_scenario(GetParam());
   if (s->vehicle == "car" && !e->make_car) GTEST_SKIP() << g_engine << " has no car";
+  if (s->vehicle == "disks" && !e->make_disks) GTEST_SKIP() << g_engine << " has no two-disk vehicles";
   if (s->needs_contact_dynamics && !e->contact_dynamics) GTEST_SKIP() << g_engine << " simulates no contact forces";
   const RunRecord r = run_scenario(*s, *e);
   for (const auto& m : r.metrics)

@@ -245,3 +245,20 @@ TEST(Algorithms, Navigation17ReachesTheMovingTarget) {
   EXPECT_LT((navigate(copy, cM0, target, p, T, 0.0, 2.2) - cM0).norm(), 1e-12);
   EXPECT_LT((navigate(copy, cM0, target, p, T, T, 2.2) - target(T)).norm(), 1e-12);
 }
+
+TEST(Disks, ActuatedMechanismNeverLetsNThrough) {
+  // While N is farther than 3, M is at rest and its velocity vanishes: the integrator must not step
+  // over N's approach. With N passing at offset 0.5, d tends to 2 from above and never reaches it.
+  Mechanism m = make(MechanismKind::kActuated);
+  const auto r = lift(m, line({6.0, 0.5}, {-1.0, 0.0}), {0.0, 0.0}, 8.0);
+  EXPECT_FALSE(r.t_contact_s.has_value());
+  EXPECT_GT(r.min_distance, 2.0);
+  EXPECT_LT(r.min_distance, 2.3);
+  EXPECT_GT((r.cM_end - Vec2(0.0, 0.0)).norm(), 3.0);  // M was pushed along
+}
+
+TEST(Disks, FollowingRuleTracksAPrescribedMotion) {
+  const auto q = [](double t) { return Vec2(std::sin(t), t * t); };
+  const auto r = lift(rule_following(q, 2.0), line({10.0, 0.0}, {0.0, 0.0}), q(0.0), 2.0);
+  EXPECT_LT((r.cM_end - q(2.0)).norm(), 1e-9);
+}

@@ -21,12 +21,27 @@ class AnalyticCar final : public CarEngine {
   car::Config q0_;
 };
 
+class AnalyticDisks final : public DiskEngine {
+ public:
+  DiskRun run(const DiskSetup& setup, const DiskProblem& pb) override {
+    disks::LiftDef def;
+    def.sample_dt_s = setup.sample_dt_s;
+    const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);
+    return {r.t_contact_s, r.min_distance, r.trace};
+  }
+};
+
 }  // namespace
 
 EngineInfo analytic_engine() {
-  return {"analytic", "1", "horizontal lift (4.1), Boost.Odeint dopri5 at 1e-13",
-          [] { return std::make_unique<AnalyticCar>(); }, false,
-          {{"integrator", "Boost.Odeint runge_kutta_dopri5, dense output, abs and rel tolerance 1e-13"}}};
+  return {.name = "analytic",
+          .version = "1",
+          .description = "car: horizontal lift (4.1); disks: lift (21) with root-found contact",
+          .make_car = [] { return std::make_unique<AnalyticCar>(); },
+          .make_disks = [] { return std::make_unique<AnalyticDisks>(); },
+          .contact_dynamics = false,
+          .settings = {{"car integrator", "Boost.Odeint runge_kutta_dopri5, dense output, abs and rel tolerance 1e-13"},
+                       {"disk integrator", "Boost.Odeint runge_kutta_dopri5 at 1e-12; first contact by TOMS 748 on the dense output"}}};
 }
 
 }  // namespace liftcheck

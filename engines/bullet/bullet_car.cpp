@@ -208,16 +208,20 @@ class BulletCar final : public RigidCar {
 }  // namespace
 
 EngineInfo bullet_engine() {
-  return {"bullet", fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
-          "Bullet: btHinge2Constraint front wheel, hinge rear wheels, 2 friction directions, fixed step",
-          [] { return std::make_unique<BulletCar>(); }, true,
-          {{"precision", "double (bullet-float64)"},
+  return {.name = "bullet",
+          .version = fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
+          .description = "Bullet: btHinge2Constraint front wheel, hinge rear wheels, 2 friction directions, fixed step",
+          .make_car = [] { return std::make_unique<BulletCar>(); },
+          .make_disks = make_bullet_disks,
+          .contact_dynamics = true,
+          .settings = {{"precision", "double (bullet-float64)"},
            {"stepper", "btDiscreteDynamicsWorld, stepSimulation(dt, 1, dt), sequential impulse solver"},
            {"front wheel", "btHinge2Constraint, linear suspension locked, spring off; motors on angular x (spin) and z (steering)"},
            {"rear wheels", "btHingeConstraint each"},
            {"contact", "friction = mu x 1 (Bullet multiplies both bodies' coefficients)"},
            {"friction directions", "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},
-           {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"}}};
+           {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
+           {"disks", "kinematic rigid bodies, sphere shapes, contact from contactPairTest (distance <= 0)"}}};
 }
 
 }  // namespace liftcheck

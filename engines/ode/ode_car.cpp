@@ -192,15 +192,19 @@ class OdeCar final : public RigidCar {
 }  // namespace
 
 EngineInfo ode_engine() {
-  return {"ode", fmt::format("{} ({})", LIFTCHECK_ODE_VERSION, sizeof(dReal) == 8 ? "double" : "single"),
-          "Open Dynamics Engine: hinge-2 front wheel, contact joints (dContactApprox1), dWorldStep",
-          [] { return std::make_unique<OdeCar>(); }, true,
-          {{"stepper", "dWorldStep (direct LCP solver), global ERP 0.2, CFM 1e-10"},
+  return {.name = "ode",
+          .version = fmt::format("{} ({})", LIFTCHECK_ODE_VERSION, sizeof(dReal) == 8 ? "double" : "single"),
+          .description = "Open Dynamics Engine: hinge-2 front wheel, contact joints (dContactApprox1), dWorldStep",
+          .make_car = [] { return std::make_unique<OdeCar>(); },
+          .make_disks = make_ode_disks,
+          .contact_dynamics = true,
+          .settings = {{"stepper", "dWorldStep (direct LCP solver), global ERP 0.2, CFM 1e-10"},
            {"front wheel", "dHinge2Joint, suspension CFM 1e-10; velocity motors on steering and spin"},
            {"rear wheels", "dHingeJoint each"},
            {"contact", "dContactApprox1 | SoftERP 0.2 | SoftCFM 1e-9, up to 4 points per wheel"},
            {"friction directions", "wheel: dContactFDir1 along the rolling direction (axle x up); world: ODE's default axes from the normal"},
-           {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"}}};
+           {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
+           {"disks", "kinematic bodies (dBodySetKinematic), sphere geoms, contact from dCollide"}}};
 }
 
 }  // namespace liftcheck

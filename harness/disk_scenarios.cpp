@@ -1,0 +1,382 @@
+// The two-disk scenarios (Farber, Kurz, Pillin, sections 3, 5, 6). Expected values come from the
+// paper's closed forms where it has them, otherwise from the lift (21) integrated in models/.
+#include "harness/disk_scenarios.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <numbers>
+
+#include <boost/math/tools/roots.hpp>
+
+namespace liftcheck {
+
+namespace {
+
+using disks::Vec2;
+
+ParamSpec number(std::string key, std::string def, std::string unit, std::string help, double min = -INFINITY,
+                 bool min_exclusive = false, double max = INFINITY) {
+  return {std::move(key), ParamKind::kNumber, std::move(def), std::move(unit), std::move(help), min, min_exclusive, max, {}};
+}
+ParamSpec vec2(std::string key, std::string def, std::string unit, std::string help) {
+  return {std::move(key), ParamKind::kVec2, std::move(def), std::move(unit), std::move(help), -INFINITY, false, INFINITY, {}};
+}
+
+/// Parameters every disk scenario shares; `path` is left out where the scenario fixes N's motion.
+std::vector<ParamSpec> disk_params(const std::string& cM, const std::string& cN, const std::string& vN,
+                                   const std::string& path, const std::string& T, bool with_path = true) {
+  std::vector<ParamSpec> v{
+      vec2("cM", cM, "m", "initial centre of the ego disk M"),
+      vec2("cN", cN, "m", "initial centre of the other disk N"),
+      vec2("vN", vN, "m/s", "N's velocity (line path) or speed as |vN| (toward path)"),
+  };
+  if (with_path)
+    v.push_back({"path", ParamKind::kChoice, path, "", "N's path", -INFINITY, false, INFINITY, {"line", "circle", "figure8"}});
+  v.push_back(number("path_r", "3", "m", "radius of the circle and figure-eight paths", 0.0, true, 1e4));
+  v.push_back(number("path_omega", "0.5", "rad/s", "angular rate of the circle and figure-eight paths", -100.0, false, 100.0));
+  v.push_back(number("T", T, "s", "duration", 0.0, true, 1e4));
+  v.push_back(number("dt", "0.001", "s", "engine time step", 0.0, true, 0.1));
+  v.push_back(number("sample_dt", "0.02", "s", "spacing of the recorded trace", 0.0, true, 10.0));
+  return v;
+}
+
+std::vector<ParamSpec> with(std::vector<ParamSpec> base, std::vector<ParamSpec> extra) {
+  base.insert(base.end(), extra.begin(), extra.end());
+  return base;
+}
+
+disks::NPath path_from(const Params& p) {
+  disks::NPath path;
+  path.c0 = p.vec("cN");
+  path.v = p.vec("vN");
+  path.radius_m = p.num("path_r");
+  path.omega_radps = p.num("path_omega");
+  const std::string& k = p.str("path");
+  path.kind = k == "circle" ? disks::NPath::Kind::kCircle
+            : k == "figure8" ? disks::NPath::Kind::kFigure8 : disks::NPath::Kind::kLine;
+  return path;
+}
+
+DiskSetup setup_from(const Params& p) { return {1.0, p.num("dt"), p.num("sample_dt")}; }
+
+void check_start(const Vec2& cM, const Vec2& cN) {
+  if ((cM - cN).norm() < disks::kContactDistance)
+    throw InputError(fmt::format("cM and cN overlap: |cM - cN| = {:.6g} < 2 (unit disks)", (cM - cN).norm()));
+}
+
+DiskRun run_checked(DiskEngine& engine, const DiskSetup& setup, const DiskProblem& pb) {
+  check_start(pb.cM0, pb.path.position(0.0));
+  return engine.run(setup, pb);
+}
+
+nlohmann::json trace_json(const std::vector<disks::Sample>& trace) {
+  nlohmann::json rows = nlohmann::json::array();
+  const std::size_t stride = std::max<std::size_t>(1, trace.size() / 400);
+  for (std::size_t i = 0; i < trace.size(); i += stride)
+    rows.push_back({trace[i].t_s, trace[i].cM.x(), trace[i].cM.y(), trace[i].cN.x(), trace[i].cN.y()});
+  return rows;
+}
+
+/// The first time the relative position rel(t) has |rel| <= 2 on [0, T]: a fine scan, then TOMS 748.
+std::optional<double> first_contact(const std::function<Vec2(double)>& rel, double T) {
+  const auto f = [&](double t) { return rel(t).norm() - disks::kContactDistance; };
+  if (f(0.0) <= 0.0) return 0.0;
+  const int n = std::max(1000, static_cast<int>(T / 1e-3));
+  double ta = 0.0, fa = f(0.0);
+  for (int k = 1; k <= n; ++k) {
+    const double tb = T * k / n, fb = f(tb);
+    if (fb <= 0.0) {
+      boost::uintmax_t it = 200;
+      const auto [lo, hi] = boost::math::tools::toms748_solve(f, ta, tb, fa, fb, boost::math::tools::eps_tolerance<double>(52), it);
+      return 0.5 * (lo + hi);
+    }
+    ta = tb;
+    fa = fb;
+  }
+  return std::nullopt;
+}
+
+/// Collision, contact time and distances measured from an engine run against expectations.
+void add_contact(Outcome& o, const DiskRun& run, std::optional<double> expected_t, double dt) {
+  o.values["collision"] = {expected_t ? 1.0 : 0.0, run.t_contact_s ? 1.0 : 0.0};
+  if (expected_t && run.t_contact_s) o.values["t_contact"] = {*expected_t, *run.t_contact_s, 0.0, dt};
+  o.details["t_contact_expected_s"] = expected_t ? nlohmann::json(*expected_t) : nlohmann::json();
+  o.details["t_contact_measured_s"] = run.t_contact_s ? nlohmann::json(*run.t_contact_s) : nlohmann::json();
+}
+
+double final_distance(const DiskRun& r) { return (r.trace.back().cM - r.trace.back().cN).norm(); }
+
+/// Largest |d(t) - d(0)| and largest angle between c(t) = c_M - c_N and c(0) over the trace.
+std::pair<double, double> spreads(const DiskRun& r) {
+  const Vec2 c0 = r.trace.front().cM - r.trace.front().cN;
+  double dd = 0.0, ang = 0.0;
+  for (const auto& s : r.trace) {
+    const Vec2 c = s.cM - s.cN;
+    dd = std::max(dd, std::abs(c.norm() - c0.norm()));
+    ang = std::max(ang, std::abs(std::atan2(c0.x() * c.y() - c0.y() * c.x(), c0.dot(c))));
+  }
+  return {dd, ang};
+}
+
+DiskProblem problem(const Params& p, const disks::Mechanism& m) {
+  return {disks::rule_of(m), path_from(p), p.vec("cM"), p.num("T")};
+}
+
+MetricDef abs_(std::string name, std::string unit, double analytic, double engines, std::string help) {
+  return {std::move(name), std::move(unit), TolKind::kAbsolute, {{"analytic", analytic}, {"default", engines}}, std::move(help)};
+}
+const MetricDef kCollision{"collision", "1", TolKind::kAbsolute, {{"default", 0.0}}, "1 if the disks touch within T, else 0"};
+// The contact time is compared in engine steps: the tolerance is this many steps of dt.
+const MetricDef kTContact{"t_contact", "s", TolKind::kAbsolute, {{"analytic", 1e-6}, {"default", 1.0}},
+                          "first contact time; tolerance in steps of dt (engines: one step)"};
+
+// ---- scenario functions --------------------------------------------------------------------
+
+Outcome run_copy(const Params& p, DiskEngine& e) {
+  disks::Mechanism m;  // (36)
+  const DiskRun r = run_checked(e, setup_from(p), problem(p, m));
+  const double d0 = (p.vec("cM") - p.vec("cN")).norm();
+  Outcome o;
+  add_contact(o, r, std::nullopt, p.num("dt"));  // c_M - c_N is constant: no contact from a disjoint start
+  o.values["final_distance"] = {d0, final_distance(r)};
+  o.values["distance_spread"] = {0.0, spreads(r).first};
+  o.values["direction_change"] = {0.0, spreads(r).second};
+  o.details["trace"] = trace_json(r.trace);
+  return o;
+}
+
+Outcome run_actuated(const Params& p, DiskEngine& e) {
+  disks::Mechanism m;
+  m.kind = disks::MechanismKind::kActuated;  // (37)
+  const DiskProblem pb = problem(p, m);
+  const DiskRun r = run_checked(e, setup_from(p), pb);
+  const disks::LiftResult ref = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s);  // no closed form
+  Outcome o;
+  add_contact(o, r, ref.t_contact_s, p.num("dt"));
+  o.values["min_distance"] = {ref.min_distance, r.min_distance};
+  o.values["final_distance"] = {ref.final_distance, final_distance(r)};
+  o.details["trace"] = trace_json(r.trace);
+  return o;
+}
+
+Outcome run_repel(const Params& p, DiskEngine& e) {
+  disks::Mechanism m;
+  m.kind = disks::MechanismKind::kRepel;  // (38)
+  m.lambda = p.num("lambda");
+  const DiskRun r = run_checked(e, setup_from(p), problem(p, m));
+  const double d0 = (p.vec("cM") - p.vec("cN")).norm(), T = p.num("T");
+  std::optional<double> t = disks::repel_touch_time(d0, m.lambda);  // Lemma 5.1
+  if (t && *t > T) t.reset();
+  Outcome o;
+  add_contact(o, r, t, p.num("dt"));
+  o.values["final_distance"] = {disks::repel_distance(d0, m.lambda, T), final_distance(r)};
+  o.values["direction_change"] = {0.0, spreads(r).second};
+  o.details["trace"] = trace_json(r.trace);
+  return o;
+}
+
+Outcome run_orbit(const Params& p, DiskEngine& e) {
+  disks::Mechanism m;
+  m.kind = disks::MechanismKind::kRotation;  // (40)
+  m.omega = p.num("omega");
+  const DiskRun r = run_checked(e, setup_from(p), problem(p, m));
+  const double d0 = (p.vec("cM") - p.vec("cN")).norm(), T = p.num("T");
+  // Turned angle of c_M - c_N, unwrapped along the trace.
+  double turned = 0.0;
+  for (std::size_t i = 1; i < r.trace.size(); ++i) {
+    const Vec2 a = r.trace[i - 1].cM - r.trace[i - 1].cN, b = r.trace[i].cM - r.trace[i].cN;
+    turned += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
+  }
+  Outcome o;
+  add_contact(o, r, std::nullopt, p.num("dt"));  // the distance is constant
+  o.values["distance_spread"] = {0.0, spreads(r).first};
+  o.values["turned_angle"] = {m.omega * T, turned};
+  o.details["trace"] = trace_json(r.trace);
+  return o;
+}
+
+disks::Mechanism linear_from(const Params& p) {
+  disks::Mechanism m;
+  m.kind = disks::MechanismKind::kLinear;  // (41)
+  m.a = p.num("a");
+  m.b = p.num("b");
+  return m;
+}
+
+Outcome run_linear(const Params& p, DiskEngine& e) {
+  const disks::Mechanism m = linear_from(p);
+  const DiskProblem pb = problem(p, m);
+  const DiskRun r = run_checked(e, setup_from(p), pb);
+  const Vec2 cM0 = p.vec("cM"), cN0 = p.vec("cN");
+  // (43): c_M(t) = A c_N(t) - c0, for any path of N; the contact is a root of its distance.
+  const auto closed = [&](double t) { return disks::linear_cM(m.a, m.b, cM0, cN0, pb.path.position(t)); };
+  const auto t = first_contact([&](double s) { return Vec2(closed(s) - pb.path.position(s)); }, pb.T_s);
+  Outcome o;
+  add_contact(o, r, t, p.num("dt"));
+  o.values["cM_end_error"] = {0.0, (r.trace.back().cM - closed(r.trace.back().t_s)).norm()};
+  o.values["final_distance"] = {(closed(pb.T_s) - pb.path.position(pb.T_s)).norm(), final_distance(r)};
+  if (m.a != 1.0 || m.b != 0.0) {
+    const Vec2 chat = disks::collision_centre(m.a, m.b, cM0, cN0);
+    o.details["collision_centre"] = {chat.x(), chat.y()};
+    o.details["collision_radius"] = disks::collision_radius(m.a, m.b);
+  }
+  o.details["linear"] = disks::satisfies_linearity(m);
+  o.details["trace"] = trace_json(r.trace);
+  return o;
+}
+
+Outcome run_forced(const Params& p, DiskEngine& e) {
+  const disks::Mechanism m = linear_from(p);
+  if (m.a == 1.0 && m.b == 0.0) throw InputError("disks.forced needs (a, b) != (1, 0): copying N cannot be forced into contact");
+  const Vec2 cM0 = p.vec("cM"), cN0 = p.vec("cN");
+  const double speed = p.vec("vN").norm();
+  if (!(speed > 0.0)) throw InputError("disks.forced needs a non-zero speed |vN|");
+  disks::NPath path;  // Corollary 6.3: N drives straight into the ball D
+  path.kind = disks::NPath::Kind::kToward;
+  path.c0 = cN0;
+  path.v = p.vec("vN");
+  path.goal = disks::collision_centre(m.a, m.b, cM0, cN0);
+  const DiskRun r = run_checked(e, setup_from(p), {disks::rule_of(m), path, cM0, p.num("T")});
+  double t = disks::forced_contact_time(m.a, m.b, cM0, cN0, speed);
+  Outcome o;
+  add_contact(o, r, t <= p.num("T") ? std::optional<double>(t) : std::nullopt, p.num("dt"));
+  if (r.t_contact_s) {  // Lemma 6.1: at contact N is on the boundary of D
+    const Vec2 cN = path.position(*r.t_contact_s);
+    o.values["contact_on_D"] = {disks::collision_radius(m.a, m.b), (cN - path.goal).norm(), 0.0, p.num("dt") * speed};
+  }
+  o.details["collision_centre"] = {path.goal.x(), path.goal.y()};
+  o.details["collision_radius"] = disks::collision_radius(m.a, m.b);
+  o.details["trace"] = trace_json(r.trace);
+  return o;
+}
+
+Outcome run_moving_away(const Params& p, DiskEngine& e) {
+  disks::Mechanism m = linear_from(p);
+  m.moving_away = true;  // Corollary 4.5: (41) + the reaction form (31)
+  m.k_away = p.num("k_away");
+  const DiskProblem pb = problem(p, m);
+  const DiskRun r = run_checked(e, setup_from(p), pb);
+  const disks::LiftResult ref = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s);
+  disks::Mechanism base = linear_from(p);
+  const disks::LiftResult without = disks::lift(base, pb.path, pb.cM0, pb.T_s);
+  Outcome o;
+  add_contact(o, r, ref.t_contact_s, p.num("dt"));
+  o.values["min_distance"] = {ref.min_distance, r.min_distance};
+  o.details["base_mechanism_t_contact_s"] = without.t_contact_s ? nlohmann::json(*without.t_contact_s) : nlohmann::json();
+  o.details["trace"] = trace_json(r.trace);
+  return o;
+}
+
+/// The copy lifting function (36): L(e, gamma)(t) = c_M + c_N(t) - c_N(0).
+disks::Lifting copy_lifting(const disks::NPath& path) {
+  return [path](const Vec2& c, double t) { return Vec2(c + path.position(t) - path.position(0.0)); };
+}
+
+Outcome run_extended(const Params& p, DiskEngine& e) {
+  const disks::NPath path = path_from(p);
+  const Vec2 cM0 = p.vec("cM"), cM1 = p.vec("target");
+  const double T = p.num("T"), clearance = p.num("clearance");
+  check_start(cM1, path.position(0.0));
+  const disks::Lifting L = copy_lifting(path);
+  const auto q = [=](double t) { return disks::extended(L, cM0, cM1, path, T, std::clamp(t, 0.0, T), clearance); };
+  const DiskRun r = run_checked(e, setup_from(p), {disks::rule_following(q, T), path, cM0, T});
+  const disks::LiftResult ref = disks::lift(disks::rule_following(q, T), path, cM0, T);
+  Outcome o;
+  add_contact(o, r, std::nullopt, p.num("dt"));  // the plan keeps the clearance in N's frame
+  o.values["end_error"] = {0.0, (r.trace.back().cM - L(cM1, T)).norm()};  // (11): ends at L(e', gamma)(1)
+  o.values["min_distance"] = {ref.min_distance, r.min_distance};
+  o.details["trace"] = trace_json(r.trace);
+  return o;
+}
+
+Outcome run_target(const Params& p, DiskEngine& e) {
+  const disks::NPath path = path_from(p);
+  const Vec2 cM0 = p.vec("cM"), v0 = p.vec("target");
+  const double T = p.num("T"), clearance = p.num("clearance"), w = p.num("target_omega");
+  check_start(v0, path.position(0.0));
+  // The target keeps its own reaction mechanism: it circles N as under (40).
+  const Vec2 rel0 = v0 - path.position(0.0);
+  const auto target = [=](double t) {
+    const double c = std::cos(w * t), s = std::sin(w * t);
+    return Vec2(path.position(t) + Vec2(c * rel0.x() - s * rel0.y(), s * rel0.x() + c * rel0.y()));
+  };
+  const disks::Lifting L = copy_lifting(path);
+  const auto q = [=](double t) { return disks::navigate(L, cM0, target, path, T, std::clamp(t, 0.0, T), clearance); };
+  const DiskRun r = run_checked(e, setup_from(p), {disks::rule_following(q, T), path, cM0, T});
+  const disks::LiftResult ref = disks::lift(disks::rule_following(q, T), path, cM0, T);
+  Outcome o;
+  add_contact(o, r, std::nullopt, p.num("dt"));
+  o.values["end_error"] = {0.0, (r.trace.back().cM - target(T)).norm()};
+  o.values["min_distance"] = {ref.min_distance, r.min_distance};
+  o.details["trace"] = trace_json(r.trace);
+  return o;
+}
+
+}  // namespace
+
+std::vector<Scenario> disk_scenarios() {
+  const MetricDef final_d = abs_("final_distance", "m", 1e-8, 1e-6, "|c_M - c_N| at T");
+  const MetricDef min_d = abs_("min_distance", "m", 1e-8, 1e-3, "smallest |c_M - c_N| over the run");
+  const MetricDef spread = abs_("distance_spread", "m", 1e-8, 1e-6, "largest change of |c_M - c_N| from its start");
+  const MetricDef dir = abs_("direction_change", "rad", 1e-8, 1e-6, "largest turn of c_M - c_N from its start");
+  std::vector<Scenario> v;
+  auto add = [&](std::string name, std::string summary, std::string eq, std::vector<ParamSpec> params,
+                 std::vector<MetricDef> metrics, std::function<Outcome(const Params&, DiskEngine&)> fn) {
+    Scenario s;
+    s.name = std::move(name);
+    s.vehicle = "disks";
+    s.summary = std::move(summary);
+    s.equations = std::move(eq);
+    s.params = std::move(params);
+    s.metrics = std::move(metrics);
+    s.run_disks = std::move(fn);
+    v.push_back(std::move(s));
+  };
+  add("disks.copy", "M copies N's velocity: c_M - c_N stays constant, the disks never touch.", "(36), section 5.3",
+      disk_params("0,0", "3,0", "1,0", "figure8", "6"), {kCollision, final_d, spread, dir}, run_copy);
+  add("disks.actuated", "Actuated no-reaction: M stays put until N comes within 3, then follows it more and more.",
+      "(37), Figure 6", disk_params("0,0", "6,0.5", "-1,0", "line", "8"), {kCollision, kTContact, min_d, final_d}, run_actuated);
+  add("disks.repel", "Repel/attract: d(t) = e^{lambda t} d(0) with constant direction for any motion of N; "
+      "for lambda < 0 the disks touch at ln(2/d(0))/lambda.", "(38), (39), Lemma 5.1",
+      with(disk_params("0,0", "5,0", "1,0", "line", "4"), {number("lambda", "-0.5", "1/s", "rate lambda of (38)", -100.0, false, 100.0)}),
+      {kCollision, kTContact, final_d, dir}, run_repel);
+  add("disks.orbit", "Rotation: M circles N at constant distance with angular velocity omega (the paper's mu).",
+      "(40), section 5.6",
+      with(disk_params("0,0", "3,0", "1,0", "circle", "6"), {number("omega", "0.8", "rad/s", "angular velocity of (40)", -100.0, false, 100.0)}),
+      {kCollision, spread, abs_("turned_angle", "rad", 1e-8, 1e-6, "angle turned by c_M - c_N")}, run_orbit);
+  add("disks.linear", "Linear mechanism with constant coefficients: c_M(t) = A c_N(t) - c0 for any motion of N; "
+      "contact when N enters the ball D.", "(41)-(46), Lemma 6.1",
+      with(disk_params("0,0", "3,0", "1,0", "line", "4"), {number("a", "2", "1", "coefficient a (the paper's alpha)", -100.0, false, 100.0),
+                                                          number("b", "0", "1", "coefficient b (the paper's beta)", -100.0, false, 100.0)}),
+      {kCollision, kTContact, abs_("cM_end_error", "m", 1e-8, 1e-6, "c_M at T against (43)"), final_d}, run_linear);
+  add("disks.forced", "Forced collision: N drives straight at the centre of D and contact follows when it enters D, "
+      "whatever linear mechanism (a, b) != (1, 0) M uses.", "Corollary 6.3, Lemma 6.1, (46)",
+      with(disk_params("0,0", "6,-2", "1.5,0", "line", "20", false),
+           {number("a", "0.5", "1", "coefficient a", -100.0, false, 100.0), number("b", "0.5", "1", "coefficient b", -100.0, false, 100.0)}),
+      {kCollision, kTContact,
+       {"contact_on_D", "m", TolKind::kAbsolute, {{"analytic", 1e-6}, {"default", 1.0}},
+        "|c_N - c^0| at contact against the radius of D (tolerance in steps of N's travel)"}},
+      run_forced);
+  add("disks.moving-away", "The linear mechanism a = 2 meets N at t = 1 s; adding the moving-away reaction form (31) "
+      "keeps the disks apart.", "(31), Corollary 4.5, Corollary 4.8",
+      with(disk_params("0,0", "3,0", "1,0", "line", "6"),
+           {number("a", "2", "1", "base mechanism (41): a", -100.0, false, 100.0), number("b", "0", "1", "base mechanism (41): b", -100.0, false, 100.0),
+            number("k_away", "2", "1", "gain of the moving-away form", 0.0, false, 100.0)}),
+      {kCollision, kTContact, min_d}, run_moving_away);
+  add("disks.extended", "Extended algorithm for a known motion of N: a plan in the fibre around N, lifted by the copy "
+      "mechanism, ends at the lift of the target.", "(11), (14)",
+      with(disk_params("-4,0.1", "0,0", "0.6,0.2", "line", "8"),
+           {vec2("target", "4,-0.3", "m", "target position of M over N's start"),
+            number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, false, 100.0)}),
+      {kCollision, abs_("end_error", "m", 1e-6, 1e-5, "c_M(T) against L(e', gamma)(T)"), min_d}, run_extended);
+  add("disks.target", "Navigation to a moving target that circles N with its own mechanism: M ends on the target.",
+      "(16), (17)",
+      with(disk_params("-4,0", "1,0", "1,0", "figure8", "8"),
+           {vec2("target", "5,0", "m", "initial target position"),
+            number("target_omega", "0.4", "rad/s", "the target's rotation about N (40)", -100.0, false, 100.0),
+            number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, false, 100.0)}),
+      {kCollision, abs_("end_error", "m", 1e-6, 1e-5, "c_M(T) against the target v(T)"), min_d}, run_target);
+  return v;
+}
+
+}  // namespace liftcheck

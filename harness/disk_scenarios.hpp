@@ -1,0 +1,8 @@
+#pragma once
+#include <vector>
+#include "harness/scenario.hpp"
+namespace liftcheck {
+/// disks.copy, disks.actuated, disks.repel, disks.orbit, disks.linear, disks.forced,
+/// disks.moving-away, disks.extended, disks.target.
+std::vector<Scenario> disk_scenarios();
+}  // namespace liftcheck
