@@ -125,6 +125,12 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
       std::cout << fmt::format("sweep  {:<32} {:8.3f} s\n", sw.name,
                                std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count());
     }
+  if (sweeps && fnmatch(filter.c_str(), "disks.linear", 0) == 0) {
+    const auto ts = std::chrono::steady_clock::now();
+    sweep_results.push_back(run_outcome_sweep(es));
+    std::cout << fmt::format("sweep  {:<32} {:8.3f} s\n", "disk_outcomes",
+                             std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count());
+  }
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   nlohmann::json results = results_json(runs, context_json(es, wall));
   results["sweeps"] = sweep_results;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include "harness/runner.hpp"
 
@@ -75,6 +76,64 @@ nlohmann::json value_of(const nlohmann::json& record, const std::string& key) {
 }
 
 }  // namespace
+
+nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, double near_m) {
+  const Scenario* sc = find_scenario("disks.linear");
+  const std::vector<double> as{-1.0, 0.0, 0.5, 0.9, 1.5, 2.0, 3.0}, bs{-1.0, 0.0, 0.5, 1.0};
+  const std::vector<std::string> paths{"line", "circle", "figure8"};
+  const EngineInfo* reference = find_engine("analytic");
+  struct Case { double a, b; std::string path; bool collision; double t, min_d; };
+  std::vector<Case> cases;
+  for (const auto& path : paths)
+    for (double a : as)
+      for (double b : bs) {
+        const Overrides ov{{"a", fmt::format("{}", a)}, {"b", fmt::format("{}", b)}, {"path", path},
+                           {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}};
+        const nlohmann::json rec = run_scenario(*sc, *reference, ov).to_json();
+        const auto& d = rec["details"];
+        const bool hit = d["t_contact_measured_s"].is_number();
+        // Closest approach from the closed form (43) along the trace of the reference run.
+        double min_d = INFINITY;
+        for (const auto& row : d["trace"]) min_d = std::min(min_d, std::hypot(row[1].get<double>() - row[3].get<double>(), row[2].get<double>() - row[4].get<double>()));
+        cases.push_back({a, b, path, hit, hit ? d["t_contact_measured_s"].get<double>() : NAN, min_d});
+      }
+  nlohmann::json per_engine = nlohmann::json::array();
+  for (const EngineInfo* e : engines) {
+    if (!e->make_disks) continue;
+    int tp = 0, tn = 0, fp = 0, fn = 0, near = 0, unexplained = 0;
+    double worst_steps = 0.0;
+    nlohmann::json rows = nlohmann::json::array();
+    for (const Case& c : cases) {
+      const Overrides ov{{"a", fmt::format("{}", c.a)}, {"b", fmt::format("{}", c.b)}, {"path", c.path},
+                         {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}};
+      const RunRecord r = run_scenario(*sc, *e, ov);
+      const auto d = r.to_json()["details"];
+      const bool hit = d["t_contact_measured_s"].is_number();
+      const bool is_near = std::abs(c.min_d - 2.0) < near_m;
+      (c.collision ? (hit ? tp : fn) : (hit ? fp : tn)) += 1;
+      near += is_near ? 1 : 0;
+      if (hit != c.collision && !is_near) ++unexplained;
+      double steps = NAN;
+      if (hit && c.collision) {
+        steps = (d["t_contact_measured_s"].get<double>() - c.t) / 1e-3;
+        worst_steps = std::max(worst_steps, std::abs(steps));
+      }
+      rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"analytic", c.collision}, {"engine", hit},
+                      {"analytic_t_contact_s", c.collision ? nlohmann::json(c.t) : nlohmann::json()},
+                      {"t_error_steps", std::isfinite(steps) ? nlohmann::json(steps) : nlohmann::json()},
+                      {"analytic_min_distance", c.min_d}, {"near_boundary", is_near}, {"status", to_string(r.status)}});
+    }
+    per_engine.push_back({{"engine", e->name},
+                          {"confusion", {{"both_collide", tp}, {"neither", tn}, {"engine_only", fp}, {"analytic_only", fn}}},
+                          {"near_boundary_cases", near}, {"unexplained_disagreements", unexplained},
+                          {"worst_t_error_steps", worst_steps}, {"cases", rows}});
+  }
+  return {{"name", "disk_outcomes"}, {"kind", "outcomes"},
+          {"title", "Collision outcomes of disks.linear over (a, b) and N's paths: engine against analytic"},
+          {"scenario", "disks.linear"}, {"grid", {{"a", as}, {"b", bs}, {"path", paths}}},
+          {"fixed", {{"cM", "0,0"}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}, {"dt", "0.001"}}},
+          {"near_boundary_m", near_m}, {"engines", per_engine}};
+}
 
 nlohmann::json run_sweep(const SweepDef& s, const std::vector<const EngineInfo*>& engines) {
   const Scenario* scenario = find_scenario(s.scenario);

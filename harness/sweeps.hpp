@@ -32,6 +32,11 @@ const std::vector<SweepDef>& sweep_catalogue();
 /// Runs one sweep on the given engines. Engines that cannot run the scenario are left out.
 nlohmann::json run_sweep(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines);
 
+/// disks.linear over a grid of (a, b) and N's paths: each engine's collision outcome against the
+/// analytic one (a confusion matrix), contact-time errors in steps, and the cases near the boundary
+/// of the collision domain (analytic closest approach within `near_m` of contact) labelled.
+nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, double near_m = 0.01);
+
 /// Least-squares slope of log y on log x.
 double loglog_slope(const std::vector<double>& x, const std::vector<double>& y);
 
