@@ -97,6 +97,14 @@ nlohmann::json trace_json(const std::vector<car::TimedConfig>& trace) {
   return rows;
 }
 
+/// The exact lift (4.1) of the commanded path from q0, sampled like the engines' traces: what the
+/// reports draw as the analytic reference.
+nlohmann::json reference_json(const CarSetup& setup, const car::BasePath& path, const Config& q0) {
+  car::LiftDef def;
+  def.sample_dt_s = setup.sample_dt_s;
+  return trace_json(car::lift(setup.car, path, q0, def));
+}
+
 /// Actuation error against contact error: the lift of the (alpha, beta) path the engine realized
 /// tells how far the commanded path was missed (actuation) and how far the car strayed from the
 /// lift of what its wheels did (contact: slip, compliance, friction model).
@@ -168,6 +176,7 @@ Outcome run_circle(const Params& p, CarEngine& engine) {
   // only while v^2 / (r g) is well below mu.
   const double grip_use = setup.drive.speed_mps * setup.drive.speed_mps / (fe.radius_m * setup.gravity_mps2) / setup.mu;
   o.details = {{"trace", trace_json(trace)},
+               {"reference", reference_json(setup, path, q0)},
                {"front_fit_rms_m", ff.rms_residual_m},
                {"rear_fit_rms_m", rf.rms_residual_m},
                {"path_length_m", p.num("drive")},
@@ -213,8 +222,11 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
     const e2::Pose local = in_frame_of(trace.front().q, trace.back().q);
     seen.push_back(local);
     worst = std::max(worst, std::hypot(local.x_m - exact.x_m, local.y_m - exact.y_m));
+    nlohmann::json tr = trace_json(trace), thin = nlohmann::json::array();
+    for (std::size_t i = 0; i < tr.size(); i += 4) thin.push_back(tr[i]);
+    thin.push_back(tr.back());
     rows.push_back({{"theta_rad", theta}, {"start", {start.x_m, start.y_m, start.phi_rad}},
-                    {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}}});
+                    {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}}, {"trace", thin}});
   }
   for (const auto& a : seen)
     for (const auto& b : seen) {
@@ -267,7 +279,8 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   o.values["lo_dx"] = {predicted[car::kX], d[car::kX], lo_size, lo_factor};
   o.values["lo_dy"] = {predicted[car::kY], d[car::kY], lo_size, lo_factor};
   o.values["lo_dphi"] = {predicted[car::kPhi], d[car::kPhi], lo_size / l, lo_factor};
-  o.details = {{"trace", trace_json(trace)}, {"steps", steps.size()}, {"holonomy_size_m", size},
+  o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
+               {"steps", steps.size()}, {"holonomy_size_m", size},
                {"measured_size_m", rod_shift(setup.car, trace.front().q, trace.back().q)},
                {"holonomy_error_m", rod_shift(setup.car, end_exact, Config::from(trace.back().q.vec() - trace.front().q.vec() + q0.vec()))},
                {"errors", error_split(setup.car, trace, end_exact)}};
@@ -312,7 +325,8 @@ Outcome run_steer_in_place(const Params& p, CarEngine& engine) {
   o.values["front_shift"] = {0.0, max_shift};
   o.values["dphi"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - q0.phi_rad))};
   o.values["beta_reached"] = {q0.beta_rad + d_beta, end.beta_rad};
-  o.details = {{"trace", trace_json(trace)}, {"errors", error_split(setup.car, trace, car::flow_beta(q0, d_beta))}};
+  o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
+               {"errors", error_split(setup.car, trace, car::flow_beta(q0, d_beta))}};
   return o;
 }
 
@@ -351,7 +365,8 @@ Outcome run_reparam(const Params& p, CarEngine& engine) {
   o.values["end_spread"] = {0.0, spread};
   o.values["heading_spread"] = {0.0, heading_spread};
   o.values["end_error"] = {0.0, std::hypot(ends[1].x_m - ref.x_m, ends[1].y_m - ref.y_m)};
-  o.details = {{"runs", traces}, {"reference_end", {ref.x_m, ref.y_m, ref.phi_rad}}};
+  o.details = {{"runs", traces}, {"reference_end", {ref.x_m, ref.y_m, ref.phi_rad}},
+               {"trace", traces[1]["trace"]}, {"reference", reference_json(base, ref_path, q0)}};
   return o;
 }
 

@@ -96,6 +96,13 @@ std::optional<double> first_contact(const std::function<Vec2(double)>& rel, doub
   return std::nullopt;
 }
 
+/// The analytic lift (21) of the same problem, for the reports.
+void add_reference(Outcome& o, const DiskProblem& pb) {
+  disks::LiftDef def;
+  const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);
+  o.details["reference"] = trace_json(r.trace);
+}
+
 /// Collision, contact time and distances measured from an engine run against expectations.
 void add_contact(Outcome& o, const DiskRun& run, std::optional<double> expected_t, double dt) {
   o.values["collision"] = {expected_t ? 1.0 : 0.0, run.t_contact_s ? 1.0 : 0.0};
@@ -142,6 +149,7 @@ Outcome run_copy(const Params& p, DiskEngine& e) {
   o.values["distance_spread"] = {0.0, spreads(r).first};
   o.values["direction_change"] = {0.0, spreads(r).second};
   o.details["trace"] = trace_json(r.trace);
+  add_reference(o, problem(p, m));
   return o;
 }
 
@@ -156,6 +164,7 @@ Outcome run_actuated(const Params& p, DiskEngine& e) {
   o.values["min_distance"] = {ref.min_distance, r.min_distance};
   o.values["final_distance"] = {ref.final_distance, final_distance(r)};
   o.details["trace"] = trace_json(r.trace);
+  add_reference(o, pb);
   return o;
 }
 
@@ -172,6 +181,7 @@ Outcome run_repel(const Params& p, DiskEngine& e) {
   o.values["final_distance"] = {disks::repel_distance(d0, m.lambda, T), final_distance(r)};
   o.values["direction_change"] = {0.0, spreads(r).second};
   o.details["trace"] = trace_json(r.trace);
+  add_reference(o, problem(p, m));
   return o;
 }
 
@@ -192,6 +202,7 @@ Outcome run_orbit(const Params& p, DiskEngine& e) {
   o.values["distance_spread"] = {0.0, spreads(r).first};
   o.values["turned_angle"] = {m.omega * T, turned};
   o.details["trace"] = trace_json(r.trace);
+  add_reference(o, problem(p, m));
   return o;
 }
 
@@ -222,6 +233,7 @@ Outcome run_linear(const Params& p, DiskEngine& e) {
   }
   o.details["linear"] = disks::satisfies_linearity(m);
   o.details["trace"] = trace_json(r.trace);
+  add_reference(o, pb);
   return o;
 }
 
@@ -247,6 +259,7 @@ Outcome run_forced(const Params& p, DiskEngine& e) {
   o.details["collision_centre"] = {path.goal.x(), path.goal.y()};
   o.details["collision_radius"] = disks::collision_radius(m.a, m.b);
   o.details["trace"] = trace_json(r.trace);
+  add_reference(o, DiskProblem{disks::rule_of(m), path, cM0, p.num("T")});
   return o;
 }
 
@@ -264,6 +277,7 @@ Outcome run_moving_away(const Params& p, DiskEngine& e) {
   o.values["min_distance"] = {ref.min_distance, r.min_distance};
   o.details["base_mechanism_t_contact_s"] = without.t_contact_s ? nlohmann::json(*without.t_contact_s) : nlohmann::json();
   o.details["trace"] = trace_json(r.trace);
+  add_reference(o, pb);
   return o;
 }
 
@@ -286,6 +300,7 @@ Outcome run_extended(const Params& p, DiskEngine& e) {
   o.values["end_error"] = {0.0, (r.trace.back().cM - L(cM1, T)).norm()};  // (11): ends at L(e', gamma)(1)
   o.values["min_distance"] = {ref.min_distance, r.min_distance};
   o.details["trace"] = trace_json(r.trace);
+  add_reference(o, DiskProblem{disks::rule_following(q, T), path, cM0, T});
   return o;
 }
 
@@ -309,6 +324,7 @@ Outcome run_target(const Params& p, DiskEngine& e) {
   o.values["end_error"] = {0.0, (r.trace.back().cM - target(T)).norm()};
   o.values["min_distance"] = {ref.min_distance, r.min_distance};
   o.details["trace"] = trace_json(r.trace);
+  add_reference(o, DiskProblem{disks::rule_following(q, T), path, cM0, T});
   return o;
 }
 

@@ -11,7 +11,7 @@
 #include "liftcheck_version.hpp"
 #include "harness/runner.hpp"
 #include "harness/sweeps.hpp"
-#include "reports/html.hpp"
+#include "reports/report.hpp"
 
 using namespace liftcheck;
 
@@ -78,7 +78,8 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   return r.as_expected() ? 0 : 1;
 }
 
-int cmd_validate(const std::string& engine_list, const std::string& filter, const std::string& out_dir, bool sweeps) {
+int cmd_validate(const std::string& engine_list, const std::string& filter, const std::string& out_dir, bool sweeps,
+                 bool report) {
   std::vector<const EngineInfo*> es;
   if (engine_list.empty()) {
     for (const auto& e : engines()) es.push_back(&e);
@@ -116,6 +117,8 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
                                r.negative_control && r.status == Status::kFail && r.as_expected() ? "(expected: negative control) " : "", r.message);
       runs.push_back(std::move(r));
     }
+  const double runs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto t_sweeps = std::chrono::steady_clock::now();
   nlohmann::json sweep_results = nlohmann::json::array();
   if (sweeps)
     for (const SweepDef& sw : sweep_catalogue()) {
@@ -131,12 +134,23 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
     std::cout << fmt::format("sweep  {:<32} {:8.3f} s\n", "disk_outcomes",
                              std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count());
   }
+  const double sweeps_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_sweeps).count();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   nlohmann::json results = results_json(runs, context_json(es, wall));
+  results["context"]["runs_s"] = runs_s;
+  results["context"]["sweeps_s"] = sweeps_s;
   results["sweeps"] = sweep_results;
+  results["scenarios"] = nlohmann::json::array();
+  for (const Scenario* s : ss) results["scenarios"].push_back(s->to_json());
   try {
+    if (report) {
+      write_report(results, out);
+      std::cout << fmt::format("report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", results["report"]["report_s"].get<double>(),
+                               results["report"]["snapshots"].size(), results["report"]["strips"].size(),
+                               results["report"]["plots"].size(),
+                               results["report"]["errors"].empty() ? "" : fmt::format("; {} problems, see index.html", results["report"]["errors"].size()));
+    }
     write_file_atomic(out / "results.json", results.dump(1));
-    write_file_atomic(out / "index.html", index_html(results));
   } catch (const std::runtime_error& err) {
     throw InputError(err.what());
   }
@@ -173,8 +187,9 @@ int main(int argc, char** argv) {
   validate->add_option("--engines", engine_list, "comma-separated engine names (default: all)");
   validate->add_option("--filter", filter, "glob on scenario names")->capture_default_str();
   validate->add_option("--out", out_dir, "output folder")->capture_default_str();
-  bool no_sweeps = false;
+  bool no_sweeps = false, no_report = false;
   validate->add_flag("--no-sweeps", no_sweeps, "skip the parameter sweeps");
+  validate->add_flag("--no-report", no_report, "write results.json only (no snapshots, plots or HTML)");
 
   try {
     app.parse(argc, argv);
@@ -191,7 +206,7 @@ int main(int argc, char** argv) {
   try {
     if (*list) return cmd_list(list_json);
     if (*run) return cmd_run(scenario, engine, sets, run_json);
-    if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps);
+    if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps, !no_report);
   } catch (const InputError& e) {
     std::cerr << "liftcheck: error: " << e.what() << "\n";
     return 2;

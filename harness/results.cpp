@@ -8,6 +8,7 @@
 #include <unistd.h>
 #include <sys/utsname.h>
 
+#include "liftcheck_errata.hpp"
 #include "liftcheck_version.hpp"
 
 namespace liftcheck {
@@ -32,7 +33,8 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
           {"machine", {{"host", host}, {"os", fmt::format("{} {} {}", u.sysname, u.release, u.machine)},
                        {"cpus", std::thread::hardware_concurrency()}, {"compiler", LIFTCHECK_COMPILER}}},
           {"engines", es},
-          {"wall_s", wall_s}};
+          {"wall_s", wall_s},
+          {"errata", kErrataMarkdown}};
 }
 
 nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::json& context) {

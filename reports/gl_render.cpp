@@ -1,0 +1,485 @@
+#include "reports/gl_render.hpp"
+
+#define GL_GLEXT_PROTOTYPES
+#include <GL/osmesa.h>
+#include <GL/gl.h>
+#include <png.h>
+#include <stb_truetype.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fmt/format.h>
+#include <fstream>
+#include <map>
+#include <mutex>
+#include <numbers>
+#include <stdexcept>
+
+namespace liftcheck::render {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr int kSuper = 2;  // supersampling factor per axis
+constexpr const char* kFontPath = "/usr/share/fonts/truetype/dejavu/DejaVuSans.ttf";
+
+void color(const Color& c, float shade = 1.0f) { glColor4f(c.r * shade, c.g * shade, c.b * shade, c.a); }
+
+float shade_of(const Vec3& n) {
+  const Vec3 L = Vec3(0.3, -0.5, 0.8).normalized();
+  return static_cast<float>(0.55 + 0.45 * std::max(0.0, n.normalized().dot(L)));
+}
+
+void vertex(const Vec3& p) { glVertex3d(p.x(), p.y(), p.z()); }
+
+void quad(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Color& col) {
+  color(col, shade_of((b - a).cross(d - a)));
+  glBegin(GL_QUADS);
+  vertex(a), vertex(b), vertex(c), vertex(d);
+  glEnd();
+}
+
+void draw_box(const Box& b) {
+  const Vec3 f(std::cos(b.heading_rad), std::sin(b.heading_rad), 0), s(-f.y(), f.x(), 0), up(0, 0, 1);
+  const Vec3 c(b.centre.x(), b.centre.y(), b.z0_m);
+  const Vec3 hf = 0.5 * b.length_m * f, hs = 0.5 * b.width_m * s, h = b.height_m * up;
+  const Vec3 p000 = c - hf - hs, p100 = c + hf - hs, p110 = c + hf + hs, p010 = c - hf + hs;
+  quad(p000 + h, p100 + h, p110 + h, p010 + h, b.color);  // top
+  quad(p000, p010, p110, p100, b.color);                  // bottom
+  quad(p000, p100, p100 + h, p000 + h, b.color);
+  quad(p100, p110, p110 + h, p100 + h, b.color);
+  quad(p110, p010, p010 + h, p110 + h, b.color);
+  quad(p010, p000, p000 + h, p010 + h, b.color);
+}
+
+void draw_wheel(const Wheel& w) {
+  const Vec3 f(std::cos(w.heading_rad), std::sin(w.heading_rad), 0), a(-f.y(), f.x(), 0), up(0, 0, 1);
+  const Vec3 C(w.centre.x(), w.centre.y(), w.radius_m);
+  constexpr int kSeg = 24;
+  // World angle of material angle m: rolling forward by alpha turns the rim backwards over the top.
+  const auto rim = [&](double world_angle, double side) {
+    return Vec3(C + w.radius_m * (std::cos(world_angle) * f + std::sin(world_angle) * up) + side * 0.5 * w.width_m * a);
+  };
+  for (int k = 0; k < kSeg; ++k) {
+    const double m0 = 2 * kPi * k / kSeg, m1 = 2 * kPi * (k + 1) / kSeg;
+    const double t0 = m0 - w.spin_rad, t1 = m1 - w.spin_rad;
+    Color c = w.tyre;
+    if (k % 2) c = {c.r * 0.55f + 0.45f, c.g * 0.55f + 0.45f, c.b * 0.55f + 0.45f, c.a};  // lighter stripes
+    quad(rim(t0, -1), rim(t1, -1), rim(t1, 1), rim(t0, 1), c);
+  }
+  for (double side : {-1.0, 1.0}) {  // side discs with six spokes
+    const Vec3 centre = C + side * 0.5 * w.width_m * a;
+    color(w.tyre, 1.0f);
+    Color face{0.85f, 0.85f, 0.85f, 1.0f};
+    color(face, shade_of(side * a));
+    glBegin(GL_TRIANGLE_FAN);
+    vertex(centre + side * 1e-3 * a);
+    for (int k = 0; k <= kSeg; ++k) vertex(rim(2 * kPi * k / kSeg, side) + side * 1e-3 * a);
+    glEnd();
+    color(w.spokes);
+    glBegin(GL_LINES);
+    for (int k = 0; k < 6; ++k) {
+      vertex(centre + side * 2e-3 * a);
+      vertex(rim(2 * kPi * k / 6 - w.spin_rad, side) + side * 2e-3 * a);
+    }
+    glEnd();
+  }
+}
+
+void draw_puck(const Puck& p) {
+  constexpr int kSeg = 48;
+  for (int k = 0; k < kSeg; ++k) {
+    const double a0 = 2 * kPi * k / kSeg, a1 = 2 * kPi * (k + 1) / kSeg;
+    const Vec3 b0(p.centre.x() + p.radius_m * std::cos(a0), p.centre.y() + p.radius_m * std::sin(a0), 0);
+    const Vec3 b1(p.centre.x() + p.radius_m * std::cos(a1), p.centre.y() + p.radius_m * std::sin(a1), 0);
+    const Vec3 h(0, 0, p.height_m);
+    quad(b0, b1, b1 + h, b0 + h, p.color);
+  }
+  color(p.color, shade_of(Vec3(0, 0, 1)));
+  glBegin(GL_TRIANGLE_FAN);
+  glVertex3d(p.centre.x(), p.centre.y(), p.height_m);
+  for (int k = 0; k <= kSeg; ++k)
+    glVertex3d(p.centre.x() + p.radius_m * std::cos(2 * kPi * k / kSeg), p.centre.y() + p.radius_m * std::sin(2 * kPi * k / kSeg), p.height_m);
+  glEnd();
+}
+
+void line_style(float width_px, bool dashed) {
+  glLineWidth(width_px * kSuper);
+  if (dashed) {
+    glEnable(GL_LINE_STIPPLE);
+    glLineStipple(4 * kSuper, 0x00FF);
+  } else {
+    glDisable(GL_LINE_STIPPLE);
+  }
+}
+
+void draw_circle(const Circle& c, double z) {
+  constexpr int kSeg = 96;
+  if (c.fill.a > 0) {
+    color(c.fill);
+    glBegin(GL_TRIANGLE_FAN);
+    glVertex3d(c.centre.x(), c.centre.y(), z);
+    for (int k = 0; k <= kSeg; ++k)
+      glVertex3d(c.centre.x() + c.radius_m * std::cos(2 * kPi * k / kSeg), c.centre.y() + c.radius_m * std::sin(2 * kPi * k / kSeg), z);
+    glEnd();
+  }
+  if (c.edge.a > 0) {
+    line_style(c.width_px, c.dashed);
+    color(c.edge);
+    glBegin(GL_LINE_LOOP);
+    for (int k = 0; k < kSeg; ++k)
+      glVertex3d(c.centre.x() + c.radius_m * std::cos(2 * kPi * k / kSeg), c.centre.y() + c.radius_m * std::sin(2 * kPi * k / kSeg), z);
+    glEnd();
+  }
+}
+
+Eigen::Matrix4d perspective(double fovy_deg, double aspect, double n, double f) {
+  const double t = 1.0 / std::tan(fovy_deg * kPi / 360.0);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Zero();
+  m(0, 0) = t / aspect;
+  m(1, 1) = t;
+  m(2, 2) = (f + n) / (n - f);
+  m(2, 3) = 2 * f * n / (n - f);
+  m(3, 2) = -1;
+  return m;
+}
+
+Eigen::Matrix4d look_at(const Vec3& eye, const Vec3& target) {
+  const Vec3 fwd = (target - eye).normalized();
+  Vec3 side = fwd.cross(Vec3(0, 0, 1));
+  if (side.norm() < 1e-9) side = Vec3(1, 0, 0);
+  side.normalize();
+  const Vec3 up = side.cross(fwd);
+  Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+  m.block<1, 3>(0, 0) = side.transpose();
+  m.block<1, 3>(1, 0) = up.transpose();
+  m.block<1, 3>(2, 0) = -fwd.transpose();
+  m(0, 3) = -side.dot(eye);
+  m(1, 3) = -up.dot(eye);
+  m(2, 3) = fwd.dot(eye);
+  return m;
+}
+
+/// Projection * view for the scene's camera (column-major for glLoadMatrixd).
+Eigen::Matrix4d view_projection(const Scene& s) {
+  const double aspect = static_cast<double>(s.width_px) / s.height_px;
+  if (s.camera.kind == Camera::Kind::kTopDown) {
+    const double hh = s.camera.half_height_m, hw = hh * aspect;
+    Eigen::Matrix4d m = Eigen::Matrix4d::Identity();
+    m(0, 0) = 1.0 / hw;
+    m(1, 1) = 1.0 / hh;
+    m(2, 2) = -1.0 / 100.0;
+    m(0, 3) = -s.camera.centre.x() / hw;
+    m(1, 3) = -s.camera.centre.y() / hh;
+    return m;
+  }
+  return perspective(s.camera.fov_y_deg, aspect, 0.1, 500.0) * look_at(s.camera.eye, s.camera.target);
+}
+
+// ---- text ----------------------------------------------------------------------------------
+
+struct Font {
+  Font() {
+    std::ifstream in(kFontPath, std::ios::binary);
+    if (!in) throw std::runtime_error(fmt::format("font not found: {} (Debian package fonts-dejavu-core)", kFontPath));
+    data.assign(std::istreambuf_iterator<char>(in), {});
+    if (!stbtt_InitFont(&info, data.data(), stbtt_GetFontOffsetForIndex(data.data(), 0)))
+      throw std::runtime_error(fmt::format("cannot read font {}", kFontPath));
+  }
+  std::vector<unsigned char> data;
+  stbtt_fontinfo info{};
+  std::map<std::pair<int, int>, std::tuple<std::vector<unsigned char>, int, int, int, int, int>> cache;  // bitmap, w, h, xoff, yoff, advance
+  std::mutex mutex;
+};
+
+Font& font() {
+  static Font f;
+  return f;
+}
+
+std::vector<int> decode_utf8(const std::string& s) {
+  std::vector<int> cps;
+  for (std::size_t i = 0; i < s.size();) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    int cp = c, extra = 0;
+    if (c >= 0xF0) cp = c & 0x07, extra = 3;
+    else if (c >= 0xE0) cp = c & 0x0F, extra = 2;
+    else if (c >= 0xC0) cp = c & 0x1F, extra = 1;
+    for (int k = 1; k <= extra && i + k < s.size(); ++k) cp = (cp << 6) | (static_cast<unsigned char>(s[i + k]) & 0x3F);
+    cps.push_back(cp);
+    i += 1 + extra;
+  }
+  return cps;
+}
+
+}  // namespace
+
+Color engine_color(const std::string& engine) {
+  if (engine == "analytic") return colors::kAnalytic;
+  if (engine == "ode") return colors::kOde;
+  if (engine == "bullet") return colors::kBullet;
+  return colors::kOther;
+}
+
+int text_width(const std::string& text, float size_px) {
+  Font& f = font();
+  const float scale = stbtt_ScaleForPixelHeight(&f.info, size_px);
+  int w = 0;
+  for (int cp : decode_utf8(text)) {
+    int adv, lsb;
+    stbtt_GetCodepointHMetrics(&f.info, cp, &adv, &lsb);
+    w += static_cast<int>(std::lround(adv * scale));
+  }
+  return w;
+}
+
+void draw_text(Image& img, const std::string& text, int x, int y, float size_px, const Color& col) {
+  Font& f = font();
+  std::lock_guard<std::mutex> lock(f.mutex);
+  const float scale = stbtt_ScaleForPixelHeight(&f.info, size_px);
+  int ascent, descent, gap;
+  stbtt_GetFontVMetrics(&f.info, &ascent, &descent, &gap);
+  const int baseline = y + static_cast<int>(std::lround(ascent * scale));
+  int pen = x;
+  for (int cp : decode_utf8(text)) {
+    const auto key = std::make_pair(cp, static_cast<int>(size_px * 4));
+    auto it = f.cache.find(key);
+    if (it == f.cache.end()) {
+      int w, h, xo, yo, adv, lsb;
+      unsigned char* bm = stbtt_GetCodepointBitmap(&f.info, 0, scale, cp, &w, &h, &xo, &yo);
+      stbtt_GetCodepointHMetrics(&f.info, cp, &adv, &lsb);
+      std::vector<unsigned char> copy(bm, bm + static_cast<std::size_t>(w) * h);
+      stbtt_FreeBitmap(bm, nullptr);
+      it = f.cache.emplace(key, std::make_tuple(std::move(copy), w, h, xo, yo, static_cast<int>(std::lround(adv * scale)))).first;
+    }
+    const auto& [bm, w, h, xo, yo, adv] = it->second;
+    for (int j = 0; j < h; ++j)
+      for (int i = 0; i < w; ++i) {
+        const int px = pen + xo + i, py = baseline + yo + j;
+        if (px < 0 || py < 0 || px >= img.width || py >= img.height) continue;
+        const float a = bm[static_cast<std::size_t>(j) * w + i] / 255.0f * col.a;
+        std::uint8_t* p = img.pixel(px, py);
+        p[0] = static_cast<std::uint8_t>(p[0] * (1 - a) + 255 * col.r * a);
+        p[1] = static_cast<std::uint8_t>(p[1] * (1 - a) + 255 * col.g * a);
+        p[2] = static_cast<std::uint8_t>(p[2] * (1 - a) + 255 * col.b * a);
+      }
+    pen += adv;
+  }
+}
+
+// ---- renderer ------------------------------------------------------------------------------
+
+struct Renderer::Impl {
+  OSMesaContext ctx = nullptr;
+  std::vector<std::uint8_t> buffer;
+  ~Impl() {
+    if (ctx) OSMesaDestroyContext(ctx);
+  }
+};
+
+Renderer::Renderer() : impl_(std::make_unique<Impl>()) {}
+Renderer::~Renderer() = default;
+
+std::string Renderer::gl_version() {
+  if (!impl_->ctx) return "";
+  const auto* v = glGetString(GL_VERSION);
+  return v ? reinterpret_cast<const char*>(v) : "";
+}
+
+Image Renderer::render(const Scene& s) {
+  if (!impl_->ctx) {
+    impl_->ctx = OSMesaCreateContextExt(OSMESA_RGBA, 24, 0, 0, nullptr);
+    if (!impl_->ctx) throw std::runtime_error("OSMesa: cannot create a GL context");
+  }
+  const int W = s.width_px * kSuper, H = s.height_px * kSuper;
+  impl_->buffer.assign(static_cast<std::size_t>(W) * H * 4, 0);
+  if (!OSMesaMakeCurrent(impl_->ctx, impl_->buffer.data(), GL_UNSIGNED_BYTE, W, H))
+    throw std::runtime_error("OSMesa: cannot make the context current");
+  OSMesaPixelStore(OSMESA_Y_UP, 0);  // rows from the top
+
+  const bool top = s.camera.kind == Camera::Kind::kTopDown;
+  glViewport(0, 0, W, H);
+  if (top) glClearColor(colors::kGround.r, colors::kGround.g, colors::kGround.b, 1);
+  else glClearColor(0.86f, 0.90f, 0.95f, 1);
+  glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+  glMatrixMode(GL_PROJECTION);
+  const Eigen::Matrix4d vp = view_projection(s);
+  glLoadMatrixd(vp.data());
+  glMatrixMode(GL_MODELVIEW);
+  glLoadIdentity();
+  glEnable(GL_BLEND);
+  glBlendFunc(GL_SRC_ALPHA, GL_ONE_MINUS_SRC_ALPHA);
+  glDisable(GL_DEPTH_TEST);
+  glDisable(GL_CULL_FACE);
+
+  // Ground and grid.
+  const Vec2 c = top ? s.camera.centre : Vec2(s.camera.target.x(), s.camera.target.y());
+  const double extent = top ? s.camera.half_height_m * s.width_px / s.height_px * 1.05 : 60.0;
+  if (!top) {
+    color(colors::kGround);
+    glBegin(GL_QUADS);
+    glVertex3d(c.x() - extent, c.y() - extent, 0), glVertex3d(c.x() + extent, c.y() - extent, 0);
+    glVertex3d(c.x() + extent, c.y() + extent, 0), glVertex3d(c.x() - extent, c.y() + extent, 0);
+    glEnd();
+  }
+  if (s.grid_step_m > 0) {
+    const double g = s.grid_step_m;
+    glDisable(GL_LINE_STIPPLE);
+    for (int major = 0; major < 2; ++major) {
+      glLineWidth(major ? 1.5f * kSuper : 1.0f * kSuper);
+      color(major ? colors::kGridMajor : colors::kGrid);
+      glBegin(GL_LINES);
+      const long k0 = static_cast<long>(std::floor((std::min(c.x(), c.y()) - extent) / g));
+      const long k1 = static_cast<long>(std::ceil((std::max(c.x(), c.y()) + extent) / g));
+      for (long k = k0; k <= k1; ++k) {
+        if ((k % 5 == 0) != (major == 1)) continue;
+        const double v = k * g;
+        if (std::abs(v - c.x()) <= extent) glVertex3d(v, c.y() - extent, 0), glVertex3d(v, c.y() + extent, 0);
+        if (std::abs(v - c.y()) <= extent) glVertex3d(c.x() - extent, v, 0), glVertex3d(c.x() + extent, v, 0);
+      }
+      glEnd();
+    }
+  }
+  // Flat overlays on the ground.
+  for (const auto& ci : s.circles) draw_circle(ci, 0.002);
+  for (const auto& l : s.lines) {
+    line_style(l.width_px, l.dashed);
+    color(l.color);
+    glBegin(GL_LINE_STRIP);
+    for (const auto& p : l.points) glVertex3d(p.x(), p.y(), 0.004);
+    glEnd();
+  }
+  glDisable(GL_LINE_STIPPLE);
+  // Solid bodies.
+  glEnable(GL_DEPTH_TEST);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glLineWidth(1.5f * kSuper);
+  for (const auto& b : s.boxes) draw_box(b);
+  for (const auto& w : s.wheels) draw_wheel(w);
+  for (const auto& p : s.pucks) draw_puck(p);
+  glDisable(GL_DEPTH_TEST);
+  // Arrows and markers on top.
+  for (const auto& a : s.arrows) {
+    line_style(a.width_px, false);
+    color(a.color);
+    const Vec2 d = a.to - a.from;
+    const double L = d.norm();
+    glBegin(GL_LINES);
+    glVertex3d(a.from.x(), a.from.y(), 1.0), glVertex3d(a.to.x(), a.to.y(), 1.0);
+    glEnd();
+    if (L > 0) {
+      const Vec2 u = d / L, n(-u.y(), u.x());
+      const double head = std::min(0.3 * L, s.camera.half_height_m * 0.04);
+      glBegin(GL_TRIANGLES);
+      glVertex3d(a.to.x(), a.to.y(), 1.0);
+      const Vec2 b1 = a.to - head * u + 0.45 * head * n, b2 = a.to - head * u - 0.45 * head * n;
+      glVertex3d(b1.x(), b1.y(), 1.0), glVertex3d(b2.x(), b2.y(), 1.0);
+      glEnd();
+    }
+  }
+  for (const auto& m : s.markers) {
+    line_style(3.0f, false);
+    color(m.color);
+    glBegin(GL_LINES);
+    glVertex3d(m.at.x() - m.size_m, m.at.y() - m.size_m, 1.0), glVertex3d(m.at.x() + m.size_m, m.at.y() + m.size_m, 1.0);
+    glVertex3d(m.at.x() - m.size_m, m.at.y() + m.size_m, 1.0), glVertex3d(m.at.x() + m.size_m, m.at.y() - m.size_m, 1.0);
+    glEnd();
+  }
+  glFinish();
+
+  // Downsample kSuper x kSuper.
+  Image img;
+  img.width = s.width_px;
+  img.height = s.height_px;
+  img.rgba.resize(static_cast<std::size_t>(img.width) * img.height * 4);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      for (int ch = 0; ch < 4; ++ch) {
+        int sum = 0;
+        for (int j = 0; j < kSuper; ++j)
+          for (int i = 0; i < kSuper; ++i)
+            sum += impl_->buffer[(static_cast<std::size_t>(y * kSuper + j) * W + (x * kSuper + i)) * 4 + ch];
+        img.rgba[(static_cast<std::size_t>(y) * img.width + x) * 4 + ch] = static_cast<std::uint8_t>(sum / (kSuper * kSuper));
+      }
+  for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
+
+  // Scale bar (top-down): a round length about a fifth of the width, bottom left.
+  if (top && s.scale_bar) {
+    const double ppm = img.height / (2.0 * s.camera.half_height_m);
+    const double target = img.width / 5.0 / ppm;
+    const double p10 = std::pow(10.0, std::floor(std::log10(target)));
+    double L = p10;
+    for (double m : {2.0, 5.0, 10.0})
+      if (m * p10 <= target) L = m * p10;
+    const int len = static_cast<int>(std::lround(L * ppm)), x0 = 20, y0 = img.height - 24;
+    for (int y = y0; y < y0 + 6; ++y)
+      for (int x = x0; x < x0 + len && x < img.width; ++x) {
+        std::uint8_t* p = img.pixel(x, y);
+        const bool light = ((x - x0) * 2 / std::max(1, len)) % 2 == 1 && y > y0 && y < y0 + 5;
+        p[0] = p[1] = p[2] = light ? 255 : 20;
+      }
+    const std::string text = L >= 1 ? fmt::format("{:g} m", L) : L >= 0.01 ? fmt::format("{:g} cm", L * 100) : L >= 1e-3 ? fmt::format("{:g} mm", L * 1e3) : fmt::format("{:g} µm", L * 1e6);
+    draw_text(img, text, x0 + len + 8, y0 - 7, 15.0f, Color{0.1f, 0.1f, 0.1f, 1.0f});
+  }
+  // Labels.
+  for (const auto& l : s.labels) {
+    int x = static_cast<int>(l.at.x()), y = static_cast<int>(l.at.y());
+    if (!l.screen) {
+      const Eigen::Vector4d p = vp * Eigen::Vector4d(l.at.x(), l.at.y(), 0.0, 1.0);
+      if (p.w() <= 0) continue;
+      x = static_cast<int>((p.x() / p.w() * 0.5 + 0.5) * img.width);
+      y = static_cast<int>((0.5 - p.y() / p.w() * 0.5) * img.height);
+    }
+    draw_text(img, l.text, x, y, l.size_px, l.color);
+  }
+  return img;
+}
+
+Image tile(const std::vector<Image>& frames, int per_row) {
+  Image out;
+  if (frames.empty()) return out;
+  const int w = frames[0].width, h = frames[0].height, gap = 4;
+  const int rows = (static_cast<int>(frames.size()) + per_row - 1) / per_row;
+  const int cols = std::min<int>(per_row, static_cast<int>(frames.size()));
+  out.width = cols * w + (cols - 1) * gap;
+  out.height = rows * h + (rows - 1) * gap;
+  out.rgba.assign(static_cast<std::size_t>(out.width) * out.height * 4, 255);
+  for (std::size_t k = 0; k < frames.size(); ++k) {
+    const int ox = static_cast<int>(k % per_row) * (w + gap), oy = static_cast<int>(k / per_row) * (h + gap);
+    for (int y = 0; y < h; ++y)
+      std::copy_n(frames[k].pixel(0, y), w * 4, out.pixel(ox, oy + y));
+  }
+  return out;
+}
+
+void write_png(const std::filesystem::path& path, const Image& image) {
+  const std::string tmp = path.string() + ".tmp";
+  FILE* fp = std::fopen(tmp.c_str(), "wb");
+  if (!fp) throw std::runtime_error(fmt::format("cannot write '{}'", path.string()));
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!png || !info || setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    std::fclose(fp);
+    std::remove(tmp.c_str());
+    throw std::runtime_error(fmt::format("cannot encode '{}'", path.string()));
+  }
+  png_init_io(png, fp);
+  png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGBA, PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_compression_level(png, 1);
+  png_set_filter(png, 0, PNG_FILTER_SUB);
+  png_write_info(png, info);
+  for (int y = 0; y < image.height; ++y) png_write_row(png, image.pixel(0, y));
+  png_write_end(png, nullptr);
+  png_destroy_write_struct(&png, &info);
+  if (std::fclose(fp) != 0) {
+    std::remove(tmp.c_str());
+    throw std::runtime_error(fmt::format("cannot write '{}'", path.string()));
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) throw std::runtime_error(fmt::format("cannot write '{}'", path.string()));
+}
+
+}  // namespace liftcheck::render

@@ -1,0 +1,204 @@
+#include "reports/plots.hpp"
+
+#include <cmath>
+#include <cstdlib>
+#include <fmt/format.h>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace liftcheck {
+
+namespace {
+
+using json = nlohmann::json;
+
+std::string color_of(const std::string& engine) {
+  if (engine == "analytic") return "#1a1a1a";
+  if (engine == "ode") return "#1f77b4";
+  if (engine == "bullet") return "#ff7f0e";
+  return "#2ca02c";
+}
+
+std::string safe(const std::string& s) {
+  std::string o;
+  for (char c : s) o += std::isalnum(static_cast<unsigned char>(c)) ? c : '_';
+  return o;
+}
+
+struct Script {
+  std::ostringstream gp;
+  int blocks = 0;
+  std::string block(const std::vector<std::vector<double>>& rows) {
+    const std::string name = fmt::format("$D{}", blocks++);
+    gp << name << " << EOD\n";
+    for (const auto& r : rows) {
+      for (std::size_t i = 0; i < r.size(); ++i) gp << (i ? " " : "") << (std::isfinite(r[i]) ? fmt::format("{:.10g}", r[i]) : "NaN");
+      gp << "\n";
+    }
+    gp << "EOD\n";
+    return name;
+  }
+  void begin(const std::filesystem::path& svg, const std::string& title, int w = 760, int h = 440) {
+    gp << fmt::format("reset\nset terminal svg size {},{} dynamic font 'DejaVu Sans,12' background '#ffffff'\n", w, h)
+       << fmt::format("set output '{}'\nset title \"{}\"\nset grid lc rgb '#dddddd'\nset key outside right top\n",
+                      svg.string(), title);
+  }
+};
+
+}  // namespace
+
+std::vector<PlotFile> write_plots(const json& results, const std::filesystem::path& out) {
+  std::filesystem::create_directories(out / "plots");
+  Script S;
+  std::vector<PlotFile> files;
+  // Runs by scenario, in catalogue order.
+  std::vector<std::string> order;
+  std::map<std::string, std::vector<const json*>> by_scenario;
+  for (const auto& r : results["runs"]) {
+    const std::string sc = r["scenario"];
+    if (!by_scenario.count(sc)) order.push_back(sc);
+    by_scenario[sc].push_back(&r);
+  }
+  for (const auto& sc : order) {
+    std::vector<std::string> plots;
+    const bool disks = sc.rfind("disks.", 0) == 0;
+    const std::string file = fmt::format("plots/{}-{}.svg", safe(sc), disks ? "distance" : "paths");
+    std::string cmd;
+    bool any = false, reference_done = false;
+    for (const json* r : by_scenario[sc]) {
+      const auto& d = (*r)["details"];
+      if (!d.is_object() || !d.contains("trace")) continue;
+      const std::string eng = (*r)["engine"];
+      const auto rows_of = [&](const json& tr) {
+        std::vector<std::vector<double>> rows;
+        for (const auto& row : tr) {
+          if (disks) rows.push_back({row[0].get<double>(), std::hypot(row[1].get<double>() - row[3].get<double>(), row[2].get<double>() - row[4].get<double>())});
+          else rows.push_back({row[3].get<double>(), row[4].get<double>()});
+        }
+        return rows;
+      };
+      if (!reference_done && d.contains("reference")) {
+        const std::string b = S.block(rows_of(d["reference"]));
+        cmd += fmt::format("{} u 1:2 w l lw 7 lc rgb '#b0b0b0' t '{}', ", b, disks ? "analytic lift (21)" : "exact lift (front axle)");
+        reference_done = true;
+      }
+      const std::string b = S.block(rows_of(d["trace"]));
+      cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb '{}' t '{}', ", b, color_of(eng), eng);
+      any = true;
+    }
+    if (!any) continue;
+    S.begin(out / file, disks ? sc + ": distance between the centres" : sc + ": front-axle paths");
+    if (disks) S.gp << "set xlabel 'time [s]'\nset ylabel '|c_M - c_N| [m]'\nset arrow from graph 0, first 2 to graph 1, first 2 nohead lc rgb '#cc0000' dt 2\n";
+    else S.gp << "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n";
+    S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
+    files.push_back({sc, file, disks ? "distance |c_M - c_N| against time; contact at 2 (dashed)" : "front-axle paths, engines over the exact lift"});
+  }
+
+  // Sweeps.
+  for (const auto& sw : results.value("sweeps", json::array())) {
+    const std::string name = sw["name"];
+    const std::string file = fmt::format("plots/sweep-{}.svg", safe(name));
+    if (sw.value("kind", "") == "outcomes") {
+      const auto& grid = sw["grid"];
+      const auto& paths = grid["path"];
+      S.begin(out / file, "", 1100, 420);
+      S.gp << fmt::format("set multiplot layout 1,{} title \"{}\"\nset xlabel 'a'\nset ylabel 'b'\nset xrange [-1.5:3.5]\nset yrange [-1.5:1.5]\nset key bottom right font ',9'\n",
+                          paths.size(), sw["title"].get<std::string>());
+      const json* first = sw["engines"].empty() ? nullptr : &sw["engines"][0];
+      for (const auto& path : paths) {
+        std::vector<std::vector<double>> hit, miss, nearb, dis;
+        if (first)
+          for (const auto& c : (*first)["cases"]) {
+            if (c["path"] != path) continue;
+            (c["analytic"].get<bool>() ? hit : miss).push_back({c["a"].get<double>(), c["b"].get<double>()});
+            if (c["near_boundary"].get<bool>()) nearb.push_back({c["a"].get<double>(), c["b"].get<double>()});
+          }
+        for (const auto& e : sw["engines"])
+          for (const auto& c : e["cases"])
+            if (c["path"] == path && c["analytic"] != c["engine"]) dis.push_back({c["a"].get<double>(), c["b"].get<double>()});
+        hit.push_back({NAN, NAN}), miss.push_back({NAN, NAN}), nearb.push_back({NAN, NAN}), dis.push_back({NAN, NAN});
+        const std::string bh = S.block(hit), bm = S.block(miss), bn = S.block(nearb), bd = S.block(dis);
+        S.gp << fmt::format("set title 'N on a {}'\nplot {} u 1:2 w p pt 7 ps 1.3 lc rgb '#d62728' t 'collision', "
+                            "{} u 1:2 w p pt 7 ps 1.3 lc rgb '#2ca02c' t 'no collision', "
+                            "{} u 1:2 w p pt 6 ps 2.6 lc rgb '#000000' t 'near boundary', "
+                            "{} u 1:2 w p pt 2 ps 2.2 lw 2 lc rgb '#9467bd' t 'an engine disagrees'\n",
+                            path.get<std::string>(), bh, bm, bn, bd);
+      }
+      S.gp << "unset multiplot\n";
+      files.push_back({"sweeps", file, sw["title"]});
+      continue;
+    }
+    const std::string param = sw["param"];
+    const auto& rec = sw["record"];
+    S.begin(out / file, sw["title"]);
+    std::string cmd;
+    const bool holonomy = name.rfind("holonomy", 0) == 0;
+    if (name == "radius_vs_beta") {
+      S.gp << "set xlabel 'beta_0 [rad]'\nset ylabel 'radius [m]'\nset logscale y\n";
+      cmd += "1.0/sin(x) w l lw 6 lc rgb '#c8c8c8' t 'l/sin(beta_0)', 1.0/tan(x) w l lw 6 lc rgb '#e0e0e0' t 'l/tan(beta_0)', ";
+    } else if (holonomy) {
+      S.gp << "set xlabel 'eps [rad]'\nset ylabel 'net shift of the tie rod [m]'\nset logscale xy\nset format y '10^{%T}'\n";
+    } else {
+      S.gp << fmt::format("set xlabel '{}'\nset ylabel 'relative error of the front radius'\nset logscale y\nset format y '10^{{%T}}'\n",
+                          param == "dt" ? "dt [s]" : "speed [m/s]");
+      if (param == "dt") S.gp << "set logscale x\n";
+    }
+    if (sw.contains("marker")) {
+      S.gp << fmt::format("set arrow from {0}, graph 0 to {0}, graph 1 nohead lc rgb '#cc0000' dt 2\nset label \"{1}\" at {0}, graph 0.95 offset 0.5,0 tc rgb '#cc0000'\n",
+                          sw["marker"]["x"].get<double>(), sw["marker"]["label"].get<std::string>());
+    }
+    bool exact_done = false;
+    for (const auto& e : sw["engines"]) {
+      const std::string eng = e["engine"];
+      std::vector<std::vector<double>> a, b2, exact;
+      for (const auto& pt : e["points"]) {
+        const double x = pt["x"].get<double>();
+        if (name == "radius_vs_beta") {
+          const auto& f = pt[rec[0].get<std::string>()];
+          const auto& r = pt[rec[1].get<std::string>()];
+          if (f.is_object() && f["measured"].is_number()) a.push_back({x, f["measured"].get<double>()});
+          if (r.is_object() && r["measured"].is_number()) b2.push_back({x, r["measured"].get<double>()});
+        } else if (holonomy) {
+          const auto& ex = pt["detail:holonomy_size_m"];
+          const auto& me = pt["detail:measured_size_m"];
+          if (ex.is_number()) exact.push_back({x, ex.get<double>()});
+          if (me.is_number()) a.push_back({x, me.get<double>()});
+        } else {
+          const auto& m = pt[rec[0].get<std::string>()];
+          if (m.is_object() && m["rel_error"].is_number() && m["rel_error"].get<double>() > 0)
+            a.push_back({x, std::max(m["rel_error"].get<double>(), 1e-16)});
+        }
+      }
+      if (a.empty()) continue;
+      a.push_back({NAN, NAN});
+      if (holonomy && !exact_done && !exact.empty()) {
+        cmd += fmt::format("{} u 1:2 w l lw 6 lc rgb '#c8c8c8' t 'exact holonomy', ", S.block(exact));
+        exact_done = true;
+      }
+      std::string title = eng;
+      if (holonomy && e.contains("fit") && e["fit"]["slope"].is_number())
+        title += fmt::format(" (slope {:.2f})", e["fit"]["slope"].get<double>());
+      cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb '{}' t '{}{}', ", S.block(a), color_of(eng), title,
+                         name == "radius_vs_beta" ? " front" : "");
+      if (!b2.empty()) cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb '{}' t '{} rear', ", S.block(b2), color_of(eng), eng);
+    }
+    if (cmd.empty()) continue;
+    S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
+    files.push_back({"sweeps", file, sw["title"]});
+  }
+
+  const auto script = out / "plots" / "plots.gp";
+  {
+    std::ofstream f(script);
+    f << S.gp.str();
+    if (!f) throw std::runtime_error(fmt::format("cannot write '{}'", script.string()));
+  }
+  const std::string command = fmt::format("gnuplot '{}' > '{}' 2>&1", script.string(), (out / "plots" / "gnuplot.log").string());
+  if (std::system(command.c_str()) != 0)
+    throw std::runtime_error(fmt::format("gnuplot failed; see {}", (out / "plots" / "gnuplot.log").string()));
+  return files;
+}
+
+}  // namespace liftcheck

@@ -1,0 +1,102 @@
+#include "reports/report.hpp"
+
+#include <chrono>
+#include <fmt/format.h>
+#include <mutex>
+#include <thread>
+
+#include "harness/results.hpp"
+#include "reports/gl_render.hpp"
+#include "reports/html.hpp"
+#include "reports/plots.hpp"
+#include "reports/scene_build.hpp"
+
+namespace liftcheck {
+
+namespace {
+
+using json = nlohmann::json;
+
+std::string file_safe(const std::string& s) {
+  std::string o;
+  for (char c : s) o += std::isalnum(static_cast<unsigned char>(c)) || c == '-' ? c : '_';
+  return o;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+void write_report(json& results, const std::filesystem::path& out, const ReportDef& def) {
+  const auto t0 = std::chrono::steady_clock::now();
+  json report{{"snapshots", json::array()}, {"strips", json::array()}, {"plots", json::array()}, {"errors", json::array()}};
+  std::filesystem::create_directories(out / "snapshots");
+
+  if (def.snapshots) {
+    const json& runs = results["runs"];
+    std::vector<json> shots(runs.size(), json::array()), strips(runs.size(), json::array());
+    std::vector<std::string> errors;
+    std::string gl_version;
+    std::mutex mu;
+    const auto worker = [&](int id) {
+      render::Renderer renderer;
+      for (std::size_t i = id; i < runs.size(); i += def.threads) {
+        const json& r = runs[i];
+        const std::string base = fmt::format("snapshots/{}__{}", file_safe(r["scenario"]), file_safe(r["engine"]));
+        try {
+          for (const auto& s : render::snapshots_for(r)) {
+            const std::string file = fmt::format("{}__{}.png", base, s.tag);
+            render::write_png(out / file, renderer.render(s.scene));
+            shots[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"tag", s.tag}, {"file", file}, {"caption", s.caption}});
+          }
+          const render::Strip st = render::strip_for(r);
+          if (!st.frames.empty()) {
+            std::vector<render::Image> frames;
+            for (const auto& f : st.frames) frames.push_back(renderer.render(f));
+            const std::string file = base + "__strip.png";
+            render::write_png(out / file, render::tile(frames, st.per_row));
+            strips[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"file", file}, {"caption", st.caption}});
+          }
+        } catch (const std::exception& e) {
+          std::lock_guard<std::mutex> lock(mu);
+          errors.push_back(fmt::format("snapshots of {} on {}: {}", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), e.what()));
+        }
+      }
+      std::lock_guard<std::mutex> lock(mu);
+      if (gl_version.empty()) gl_version = renderer.gl_version();
+    };
+    std::vector<std::thread> pool;
+    for (int id = 0; id < std::max(1, def.threads); ++id) pool.emplace_back(worker, id);
+    for (auto& t : pool) t.join();
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      for (auto& s : shots[i]) report["snapshots"].push_back(s);
+      for (auto& s : strips[i]) report["strips"].push_back(s);
+    }
+    for (auto& e : errors) report["errors"].push_back(e);
+    report["gl_version"] = gl_version;
+  }
+  report["snapshots_s"] = seconds_since(t0);
+
+  const auto tp = std::chrono::steady_clock::now();
+  if (def.plots) {
+    try {
+      for (const auto& p : write_plots(results, out)) report["plots"].push_back({{"group", p.group}, {"file", p.file}, {"caption", p.caption}});
+    } catch (const std::exception& e) {
+      report["errors"].push_back(fmt::format("plots: {}", e.what()));
+    }
+  }
+  report["plots_s"] = seconds_since(tp);
+  report["report_s"] = seconds_since(t0);
+  results["report"] = report;
+
+  std::vector<std::string> scenarios;
+  for (const auto& r : results["runs"])
+    if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end()) scenarios.push_back(r["scenario"]);
+  for (const auto& sc : scenarios) write_file_atomic(out / scenario_page(sc), scenario_html(results, sc));
+  results["report"]["report_s"] = seconds_since(t0);
+  write_file_atomic(out / "index.html", index_html(results));
+}
+
+}  // namespace liftcheck

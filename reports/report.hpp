@@ -1,0 +1,20 @@
+// Writes the report folder from results.json: snapshots (OSMesa, PNG), plots (gnuplot, SVG) and
+// HTML pages. Adds a "report" block to the results listing every file it wrote.
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+
+namespace liftcheck {
+
+struct ReportDef {
+  bool snapshots = true;
+  bool plots = true;
+  int threads = 2;  ///< rendering threads, one OSMesa context each
+};
+
+/// Never throws for a failed picture or plot: the failure is listed in results["report"]["errors"]
+/// and shown on the index. Throws std::runtime_error only when the HTML cannot be written.
+void write_report(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def = {});
+
+}  // namespace liftcheck

@@ -1,0 +1,282 @@
+#include "reports/scene_build.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <limits>
+#include <numbers>
+
+namespace liftcheck::render {
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+using json = nlohmann::json;
+
+struct Bounds {
+  double x0 = std::numeric_limits<double>::infinity(), y0 = x0, x1 = -x0, y1 = -x0;
+  void add(const Vec2& p, double r = 0.0) {
+    x0 = std::min(x0, p.x() - r), y0 = std::min(y0, p.y() - r);
+    x1 = std::max(x1, p.x() + r), y1 = std::max(y1, p.y() + r);
+  }
+  bool empty() const { return !(x1 >= x0); }
+};
+
+double nice_step(double span) {
+  const double raw = span / 6.0, p = std::pow(10.0, std::floor(std::log10(raw)));
+  for (double m : {1.0, 2.0, 5.0})
+    if (m * p >= raw) return m * p;
+  return 10.0 * p;
+}
+
+void frame(Scene& s, const Bounds& b, double margin = 0.12) {
+  const double aspect = static_cast<double>(s.width_px) / s.height_px;
+  const double w = std::max(b.x1 - b.x0, 1e-3), h = std::max(b.y1 - b.y0, 1e-3);
+  s.camera.kind = Camera::Kind::kTopDown;
+  s.camera.centre = Vec2(0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1));
+  s.camera.half_height_m = 0.5 * std::max(h, w / aspect) * (1.0 + 2.0 * margin);
+  s.grid_step_m = nice_step(2.0 * s.camera.half_height_m);
+}
+
+void perspective_of(Scene& s, const Bounds& b) {
+  const Vec2 c(0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1));
+  const double D = std::max({b.x1 - b.x0, b.y1 - b.y0, 2.0});
+  s.camera.kind = Camera::Kind::kPerspective;
+  s.camera.target = Vec3(c.x(), c.y(), 0.0);
+  s.camera.eye = Vec3(c.x() - 0.55 * D, c.y() - 1.0 * D, 0.75 * D);
+  s.camera.fov_y_deg = 45.0;
+  s.grid_step_m = nice_step(D);
+  s.scale_bar = false;
+}
+
+Color lighten(const Color& c, float k) { return {c.r + (1 - c.r) * k, c.g + (1 - c.g) * k, c.b + (1 - c.b) * k, c.a}; }
+
+/// Row of a trace nearest to time t (traces are sorted by time in column 0).
+std::size_t row_at(const json& trace, double t) {
+  std::size_t best = 0;
+  double bd = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < trace.size(); ++i) {
+    const double d = std::abs(trace[i][0].get<double>() - t);
+    if (d < bd) bd = d, best = i;
+  }
+  return best;
+}
+
+void add_legend(Scene& s, const std::string& title, const std::string& engine, const std::string& ref_name) {
+  s.labels.push_back({title, Vec2(12, 10), true, 17.0f});
+  s.labels.push_back({"━ " + engine, Vec2(12, 32), true, 14.0f, engine_color(engine)});
+  s.labels.push_back({"▬ " + ref_name, Vec2(12, 50), true, 14.0f, Color{0.45f, 0.45f, 0.45f, 1.0f}});
+}
+
+// ---- car -----------------------------------------------------------------------------------
+
+struct CarGeom {
+  double R, l, track, width;
+};
+
+CarGeom geom_of(const json& run) {
+  const double R = run["params"]["R"].get<double>(), l = run["params"]["l"].get<double>();
+  return {R, l, 0.8 * l, 0.3 * R};
+}
+
+Vec2 front_of(const json& row) { return {row[3].get<double>(), row[4].get<double>()}; }
+Vec2 rear_of(const json& row, double l) {
+  const double phi = row[5].get<double>();
+  return front_of(row) - l * Vec2(std::cos(phi), std::sin(phi));
+}
+
+/// Rear wheels' rolling angle: signed path length of the rear-axle centre up to row k, over R.
+double rear_spin(const json& trace, std::size_t k, const CarGeom& g) {
+  double s = 0.0;
+  for (std::size_t i = 1; i <= k && i < trace.size(); ++i) {
+    const Vec2 d = rear_of(trace[i], g.l) - rear_of(trace[i - 1], g.l);
+    const double phi = trace[i][5].get<double>();
+    s += (d.dot(Vec2(std::cos(phi), std::sin(phi))) >= 0 ? 1.0 : -1.0) * d.norm();
+  }
+  return s / g.R;
+}
+
+void add_car(Scene& s, const json& row, double rear_spin_rad, const CarGeom& g, float alpha = 1.0f) {
+  const double a = row[1].get<double>(), beta = row[2].get<double>(), phi = row[5].get<double>();
+  const Vec2 front = front_of(row), rear = rear_of(row, g.l), side(-std::sin(phi), std::cos(phi));
+  const Color tyre{0.18f, 0.18f, 0.2f, alpha}, spokes{0.1f, 0.1f, 0.1f, alpha}, frame_c{0.35f, 0.37f, 0.42f, alpha};
+  s.boxes.push_back({0.5 * (front + rear), phi, g.l, 0.05 * g.l, g.R * 0.9, 0.05 * g.l, frame_c});            // tie rod
+  s.boxes.push_back({rear, phi + kPi / 2, g.track, 0.04 * g.l, g.R * 0.95, 0.04 * g.l, frame_c});             // rear axle
+  s.boxes.push_back({front, phi + beta + kPi / 2, 1.6 * g.width, 0.04 * g.l, g.R * 0.95, 0.04 * g.l, frame_c});  // front axle stub
+  s.wheels.push_back({front, g.R, g.width, phi + beta, a, tyre, spokes});
+  for (double k : {-0.5, 0.5}) s.wheels.push_back({rear + k * g.track * side, g.R, g.width, phi, rear_spin_rad, tyre, spokes});
+  // Steering angle: an arc at the front axle from the tie rod's heading to the wheel's.
+  if (std::abs(beta) > 1e-3) {
+    Polyline arc{{}, Color{0.75f, 0.1f, 0.1f, alpha}, 2.0f};
+    const double r = 1.4 * g.R;
+    for (int k = 0; k <= 24; ++k) {
+      const double ang = phi + beta * k / 24.0;
+      arc.points.push_back(front + r * Vec2(std::cos(ang), std::sin(ang)));
+    }
+    arc.points.insert(arc.points.begin(), front);
+    arc.points.push_back(front);
+    s.lines.push_back(arc);
+  }
+}
+
+/// Front- and rear-axle paths of a trace up to row `upto`.
+void add_paths(Scene& s, const json& trace, std::size_t upto, const CarGeom& g, const Color& c, float width, Bounds* b) {
+  Polyline f{{}, c, width}, r{{}, c, std::max(1.0f, width * 0.6f)};
+  for (std::size_t i = 0; i <= upto && i < trace.size(); ++i) {
+    f.points.push_back(front_of(trace[i]));
+    r.points.push_back(rear_of(trace[i], g.l));
+    if (b) b->add(f.points.back(), g.R), b->add(r.points.back(), g.R + 0.5 * g.track);
+  }
+  s.lines.push_back(f);
+  s.lines.push_back(r);
+}
+
+Scene car_scene(const json& run, double t, bool full_paths) {
+  Scene s;
+  const CarGeom g = geom_of(run);
+  const json& tr = run["details"]["trace"];
+  const std::size_t k = row_at(tr, t);
+  Bounds b;
+  if (run["details"].contains("reference")) {
+    const json& ref = run["details"]["reference"];
+    add_paths(s, ref, full_paths ? ref.size() : row_at(ref, t), g, Color{0.55f, 0.55f, 0.55f, 0.55f}, 7.0f, &b);
+  }
+  add_paths(s, tr, full_paths ? tr.size() : k, g, engine_color(run["engine"]), 2.0f, &b);
+  add_car(s, tr[k], rear_spin(tr, k, g), g);
+  b.add(front_of(tr[k]), g.l * 0.6);
+  b.add(rear_of(tr[k], g.l), g.l * 0.6);
+  frame(s, b);
+  add_legend(s, fmt::format("{} · {} · t = {:.2f} s", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
+                            tr[k][0].get<double>()),
+             run["engine"], "exact lift of the commanded path");
+  return s;
+}
+
+// ---- disks ---------------------------------------------------------------------------------
+
+Scene disk_scene(const json& run, double t, const std::string& moment) {
+  Scene s;
+  const json& d = run["details"];
+  const json& tr = d["trace"];
+  const std::size_t k = row_at(tr, t);
+  Bounds b;
+  const auto cM = [](const json& row) { return Vec2(row[1].get<double>(), row[2].get<double>()); };
+  const auto cN = [](const json& row) { return Vec2(row[3].get<double>(), row[4].get<double>()); };
+  Polyline nline{{}, Color{0.5f, 0.5f, 0.5f, 1.0f}, 1.5f, true}, mline{{}, engine_color(run["engine"]), 2.0f};
+  for (const auto& row : tr) {
+    nline.points.push_back(cN(row)), mline.points.push_back(cM(row));
+    b.add(cN(row), 1.0), b.add(cM(row), 1.0);
+  }
+  if (d.contains("reference")) {
+    Polyline ref{{}, Color{0.55f, 0.55f, 0.55f, 0.55f}, 7.0f};
+    for (const auto& row : d["reference"]) ref.points.push_back(cM(row));
+    s.lines.push_back(ref);
+  }
+  if (d.contains("collision_centre") && d["collision_centre"].is_array()) {
+    const Vec2 c(d["collision_centre"][0].get<double>(), d["collision_centre"][1].get<double>());
+    const double r = d["collision_radius"].get<double>();
+    if (r < 1e3) {
+      s.circles.push_back({c, r, Color{0.8f, 0.1f, 0.1f, 0.9f}, Color{0.9f, 0.2f, 0.2f, 0.18f}, 2.0f});
+      s.labels.push_back({"D (Lemma 6.1)", c + Vec2(0.0, r * 1.05), false, 14.0f, Color{0.7f, 0.1f, 0.1f, 1.0f}});
+      b.add(c, r);
+    }
+  }
+  s.lines.push_back(nline);
+  s.lines.push_back(mline);
+  // The forbidden zone of c_M: the disk of radius 2 about c_N.
+  s.circles.push_back({cN(tr[k]), 2.0, Color{0.45f, 0.45f, 0.45f, 0.9f}, Color{0, 0, 0, 0}, 1.5f, true});
+  s.pucks.push_back({cN(tr[k]), 1.0, 0.25, Color{0.80f, 0.55f, 0.45f, 1.0f}});
+  s.pucks.push_back({cM(tr[k]), 1.0, 0.25, lighten(engine_color(run["engine"]), 0.45f)});
+  s.labels.push_back({"N", cN(tr[k]) + Vec2(-0.15, 0.35), false, 16.0f});
+  s.labels.push_back({"M", cM(tr[k]) + Vec2(-0.15, 0.35), false, 16.0f});
+  if (d["t_contact_measured_s"].is_number()) {
+    const std::size_t kc = row_at(tr, d["t_contact_measured_s"].get<double>());
+    s.markers.push_back({0.5 * (cM(tr[kc]) + cN(tr[kc])), 0.25, colors::kContact});
+  }
+  frame(s, b, 0.08);
+  add_legend(s, fmt::format("{} · {} · {} t = {:.2f} s", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
+                            moment, tr[k][0].get<double>()),
+             run["engine"], "analytic lift (21)");
+  return s;
+}
+
+}  // namespace
+
+std::vector<Snapshot> snapshots_for(const json& run) {
+  std::vector<Snapshot> out;
+  if (!run.contains("details") || !run["details"].is_object() || !run["details"].contains("trace")) return out;
+  const json& tr = run["details"]["trace"];
+  if (!tr.is_array() || tr.size() < 2) return out;
+  const double t0 = tr.front()[0].get<double>(), t1 = tr.back()[0].get<double>();
+  const std::string scen = run["scenario"];
+  if (scen.rfind("disks.", 0) == 0) {
+    out.push_back({"start", "start", disk_scene(run, t0, "start")});
+    if (run["details"]["t_contact_measured_s"].is_number()) {
+      const double tc = run["details"]["t_contact_measured_s"].get<double>();
+      out.push_back({"contact", fmt::format("first contact, t = {:.3f} s", tc), disk_scene(run, tc, "contact")});
+    }
+    out.push_back({"end", "end", disk_scene(run, t1, "end")});
+    Snapshot p{"perspective", "end, perspective view", disk_scene(run, t1, "end")};
+    Bounds b;
+    b.add(Vec2(tr.back()[1].get<double>(), tr.back()[2].get<double>()), 2.5);
+    b.add(Vec2(tr.back()[3].get<double>(), tr.back()[4].get<double>()), 2.5);
+    perspective_of(p.scene, b);
+    out.push_back(p);
+    return out;
+  }
+  out.push_back({"start", "start", car_scene(run, t0, false)});
+  out.push_back({"end", "end, with the whole paths", car_scene(run, t1, true)});
+  Snapshot p{"perspective", "end, perspective view", car_scene(run, t1, true)};
+  const CarGeom g = geom_of(run);
+  Bounds b;
+  b.add(front_of(tr.back()), 1.5 * g.l);
+  b.add(rear_of(tr.back(), g.l), 1.5 * g.l);
+  perspective_of(p.scene, b);
+  out.push_back(p);
+  return out;
+}
+
+Strip strip_for(const json& run) {
+  Strip st;
+  const std::string scen = run["scenario"];
+  if (scen != "car.cycle" && scen != "car.iterated" && scen != "car.iterated-beta") return st;
+  if (!run["details"].contains("trace")) return st;
+  const json& tr = run["details"]["trace"];
+  const CarGeom g = geom_of(run);
+  const int n = scen == "car.cycle" ? 5 : 11;
+  Bounds b;
+  for (const auto& row : tr) b.add(front_of(row), 1.2 * g.R), b.add(rear_of(row, g.l), 0.5 * g.track + 1.2 * g.R);
+  for (int i = 0; i < n; ++i) {
+    Scene s;
+    s.width_px = 320;
+    s.height_px = 240;
+    const std::size_t k = (tr.size() - 1) * i / (n - 1);
+    add_car(s, tr[k], rear_spin(tr, k, g), g);
+    frame(s, b, 0.05);
+    s.labels.push_back({fmt::format("t = {:.2f} s", tr[k][0].get<double>()), Vec2(8, 6), true, 13.0f});
+    st.frames.push_back(std::move(s));
+  }
+  // The last frame: start pose as a ghost, the net shift as arrows magnified to about l/2.
+  Scene s;
+  s.width_px = 320;
+  s.height_px = 240;
+  add_car(s, tr.front(), 0.0, g, 0.25f);
+  add_car(s, tr.back(), rear_spin(tr, tr.size() - 1, g), g);
+  const Vec2 p0 = front_of(tr.front()), p1 = front_of(tr.back());
+  const double shift = (p1 - p0).norm();
+  const json& ex = run["details"]["errors"]["commanded_lift_end"];
+  const Vec2 pe(ex[0].get<double>(), ex[1].get<double>());
+  double mag = 1.0;
+  if (shift > 0) mag = std::pow(10.0, std::round(std::log10(0.5 * g.l / shift)));
+  s.arrows.push_back({p0, p0 + mag * (pe - p0), Color{0.5f, 0.5f, 0.5f, 0.8f}, 7.0f});
+  s.arrows.push_back({p0, p0 + mag * (p1 - p0), engine_color(run["engine"]), 3.0f});
+  frame(s, b, 0.05);
+  s.labels.push_back({fmt::format("shift {:.3g} mm, arrows ×{:g}", shift * 1e3, mag), Vec2(8, 6), true, 13.0f});
+  st.frames.push_back(std::move(s));
+  st.caption = fmt::format("{} steps of the cycle; last frame: the start pose (faint) and the net shift of the front axle, "
+                           "magnified ×{:g} (grey: exact holonomy, colour: {})",
+                           n - 1, mag, run["engine"].get<std::string>());
+  st.per_row = 6;
+  return st;
+}
+
+}  // namespace liftcheck::render
