@@ -4,18 +4,23 @@
 
 PACKAGES := cmake g++ make pkg-config git python3 \
             libeigen3-dev libboost-dev nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev \
-            libbullet-dev libode-dev libosmesa6-dev libpng-dev gnuplot-nox
+            libbullet-dev libode-dev libosmesa6-dev libpng-dev libstb-dev fonts-dejavu-core gnuplot-nox \
+            libbenchmark-dev
 BUILD_DIR ?= build
 REPORT_DIR ?= $(BUILD_DIR)/report
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 
-.PHONY: all deps configure build validate test clean
+.PHONY: all deps install-packages configure build validate test report-check bench clean
 
 all: build
 
 deps:
+	@$(MAKE) --no-print-directory install-packages PKGS="$(PACKAGES)"
+
+# Installs the Debian packages in PKGS that are missing (as root), or prints the apt-get line.
+install-packages:
 	@missing=""; \
-	for p in $(PACKAGES); do \
+	for p in $(PKGS); do \
 	  dpkg-query -W -f='$${Status}\n' $$p 2>/dev/null | grep -q '^install ok installed' || missing="$$missing $$p"; \
 	done; \
 	if [ -n "$$missing" ]; then \
@@ -40,6 +45,15 @@ validate: build
 
 test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
+
+# Opens the report of `make validate` in headless Chromium; the screenshot must show the summary matrix.
+report-check:
+	@$(MAKE) --no-print-directory install-packages PKGS="chromium python3"
+	@test -f $(REPORT_DIR)/index.html || $(MAKE) --no-print-directory validate
+	python3 tests/screenshot_check.py $(REPORT_DIR) $(REPORT_DIR)/screenshot.png
+
+bench: build
+	./$(BUILD_DIR)/bench_render
 
 clean:
 	rm -rf $(BUILD_DIR)

@@ -87,9 +87,15 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
     for (const auto& n : split_list(engine_list)) es.push_back(&engine_or_throw(n));
   }
   if (es.empty()) throw InputError("--engines names no engine");
+  const std::vector<std::string> globs = split_list(filter);
+  const auto matches = [&](const std::string& name) {
+    for (const auto& g : globs)
+      if (fnmatch(g.c_str(), name.c_str(), 0) == 0) return true;
+    return false;
+  };
   std::vector<const Scenario*> ss;
   for (const auto& s : scenarios())
-    if (fnmatch(filter.c_str(), s.name.c_str(), 0) == 0) ss.push_back(&s);
+    if (matches(s.name)) ss.push_back(&s);
   if (ss.empty()) throw InputError(fmt::format("no scenario matches '{}'", filter));
 
   const std::filesystem::path out(out_dir);
@@ -122,13 +128,13 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
   nlohmann::json sweep_results = nlohmann::json::array();
   if (sweeps)
     for (const SweepDef& sw : sweep_catalogue()) {
-      if (fnmatch(filter.c_str(), sw.scenario.c_str(), 0) != 0) continue;
+      if (!matches(sw.scenario)) continue;
       const auto ts = std::chrono::steady_clock::now();
       sweep_results.push_back(run_sweep(sw, es));
       std::cout << fmt::format("sweep  {:<32} {:8.3f} s\n", sw.name,
                                std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count());
     }
-  if (sweeps && fnmatch(filter.c_str(), "disks.linear", 0) == 0) {
+  if (sweeps && matches("disks.linear")) {
     const auto ts = std::chrono::steady_clock::now();
     sweep_results.push_back(run_outcome_sweep(es));
     std::cout << fmt::format("sweep  {:<32} {:8.3f} s\n", "disk_outcomes",
@@ -185,7 +191,7 @@ int main(int argc, char** argv) {
   std::string engine_list, filter = "*", out_dir = "build/report";
   auto* validate = app.add_subcommand("validate", "run every scenario on every engine and write the report");
   validate->add_option("--engines", engine_list, "comma-separated engine names (default: all)");
-  validate->add_option("--filter", filter, "glob on scenario names")->capture_default_str();
+  validate->add_option("--filter", filter, "glob on scenario names (comma-separated globs: any may match)")->capture_default_str();
   validate->add_option("--out", out_dir, "output folder")->capture_default_str();
   bool no_sweeps = false, no_report = false;
   validate->add_flag("--no-sweeps", no_sweeps, "skip the parameter sweeps");

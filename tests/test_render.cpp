@@ -1,0 +1,89 @@
+// The renderer draws a known scene: pixel colours at known places, text, PNG output.
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "reports/gl_render.hpp"
+
+using namespace liftcheck::render;
+
+namespace {
+
+/// Top-down 200 x 160 view of [-1.25, 1.25] x [-1, 1]: 80 px per metre, y up.
+Scene known_scene() {
+  Scene s;
+  s.width_px = 200;
+  s.height_px = 160;
+  s.camera.kind = Camera::Kind::kTopDown;
+  s.camera.centre = Vec2(0, 0);
+  s.camera.half_height_m = 1.0;
+  s.grid_step_m = 0.0;
+  s.scale_bar = false;
+  s.circles.push_back({Vec2(0.5, 0.0), 0.3, Color{0, 0, 0, 0}, Color{1, 0, 0, 1}});   // red disk
+  s.lines.push_back({{Vec2(-1.0, 0.5), Vec2(0.0, 0.5)}, Color{0, 0, 1, 1}, 4.0f});     // blue line
+  s.pucks.push_back({Vec2(-0.6, -0.5), 0.2, 0.3, Color{0, 0.8f, 0, 1}});                // green puck
+  return s;
+}
+
+std::array<int, 3> rgb(const Image& img, double x_m, double y_m) {
+  const int x = static_cast<int>(100 + 80 * x_m), y = static_cast<int>(80 - 80 * y_m);
+  const auto* p = img.pixel(x, y);
+  return {p[0], p[1], p[2]};
+}
+
+}  // namespace
+
+TEST(Render, KnownSceneHasKnownColours) {
+  Renderer r;
+  const Image img = r.render(known_scene());
+  ASSERT_EQ(img.width, 200);
+  ASSERT_EQ(img.height, 160);
+  const auto red = rgb(img, 0.5, 0.0);
+  EXPECT_GT(red[0], 240);
+  EXPECT_LT(red[1], 20);
+  EXPECT_LT(red[2], 20);
+  const auto blue = rgb(img, -0.5, 0.5);
+  EXPECT_LT(blue[0], 60);
+  EXPECT_GT(blue[2], 200);
+  const auto green = rgb(img, -0.6, -0.5);  // the puck's top face, lit
+  EXPECT_LT(green[0], 40);
+  EXPECT_GT(green[1], 150);
+  const auto ground = rgb(img, 1.0, -0.8);
+  EXPECT_NEAR(ground[0], 247, 3);
+  EXPECT_NEAR(ground[1], 247, 3);
+  EXPECT_NEAR(ground[2], 242, 3);
+  // Just outside the red disk (radius 0.3 m = 24 px) the ground shows again.
+  const auto outside = rgb(img, 0.5 + 0.36, 0.0);
+  EXPECT_GT(outside[1], 200);
+  EXPECT_NE(r.gl_version().find("Mesa"), std::string::npos);
+}
+
+TEST(Render, TextDarkensItsBox) {
+  Image img;
+  img.width = 120;
+  img.height = 40;
+  img.rgba.assign(120 * 40 * 4, 255);
+  draw_text(img, "β = 0.3", 5, 5, 20.0f, Color{0, 0, 0, 1});
+  int dark = 0;
+  for (int y = 0; y < 40; ++y)
+    for (int x = 0; x < 120; ++x) dark += img.pixel(x, y)[0] < 128 ? 1 : 0;
+  EXPECT_GT(dark, 40);
+  EXPECT_GT(text_width("β = 0.3", 20.0f), 40);
+  EXPECT_LT(text_width("β = 0.3", 20.0f), 100);
+}
+
+TEST(Render, WritesAPng) {
+  Renderer r;
+  const auto path = std::filesystem::temp_directory_path() / "liftcheck_render_test.png";
+  write_png(path, r.render(known_scene()));
+  std::ifstream in(path, std::ios::binary);
+  char sig[8] = {};
+  in.read(sig, 8);
+  EXPECT_EQ(std::string(sig + 1, 3), "PNG");
+  EXPECT_GT(std::filesystem::file_size(path), 500u);
+  EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
+  std::filesystem::remove(path);
+  EXPECT_THROW(write_png("/nonexistent-dir/x.png", r.render(known_scene())), std::runtime_error);
+}
