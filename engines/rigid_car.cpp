@@ -51,8 +51,10 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
     const bool finite = std::isfinite(s.x_m) && std::isfinite(s.y_m) && std::isfinite(s.z_m) &&
                         std::isfinite(s.phi_rad) && std::isfinite(s.steer_rad) && std::isfinite(alpha);
     if (!finite) throw EngineError(fmt::format("simulation produced NaN at t = {:.4f} s", t_end));
-    if (std::abs(s.z_m - def_.R_m) > def_.R_m || std::abs(s.rear_z_m - def_.R_m) > def_.R_m)
-      throw EngineError(fmt::format("car left the ground (wheel centre at z = {:.3f} m) at t = {:.4f} s", s.z_m, t_end));
+    for (const auto& [which, z] : {std::pair{"front", s.z_m}, std::pair{"rear", s.rear_z_m}})
+      if (std::abs(z - def_.R_m) > def_.R_m)
+        throw EngineError(fmt::format("car left the ground ({} wheel centre at z = {:.3f} m, radius {:.3f} m) at t = {:.4f} s",
+                                      which, z, def_.R_m, t_end));
   };
 
   // Settle on the wheels: the contacts load up while the servos hold alpha = 0 and beta = beta0.

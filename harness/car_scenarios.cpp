@@ -191,6 +191,17 @@ Outcome run_slip(const Params& p, CarEngine& engine) {
   return o;
 }
 
+/// Largest pairwise distance and heading difference among poses.
+std::pair<double, double> pose_spread(const std::vector<e2::Pose>& poses) {
+  double xy = 0.0, phi = 0.0;
+  for (const auto& a : poses)
+    for (const auto& b : poses) {
+      xy = std::max(xy, std::hypot(a.x_m - b.x_m, a.y_m - b.y_m));
+      phi = std::max(phi, std::abs(e2::wrap_angle(a.phi_rad - b.phi_rad)));
+    }
+  return {xy, phi};
+}
+
 // ---- car.covariance ------------------------------------------------------------------------
 
 /// The pose `q` seen from the frame of `start`: g^{-1} q with g the element of (A.5) for `start`.
@@ -212,7 +223,7 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
   const car::BasePath path(segs, 0.0, q0.beta_rad, setup.drive);
   const e2::Pose exact = in_frame_of(q0, car::lift_end(setup.car, path, q0));
 
-  double spread_xy = 0.0, spread_phi = 0.0, worst = 0.0;
+  double worst = 0.0;
   nlohmann::json rows = nlohmann::json::array();
   std::vector<e2::Pose> seen;
   for (int k = 0; k < n; ++k) {
@@ -228,11 +239,7 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
     rows.push_back({{"theta_rad", theta}, {"start", {start.x_m, start.y_m, start.phi_rad}},
                     {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}}, {"trace", thin}});
   }
-  for (const auto& a : seen)
-    for (const auto& b : seen) {
-      spread_xy = std::max(spread_xy, std::hypot(a.x_m - b.x_m, a.y_m - b.y_m));
-      spread_phi = std::max(spread_phi, std::abs(e2::wrap_angle(a.phi_rad - b.phi_rad)));
-    }
+  const auto [spread_xy, spread_phi] = pose_spread(seen);
   Outcome o;
   o.values["spread_xy"] = {0.0, spread_xy};
   o.values["spread_phi"] = {0.0, spread_phi};
@@ -355,12 +362,9 @@ Outcome run_reparam(const Params& p, CarEngine& engine) {
   }
   const car::BasePath ref_path(reparam_segments(), 0.0, q0.beta_rad, base.drive);
   const Config ref = car::lift_end(base.car, ref_path, q0);
-  double spread = 0.0, heading_spread = 0.0;
-  for (const auto& a : ends)
-    for (const auto& b : ends) {
-      spread = std::max(spread, std::hypot(a.x_m - b.x_m, a.y_m - b.y_m));
-      heading_spread = std::max(heading_spread, std::abs(e2::wrap_angle(a.phi_rad - b.phi_rad)));
-    }
+  std::vector<e2::Pose> end_poses;
+  for (const auto& c : ends) end_poses.push_back(c.pose());
+  const auto [spread, heading_spread] = pose_spread(end_poses);
   Outcome o;
   o.values["end_spread"] = {0.0, spread};
   o.values["heading_spread"] = {0.0, heading_spread};

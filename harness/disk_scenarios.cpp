@@ -96,11 +96,13 @@ std::optional<double> first_contact(const std::function<Vec2(double)>& rel, doub
   return std::nullopt;
 }
 
-/// The analytic lift (21) of the same problem, for the reports.
-void add_reference(Outcome& o, const DiskProblem& pb) {
-  disks::LiftDef def;
-  const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);
-  o.details["reference"] = trace_json(r.trace);
+/// An outcome that carries the engine's trace and, for the reports, the analytic lift (21) of the
+/// same problem.
+Outcome outcome_with_traces(const DiskRun& run, const DiskProblem& pb) {
+  Outcome o;
+  o.details["trace"] = trace_json(run.trace);
+  o.details["reference"] = trace_json(disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s).trace);
+  return o;
 }
 
 /// Collision, contact time and distances measured from an engine run against expectations.
@@ -141,15 +143,14 @@ const MetricDef kTContact{"t_contact", "s", TolKind::kAbsolute, {{"analytic", 1e
 
 Outcome run_copy(const Params& p, DiskEngine& e) {
   disks::Mechanism m;  // (36)
-  const DiskRun r = run_checked(e, setup_from(p), problem(p, m));
+  const DiskProblem pb = problem(p, m);
+  const DiskRun r = run_checked(e, setup_from(p), pb);
   const double d0 = (p.vec("cM") - p.vec("cN")).norm();
-  Outcome o;
+  Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, std::nullopt, p.num("dt"));  // c_M - c_N is constant: no contact from a disjoint start
   o.values["final_distance"] = {d0, final_distance(r)};
   o.values["distance_spread"] = {0.0, spreads(r).first};
   o.values["direction_change"] = {0.0, spreads(r).second};
-  o.details["trace"] = trace_json(r.trace);
-  add_reference(o, problem(p, m));
   return o;
 }
 
@@ -159,12 +160,10 @@ Outcome run_actuated(const Params& p, DiskEngine& e) {
   const DiskProblem pb = problem(p, m);
   const DiskRun r = run_checked(e, setup_from(p), pb);
   const disks::LiftResult ref = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s);  // no closed form
-  Outcome o;
+  Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, ref.t_contact_s, p.num("dt"));
   o.values["min_distance"] = {ref.min_distance, r.min_distance};
   o.values["final_distance"] = {ref.final_distance, final_distance(r)};
-  o.details["trace"] = trace_json(r.trace);
-  add_reference(o, pb);
   return o;
 }
 
@@ -172,16 +171,15 @@ Outcome run_repel(const Params& p, DiskEngine& e) {
   disks::Mechanism m;
   m.kind = disks::MechanismKind::kRepel;  // (38)
   m.lambda = p.num("lambda");
-  const DiskRun r = run_checked(e, setup_from(p), problem(p, m));
+  const DiskProblem pb = problem(p, m);
+  const DiskRun r = run_checked(e, setup_from(p), pb);
   const double d0 = (p.vec("cM") - p.vec("cN")).norm(), T = p.num("T");
-  std::optional<double> t = disks::repel_touch_time(d0, m.lambda);  // Lemma 5.1
-  if (t && *t > T) t.reset();
-  Outcome o;
+  const std::optional<double> touch = disks::repel_touch_time(d0, m.lambda);  // Lemma 5.1
+  const std::optional<double> t = touch && *touch <= T ? touch : std::nullopt;
+  Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, t, p.num("dt"));
   o.values["final_distance"] = {disks::repel_distance(d0, m.lambda, T), final_distance(r)};
   o.values["direction_change"] = {0.0, spreads(r).second};
-  o.details["trace"] = trace_json(r.trace);
-  add_reference(o, problem(p, m));
   return o;
 }
 
@@ -189,20 +187,19 @@ Outcome run_orbit(const Params& p, DiskEngine& e) {
   disks::Mechanism m;
   m.kind = disks::MechanismKind::kRotation;  // (40)
   m.omega = p.num("omega");
-  const DiskRun r = run_checked(e, setup_from(p), problem(p, m));
-  const double d0 = (p.vec("cM") - p.vec("cN")).norm(), T = p.num("T");
+  const DiskProblem pb = problem(p, m);
+  const DiskRun r = run_checked(e, setup_from(p), pb);
+  const double T = p.num("T");
   // Turned angle of c_M - c_N, unwrapped along the trace.
   double turned = 0.0;
   for (std::size_t i = 1; i < r.trace.size(); ++i) {
     const Vec2 a = r.trace[i - 1].cM - r.trace[i - 1].cN, b = r.trace[i].cM - r.trace[i].cN;
     turned += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
   }
-  Outcome o;
+  Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, std::nullopt, p.num("dt"));  // the distance is constant
   o.values["distance_spread"] = {0.0, spreads(r).first};
   o.values["turned_angle"] = {m.omega * T, turned};
-  o.details["trace"] = trace_json(r.trace);
-  add_reference(o, problem(p, m));
   return o;
 }
 
@@ -222,7 +219,7 @@ Outcome run_linear(const Params& p, DiskEngine& e) {
   // (43): c_M(t) = A c_N(t) - c0, for any path of N; the contact is a root of its distance.
   const auto closed = [&](double t) { return disks::linear_cM(m.a, m.b, cM0, cN0, pb.path.position(t)); };
   const auto t = first_contact([&](double s) { return Vec2(closed(s) - pb.path.position(s)); }, pb.T_s);
-  Outcome o;
+  Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, t, p.num("dt"));
   o.values["cM_end_error"] = {0.0, (r.trace.back().cM - closed(r.trace.back().t_s)).norm()};
   o.values["final_distance"] = {(closed(pb.T_s) - pb.path.position(pb.T_s)).norm(), final_distance(r)};
@@ -232,8 +229,6 @@ Outcome run_linear(const Params& p, DiskEngine& e) {
     o.details["collision_radius"] = disks::collision_radius(m.a, m.b);
   }
   o.details["linear"] = disks::satisfies_linearity(m);
-  o.details["trace"] = trace_json(r.trace);
-  add_reference(o, pb);
   return o;
 }
 
@@ -248,9 +243,10 @@ Outcome run_forced(const Params& p, DiskEngine& e) {
   path.c0 = cN0;
   path.v = p.vec("vN");
   path.goal = disks::collision_centre(m.a, m.b, cM0, cN0);
-  const DiskRun r = run_checked(e, setup_from(p), {disks::rule_of(m), path, cM0, p.num("T")});
+  const DiskProblem pb{disks::rule_of(m), path, cM0, p.num("T")};
+  const DiskRun r = run_checked(e, setup_from(p), pb);
   double t = disks::forced_contact_time(m.a, m.b, cM0, cN0, speed);
-  Outcome o;
+  Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, t <= p.num("T") ? std::optional<double>(t) : std::nullopt, p.num("dt"));
   if (r.t_contact_s) {  // Lemma 6.1: at contact N is on the boundary of D
     const Vec2 cN = path.position(*r.t_contact_s);
@@ -258,8 +254,6 @@ Outcome run_forced(const Params& p, DiskEngine& e) {
   }
   o.details["collision_centre"] = {path.goal.x(), path.goal.y()};
   o.details["collision_radius"] = disks::collision_radius(m.a, m.b);
-  o.details["trace"] = trace_json(r.trace);
-  add_reference(o, DiskProblem{disks::rule_of(m), path, cM0, p.num("T")});
   return o;
 }
 
@@ -272,12 +266,10 @@ Outcome run_moving_away(const Params& p, DiskEngine& e) {
   const disks::LiftResult ref = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s);
   disks::Mechanism base = linear_from(p);
   const disks::LiftResult without = disks::lift(base, pb.path, pb.cM0, pb.T_s);
-  Outcome o;
+  Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, ref.t_contact_s, p.num("dt"));
   o.values["min_distance"] = {ref.min_distance, r.min_distance};
   o.details["base_mechanism_t_contact_s"] = without.t_contact_s ? nlohmann::json(*without.t_contact_s) : nlohmann::json();
-  o.details["trace"] = trace_json(r.trace);
-  add_reference(o, pb);
   return o;
 }
 
@@ -293,14 +285,13 @@ Outcome run_extended(const Params& p, DiskEngine& e) {
   check_start(cM1, path.position(0.0));
   const disks::Lifting L = copy_lifting(path);
   const auto q = [=](double t) { return disks::extended(L, cM0, cM1, path, T, std::clamp(t, 0.0, T), clearance); };
-  const DiskRun r = run_checked(e, setup_from(p), {disks::rule_following(q, T), path, cM0, T});
-  const disks::LiftResult ref = disks::lift(disks::rule_following(q, T), path, cM0, T);
-  Outcome o;
+  const DiskProblem pb{disks::rule_following(q, T), path, cM0, T};
+  const DiskRun r = run_checked(e, setup_from(p), pb);
+  const disks::LiftResult ref = disks::lift(pb.rule, path, cM0, T);
+  Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, std::nullopt, p.num("dt"));  // the plan keeps the clearance in N's frame
   o.values["end_error"] = {0.0, (r.trace.back().cM - L(cM1, T)).norm()};  // (11): ends at L(e', gamma)(1)
   o.values["min_distance"] = {ref.min_distance, r.min_distance};
-  o.details["trace"] = trace_json(r.trace);
-  add_reference(o, DiskProblem{disks::rule_following(q, T), path, cM0, T});
   return o;
 }
 
@@ -317,14 +308,13 @@ Outcome run_target(const Params& p, DiskEngine& e) {
   };
   const disks::Lifting L = copy_lifting(path);
   const auto q = [=](double t) { return disks::navigate(L, cM0, target, path, T, std::clamp(t, 0.0, T), clearance); };
-  const DiskRun r = run_checked(e, setup_from(p), {disks::rule_following(q, T), path, cM0, T});
-  const disks::LiftResult ref = disks::lift(disks::rule_following(q, T), path, cM0, T);
-  Outcome o;
+  const DiskProblem pb{disks::rule_following(q, T), path, cM0, T};
+  const DiskRun r = run_checked(e, setup_from(p), pb);
+  const disks::LiftResult ref = disks::lift(pb.rule, path, cM0, T);
+  Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, std::nullopt, p.num("dt"));
   o.values["end_error"] = {0.0, (r.trace.back().cM - target(T)).norm()};
   o.values["min_distance"] = {ref.min_distance, r.min_distance};
-  o.details["trace"] = trace_json(r.trace);
-  add_reference(o, DiskProblem{disks::rule_following(q, T), path, cM0, T});
   return o;
 }
 

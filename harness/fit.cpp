@@ -45,4 +45,15 @@ CircleFit fit_circle(const std::vector<Eigen::Vector2d>& points) {
   return {c.x() + mean.x(), c.y() + mean.y(), r, std::sqrt(ss / static_cast<double>(n))};
 }
 
+double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
+  if (x.size() != y.size() || x.size() < 2) throw std::invalid_argument("log-log fit needs at least 2 (x, y) pairs");
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  const double n = static_cast<double>(x.size());
+  for (std::size_t i = 0; i < x.size(); ++i) {
+    const double lx = std::log(x[i]), ly = std::log(y[i]);
+    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
+  }
+  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
 }  // namespace liftcheck

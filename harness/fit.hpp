@@ -15,4 +15,7 @@ struct CircleFit {
 /// geometric distances. Needs at least 3 points not on one line (throws std::invalid_argument).
 CircleFit fit_circle(const std::vector<Eigen::Vector2d>& points);
 
+/// Least-squares slope of log y against log x (power-law exponent); x, y > 0, at least 2 points.
+double loglog_slope(const std::vector<double>& x, const std::vector<double>& y);
+
 }  // namespace liftcheck

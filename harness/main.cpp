@@ -161,9 +161,13 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
     throw InputError(err.what());
   }
   const auto& sum = results["summary"];
-  std::cout << fmt::format("{} passed, {} failed, {} errors, {} skipped; report: {}\n", sum["pass"].get<int>(),
-                           sum["fail"].get<int>(), sum["error"].get<int>(), sum["skip"].get<int>(),
-                           (out / "index.html").string());
+  int expected_fails = 0;
+  for (const auto& r : runs) expected_fails += r.negative_control && r.status == Status::kFail ? 1 : 0;
+  std::cout << fmt::format("validate: {} runs, {} unexpected ({} pass, {} fail of which {} negative controls failing as designed, "
+                           "{} error, {} skip); {}\n",
+                           sum["total"].get<int>(), sum["unexpected"].get<int>(), sum["pass"].get<int>(), sum["fail"].get<int>(),
+                           expected_fails, sum["error"].get<int>(), sum["skip"].get<int>(),
+                           report ? "report: " + (out / "index.html").string() : "results: " + (out / "results.json").string());
   return all_pass ? 0 : 1;
 }
 

@@ -4,19 +4,10 @@
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include "harness/fit.hpp"
 #include "harness/runner.hpp"
 
 namespace liftcheck {
-
-double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double n = static_cast<double>(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double lx = std::log(x[i]), ly = std::log(y[i]);
-    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
-}
 
 const std::vector<SweepDef>& sweep_catalogue() {
   static const std::vector<SweepDef> all = [] {

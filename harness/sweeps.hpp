@@ -37,7 +37,4 @@ nlohmann::json run_sweep(const SweepDef& sweep, const std::vector<const EngineIn
 /// of the collision domain (analytic closest approach within `near_m` of contact) labelled.
 nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, double near_m = 0.01);
 
-/// Least-squares slope of log y on log x.
-double loglog_slope(const std::vector<double>& x, const std::vector<double>& y);
-
 }  // namespace liftcheck

@@ -31,8 +31,11 @@ TEST_P(Conformance, DefaultRunPasses) {
     // A negative control must fail its no-slip comparison, and through the metrics built to see
     // slip, not through an engine error.
     EXPECT_EQ(r.status, Status::kFail) << r.message;
-    for (const auto& m : r.metrics)
-      if (m.name == "slip_ratio" || m.name == "lateral_speed_max") EXPECT_FALSE(m.pass) << m.name;
+    for (const auto& m : r.metrics) {
+      if (m.name == "slip_ratio" || m.name == "lateral_speed_max") {
+        EXPECT_FALSE(m.pass) << m.name;
+      }
+    }
   } else {
     EXPECT_EQ(r.status, Status::kPass) << r.message;
   }

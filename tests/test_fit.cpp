@@ -33,3 +33,10 @@ TEST(CircleFit, GeometricFitIsUnbiasedUnderSymmetricNoise) {
 TEST(CircleFit, RejectsTooFewPoints) {
   EXPECT_THROW(fit_circle({{0, 0}, {1, 0}}), std::invalid_argument);
 }
+
+TEST(LogLogSlope, RecoversAPowerLaw) {
+  std::vector<double> x, y;
+  for (double v : {0.01, 0.03, 0.1, 0.3}) x.push_back(v), y.push_back(7.0 * std::pow(v, 4.0));
+  EXPECT_NEAR(liftcheck::loglog_slope(x, y), 4.0, 1e-12);
+  EXPECT_THROW(liftcheck::loglog_slope({1.0}, {1.0}), std::invalid_argument);
+}

@@ -5,7 +5,10 @@
 #include <cmath>
 
 #include "models/holonomy.hpp"
+#include "harness/fit.hpp"
 #include "models/lift.hpp"
+
+using liftcheck::loglog_slope;
 
 using namespace liftcheck::car;
 
@@ -16,17 +19,6 @@ const Config kStart{0.0, 0.4, 0.0, 0.0, 0.7};
 
 Vec5 holonomy(const std::vector<Step>& steps, const Config& q = kStart) {
   return apply_exact(kCar, q, steps).vec() - q.vec();
-}
-
-/// Least-squares slope of log(y) against log(x).
-double loglog_slope(const std::vector<double>& x, const std::vector<double>& y) {
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  const double n = static_cast<double>(x.size());
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    const double lx = std::log(x[i]), ly = std::log(y[i]);
-    sx += lx, sy += ly, sxx += lx * lx, sxy += lx * ly;
-  }
-  return (n * sxy - sx * sy) / (n * sxx - sx * sx);
 }
 
 const std::vector<double> kEps{0.001, 0.002, 0.005, 0.01, 0.02, 0.05, 0.1};

@@ -7,6 +7,7 @@
 // Signs (tests/test_engine_signs.cpp): the 6DOF angles are of body B relative to body A with the
 // chassis as A; the steering angle and spin rate are negated where marked.
 #include "engines/bullet/bullet_car.hpp"
+#include "engines/bullet/bullet_core.hpp"
 
 #include <btBulletDynamicsCommon.h>
 
@@ -66,11 +67,8 @@ class BulletCar final : public RigidCar {
     bodies_.clear();
     shapes_.clear();
     world_.reset();
-    config_ = std::make_unique<btDefaultCollisionConfiguration>();
-    dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
-    broadphase_ = std::make_unique<btDbvtBroadphase>();
-    solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
-    world_ = std::make_unique<WheelFrictionWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
+    core_ = std::make_unique<BulletCore>();
+    world_ = core_->make_world<WheelFrictionWorld>();
     world_->setGravity(btVector3(0, 0, -setup.gravity_mps2));
     world_->align = setup.friction_dirs == "wheel";
     btContactSolverInfo& info = world_->getSolverInfo();
@@ -192,10 +190,7 @@ class BulletCar final : public RigidCar {
     world_.reset();
   }
 
-  std::unique_ptr<btDefaultCollisionConfiguration> config_;
-  std::unique_ptr<btCollisionDispatcher> dispatcher_;
-  std::unique_ptr<btBroadphaseInterface> broadphase_;
-  std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
+  std::unique_ptr<BulletCore> core_;
   std::unique_ptr<WheelFrictionWorld> world_;
   std::vector<std::unique_ptr<btCollisionShape>> shapes_;
   std::vector<std::unique_ptr<btRigidBody>> bodies_;

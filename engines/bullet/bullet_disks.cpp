@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "engines/bullet/bullet_car.hpp"
+#include "engines/bullet/bullet_core.hpp"
 #include "engines/stepped_disks.hpp"
 
 namespace liftcheck {
@@ -29,11 +30,8 @@ class BulletDisks final : public SteppedDisks {
  protected:
   void place(const DiskSetup& setup, const disks::Vec2& cM, const disks::Vec2& cN) override {
     teardown();
-    config_ = std::make_unique<btDefaultCollisionConfiguration>();
-    dispatcher_ = std::make_unique<btCollisionDispatcher>(config_.get());
-    broadphase_ = std::make_unique<btDbvtBroadphase>();
-    solver_ = std::make_unique<btSequentialImpulseConstraintSolver>();
-    world_ = std::make_unique<btDiscreteDynamicsWorld>(dispatcher_.get(), broadphase_.get(), solver_.get(), config_.get());
+    core_ = std::make_unique<BulletCore>();
+    world_ = core_->make_world<btDiscreteDynamicsWorld>();
     world_->setGravity(btVector3(0, 0, 0));
     shape_ = std::make_unique<btSphereShape>(setup.radius_m);
     const disks::Vec2 at[2] = {cM, cN};
@@ -80,10 +78,7 @@ class BulletDisks final : public SteppedDisks {
     for (auto& b : body_) b.reset();
     world_.reset();
   }
-  std::unique_ptr<btDefaultCollisionConfiguration> config_;
-  std::unique_ptr<btCollisionDispatcher> dispatcher_;
-  std::unique_ptr<btBroadphaseInterface> broadphase_;
-  std::unique_ptr<btSequentialImpulseConstraintSolver> solver_;
+  std::unique_ptr<BulletCore> core_;
   std::unique_ptr<btDiscreteDynamicsWorld> world_;
   std::unique_ptr<btSphereShape> shape_;
   std::unique_ptr<btRigidBody> body_[2];
