@@ -106,7 +106,7 @@ Outcome outcome_with_traces(const DiskRun& run, const DiskProblem& pb) {
 }
 
 /// Collision, contact time and distances measured from an engine run against expectations.
-void add_contact(Outcome& o, const DiskRun& run, std::optional<double> expected_t, double dt) {
+void add_contact(Outcome& o, const DiskRun& run, const std::optional<double>& expected_t, double dt) {
   o.values["collision"] = {expected_t ? 1.0 : 0.0, run.t_contact_s ? 1.0 : 0.0};
   if (expected_t && run.t_contact_s) o.values["t_contact"] = {*expected_t, *run.t_contact_s, 0.0, dt};
   o.details["t_contact_expected_s"] = expected_t ? nlohmann::json(*expected_t) : nlohmann::json();
