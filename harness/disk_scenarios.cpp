@@ -98,10 +98,18 @@ std::optional<double> first_contact(const std::function<Vec2(double)>& rel, doub
 
 /// An outcome that carries the engine's trace and, for the reports, the analytic lift (21) of the
 /// same problem.
+double final_distance(const DiskRun& r) { return (r.trace.back().cM - r.trace.back().cN).norm(); }
+
+/// An outcome that carries the engine's trace, the analytic lift (21) of the same problem (for the
+/// reports), and the closest approach and final distance against that lift; scenarios with a
+/// closed form replace the expectation.
 Outcome outcome_with_traces(const DiskRun& run, const DiskProblem& pb) {
+  const disks::LiftResult ref = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s);
   Outcome o;
   o.details["trace"] = trace_json(run.trace);
-  o.details["reference"] = trace_json(disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s).trace);
+  o.details["reference"] = trace_json(ref.trace);
+  o.values["min_distance"] = {ref.min_distance, run.min_distance};
+  o.values["final_distance"] = {ref.final_distance, final_distance(run)};
   return o;
 }
 
@@ -112,8 +120,6 @@ void add_contact(Outcome& o, const DiskRun& run, const std::optional<double>& ex
   o.details["t_contact_expected_s"] = expected_t ? nlohmann::json(*expected_t) : nlohmann::json();
   o.details["t_contact_measured_s"] = run.t_contact_s ? nlohmann::json(*run.t_contact_s) : nlohmann::json();
 }
-
-double final_distance(const DiskRun& r) { return (r.trace.back().cM - r.trace.back().cN).norm(); }
 
 /// Largest |d(t) - d(0)| and largest angle between c(t) = c_M - c_N and c(0) over the trace.
 std::pair<double, double> spreads(const DiskRun& r) {
@@ -162,8 +168,6 @@ Outcome run_actuated(const Params& p, DiskEngine& e) {
   const disks::LiftResult ref = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s);  // no closed form
   Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, ref.t_contact_s, p.num("dt"));
-  o.values["min_distance"] = {ref.min_distance, r.min_distance};
-  o.values["final_distance"] = {ref.final_distance, final_distance(r)};
   return o;
 }
 
@@ -268,7 +272,6 @@ Outcome run_moving_away(const Params& p, DiskEngine& e) {
   const disks::LiftResult without = disks::lift(base, pb.path, pb.cM0, pb.T_s);
   Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, ref.t_contact_s, p.num("dt"));
-  o.values["min_distance"] = {ref.min_distance, r.min_distance};
   o.details["base_mechanism_t_contact_s"] = without.t_contact_s ? nlohmann::json(*without.t_contact_s) : nlohmann::json();
   return o;
 }
@@ -291,7 +294,6 @@ Outcome run_extended(const Params& p, DiskEngine& e) {
   Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, std::nullopt, p.num("dt"));  // the plan keeps the clearance in N's frame
   o.values["end_error"] = {0.0, (r.trace.back().cM - L(cM1, T)).norm()};  // (11): ends at L(e', gamma)(1)
-  o.values["min_distance"] = {ref.min_distance, r.min_distance};
   return o;
 }
 
@@ -314,14 +316,14 @@ Outcome run_target(const Params& p, DiskEngine& e) {
   Outcome o = outcome_with_traces(r, pb);
   add_contact(o, r, std::nullopt, p.num("dt"));
   o.values["end_error"] = {0.0, (r.trace.back().cM - target(T)).norm()};
-  o.values["min_distance"] = {ref.min_distance, r.min_distance};
   return o;
 }
 
 }  // namespace
 
 std::vector<Scenario> disk_scenarios() {
-  const MetricDef final_d = abs_("final_distance", "m", 1e-8, 1e-6, "|c_M - c_N| at T");
+  // 0.1 mm for engines: one RK4 step across a kink in N's path (N stopping dead) leaves ~1e-5 m.
+  const MetricDef final_d = abs_("final_distance", "m", 1e-8, 1e-4, "|c_M - c_N| at T");
   const MetricDef min_d = abs_("min_distance", "m", 1e-8, 1e-3, "smallest |c_M - c_N| over the run");
   const MetricDef spread = abs_("distance_spread", "m", 1e-8, 1e-6, "largest change of |c_M - c_N| from its start");
   const MetricDef dir = abs_("direction_change", "rad", 1e-8, 1e-6, "largest turn of c_M - c_N from its start");
@@ -339,27 +341,27 @@ std::vector<Scenario> disk_scenarios() {
     v.push_back(std::move(s));
   };
   add("disks.copy", "M copies N's velocity: c_M - c_N stays constant, the disks never touch.", "(36), section 5.3",
-      disk_params("0,0", "3,0", "1,0", "figure8", "6"), {kCollision, final_d, spread, dir}, run_copy);
+      disk_params("0,0", "3,0", "1,0", "figure8", "6"), {kCollision, min_d, final_d, spread, dir}, run_copy);
   add("disks.actuated", "Actuated no-reaction: M stays put until N comes within 3, then follows it more and more.",
       "(37), Figure 6", disk_params("0,0", "6,0.5", "-1,0", "line", "8"), {kCollision, kTContact, min_d, final_d}, run_actuated);
   add("disks.repel", "Repel/attract: d(t) = e^{lambda t} d(0) with constant direction for any motion of N; "
       "for lambda < 0 the disks touch at ln(2/d(0))/lambda.", "(38), (39), Lemma 5.1",
       with(disk_params("0,0", "5,0", "1,0", "line", "4"), {number("lambda", "-0.5", "1/s", "rate lambda of (38)", -100.0, false, 100.0)}),
-      {kCollision, kTContact, final_d, dir}, run_repel);
+      {kCollision, kTContact, min_d, final_d, dir}, run_repel);
   add("disks.orbit", "Rotation: M circles N at constant distance with angular velocity omega (the paper's mu).",
       "(40), section 5.6",
       with(disk_params("0,0", "3,0", "1,0", "circle", "6"), {number("omega", "0.8", "rad/s", "angular velocity of (40)", -100.0, false, 100.0)}),
-      {kCollision, spread, abs_("turned_angle", "rad", 1e-8, 1e-6, "angle turned by c_M - c_N")}, run_orbit);
+      {kCollision, min_d, final_d, spread, abs_("turned_angle", "rad", 1e-8, 1e-6, "angle turned by c_M - c_N")}, run_orbit);
   add("disks.linear", "Linear mechanism with constant coefficients: c_M(t) = A c_N(t) - c0 for any motion of N; "
       "contact when N enters the ball D.", "(41)-(46), Lemma 6.1",
       with(disk_params("0,0", "3,0", "1,0", "line", "4"), {number("a", "2", "1", "coefficient a (the paper's alpha)", -100.0, false, 100.0),
                                                           number("b", "0", "1", "coefficient b (the paper's beta)", -100.0, false, 100.0)}),
-      {kCollision, kTContact, abs_("cM_end_error", "m", 1e-8, 1e-6, "c_M at T against (43)"), final_d}, run_linear);
+      {kCollision, kTContact, abs_("cM_end_error", "m", 1e-8, 1e-6, "c_M at T against (43)"), min_d, final_d}, run_linear);
   add("disks.forced", "Forced collision: N drives straight at the centre of D and contact follows when it enters D, "
       "whatever linear mechanism (a, b) != (1, 0) M uses.", "Corollary 6.3, Lemma 6.1, (46)",
       with(disk_params("0,0", "6,-2", "1.5,0", "line", "20", false),
            {number("a", "0.5", "1", "coefficient a", -100.0, false, 100.0), number("b", "0.5", "1", "coefficient b", -100.0, false, 100.0)}),
-      {kCollision, kTContact,
+      {kCollision, kTContact, min_d, final_d,
        {"contact_on_D", "m", TolKind::kAbsolute, {{"analytic", 1e-6}, {"default", 1.0}},
         "|c_N - c^0| at contact against the radius of D (tolerance in steps of N's travel)"}},
       run_forced);
@@ -368,20 +370,20 @@ std::vector<Scenario> disk_scenarios() {
       with(disk_params("0,0", "3,0", "1,0", "line", "6"),
            {number("a", "2", "1", "base mechanism (41): a", -100.0, false, 100.0), number("b", "0", "1", "base mechanism (41): b", -100.0, false, 100.0),
             number("k_away", "2", "1", "gain of the moving-away form", 0.0, false, 100.0)}),
-      {kCollision, kTContact, min_d}, run_moving_away);
+      {kCollision, kTContact, min_d, final_d}, run_moving_away);
   add("disks.extended", "Extended algorithm for a known motion of N: a plan in the fibre around N, lifted by the copy "
       "mechanism, ends at the lift of the target.", "(11), (14)",
       with(disk_params("-4,0.1", "0,0", "0.6,0.2", "line", "8"),
            {vec2("target", "4,-0.3", "m", "target position of M over N's start"),
             number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, false, 100.0)}),
-      {kCollision, abs_("end_error", "m", 1e-6, 1e-5, "c_M(T) against L(e', gamma)(T)"), min_d}, run_extended);
+      {kCollision, abs_("end_error", "m", 1e-6, 1e-5, "c_M(T) against L(e', gamma)(T)"), min_d, final_d}, run_extended);
   add("disks.target", "Navigation to a moving target that circles N with its own mechanism: M ends on the target.",
       "(16), (17)",
       with(disk_params("-4,0", "1,0", "1,0", "figure8", "8"),
            {vec2("target", "5,0", "m", "initial target position"),
             number("target_omega", "0.4", "rad/s", "the target's rotation about N (40)", -100.0, false, 100.0),
             number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, false, 100.0)}),
-      {kCollision, abs_("end_error", "m", 1e-6, 1e-5, "c_M(T) against the target v(T)"), min_d}, run_target);
+      {kCollision, abs_("end_error", "m", 1e-6, 1e-5, "c_M(T) against the target v(T)"), min_d, final_d}, run_target);
   return v;
 }
 

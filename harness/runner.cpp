@@ -30,12 +30,20 @@ double RunRecord::worst_ratio() const {
   return worst;
 }
 
+double RunRecord::worst_rel_error() const {
+  double worst = NAN;
+  for (const auto& m : metrics)
+    if (m.kind == TolKind::kRelative && std::isfinite(m.rel_error)) worst = std::isnan(worst) ? m.rel_error : std::max(worst, m.rel_error);
+  return worst;
+}
+
 nlohmann::json RunRecord::to_json() const {
   nlohmann::json ms = nlohmann::json::object();
   for (const auto& m : metrics) ms[m.name] = m.to_json();
   return {{"scenario", scenario}, {"engine", engine},   {"params", params},
           {"status", to_string(status)}, {"message", message}, {"metrics", ms},
           {"worst_ratio", metrics.empty() ? nlohmann::json() : nlohmann::json(worst_ratio())},
+          {"worst_rel_error", std::isnan(worst_rel_error()) ? nlohmann::json() : nlohmann::json(worst_rel_error())},
           {"negative_control", negative_control}, {"as_expected", as_expected()},
           {"wall_s", wall_s}, {"details", details}};
 }

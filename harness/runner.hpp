@@ -29,6 +29,8 @@ struct RunRecord {
 
   /// Largest error relative to its tolerance over all metrics (<= 1 when all pass).
   double worst_ratio() const;
+  /// Largest relative error over the metrics compared relatively (NaN if there are none).
+  double worst_rel_error() const;
   nlohmann::json to_json() const;
 };
 

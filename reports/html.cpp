@@ -218,15 +218,19 @@ std::string index_html(const json& results) {
         continue;
       }
       const auto [cls, word] = status_of(*r);
-      const std::string ratio = (*r)["worst_ratio"].is_number() && cls != "skip"
-                                    ? fmt::format("<br><small>{:.2g} of tol.</small>", (*r)["worst_ratio"].get<double>())
-                                    : "";
+      std::string ratio;
+      if (cls != "skip") {
+        if (r->contains("worst_rel_error") && (*r)["worst_rel_error"].is_number())
+          ratio += fmt::format("<br><small>worst rel. error {:.2g}</small>", (*r)["worst_rel_error"].get<double>());
+        if ((*r)["worst_ratio"].is_number()) ratio += fmt::format("<br><small>{:.2g} of tolerance</small>", (*r)["worst_ratio"].get<double>());
+      }
       h += fmt::format("<td class=\"st {}\" title=\"{}\">{}{}</td>", cls, esc((*r)["message"]), word, ratio);
     }
     h += "</tr>\n";
   }
-  h += "</table>\n<p class=\"note\">Each cell: the run's status, and its worst error as a fraction of its tolerance "
-       "(below 1 passes). A negative control must fail. Click a scenario for its metrics, snapshots and plots.</p>\n";
+  h += "</table>\n<p class=\"note\">Each cell: the run's status; its worst relative error over the metrics compared "
+       "relatively; and its worst error as a fraction of its tolerance (below 1 passes). A negative control must fail. "
+       "Click a scenario for its metrics, snapshots and plots.</p>\n";
 
   // Sweeps.
   const json& rep = results.value("report", json::object());

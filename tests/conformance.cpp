@@ -41,6 +41,19 @@ TEST_P(Conformance, DefaultRunPasses) {
   }
 }
 
+// Same inputs, same numbers: a car and a disk scenario run twice give identical records.
+TEST(Determinism, SameInputsSameNumbers) {
+  const EngineInfo* e = find_engine(g_engine);
+  ASSERT_NE(e, nullptr);
+  for (const char* name : {"car.cycle", "disks.repel"}) {
+    const Scenario* s = find_scenario(name);
+    if ((s->vehicle == "car" && !e->make_car) || (s->vehicle == "disks" && !e->make_disks)) continue;
+    const auto a = run_scenario(*s, *e).to_json(), b = run_scenario(*s, *e).to_json();
+    EXPECT_EQ(a["metrics"], b["metrics"]) << name;
+    EXPECT_EQ(a["details"]["trace"], b["details"]["trace"]) << name;
+  }
+}
+
 // Sign conventions on every engine with a car: steering left is positive beta, forward is positive
 // alpha. Driving forward with beta > 0 turns the car left (phi grows) and moves the front axle
 // along its heading.
