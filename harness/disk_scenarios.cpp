@@ -100,11 +100,12 @@ std::optional<double> first_contact(const std::function<Vec2(double)>& rel, doub
 /// same problem.
 double final_distance(const DiskRun& r) { return (r.trace.back().cM - r.trace.back().cN).norm(); }
 
-/// An outcome that carries the engine's trace, the analytic lift (21) of the same problem (for the
-/// reports), and the closest approach and final distance against that lift; scenarios with a
-/// closed form replace the expectation.
-Outcome outcome_with_traces(const DiskRun& run, const DiskProblem& pb) {
-  const disks::LiftResult ref = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s);
+/// An outcome that carries the engine's trace, the analytic lift (21) `ref` of the same problem
+/// (for the reports), and the closest approach and final distance against that lift; scenarios
+/// with a closed form replace the expectation.
+disks::LiftResult analytic(const DiskProblem& pb) { return disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s); }
+
+Outcome outcome_with_traces(const DiskRun& run, const disks::LiftResult& ref) {
   Outcome o;
   o.details["trace"] = trace_json(run.trace);
   o.details["reference"] = trace_json(ref.trace);
@@ -152,7 +153,7 @@ Outcome run_copy(const Params& p, DiskEngine& e) {
   const DiskProblem pb = problem(p, m);
   const DiskRun r = run_checked(e, setup_from(p), pb);
   const double d0 = (p.vec("cM") - p.vec("cN")).norm();
-  Outcome o = outcome_with_traces(r, pb);
+  Outcome o = outcome_with_traces(r, analytic(pb));
   add_contact(o, r, std::nullopt, p.num("dt"));  // c_M - c_N is constant: no contact from a disjoint start
   o.values["final_distance"] = {d0, final_distance(r)};
   o.values["distance_spread"] = {0.0, spreads(r).first};
@@ -165,8 +166,8 @@ Outcome run_actuated(const Params& p, DiskEngine& e) {
   m.kind = disks::MechanismKind::kActuated;  // (37)
   const DiskProblem pb = problem(p, m);
   const DiskRun r = run_checked(e, setup_from(p), pb);
-  const disks::LiftResult ref = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s);  // no closed form
-  Outcome o = outcome_with_traces(r, pb);
+  const disks::LiftResult ref = analytic(pb);
+  Outcome o = outcome_with_traces(r, ref);
   add_contact(o, r, ref.t_contact_s, p.num("dt"));
   return o;
 }
@@ -180,7 +181,7 @@ Outcome run_repel(const Params& p, DiskEngine& e) {
   const double d0 = (p.vec("cM") - p.vec("cN")).norm(), T = p.num("T");
   const std::optional<double> touch = disks::repel_touch_time(d0, m.lambda);  // Lemma 5.1
   const std::optional<double> t = touch && *touch <= T ? touch : std::nullopt;
-  Outcome o = outcome_with_traces(r, pb);
+  Outcome o = outcome_with_traces(r, analytic(pb));
   add_contact(o, r, t, p.num("dt"));
   o.values["final_distance"] = {disks::repel_distance(d0, m.lambda, T), final_distance(r)};
   o.values["direction_change"] = {0.0, spreads(r).second};
@@ -200,7 +201,7 @@ Outcome run_orbit(const Params& p, DiskEngine& e) {
     const Vec2 a = r.trace[i - 1].cM - r.trace[i - 1].cN, b = r.trace[i].cM - r.trace[i].cN;
     turned += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
   }
-  Outcome o = outcome_with_traces(r, pb);
+  Outcome o = outcome_with_traces(r, analytic(pb));
   add_contact(o, r, std::nullopt, p.num("dt"));  // the distance is constant
   o.values["distance_spread"] = {0.0, spreads(r).first};
   o.values["turned_angle"] = {m.omega * T, turned};
@@ -223,7 +224,7 @@ Outcome run_linear(const Params& p, DiskEngine& e) {
   // (43): c_M(t) = A c_N(t) - c0, for any path of N; the contact is a root of its distance.
   const auto closed = [&](double t) { return disks::linear_cM(m.a, m.b, cM0, cN0, pb.path.position(t)); };
   const auto t = first_contact([&](double s) { return Vec2(closed(s) - pb.path.position(s)); }, pb.T_s);
-  Outcome o = outcome_with_traces(r, pb);
+  Outcome o = outcome_with_traces(r, analytic(pb));
   add_contact(o, r, t, p.num("dt"));
   o.values["cM_end_error"] = {0.0, (r.trace.back().cM - closed(r.trace.back().t_s)).norm()};
   o.values["final_distance"] = {(closed(pb.T_s) - pb.path.position(pb.T_s)).norm(), final_distance(r)};
@@ -250,7 +251,7 @@ Outcome run_forced(const Params& p, DiskEngine& e) {
   const DiskProblem pb{disks::rule_of(m), path, cM0, p.num("T")};
   const DiskRun r = run_checked(e, setup_from(p), pb);
   double t = disks::forced_contact_time(m.a, m.b, cM0, cN0, speed);
-  Outcome o = outcome_with_traces(r, pb);
+  Outcome o = outcome_with_traces(r, analytic(pb));
   add_contact(o, r, t <= p.num("T") ? std::optional<double>(t) : std::nullopt, p.num("dt"));
   if (r.t_contact_s) {  // Lemma 6.1: at contact N is on the boundary of D
     const Vec2 cN = path.position(*r.t_contact_s);
@@ -267,10 +268,10 @@ Outcome run_moving_away(const Params& p, DiskEngine& e) {
   m.k_away = p.num("k_away");
   const DiskProblem pb = problem(p, m);
   const DiskRun r = run_checked(e, setup_from(p), pb);
-  const disks::LiftResult ref = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s);
+  const disks::LiftResult ref = analytic(pb);
   disks::Mechanism base = linear_from(p);
   const disks::LiftResult without = disks::lift(base, pb.path, pb.cM0, pb.T_s);
-  Outcome o = outcome_with_traces(r, pb);
+  Outcome o = outcome_with_traces(r, ref);
   add_contact(o, r, ref.t_contact_s, p.num("dt"));
   o.details["base_mechanism_t_contact_s"] = without.t_contact_s ? nlohmann::json(*without.t_contact_s) : nlohmann::json();
   return o;
@@ -290,8 +291,8 @@ Outcome run_extended(const Params& p, DiskEngine& e) {
   const auto q = [=](double t) { return disks::extended(L, cM0, cM1, path, T, std::clamp(t, 0.0, T), clearance); };
   const DiskProblem pb{disks::rule_following(q, T), path, cM0, T};
   const DiskRun r = run_checked(e, setup_from(p), pb);
-  const disks::LiftResult ref = disks::lift(pb.rule, path, cM0, T);
-  Outcome o = outcome_with_traces(r, pb);
+  const disks::LiftResult ref = analytic(pb);
+  Outcome o = outcome_with_traces(r, ref);
   add_contact(o, r, std::nullopt, p.num("dt"));  // the plan keeps the clearance in N's frame
   o.values["end_error"] = {0.0, (r.trace.back().cM - L(cM1, T)).norm()};  // (11): ends at L(e', gamma)(1)
   return o;
@@ -312,8 +313,8 @@ Outcome run_target(const Params& p, DiskEngine& e) {
   const auto q = [=](double t) { return disks::navigate(L, cM0, target, path, T, std::clamp(t, 0.0, T), clearance); };
   const DiskProblem pb{disks::rule_following(q, T), path, cM0, T};
   const DiskRun r = run_checked(e, setup_from(p), pb);
-  const disks::LiftResult ref = disks::lift(pb.rule, path, cM0, T);
-  Outcome o = outcome_with_traces(r, pb);
+  const disks::LiftResult ref = analytic(pb);
+  Outcome o = outcome_with_traces(r, ref);
   add_contact(o, r, std::nullopt, p.num("dt"));
   o.values["end_error"] = {0.0, (r.trace.back().cM - target(T)).norm()};
   return o;
