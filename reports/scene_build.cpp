@@ -199,11 +199,36 @@ Scene disk_scene(const json& run, double t, const std::string& moment) {
   return s;
 }
 
+/// car.covariance: every start of the manoeuvre (turned and shifted by E(2)) with its path, the start
+/// pose faint and the end pose solid.
+Scene covariance_scene(const json& run) {
+  Scene s;
+  const CarGeom g = geom_of(run);
+  Bounds b;
+  for (const auto& r : run["details"]["runs"]) {
+    const json& tr = r["trace"];
+    if (!tr.is_array() || tr.empty()) continue;
+    add_paths(s, tr, tr.size(), g, engine_color(run["engine"]), 2.0f, &b);
+    add_car(s, tr.front(), 0.0, g, 0.25f);
+    add_car(s, tr.back(), rear_spin(tr, tr.size() - 1, g), g);
+  }
+  frame(s, b, 0.05);
+  add_legend(s, fmt::format("{} · {} · {} starts", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
+                            run["details"]["runs"].size()),
+             run["engine"], "(faint: start poses)");
+  return s;
+}
+
 }  // namespace
 
 std::vector<Snapshot> snapshots_for(const json& run) {
   std::vector<Snapshot> out;
-  if (!run.contains("details") || !run["details"].is_object() || !run["details"].contains("trace")) return out;
+  if (!run.contains("details") || !run["details"].is_object()) return out;
+  if (run["details"].contains("runs") && run["scenario"] == "car.covariance") {
+    out.push_back({"end", "all starts (turned over the full circle, every other one shifted) and their paths", covariance_scene(run)});
+    return out;
+  }
+  if (!run["details"].contains("trace")) return out;
   const json& tr = run["details"]["trace"];
   if (!tr.is_array() || tr.size() < 2) return out;
   const double t0 = tr.front()[0].get<double>(), t1 = tr.back()[0].get<double>();

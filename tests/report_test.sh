@@ -5,7 +5,7 @@ bin="$1"
 check="$2"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-"$bin" validate --filter 'car.cycle,disks.forced' --no-sweeps --out "$tmp/report" >"$tmp/log" 2>&1 || { cat "$tmp/log"; echo "0 passed, 1 failed"; exit 1; }
+"$bin" validate --filter 'car.cycle,car.covariance,disks.forced' --no-sweeps --out "$tmp/report" >"$tmp/log" 2>&1 || { cat "$tmp/log"; echo "0 passed, 1 failed"; exit 1; }
 python3 "$check" "$tmp/report" || exit 1
 # Every run has its snapshots, the cycle its strip, the collision its contact snapshot.
 ls "$tmp/report/snapshots" | grep -q 'car_cycle__ode__strip.png' || { echo "FAIL no strip"; exit 1; }
