@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fnmatch.h>
+#include <fstream>
 #include <iostream>
 #include <sstream>
 
@@ -11,6 +12,7 @@
 #include "liftcheck_version.hpp"
 #include "harness/runner.hpp"
 #include "harness/sweeps.hpp"
+#include "reports/ci.hpp"
 #include "reports/report.hpp"
 
 using namespace liftcheck;
@@ -156,6 +158,7 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
                                results["report"]["plots"].size(),
                                results["report"]["errors"].empty() ? "" : fmt::format("; {} problems, see index.html", results["report"]["errors"].size()));
     }
+    write_file_atomic(out / "junit.xml", junit_xml(results));
     write_file_atomic(out / "results.json", results.dump(1));
   } catch (const std::runtime_error& err) {
     throw InputError(err.what());
@@ -169,6 +172,41 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
                            expected_fails, sum["error"].get<int>(), sum["skip"].get<int>(),
                            report ? "report: " + (out / "index.html").string() : "results: " + (out / "results.json").string());
   return all_pass ? 0 : 1;
+}
+
+nlohmann::json read_results(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("cannot read '{}'", path));
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(fmt::format("'{}' is not JSON", path));
+  }
+  if (!j.is_object() || !j.contains("runs") || !j["runs"].is_array())
+    throw InputError(fmt::format("'{}' is not a liftcheck results file (no \"runs\")", path));
+  try {
+    for (const auto& r : j["runs"]) (void)r.at("scenario").get<std::string>(), (void)r.at("engine").get<std::string>(), (void)r.at("status").get<std::string>();
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(fmt::format("'{}' has a run without scenario, engine and status", path));
+  }
+  return j;
+}
+
+int cmd_diff(const std::string& base_path, const std::string& head_path, double growth, bool json) {
+  if (!(growth > 1.0)) throw InputError(fmt::format("--growth must be > 1 (got {})", growth));
+  const nlohmann::json base = read_results(base_path), head = read_results(head_path);
+  DiffDef def;
+  def.growth = growth;
+  nlohmann::json d;
+  try {
+    d = diff_results(base, head, def);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("malformed results: {}", e.what()));
+  }
+  if (json) std::cout << d.dump() << "\n";
+  else std::cout << diff_text(d);
+  return d["regressions"].empty() && d["worse"].empty() ? 0 : 1;
 }
 
 }  // namespace
@@ -201,6 +239,15 @@ int main(int argc, char** argv) {
   validate->add_flag("--no-sweeps", no_sweeps, "skip the parameter sweeps");
   validate->add_flag("--no-report", no_report, "write results.json only (no snapshots, plots or HTML)");
 
+  std::string base_path, head_path;
+  double growth = 10.0;
+  bool diff_json = false;
+  auto* diff = app.add_subcommand("diff", "compare two results.json files: regressions and metrics whose errors grew");
+  diff->add_option("base", base_path, "the earlier results.json")->required();
+  diff->add_option("head", head_path, "the later results.json")->required();
+  diff->add_option("--growth", growth, "factor by which a metric's error must grow to count as worse")->capture_default_str();
+  diff->add_flag("--json", diff_json, "print the diff as one JSON object");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -217,6 +264,7 @@ int main(int argc, char** argv) {
     if (*list) return cmd_list(list_json);
     if (*run) return cmd_run(scenario, engine, sets, run_json);
     if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps, !no_report);
+    if (*diff) return cmd_diff(base_path, head_path, growth, diff_json);
   } catch (const InputError& e) {
     std::cerr << "liftcheck: error: " << e.what() << "\n";
     return 2;

@@ -72,6 +72,30 @@ assert d["context"]["engines"][0]["name"] == "analytic"
   || { echo "FAIL validate outputs"; fails=$((fails + 1)); }
 ls "$tmp/report" | grep -q '\.tmp$' && { echo "FAIL temporary files left"; fails=$((fails + 1)); }
 
+# CI outputs: junit.xml parses and counts the runs; diff finds nothing between a file and itself,
+# flags a regression, and rejects unreadable or foreign files with exit 2.
+python3 - "$tmp/report/junit.xml" <<'PY' && passes=$((passes + 1)) || { echo "FAIL junit.xml"; fails=$((fails + 1)); }
+import sys, xml.etree.ElementTree as ET
+root = ET.parse(sys.argv[1]).getroot()
+assert root.tag == "testsuites" and root.get("tests") == "8" and root.get("failures") == "0", root.attrib
+assert len(root.findall("testsuite")) == 8
+PY
+check diff-same 0 "$bin" diff "$tmp/report/results.json" "$tmp/report/results.json"
+python3 - "$tmp/report/results.json" "$tmp/worse.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+r = next(r for r in d["runs"] if r["scenario"] == "car.cycle")
+r.update(status="fail", as_expected=False, message="out of tolerance: dx")
+json.dump(d, open(sys.argv[2], "w"))
+PY
+check diff-regression 1 "$bin" diff "$tmp/report/results.json" "$tmp/worse.json"
+grep -q "^REGRESSION car.cycle on analytic: pass -> fail" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL diff text"; fails=$((fails + 1)); }
+bad_input diff-unreadable "cannot read '$tmp/none.json'" diff "$tmp/report/results.json" "$tmp/none.json"
+echo "{" > "$tmp/broken.json"
+bad_input diff-not-json "is not JSON" diff "$tmp/broken.json" "$tmp/report/results.json"
+echo '{"a": 1}' > "$tmp/other.json"
+bad_input diff-foreign "is not a liftcheck results file" diff "$tmp/other.json" "$tmp/report/results.json"
+
 # A run out of tolerance exits 1; a negative control that fails as designed exits 0.
 check failing-run-exit-1 1 "$bin" run car.covariance --engine ode --set friction_dirs=world
 check negative-control-exit-0 0 "$bin" run car.slip --engine ode

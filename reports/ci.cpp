@@ -1,0 +1,146 @@
+#include "reports/ci.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <map>
+
+namespace liftcheck {
+
+namespace {
+
+using json = nlohmann::json;
+
+std::string xml(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    switch (c) {
+      case '&': o += "&amp;"; break;
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '"': o += "&quot;"; break;
+      case '\'': o += "&apos;"; break;
+      default: o += c;
+    }
+  }
+  return o;
+}
+
+bool as_expected(const json& r) {
+  if (r.contains("as_expected")) return r["as_expected"].get<bool>();
+  return r["status"] == "pass" || r["status"] == "skip";
+}
+
+std::map<std::pair<std::string, std::string>, const json*> index_runs(const json& results) {
+  std::map<std::pair<std::string, std::string>, const json*> m;
+  for (const auto& r : results.at("runs")) m[{r.at("scenario").get<std::string>(), r.at("engine").get<std::string>()}] = &r;
+  return m;
+}
+
+json merged(json a, const json& b) {
+  a.update(b);
+  return a;
+}
+
+/// Error of a metric as a fraction of its tolerance.
+double ratio(const json& m) {
+  const double err = m["tolerance_kind"] == "rel" ? m["rel_error"].get<double>() : m["abs_error"].get<double>();
+  const double tol = m["tolerance"].get<double>();
+  return tol > 0 ? err / tol : (err > 0 ? INFINITY : 0.0);
+}
+
+}  // namespace
+
+std::string junit_xml(const json& results) {
+  std::map<std::string, std::vector<const json*>> by;
+  std::vector<std::string> order;
+  for (const auto& r : results["runs"]) {
+    const std::string sc = r["scenario"];
+    if (!by.count(sc)) order.push_back(sc);
+    by[sc].push_back(&r);
+  }
+  int tests = 0, failures = 0, errors = 0, skipped = 0;
+  std::string suites;
+  for (const auto& sc : order) {
+    int f = 0, e = 0, s = 0;
+    std::string cases;
+    for (const json* r : by[sc]) {
+      const std::string st = (*r)["status"];
+      cases += fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.6f}\">", xml(sc), xml((*r)["engine"]),
+                           r->value("wall_s", 0.0));
+      if (st == "skip") {
+        cases += fmt::format("<skipped message=\"{}\"/>", xml((*r)["message"]));
+        ++s;
+      } else if (st == "error") {
+        cases += fmt::format("<error message=\"{}\"/>", xml((*r)["message"]));
+        ++e;
+      } else if (!as_expected(*r)) {
+        cases += fmt::format("<failure message=\"{}\"/>", xml((*r)["message"]));
+        ++f;
+      } else if (st == "fail") {
+        cases += "<system-out>negative control: failed as designed</system-out>";
+      }
+      cases += "</testcase>\n";
+    }
+    tests += static_cast<int>(by[sc].size()), failures += f, errors += e, skipped += s;
+    suites += fmt::format("  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\">\n{}  </testsuite>\n",
+                          xml(sc), by[sc].size(), f, e, s, cases);
+  }
+  return fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"liftcheck\" tests=\"{}\" failures=\"{}\" "
+                     "errors=\"{}\" skipped=\"{}\">\n{}</testsuites>\n",
+                     tests, failures, errors, skipped, suites);
+}
+
+json diff_results(const json& base, const json& head, const DiffDef& def) {
+  json d{{"regressions", json::array()}, {"fixed", json::array()}, {"worse", json::array()},
+         {"better", json::array()}, {"added", json::array()}, {"removed", json::array()}};
+  const auto b = index_runs(base), h = index_runs(head);
+  for (const auto& [key, hr] : h) {
+    const auto it = b.find(key);
+    const json id{{"scenario", key.first}, {"engine", key.second}};
+    if (it == b.end()) {
+      d["added"].push_back(id);
+      continue;
+    }
+    const json& br = *it->second;
+    if (as_expected(br) && !as_expected(*hr))
+      d["regressions"].push_back(merged(id, {{"from", br["status"]}, {"to", (*hr)["status"]}, {"message", (*hr)["message"]}}));
+    else if (!as_expected(br) && as_expected(*hr))
+      d["fixed"].push_back(merged(id, {{"from", br["status"]}, {"to", (*hr)["status"]}}));
+    if (!br["metrics"].is_object() || !(*hr)["metrics"].is_object()) continue;
+    for (const auto& [name, hm] : (*hr)["metrics"].items()) {
+      if (!br["metrics"].contains(name)) continue;
+      const json& bm = br["metrics"][name];
+      const double rb = ratio(bm), rh = ratio(hm);
+      const json entry = merged(id, {{"metric", name}, {"base_ratio", rb}, {"head_ratio", rh},
+                                     {"base_measured", bm["measured"]}, {"head_measured", hm["measured"]}});
+      if (rh > def.floor && rh > def.growth * rb) d["worse"].push_back(entry);
+      else if (rb > def.floor && rb > def.growth * rh) d["better"].push_back(entry);
+    }
+  }
+  for (const auto& [key, br] : b)
+    if (!h.count(key)) d["removed"].push_back({{"scenario", key.first}, {"engine", key.second}});
+  return d;
+}
+
+std::string diff_text(const json& d) {
+  std::string t;
+  for (const auto& r : d["regressions"])
+    t += fmt::format("REGRESSION {} on {}: {} -> {} ({})\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(),
+                     r["from"].get<std::string>(), r["to"].get<std::string>(), r["message"].get<std::string>());
+  for (const auto& r : d["fixed"])
+    t += fmt::format("fixed      {} on {}: {} -> {}\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(),
+                     r["from"].get<std::string>(), r["to"].get<std::string>());
+  for (const char* kind : {"worse", "better"})
+    for (const auto& r : d[kind])
+      t += fmt::format("{:<10} {} on {}: {} at {:.3g} of tolerance, was {:.3g}\n", kind, r["scenario"].get<std::string>(),
+                       r["engine"].get<std::string>(), r["metric"].get<std::string>(), r["head_ratio"].get<double>(),
+                       r["base_ratio"].get<double>());
+  for (const char* kind : {"added", "removed"})
+    for (const auto& r : d[kind])
+      t += fmt::format("{:<10} {} on {}\n", kind, r["scenario"].get<std::string>(), r["engine"].get<std::string>());
+  t += fmt::format("{} regressions, {} fixed, {} metrics worse, {} better, {} runs added, {} removed\n", d["regressions"].size(),
+                   d["fixed"].size(), d["worse"].size(), d["better"].size(), d["added"].size(), d["removed"].size());
+  return t;
+}
+
+}  // namespace liftcheck
