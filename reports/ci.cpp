@@ -1,5 +1,7 @@
 #include "reports/ci.hpp"
 
+#include "reports/escape.hpp"
+
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
@@ -10,20 +12,7 @@ namespace {
 
 using json = nlohmann::json;
 
-std::string xml(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      case '\'': o += "&apos;"; break;
-      default: o += c;
-    }
-  }
-  return o;
-}
+std::string xml(const std::string& s) { return escape_markup(s); }
 
 bool as_expected(const json& r) {
   if (r.contains("as_expected")) return r["as_expected"].get<bool>();

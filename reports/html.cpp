@@ -1,5 +1,7 @@
 #include "reports/html.hpp"
 
+#include "reports/escape.hpp"
+
 #include <fmt/format.h>
 #include <sstream>
 
@@ -9,19 +11,7 @@ namespace {
 
 using json = nlohmann::json;
 
-std::string esc(const std::string& s) {
-  std::string o;
-  for (char c : s) {
-    switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      default: o += c;
-    }
-  }
-  return o;
-}
+std::string esc(const std::string& s) { return escape_markup(s); }
 
 std::string num(const json& v) { return v.is_number() ? fmt::format("{:.6g}", v.get<double>()) : "&ndash;"; }
 
