@@ -22,8 +22,6 @@ struct TricycleDef {
   double chassis_height_m = 0.1; ///< box thickness (the chassis does not collide)
 
   static TricycleDef from(const CarSetup& setup);
-  /// Rear wheel centres in the chassis frame: y = +track/2 (left) and -track/2.
-  double rear_x_m() const { return -l_m; }
 };
 
 /// Servo gains: rate command = commanded rate + gain * (commanded angle - realized angle).

@@ -3,7 +3,6 @@
 #include <boost/math/tools/roots.hpp>
 #include <boost/numeric/odeint.hpp>
 #include <cmath>
-#include <fmt/format.h>
 #include <algorithm>
 #include <numbers>
 #include <cstdint>
@@ -40,19 +39,6 @@ Vec2 Mechanism::velocity(const Vec2& cM, const Vec2& cN, const Vec2& vN) const {
   return v;
 }
 
-std::string Mechanism::name() const {
-  std::string n;
-  switch (kind) {
-    case MechanismKind::kCopy: n = "copy (36)"; break;
-    case MechanismKind::kActuated: n = "actuated no-reaction (37)"; break;
-    case MechanismKind::kRepel: n = fmt::format("repel/attract (38), lambda = {}", lambda); break;
-    case MechanismKind::kRotation: n = fmt::format("rotation (40), omega = {}", omega); break;
-    case MechanismKind::kLinear: n = fmt::format("linear (41), a = {}, b = {}", a, b); break;
-  }
-  if (moving_away) n += fmt::format(" + moving away (31), k = {}", k_away);
-  return n;
-}
-
 Vec2 NPath::position(double t) const {
   switch (kind) {
     case Kind::kLine: return c0 + v * t;
@@ -85,16 +71,6 @@ Vec2 NPath::velocity(double t) const {
     }
   }
   return Vec2::Zero();
-}
-
-std::string NPath::name() const {
-  switch (kind) {
-    case Kind::kLine: return "line";
-    case Kind::kCircle: return "circle";
-    case Kind::kFigure8: return "figure8";
-    case Kind::kToward: return "toward";
-  }
-  return "";
 }
 
 Rule rule_of(const Mechanism& m) {

@@ -37,7 +37,6 @@ struct Mechanism {
   double k_away = 2.0;  ///< gain of the moving-away form (the paper's N has unit length: k = 1)
 
   Vec2 velocity(const Vec2& cM, const Vec2& cN, const Vec2& vN) const;
-  std::string name() const;
 };
 
 /// N's motion, c_N(t) with c_N(0) = c0.
@@ -51,7 +50,6 @@ struct NPath {
 
   Vec2 position(double t) const;
   Vec2 velocity(double t) const;
-  std::string name() const;
 };
 
 /// M's velocity rule: a reaction mechanism (time-independent) or a prescribed motion.

@@ -69,7 +69,6 @@ void draw_wheel(const Wheel& w) {
   }
   for (double side : {-1.0, 1.0}) {  // side discs with six spokes
     const Vec3 centre = C + side * 0.5 * w.width_m * a;
-    color(w.tyre, 1.0f);
     Color face{0.85f, 0.85f, 0.85f, 1.0f};
     color(face, shade_of(side * a));
     glBegin(GL_TRIANGLE_FAN);
