@@ -2,13 +2,14 @@
 // the analytic model is one more engine.
 #pragma once
 
+#include <cmath>
 #include <functional>
+#include <optional>
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <optional>
 
 #include "models/car.hpp"
 #include "models/disks.hpp"
@@ -41,8 +42,9 @@ class CarEngine {
   virtual std::vector<car::TimedConfig> drive(const car::BasePath& path) = 0;
 };
 
-/// Two unit disks: N moves along a known path (kinematic), M's velocity follows a rule from the
-/// engine's measured state. Rigid-body engines detect contact with their own collision pipeline.
+/// Two unit disks: N moves along a known path, M's velocity is commanded from a reaction rule.
+/// Rigid-body engines realise M's commanded velocity with their own actuation and integrator and
+/// detect contact with their own collision pipeline while stepping.
 struct DiskSetup {
   double radius_m = 1.0;
   double dt_s = 1e-3;         ///< engine step
@@ -56,10 +58,22 @@ struct DiskProblem {
   double T_s = 6.0;
 };
 
+/// What an engine's own contact pipeline said over a stepped run. Distances are the engine's
+/// reported centre distances |c_M - c_N| at the states its collision passes ran on.
+struct DiskContactLog {
+  double distance_at_first_m = NAN;  ///< at the state on which contact was first reported
+  double overlap_unreported_m = 0.0; ///< largest 2 - |c_M - c_N| > 0 at states reported free of contact, before the first contact
+  double penetration_max_m = 0.0;    ///< largest 2 - |c_M - c_N| from the first contact to T (the contact response bounds it)
+  double depth_reported_max_m = 0.0; ///< deepest penetration the engine's contact points reported
+  long steps_in_contact = 0;         ///< steps whose collision pass reported contact
+  bool apart_at_end = false;         ///< after contact, |c_M - c_N| > 2 at T (the disks separated)
+};
+
 struct DiskRun {
-  std::optional<double> t_contact_s;  ///< first contact (analytic: root; engines: first step in contact)
-  double min_distance = 0.0;          ///< smallest |c_M - c_N| seen
-  std::vector<disks::Sample> trace;   ///< from t = 0 to T, every sample_dt
+  std::optional<double> t_contact_s;  ///< analytic: root; engines: the state on which contact was first reported
+  double min_distance = 0.0;          ///< smallest |c_M - c_N| (analytic: refined on the dense output; engines: over their steps)
+  std::vector<disks::Sample> trace;   ///< at t = i * sample_dt from 0 to T (and T)
+  std::optional<DiskContactLog> contact_log;  ///< stepping engines only
 };
 
 class DiskEngine {

@@ -1,5 +1,6 @@
 #include "models/disks.hpp"
 
+#include <boost/math/tools/minima.hpp>
 #include <boost/math/tools/roots.hpp>
 #include <boost/numeric/odeint.hpp>
 #include <cmath>
@@ -85,7 +86,11 @@ Rule rule_following(std::function<Vec2(double)> q, double T, double gain_per_s) 
   };
 }
 
-LiftResult lift(const Rule& rule, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def) {
+namespace {
+
+/// The lift (21) on any Odeint dense-output stepper `stepper` (already holding the tolerances).
+template <class Stepper>
+LiftResult lift_with(Stepper stepper, const Rule& rule, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def) {
   namespace odeint = boost::numeric::odeint;
   using State = std::array<double, 2>;
   const auto rhs = [&](const State& x, State& dx, double t) {
@@ -93,7 +98,6 @@ LiftResult lift(const Rule& rule, const NPath& path, const Vec2& cM0, double T_s
     dx[0] = v.x();
     dx[1] = v.y();
   };
-  auto stepper = odeint::make_dense_output(def.abs_tol, def.rel_tol, def.max_step_s, odeint::runge_kutta_dopri5<State>());
   stepper.initialize(State{cM0.x(), cM0.y()}, 0.0, std::min(1e-3, T_s / 16.0));
 
   LiftResult r;
@@ -110,16 +114,17 @@ LiftResult lift(const Rule& rule, const NPath& path, const Vec2& cM0, double T_s
   r.min_distance = (cM0 - path.position(0.0)).norm();
   if (r.min_distance <= kContactDistance) r.t_contact_s = 0.0;  // touching (or overlapping) from the start
   r.trace.push_back({0.0, cM0, path.position(0.0)});
-  double next_sample = def.sample_dt_s;
+  long next_sample = 1;
   while (stepper.current_time() < T_s) {
     const auto [t0, t1] = stepper.do_step(rhs);
     const double hi = std::min(t1, T_s);
-    // Bracket the first crossing of d = 2 inside the step; interior points catch brief dips.
+    // Probe the step: bracket the first crossing of d = 2 and the lowest point of d.
     constexpr int kProbe = 8;
-    double ta = t0, da = dist_at(t0);
+    double probes[kProbe + 1];
+    for (int k = 0; k <= kProbe; ++k) probes[k] = dist_at(t0 + (hi - t0) * k / kProbe);
     for (int k = 1; k <= kProbe; ++k) {
-      const double tb = t0 + (hi - t0) * k / kProbe, db = dist_at(tb);
-      r.min_distance = std::min(r.min_distance, db);
+      const double ta = t0 + (hi - t0) * (k - 1) / kProbe, tb = t0 + (hi - t0) * k / kProbe;
+      const double da = probes[k - 1], db = probes[k];
       if (!r.t_contact_s && da > kContactDistance && db <= kContactDistance) {
         boost::uintmax_t iters = 100;
         const auto f = [&](double t) { return dist_at(t) - kContactDistance; };
@@ -127,15 +132,31 @@ LiftResult lift(const Rule& rule, const NPath& path, const Vec2& cM0, double T_s
                                                                 boost::math::tools::eps_tolerance<double>(52), iters);
         r.t_contact_s = 0.5 * (lo + up);
       }
-      ta = tb;
-      da = db;
     }
-    for (; next_sample <= hi + 1e-12; next_sample += def.sample_dt_s) sample(std::min(next_sample, T_s));
+    // The step's minimum: Brent's method on the dense output around the lowest probe.
+    const int kmin = static_cast<int>(std::min_element(probes, probes + kProbe + 1) - probes);
+    const double a = t0 + (hi - t0) * std::max(kmin - 1, 0) / kProbe, b = t0 + (hi - t0) * std::min(kmin + 1, kProbe) / kProbe;
+    boost::uintmax_t iters = 200;
+    const auto m = boost::math::tools::brent_find_minima(dist_at, a, b, 52, iters);
+    r.min_distance = std::min({r.min_distance, probes[kmin], m.second});
+    for (; next_sample * def.sample_dt_s <= hi + 1e-12; ++next_sample) sample(std::min(next_sample * def.sample_dt_s, T_s));
   }
   if (r.trace.back().t_s < T_s) sample(T_s);
   r.cM_end = r.trace.back().cM;
   r.final_distance = (r.cM_end - r.trace.back().cN).norm();
   return r;
+}
+
+}  // namespace
+
+LiftResult lift(const Rule& rule, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def) {
+  namespace odeint = boost::numeric::odeint;
+  using State = std::array<double, 2>;
+  if (def.method == LiftMethod::kBulirschStoer)
+    return lift_with(odeint::bulirsch_stoer_dense_out<State>(def.abs_tol, def.rel_tol, 1.0, 1.0, def.max_step_s), rule, path, cM0,
+                     T_s, def);
+  return lift_with(odeint::make_dense_output(def.abs_tol, def.rel_tol, def.max_step_s, odeint::runge_kutta_dopri5<State>()), rule,
+                   path, cM0, T_s, def);
 }
 
 bool satisfies_linearity(const Mechanism& m, int trials) {

@@ -64,7 +64,12 @@ struct Sample {
   Vec2 cM, cN;
 };
 
+/// Odeint steppers with dense output. Expected values in the scenarios are computed with one
+/// method and the analytic engine runs the other, so the two are independent computations.
+enum class LiftMethod { kDopri5, kBulirschStoer };
+
 struct LiftDef {
+  LiftMethod method = LiftMethod::kDopri5;
   double abs_tol = 1e-12, rel_tol = 1e-12;
   /// Largest step: where M's velocity vanishes (M at rest, N far away) the error estimate is zero
   /// and an unbounded step would jump over N's whole approach.
@@ -74,15 +79,17 @@ struct LiftDef {
 
 struct LiftResult {
   std::optional<double> t_contact_s;  ///< first time |c_M - c_N| <= 2 (root found; 0 if touching at the start)
+  /// Smallest |c_M - c_N| on [0, T]: each step's minimum of the dense output located by Brent's
+  /// method (not a minimum over sample points).
   double min_distance = 0.0;
   double final_distance = 0.0;
   Vec2 cM_end;
   std::vector<Sample> trace;
 };
 
-/// Integrates the lift (21): c_M' = L(c_M, c_N(t), c_N'(t)) with Boost.Odeint (dopri5, dense
-/// output) over [0, T]; the first contact is the root of |c_M - c_N| - 2 on the dense output
-/// (TOMS 748), bracketed step by step.
+/// Integrates the lift (21): c_M' = L(c_M, c_N(t), c_N'(t)) with Boost.Odeint (dense output,
+/// def.method) over [0, T]; the first contact is the root of |c_M - c_N| - 2 on the dense output
+/// (TOMS 748), bracketed step by step. The trace is sampled at i * sample_dt (and T).
 LiftResult lift(const Rule& rule, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def = {});
 inline LiftResult lift(const Mechanism& m, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def = {}) {
   return lift(rule_of(m), path, cM0, T_s, def);

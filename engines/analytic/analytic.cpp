@@ -27,7 +27,7 @@ class AnalyticDisks final : public DiskEngine {
     disks::LiftDef def;
     def.sample_dt_s = setup.sample_dt_s;
     const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);
-    return {r.t_contact_s, r.min_distance, r.trace};
+    return {r.t_contact_s, r.min_distance, r.trace, std::nullopt};
   }
 };
 

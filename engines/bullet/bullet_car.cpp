@@ -216,7 +216,7 @@ EngineInfo bullet_engine() {
            {"contact", "friction = mu x 1 (Bullet multiplies both bodies' coefficients)"},
            {"friction directions", "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
-           {"disks", "kinematic rigid bodies, sphere shapes, contact from contactPairTest (distance <= 0)"}}};
+           {"disks", "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), sequential-impulse response"}}};
 }
 
 }  // namespace liftcheck

@@ -1,73 +1,78 @@
-// Two disks in Bullet (double precision): kinematic rigid bodies (CF_KINEMATIC_OBJECT) with
-// sphere shapes of radius 1, moved by their world transforms each step; contact from
-// contactPairTest (manifolds read after stepSimulation lag a few steps), points with
-// distance <= 0.
+// Two disks in Bullet (double precision): M a dynamic sphere whose linear velocity is set to the
+// commanded one before each step (Bullet's velocity state; its solver and integrator take it
+// from there), N a kinematic sphere placed on its path. Contact from the manifolds that
+// stepSimulation's collision pass built on the state at the start of the step (points with
+// distance <= 0); the sequential-impulse solver applies the contact response.
 #include <btBulletDynamicsCommon.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "engines/bullet/bullet_car.hpp"
 #include "engines/bullet/bullet_core.hpp"
-#include "engines/stepped_disks.hpp"
+#include "engines/driven_disks.hpp"
 
 namespace liftcheck {
 
 namespace {
 
-struct Touch : btCollisionWorld::ContactResultCallback {
-  bool touching = false;
-  btScalar addSingleResult(btManifoldPoint& cp, const btCollisionObjectWrapper*, int, int,
-                           const btCollisionObjectWrapper*, int, int) override {
-    if (cp.getDistance() <= 0) touching = true;
-    return 0;
-  }
-};
-
-class BulletDisks final : public SteppedDisks {
+class BulletDisks final : public DrivenDisks {
  public:
   ~BulletDisks() override { teardown(); }
 
  protected:
-  void place(const DiskSetup& setup, const disks::Vec2& cM, const disks::Vec2& cN) override {
+  void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
     teardown();
     core_ = std::make_unique<BulletCore>();
     world_ = core_->make_world<btDiscreteDynamicsWorld>();
     world_->setGravity(btVector3(0, 0, 0));
     shape_ = std::make_unique<btSphereShape>(setup.radius_m);
-    const disks::Vec2 at[2] = {cM, cN};
+    const disks::Vec2 at[2] = {cM0, cN0};
     for (int i = 0; i < 2; ++i) {
-      btRigidBody::btRigidBodyConstructionInfo ci(0.0, nullptr, shape_.get());
+      const double mass = i == 0 ? 1.0 : 0.0;
+      btVector3 inertia(0, 0, 0);
+      if (mass > 0) shape_->calculateLocalInertia(mass, inertia);
+      btRigidBody::btRigidBodyConstructionInfo ci(mass, nullptr, shape_.get(), inertia);
       ci.m_startWorldTransform.setIdentity();
       ci.m_startWorldTransform.setOrigin(btVector3(at[i].x(), at[i].y(), 0));
+      ci.m_friction = 0.0;
+      ci.m_linearDamping = 0.0;
+      ci.m_angularDamping = 0.0;
       body_[i] = std::make_unique<btRigidBody>(ci);
-      body_[i]->setCollisionFlags(body_[i]->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
       body_[i]->setActivationState(DISABLE_DEACTIVATION);
       world_->addRigidBody(body_[i].get());
     }
+    body_[1]->setCollisionFlags(body_[1]->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
+    body_[0]->setLinearFactor(btVector3(1, 1, 0));  // M stays in the plane
   }
 
-  void move(const disks::Vec2& cM_next, const disks::Vec2& cN_next, double dt_s) override {
-    const disks::Vec2 next[2] = {cM_next, cN_next};
-    for (int i = 0; i < 2; ++i) {
-      btTransform tf;
-      tf.setIdentity();
-      tf.setOrigin(btVector3(next[i].x(), next[i].y(), 0));
-      body_[i]->setWorldTransform(tf);
-    }
+  StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2&, double dt_s) override {
+    body_[0]->setLinearVelocity(btVector3(vM_cmd.x(), vM_cmd.y(), 0));
     world_->stepSimulation(dt_s, 1, dt_s);
+    StepContacts c;
+    btDispatcher* d = world_->getDispatcher();
+    for (int i = 0; i < d->getNumManifolds(); ++i) {
+      const btPersistentManifold* m = d->getManifoldByIndexInternal(i);
+      for (int k = 0; k < m->getNumContacts(); ++k) {
+        const double dist = m->getContactPoint(k).getDistance();
+        if (dist > 0) continue;  // a speculative point short of contact
+        c.count += 1;
+        c.depth_max_m = std::max(c.depth_max_m, -dist);
+      }
+    }
+    // N moves along its path: a kinematic body is placed; Bullet derives its velocity for the
+    // next step from the move.
+    btTransform tf;
+    tf.setIdentity();
+    tf.setOrigin(btVector3(cN_next.x(), cN_next.y(), 0));
+    body_[1]->setWorldTransform(tf);
+    return c;
   }
 
-  disks::Vec2 read_M() const override { return read(0); }
-  disks::Vec2 read_N() const override { return read(1); }
-
-  bool in_contact() override {
-    Touch t;
-    world_->contactPairTest(body_[0].get(), body_[1].get(), t);
-    return t.touching;
-  }
+  State read() const override { return {at(0), at(1)}; }
 
  private:
-  disks::Vec2 read(int i) const {
+  disks::Vec2 at(int i) const {
     const btVector3 p = body_[i]->getWorldTransform().getOrigin();
     return {p.x(), p.y()};
   }

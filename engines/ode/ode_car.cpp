@@ -17,12 +17,12 @@
 
 namespace liftcheck {
 
-namespace {
-
-void init_ode_once() {
+void init_ode() {
   static std::once_flag once;
   std::call_once(once, [] { dInitODE2(0); });
 }
+
+namespace {
 
 class OdeCar final : public RigidCar {
  public:
@@ -30,7 +30,7 @@ class OdeCar final : public RigidCar {
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    init_ode_once();
+    init_ode();
     destroy();
     world_ = dWorldCreate();
     space_ = dSimpleSpaceCreate(nullptr);
@@ -204,7 +204,7 @@ EngineInfo ode_engine() {
            {"contact", "dContactApprox1 | SoftERP 0.2 | SoftCFM 1e-9, up to 4 points per wheel"},
            {"friction directions", "wheel: dContactFDir1 along the rolling direction (axle x up); world: ODE's default axes from the normal"},
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
-           {"disks", "kinematic bodies (dBodySetKinematic), sphere geoms, contact from dCollide"}}};
+           {"disks", "M: dynamic sphere (radius 1, 1 kg) driven by a dJointLMotor (force limit 1e5 N) to the commanded velocity; N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless"}}};
 }
 
 }  // namespace liftcheck

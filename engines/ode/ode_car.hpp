@@ -5,4 +5,6 @@ namespace liftcheck {
 /// Coulomb friction (dContactApprox1), dWorldStep.
 EngineInfo ode_engine();
 std::unique_ptr<DiskEngine> make_ode_disks();
+/// dInitODE2, once per process.
+void init_ode();
 }  // namespace liftcheck

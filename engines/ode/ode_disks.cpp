@@ -1,70 +1,90 @@
-// Two disks in ODE: kinematic bodies (dBodySetKinematic) with sphere geoms of radius 1 in the
-// plane z = 0, moved by setting their velocities for one dWorldStep; contact from dCollide.
-#include <ode/ode.h>
+#include "engines/ode/ode_disks.hpp"
 
-#include <mutex>
+#include <algorithm>
 
 #include "engines/ode/ode_car.hpp"
-#include "engines/stepped_disks.hpp"
 
 namespace liftcheck {
 
 namespace {
-
-class OdeDisks final : public SteppedDisks {
- public:
-  ~OdeDisks() override { destroy(); }
-
- protected:
-  void place(const DiskSetup& setup, const disks::Vec2& cM, const disks::Vec2& cN) override {
-    static std::once_flag once;
-    std::call_once(once, [] { dInitODE2(0); });
-    destroy();
-    world_ = dWorldCreate();
-    dWorldSetGravity(world_, 0, 0, 0);
-    for (int i = 0; i < 2; ++i) {
-      body_[i] = dBodyCreate(world_);
-      dBodySetKinematic(body_[i]);
-      geom_[i] = dCreateSphere(nullptr, setup.radius_m);
-      dGeomSetBody(geom_[i], body_[i]);
-    }
-    dBodySetPosition(body_[0], cM.x(), cM.y(), 0.0);
-    dBodySetPosition(body_[1], cN.x(), cN.y(), 0.0);
-  }
-
-  void move(const disks::Vec2& cM_next, const disks::Vec2& cN_next, double dt_s) override {
-    const disks::Vec2 next[2] = {cM_next, cN_next};
-    for (int i = 0; i < 2; ++i) {
-      const dReal* p = dBodyGetPosition(body_[i]);
-      dBodySetLinearVel(body_[i], (next[i].x() - p[0]) / dt_s, (next[i].y() - p[1]) / dt_s, 0.0);
-    }
-    dWorldStep(world_, dt_s);
-  }
-
-  disks::Vec2 read_M() const override { return read(0); }
-  disks::Vec2 read_N() const override { return read(1); }
-
-  bool in_contact() override {
-    dContactGeom c;
-    return dCollide(geom_[0], geom_[1], 1, &c, sizeof(dContactGeom)) > 0;
-  }
-
- private:
-  disks::Vec2 read(int i) const {
-    const dReal* p = dBodyGetPosition(body_[i]);
-    return {p[0], p[1]};
-  }
-  void destroy() {
-    for (auto& g : geom_)
-      if (g) dGeomDestroy(g), g = nullptr;
-    if (world_) dWorldDestroy(world_), world_ = nullptr;
-  }
-  dWorldID world_ = nullptr;
-  dBodyID body_[2] = {nullptr, nullptr};
-  dGeomID geom_[2] = {nullptr, nullptr};
-};
-
+constexpr double kMassM_kg = 1.0;
+constexpr double kMotorForceMax_N = 1e5;  // enough to reach any commanded velocity within one step
 }  // namespace
+
+OdeDisks::~OdeDisks() { destroy(); }
+
+void OdeDisks::build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) {
+  init_ode();
+  destroy();
+  world_ = dWorldCreate();
+  space_ = dSimpleSpaceCreate(nullptr);
+  contacts_ = dJointGroupCreate(0);
+  dWorldSetGravity(world_, 0, 0, 0);
+  dWorldSetERP(world_, 0.2);
+  dWorldSetCFM(world_, 1e-10);
+  const disks::Vec2 at[2] = {cM0, cN0};
+  dBodyID* body[2] = {&M_, &N_};
+  for (int i = 0; i < 2; ++i) {
+    *body[i] = dBodyCreate(world_);
+    dMass m;
+    dMassSetSphereTotal(&m, kMassM_kg, setup.radius_m);
+    dBodySetMass(*body[i], &m);
+    dBodySetPosition(*body[i], at[i].x(), at[i].y(), 0.0);
+    dGeomSetBody(dCreateSphere(space_, setup.radius_m), *body[i]);
+  }
+  dBodySetKinematic(N_);
+  // M's actuator: a linear motor on the world axes; z is held at rest (the plane).
+  motor_ = dJointCreateLMotor(world_, nullptr);
+  dJointAttach(motor_, M_, nullptr);
+  dJointSetLMotorNumAxes(motor_, 3);
+  dJointSetLMotorAxis(motor_, 0, 0, 1, 0, 0);
+  dJointSetLMotorAxis(motor_, 1, 0, 0, 1, 0);
+  dJointSetLMotorAxis(motor_, 2, 0, 0, 0, 1);
+  for (int p : {dParamFMax1, dParamFMax2, dParamFMax3}) dJointSetLMotorParam(motor_, p, kMotorForceMax_N);
+}
+
+void OdeDisks::near_callback(void* data, dGeomID o1, dGeomID o2) {
+  auto* self = static_cast<OdeDisks*>(data);
+  dContact contact[4];
+  const int n = dCollide(o1, o2, 4, &contact[0].geom, sizeof(dContact));
+  for (int i = 0; i < n; ++i) {
+    contact[i].surface.mode = 0;  // frictionless: only the normal response
+    contact[i].surface.mu = 0.0;
+    self->seen_.count += 1;
+    self->seen_.depth_max_m = std::max(self->seen_.depth_max_m, static_cast<double>(contact[i].geom.depth));
+    dJointID j = dJointCreateContact(self->world_, self->contacts_, &contact[i]);
+    dJointAttach(j, dGeomGetBody(contact[i].geom.g1), dGeomGetBody(contact[i].geom.g2));
+  }
+}
+
+DrivenDisks::StepContacts OdeDisks::step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2&, double dt_s) {
+  dJointSetLMotorParam(motor_, dParamVel1, vM_cmd.x());
+  dJointSetLMotorParam(motor_, dParamVel2, vM_cmd.y());
+  dJointSetLMotorParam(motor_, dParamVel3, 0.0);
+  // N is kinematic: ODE integrates the velocity that lands it on its path at the end of the step.
+  const dReal* p = dBodyGetPosition(N_);
+  dBodySetLinearVel(N_, (cN_next.x() - p[0]) / dt_s, (cN_next.y() - p[1]) / dt_s, 0.0);
+  seen_ = {};
+  dSpaceCollide(space_, this, &OdeDisks::near_callback);
+  dWorldStep(world_, dt_s);
+  dJointGroupEmpty(contacts_);
+  return seen_;
+}
+
+DrivenDisks::State OdeDisks::read() const {
+  const dReal* m = dBodyGetPosition(M_);
+  const dReal* n = dBodyGetPosition(N_);
+  return {{m[0], m[1]}, {n[0], n[1]}};
+}
+
+void OdeDisks::destroy() {
+  if (contacts_) dJointGroupDestroy(contacts_);
+  if (space_) dSpaceDestroy(space_);
+  if (world_) dWorldDestroy(world_);
+  contacts_ = nullptr;
+  space_ = nullptr;
+  world_ = nullptr;
+}
 
 std::unique_ptr<DiskEngine> make_ode_disks() { return std::make_unique<OdeDisks>(); }
 

@@ -1,0 +1,51 @@
+#include "engines/driven_disks.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+namespace liftcheck {
+
+using disks::Vec2;
+
+DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
+  const double dt = setup.dt_s, touch = 2.0 * setup.radius_m;
+  const long steps = static_cast<long>(std::ceil(pb.T_s / dt - 1e-9));
+  const long sample_every = std::max(1L, std::lround(setup.sample_dt_s / dt));
+  build(setup, pb.cM0, pb.path.position(0.0));
+
+  DiskRun r;
+  DiskContactLog log;
+  State s = read();
+  r.min_distance = (s.cM - s.cN).norm();
+  r.trace.push_back({0.0, s.cM, s.cN});
+  for (long k = 0; k < steps; ++k) {
+    const double t = k * dt, h = std::min(dt, pb.T_s - t);
+    const Vec2 vN = pb.path.velocity(t);
+    const double d = (s.cM - s.cN).norm();
+    const StepContacts c = step(pb.rule(t, s.cM, s.cN, vN), pb.path.position(t + h), vN, h);
+    // The collision pass ran on the state at t, whose distance is d.
+    if (c.count > 0) {
+      if (!r.t_contact_s) {
+        r.t_contact_s = t;
+        log.distance_at_first_m = d;
+      }
+      ++log.steps_in_contact;
+      log.depth_reported_max_m = std::max(log.depth_reported_max_m, c.depth_max_m);
+    } else if (!r.t_contact_s) {
+      log.overlap_unreported_m = std::max(log.overlap_unreported_m, touch - d);
+    }
+    s = read();
+    if (!s.cM.allFinite() || !s.cN.allFinite())
+      throw EngineError(fmt::format("disk state is not finite at t = {:.4f} s", t + h));
+    const double d1 = (s.cM - s.cN).norm();
+    r.min_distance = std::min(r.min_distance, d1);
+    if (r.t_contact_s) log.penetration_max_m = std::max(log.penetration_max_m, touch - d1);
+    if ((k + 1) % sample_every == 0 || k + 1 == steps) r.trace.push_back({k + 1 == steps ? pb.T_s : t + h, s.cM, s.cN});
+  }
+  log.apart_at_end = r.t_contact_s && (r.trace.back().cM - r.trace.back().cN).norm() > touch;
+  r.contact_log = log;
+  return r;
+}
+
+}  // namespace liftcheck

@@ -1,0 +1,32 @@
+// Two disks in ODE: M a dynamic sphere driven by a linear motor (dJointLMotor) towards its
+// commanded velocity, N a kinematic sphere moved along its path; contact joints from dCollide in
+// the near callback of each step (frictionless, the world's ERP and CFM).
+#pragma once
+
+#include <ode/ode.h>
+
+#include "engines/driven_disks.hpp"
+
+namespace liftcheck {
+
+class OdeDisks : public DrivenDisks {
+ public:
+  ~OdeDisks() override;
+
+ protected:
+  void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override;
+  StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt_s) override;
+  State read() const override;
+
+ private:
+  static void near_callback(void* data, dGeomID o1, dGeomID o2);
+  void destroy();
+  dWorldID world_ = nullptr;
+  dSpaceID space_ = nullptr;
+  dJointGroupID contacts_ = nullptr;
+  dBodyID M_ = nullptr, N_ = nullptr;
+  dJointID motor_ = nullptr;
+  StepContacts seen_;
+};
+
+}  // namespace liftcheck
