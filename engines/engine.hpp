@@ -32,6 +32,16 @@ struct CarSetup {
   std::string friction_dirs = "wheel";    ///< wheel (first friction direction along rolling) | world
 };
 
+/// How much one wheel's contact point slid over a drive, measured every engine step from the
+/// engine's own body state: v_contact = v_hub + omega x (contact point - hub), split along the
+/// wheel's rolling direction and across it (along the axle), both horizontal.
+struct WheelSlip {
+  std::string wheel;            ///< "front", "rear left", ...
+  double along_max_mps = 0.0;   ///< largest |v_contact . rolling direction|
+  double across_max_mps = 0.0;  ///< largest |v_contact . axle|
+  double rms_mps = 0.0;         ///< root mean square of the horizontal |v_contact| over the steps
+};
+
 /// A car in an engine: reset to a configuration, drive a base path, report (alpha, beta, x, y, phi).
 class CarEngine {
  public:
@@ -40,6 +50,9 @@ class CarEngine {
   /// Drives `path` from the reset configuration; returns the realized configuration over time,
   /// starting at t = 0 and ending at the path's end, every setup.sample_dt_s.
   virtual std::vector<car::TimedConfig> drive(const car::BasePath& path) = 0;
+  /// Contact-point slip of every wheel over the last drive (from t = 0 to its end). Empty for a
+  /// model whose wheels roll without slipping by construction (the analytic lift).
+  virtual std::vector<WheelSlip> slip() const { return {}; }
 };
 
 /// Two unit disks: N moves along a known path, M's velocity is commanded from a reaction rule.

@@ -61,13 +61,36 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   for (long k = 0; k < settle_steps; ++k) advance(-(settle_steps - k - 1) * dt, 0.0, q0_.beta_rad, 0.0, 0.0);
   alpha = 0.0;  // the drive starts at alpha = 0
 
+  // Contact-point slip of each wheel, every step of the drive: the contact point of a sphere (or an
+  // upright cylinder) on the ground z = 0 lies straight below the hub.
+  static const char* const kWheelNames[3] = {"front", "rear left", "rear right"};
+  slip_.assign(3, WheelSlip{});
+  double sum_sq[3] = {0.0, 0.0, 0.0};
+  const auto book_slip = [&] {
+    for (int w = 0; w < 3; ++w) {
+      const WheelState& ws = s.wheels[w];
+      const Eigen::Vector3d v = ws.v_hub_W + ws.omega_W.cross(Eigen::Vector3d(0.0, 0.0, -ws.hub_z_m));
+      Eigen::Vector3d axle(ws.axle_W.x(), ws.axle_W.y(), 0.0);
+      axle.normalize();
+      const Eigen::Vector3d roll = axle.cross(Eigen::Vector3d::UnitZ());
+      slip_[w].along_max_mps = std::max(slip_[w].along_max_mps, std::abs(v.dot(roll)));
+      slip_[w].across_max_mps = std::max(slip_[w].across_max_mps, std::abs(v.dot(axle)));
+      sum_sq[w] += v.x() * v.x() + v.y() * v.y();
+    }
+  };
+
   const auto sample = [&](double t) { trace.push_back({t, car::Config{alpha, s.steer_rad, s.x_m, s.y_m, phi}}); };
   sample(0.0);
   for (long k = 0; k < steps; ++k) {
     const double t1 = (k + 1) * dt;
     const car::BaseSample mid = path.at(t1 - 0.5 * dt), end = path.at(t1);
     advance(t1, end.alpha_rad, end.beta_rad, mid.alpha_rate_radps, mid.beta_rate_radps);
+    book_slip();
     if ((k + 1) % sample_every == 0 || k + 1 == steps) sample(t1);
+  }
+  for (int w = 0; w < 3; ++w) {
+    slip_[w].wheel = kWheelNames[w];
+    slip_[w].rms_mps = steps > 0 ? std::sqrt(sum_sq[w] / steps) : 0.0;
   }
   return trace;
 }

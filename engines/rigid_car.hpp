@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Dense>
+
 #include "engines/engine.hpp"
 
 namespace liftcheck {
@@ -36,6 +38,14 @@ struct ServoDef {
   double steer_torque_max_Nm = 500.0;
 };
 
+/// One wheel's body state in world coordinates.
+struct WheelState {
+  Eigen::Vector3d v_hub_W;      ///< linear velocity of the wheel centre, m/s
+  Eigen::Vector3d omega_W;      ///< angular velocity, rad/s
+  Eigen::Vector3d axle_W;       ///< the axle direction (unit)
+  double hub_z_m = 0.0;         ///< height of the wheel centre above the ground
+};
+
 /// The realized state an engine reads off its bodies and joints.
 struct RigidCarState {
   double spin_joint_rad;  ///< wheel angle about the axle relative to the steering knuckle, wrapped
@@ -44,12 +54,14 @@ struct RigidCarState {
   double z_m;             ///< front wheel centre height (for blow-up detection)
   double phi_rad;         ///< chassis heading
   double rear_z_m;        ///< lowest rear wheel centre height
+  WheelState wheels[3];   ///< front, rear left, rear right
 };
 
 class RigidCar : public CarEngine {
  public:
   void reset(const CarSetup& setup, const car::Config& q0) final;
   std::vector<car::TimedConfig> drive(const car::BasePath& path) final;
+  std::vector<WheelSlip> slip() const final { return slip_; }
 
  protected:
   /// Builds the world with the car at q0 (steering at q0.beta), at rest on the ground.
@@ -63,6 +75,7 @@ class RigidCar : public CarEngine {
   TricycleDef def_;
   ServoDef servo_;
   car::Config q0_;
+  std::vector<WheelSlip> slip_;
 };
 
 }  // namespace liftcheck

@@ -25,7 +25,9 @@ double RunRecord::worst_ratio() const {
   double worst = 0.0;
   for (const auto& m : metrics) {
     const double err = m.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
-    worst = std::max(worst, m.tolerance > 0 ? err / m.tolerance : (err > 0 ? INFINITY : 0.0));
+    double ratio = m.tolerance > 0 ? err / m.tolerance : (err > 0 ? INFINITY : 0.0);
+    if (m.floor > 0.0) ratio = std::min(ratio, m.abs_error / m.floor);
+    worst = std::max(worst, ratio);
   }
   return worst;
 }
@@ -60,7 +62,8 @@ std::vector<Metric> score(const Scenario& scenario, const std::string& engine, c
     m.rel_error = scale > 0.0 ? m.abs_error / scale : (m.abs_error == 0.0 ? 0.0 : INFINITY);
     m.tolerance = def.tolerance_for(engine) * v.tolerance_factor;
     const double err = def.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
-    m.pass = std::isfinite(err) && err <= m.tolerance;
+    m.floor = def.kind == TolKind::kRelative ? def.floor_for(engine) : 0.0;
+    m.pass = (std::isfinite(err) && err <= m.tolerance) || (std::isfinite(m.abs_error) && m.abs_error <= m.floor);
     out.push_back(m);
   }
   for (const auto& [name, v] : outcome.values)

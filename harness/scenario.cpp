@@ -10,11 +10,19 @@ double MetricDef::tolerance_for(const std::string& engine) const {
   throw std::logic_error(fmt::format("metric '{}' has no tolerance for engine '{}'", name, engine));
 }
 
+double MetricDef::floor_for(const std::string& engine) const {
+  if (auto it = floor.find(engine); it != floor.end()) return it->second;
+  if (auto it = floor.find("default"); it != floor.end()) return it->second;
+  return 0.0;
+}
+
 nlohmann::json Metric::to_json() const {
-  return {{"expected", expected},   {"measured", measured},
+  nlohmann::json j = {{"expected", expected},   {"measured", measured},
           {"abs_error", abs_error}, {"rel_error", rel_error},
           {"tolerance", tolerance}, {"tolerance_kind", kind == TolKind::kRelative ? "rel" : "abs"},
           {"unit", unit},           {"pass", pass}};
+  if (floor > 0.0) j["floor"] = floor;
+  return j;
 }
 
 const MetricDef* Scenario::metric(const std::string& n) const {
@@ -30,7 +38,7 @@ nlohmann::json Scenario::to_json() const {
   for (const auto& m : metrics)
     ms.push_back({{"name", m.name}, {"unit", m.unit},
                   {"tolerance_kind", m.kind == TolKind::kRelative ? "rel" : "abs"},
-                  {"tolerance", m.tolerance}, {"help", m.help}});
+                  {"tolerance", m.tolerance}, {"floor", m.floor}, {"help", m.help}});
   return {{"name", name}, {"vehicle", vehicle}, {"summary", summary},
           {"equations", equations}, {"params", ps}, {"metrics", ms},
           {"needs_contact_dynamics", needs_contact_dynamics}, {"negative_control", negative_control}};

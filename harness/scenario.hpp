@@ -23,8 +23,12 @@ struct MetricDef {
   /// Tolerance per engine name; "default" applies to engines not listed.
   std::map<std::string, double> tolerance;
   std::string help;
+  /// Absolute floor per engine name (relative metrics only): an absolute error at or below it
+  /// passes, for quantities that can be tiny (round-off of a 1e-9 m holonomy is not an error).
+  std::map<std::string, double> floor = {};
 
   double tolerance_for(const std::string& engine) const;
+  double floor_for(const std::string& engine) const;
 };
 
 /// One value a scenario function measured, with the value the theory expects.
@@ -51,6 +55,7 @@ struct Metric {
   double expected, measured, abs_error, rel_error, tolerance;
   TolKind kind;
   bool pass;
+  double floor = 0.0;  ///< absolute floor of a relative metric (0: none)
   nlohmann::json to_json() const;
 };
 

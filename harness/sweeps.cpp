@@ -21,7 +21,7 @@ const std::vector<SweepDef>& sweep_catalogue() {
     v.push_back({"error_vs_speed", "Front circle radius error against speed (mu = 0.3)",
                  "car.circle", "speed", {0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0},
                  {{"mu", "0.3"}, {"drive", "40"}},
-                 {"metric:front_radius", "metric:slip_ratio", "detail:grip_use"}, false, "", "",
+                 {"metric:front_radius", "metric:slip_across_max", "detail:grip_use"}, false, "", "",
                  std::sqrt(0.3 * 9.81 / std::sin(0.3)), "v^2/(r g) = mu"});
     v.push_back({"holonomy_vs_eps", "Simple parking cycle: holonomy against eps (slope 2)",
                  "car.cycle", "eps", {0.01, 0.02, 0.05, 0.1, 0.2, 0.4}, {},

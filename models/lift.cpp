@@ -38,11 +38,15 @@ std::vector<TimedConfig> lift(const CarDef& car, const BasePath& path, const Con
     times.push_back(t1);
     const double dt0 = std::min(1e-3, (t1 - t0) / 16.0);
     std::size_t obs = 0;
-    odeint::integrate_times(
-        odeint::make_dense_output(def.abs_tol, def.rel_tol, odeint::runge_kutta_dopri5<State>()), rhs, s,
-        times.begin(), times.end(), dt0, [&](const State& st, double t) {
-          if (obs++ > 0) record(st, t);  // the first observation repeats the previous end
-        });
+    const auto observe = [&](const State& st, double t) {
+      if (obs++ > 0) record(st, t);  // the first observation repeats the previous end
+    };
+    if (def.method == LiftMethod::kBulirschStoer)
+      odeint::integrate_times(odeint::bulirsch_stoer_dense_out<State>(def.abs_tol, def.rel_tol), rhs, s, times.begin(),
+                              times.end(), dt0, observe);
+    else
+      odeint::integrate_times(odeint::make_dense_output(def.abs_tol, def.rel_tol, odeint::runge_kutta_dopri5<State>()), rhs, s,
+                              times.begin(), times.end(), dt0, observe);
   }
   return trace;
 }

@@ -1,6 +1,6 @@
 // The horizontal lift of a driver's path: the parallel-transport equations (4.1),
 //   phi' = alpha' (R/l) sin(beta),  x' = alpha' R cos(beta + phi),  y' = alpha' R sin(beta + phi),
-// integrated with Boost.Odeint's error-controlled Dormand-Prince 5(4) stepper.
+// integrated with Boost.Odeint's error-controlled Dormand-Prince 5(4) stepper (or Bulirsch-Stoer).
 #pragma once
 
 #include <vector>
@@ -10,7 +10,12 @@
 
 namespace liftcheck::car {
 
+/// The analytic engine integrates with dopri5; references that compare against it use
+/// Bulirsch-Stoer, so the two are independent computations.
+enum class LiftMethod { kDopri5, kBulirschStoer };
+
 struct LiftDef {
+  LiftMethod method = LiftMethod::kDopri5;
   double abs_tol = 1e-13;   ///< odeint absolute error tolerance per step [m, rad]
   double rel_tol = 1e-13;   ///< odeint relative error tolerance per step
   double sample_dt_s = 0.0; ///< spacing of the returned trace (0: only the segment corners)

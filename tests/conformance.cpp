@@ -29,13 +29,15 @@ TEST_P(Conformance, DefaultRunPasses) {
               << (m.kind == TolKind::kRelative ? m.rel_error : m.abs_error) << " tol " << m.tolerance << "\n";
   if (s->negative_control) {
     // A negative control must fail its no-slip comparison, and through the metrics built to see
-    // slip, not through an engine error.
+    // slip (present, and out of tolerance), not through an engine error.
     EXPECT_EQ(r.status, Status::kFail) << r.message;
-    for (const auto& m : r.metrics) {
-      if (m.name == "slip_ratio" || m.name == "lateral_speed_max") {
+    int slip_metrics = 0;
+    for (const auto& m : r.metrics)
+      if (m.name == "slip_across_max" || m.name == "slip_rms") {
+        ++slip_metrics;
         EXPECT_FALSE(m.pass) << m.name;
       }
-    }
+    EXPECT_EQ(slip_metrics, 2) << "the slip metrics were not measured";
   } else {
     EXPECT_EQ(r.status, Status::kPass) << r.message;
   }

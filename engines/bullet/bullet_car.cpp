@@ -154,6 +154,13 @@ class BulletCar final : public RigidCar {
     s.z_m = p.z();
     s.phi_rad = std::atan2(Rc[1][0], Rc[0][0]);
     s.rear_z_m = std::min(rear_[0]->getWorldTransform().getOrigin().z(), rear_[1]->getWorldTransform().getOrigin().z());
+    const btRigidBody* bodies[3] = {front_, rear_[0], rear_[1]};
+    for (int w = 0; w < 3; ++w) {
+      const btVector3 v = bodies[w]->getLinearVelocity(), o = bodies[w]->getAngularVelocity();
+      const btVector3 axle = bodies[w]->getWorldTransform().getBasis().getColumn(1);  // every wheel's local y
+      s.wheels[w] = {{v.x(), v.y(), v.z()}, {o.x(), o.y(), o.z()}, {axle.x(), axle.y(), axle.z()},
+                     bodies[w]->getWorldTransform().getOrigin().z()};
+    }
     return s;
   }
 

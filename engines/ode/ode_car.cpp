@@ -136,6 +136,15 @@ class OdeCar final : public RigidCar {
     s.z_m = p[2];
     s.phi_rad = std::atan2(Rc[4], Rc[0]);  // chassis x axis in the world: (R00, R10)
     s.rear_z_m = std::min(dBodyGetPosition(rear_[0])[2], dBodyGetPosition(rear_[1])[2]);
+    const dBodyID bodies[3] = {front_, rear_[0], rear_[1]};
+    for (int w = 0; w < 3; ++w) {
+      const dReal* v = dBodyGetLinearVel(bodies[w]);
+      const dReal* o = dBodyGetAngularVel(bodies[w]);
+      dVector3 axle;
+      if (w == 0) dJointGetHinge2Axis2(steer_joint_, axle);
+      else dJointGetHingeAxis(rear_joint_[w - 1], axle);
+      s.wheels[w] = {{v[0], v[1], v[2]}, {o[0], o[1], o[2]}, {axle[0], axle[1], axle[2]}, dBodyGetPosition(bodies[w])[2]};
+    }
     return s;
   }
 
