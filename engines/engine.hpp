@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <functional>
+#include <map>
 #include <optional>
 #include <memory>
 #include <stdexcept>
@@ -18,8 +19,23 @@
 
 namespace liftcheck {
 
-/// Everything needed to build and drive one car. Engine settings that an engine does not use
-/// are ignored by it (the analytic engine ignores all of them but sample_dt_s).
+/// A setting only some engines have (solver iterations, wheel shape, friction directions):
+/// declared, typed and ranged by the engine that has it, set with --set like a scenario
+/// parameter, echoed in the record as applied, rejected for an engine that does not declare it.
+struct SettingSpec {
+  std::string key;
+  std::string vehicle;       ///< "car" or "disks": the vehicle it applies to
+  std::string default_text;
+  std::string help;
+  bool integer = false;      ///< a whole number in [min, max]; otherwise one of `choices`
+  double min = 0.0, max = 0.0;
+  std::vector<std::string> choices;
+};
+
+/// Validated setting values by key, every declared setting of the engine's vehicle present.
+using Settings = std::map<std::string, std::string>;
+
+/// Everything needed to build and drive one car (the shared scenario parameters).
 struct CarSetup {
   car::CarDef car;              ///< R, l
   car::DriveDef drive;          ///< speed, steering rate, ramps
@@ -27,9 +43,6 @@ struct CarSetup {
   double sample_dt_s = 0.01;    ///< spacing of the reported trace
   double mu = 1.0;              ///< Coulomb friction coefficient, wheel against ground
   double gravity_mps2 = 9.81;   ///< magnitude of gravity (down -Z)
-  int solver_iterations = 100;  ///< constraint solver iterations (where the engine has them)
-  std::string wheel_shape = "sphere";     ///< sphere | cylinder
-  std::string friction_dirs = "wheel";    ///< wheel (first friction direction along rolling) | world
 };
 
 /// How much one wheel's contact point slid over a drive, measured every engine step from the
@@ -104,12 +117,17 @@ struct EngineInfo {
   std::string name;
   std::string version;
   std::string description;
-  std::function<std::unique_ptr<CarEngine>()> make_car;  ///< empty: the engine has no car
-  std::function<std::unique_ptr<DiskEngine>()> make_disks;  ///< empty: no two-disk vehicles
+  std::function<std::unique_ptr<CarEngine>(const Settings&)> make_car;  ///< empty: the engine has no car
+  std::function<std::unique_ptr<DiskEngine>(const Settings&)> make_disks;  ///< empty: no two-disk vehicles
   /// Simulates contact forces with friction, so wheels can slip (the analytic model cannot).
   bool contact_dynamics = false;
   /// Fixed settings of the engine's model (joints, contact and friction handling), for the record.
   std::vector<std::pair<std::string, std::string>> settings;
+  /// Settings a user may change, each used by this engine (a test checks that each changes a result).
+  std::vector<SettingSpec> knobs = {};
+
+  /// Every knob of `vehicle` at its default.
+  Settings defaults(const std::string& vehicle) const;
 };
 
 /// Every engine compiled in, in a fixed order (analytic first).

@@ -16,6 +16,13 @@ const std::vector<EngineInfo>& engines() {
   return all;
 }
 
+Settings EngineInfo::defaults(const std::string& vehicle) const {
+  Settings s;
+  for (const SettingSpec& k : knobs)
+    if (k.vehicle == vehicle) s[k.key] = k.default_text;
+  return s;
+}
+
 const EngineInfo* find_engine(const std::string& name) {
   for (const EngineInfo& e : engines())
     if (e.name == name) return &e;

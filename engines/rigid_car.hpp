@@ -59,6 +59,7 @@ struct RigidCarState {
 
 class RigidCar : public CarEngine {
  public:
+  explicit RigidCar(Settings settings) : settings_(std::move(settings)) {}
   void reset(const CarSetup& setup, const car::Config& q0) final;
   std::vector<car::TimedConfig> drive(const car::BasePath& path) final;
   std::vector<WheelSlip> slip() const final { return slip_; }
@@ -71,6 +72,10 @@ class RigidCar : public CarEngine {
   virtual void step(double dt_s) = 0;
   virtual RigidCarState read() const = 0;
 
+  /// The engine's knob value (declared in its EngineInfo; validated by the harness).
+  const std::string& setting(const std::string& key) const { return settings_.at(key); }
+
+  Settings settings_;
   CarSetup setup_;
   TricycleDef def_;
   ServoDef servo_;

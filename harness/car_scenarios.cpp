@@ -40,12 +40,6 @@ std::vector<ParamSpec> car_params(const std::string& beta_default) {
       number("sample_dt", "0.01", "s", "spacing of the recorded trace", 0.0, true, 10.0),
       number("mu", "1.0", "1", "Coulomb friction coefficient, wheel against ground", 0.0, true, 10.0),
       number("gravity", "9.81", "m/s^2", "gravity magnitude (down)", 0.0, true, 100.0),
-      {"iterations", ParamKind::kInteger, "100", "1", "constraint solver iterations", 1.0, false, 10000.0, {}},
-      {"wheel", ParamKind::kChoice, "sphere", "", "wheel collision shape", -INFINITY, false, INFINITY,
-       {"sphere", "cylinder"}},
-      {"friction_dirs", ParamKind::kChoice, "wheel", "",
-       "first friction direction: along the wheel's rolling direction, or fixed world axes", -INFINITY,
-       false, INFINITY, {"wheel", "world"}},
   };
 }
 
@@ -62,9 +56,6 @@ CarSetup setup_from(const Params& p) {
   s.sample_dt_s = p.num("sample_dt");
   s.mu = p.num("mu");
   s.gravity_mps2 = p.num("gravity");
-  s.solver_iterations = p.integer("iterations");
-  s.wheel_shape = p.str("wheel");
-  s.friction_dirs = p.str("friction_dirs");
   return s;
 }
 

@@ -1,6 +1,7 @@
 #include "harness/runner.hpp"
 
 #include <chrono>
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -42,7 +43,7 @@ double RunRecord::worst_rel_error() const {
 nlohmann::json RunRecord::to_json() const {
   nlohmann::json ms = nlohmann::json::object();
   for (const auto& m : metrics) ms[m.name] = m.to_json();
-  return {{"scenario", scenario}, {"engine", engine},   {"params", params},
+  return {{"scenario", scenario}, {"engine", engine},   {"params", params}, {"settings", settings},
           {"status", to_string(status)}, {"message", message}, {"metrics", ms},
           {"worst_ratio", metrics.empty() ? nlohmann::json() : nlohmann::json(worst_ratio())},
           {"worst_rel_error", std::isnan(worst_rel_error()) ? nlohmann::json() : nlohmann::json(worst_rel_error())},
@@ -72,12 +73,49 @@ std::vector<Metric> score(const Scenario& scenario, const std::string& engine, c
   return out;
 }
 
+std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
+  Overrides params, knob_overrides;
+  std::vector<ParamSpec> knob_specs;
+  std::vector<std::string> names;
+  for (const SettingSpec& k : engine.knobs) {
+    if (k.vehicle != scenario.vehicle) continue;
+    names.push_back(k.key);
+    ParamSpec ps{k.key, k.integer ? ParamKind::kInteger : ParamKind::kChoice, k.default_text, k.integer ? "1" : "", k.help};
+    if (k.integer) ps.min = k.min, ps.max = k.max;
+    ps.choices = k.choices;
+    knob_specs.push_back(ps);
+  }
+  for (const auto& [key, value] : overrides) {
+    const bool is_param = std::any_of(scenario.params.begin(), scenario.params.end(), [&](const ParamSpec& p) { return p.key == key; });
+    const bool is_knob = std::find(names.begin(), names.end(), key) != names.end();
+    if (is_param) {
+      params.emplace_back(key, value);
+    } else if (is_knob) {
+      knob_overrides.emplace_back(key, value);
+    } else {
+      for (const EngineInfo& other : engines())
+        for (const SettingSpec& k : other.knobs)
+          if (k.key == key)
+            throw InputError(fmt::format("engine '{}' has no setting '{}' for {} (its settings there: {}; '{}' is a {} setting of '{}')",
+                                         engine.name, key, scenario.vehicle == "car" ? "cars" : "disks",
+                                         names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", ")), key, k.vehicle, other.name));
+      params.emplace_back(key, value);  // unknown: Params::resolve names it
+    }
+  }
+  const nlohmann::json knobs = Params::resolve(knob_specs, knob_overrides, scenario.name).to_json();
+  Settings settings;
+  for (const auto& [key, v] : knobs.items()) settings[key] = v.is_string() ? v.get<std::string>() : fmt::format("{}", v.get<double>());
+  return {params, settings};
+}
+
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
   RunRecord r;
   r.scenario = scenario.name;
   r.engine = engine.name;
-  const Params params = Params::resolve(scenario.params, overrides, scenario.name);
+  const auto [param_overrides, settings] = split_settings(scenario, engine, overrides);
+  const Params params = Params::resolve(scenario.params, param_overrides, scenario.name);
   r.params = params.to_json();
+  for (const auto& [key, value] : settings) r.settings[key] = value;
   r.negative_control = scenario.negative_control;
   if ((scenario.vehicle == "car" && !engine.make_car) || (scenario.vehicle == "disks" && !engine.make_disks)) {
     r.status = Status::kSkip;
@@ -93,10 +131,10 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
   try {
     Outcome outcome;
     if (scenario.vehicle == "disks") {
-      auto d = engine.make_disks();
+      auto d = engine.make_disks(settings);
       outcome = scenario.run_disks(params, *d);
     } else {
-      auto car = engine.make_car();
+      auto car = engine.make_car(settings);
       outcome = scenario.run_car(params, *car);
     }
     r.metrics = score(scenario, engine.name, outcome);

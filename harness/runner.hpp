@@ -17,6 +17,7 @@ const char* to_string(Status s);
 struct RunRecord {
   std::string scenario, engine;
   nlohmann::json params = nlohmann::json::object();
+  nlohmann::json settings = nlohmann::json::object();  ///< the engine's knobs as applied
   Status status = Status::kError;
   std::string message;
   std::vector<Metric> metrics;
@@ -37,6 +38,12 @@ struct RunRecord {
 /// Resolves parameters (InputError on bad ones), runs, scores. Engine failures become an error
 /// record; InputError raised by the scenario for non-physical combinations propagates.
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides = {});
+
+/// Splits `overrides` into the scenario's parameters and the engine's settings for the scenario's
+/// vehicle, validates the settings and fills in their defaults. A key that is neither a parameter
+/// of the scenario nor a setting of this engine is an InputError (naming the engine's settings when
+/// another engine has it).
+std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides);
 
 /// Scores an outcome against the metric definitions for `engine`.
 std::vector<Metric> score(const Scenario& scenario, const std::string& engine, const Outcome& outcome);

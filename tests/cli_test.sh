@@ -37,6 +37,10 @@ bad_input negative-R "parameter 'R' must be > 0" run car.cycle --set R=-0.3
 bad_input no-equals "--set needs KEY=VALUE" run car.circle --set R
 bad_input straight-circle "needs |beta| >= 0.001" run car.circle --set beta=0
 bad_input unknown-subcommand "error" frobnicate
+# A setting the engine does not have is rejected, not recorded (ODE's dWorldStep has no iterations).
+bad_input ode-has-no-iterations "engine 'ode' has no setting 'iterations'" run car.cycle --engine ode --set iterations=5
+bad_input analytic-has-no-wheel "engine 'analytic' has no setting 'wheel'" run car.circle --set wheel=cylinder
+bad_input iterations-range "parameter 'iterations' must be >= 1" run car.cycle --engine bullet --set iterations=0
 bad_input validate-unknown-engine "unknown engine 'warp'" validate --engines warp --out "$tmp/r0"
 bad_input validate-no-match "no scenario matches 'zzz*'" validate --filter 'zzz*' --out "$tmp/r1"
 [ -e "$tmp/r1/results.json" ] && { echo "FAIL validate-no-match left a results.json"; fails=$((fails + 1)); }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <fmt/format.h>
 #include <iostream>
 
 #include "harness/runner.hpp"
@@ -63,7 +64,7 @@ TEST(Signs, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
   const EngineInfo* e = find_engine(g_engine);
   ASSERT_NE(e, nullptr);
   if (!e->make_car) GTEST_SKIP();
-  auto car = e->make_car();
+  auto car = e->make_car(e->defaults("car"));
   CarSetup setup;
   for (double beta : {0.3, -0.3}) {
     const car::Config q0{0.0, beta, 1.0, 2.0, 0.5};
@@ -81,6 +82,31 @@ TEST(Signs, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
   car->reset(setup, q0);
   const auto trace = car->drive(car::BasePath({{0.0, 0.4}}, 0.0, 0.0, setup.drive));
   EXPECT_NEAR(trace.back().q.beta_rad, 0.4, 1e-3);
+}
+
+// Honest settings: every setting the engine declares changes some result when changed (a setting
+// the engine ignores must not be declared).
+TEST(Settings, EveryDeclaredSettingChangesAResult) {
+  const EngineInfo* e = find_engine(g_engine);
+  ASSERT_NE(e, nullptr);
+  const Scenario* circle = find_scenario("car.circle");
+  for (const SettingSpec& k : e->knobs) {
+    ASSERT_EQ(k.vehicle, "car") << k.key << ": only car settings are tested here";
+    std::string other;
+    if (k.integer) other = fmt::format("{}", std::max<long>(static_cast<long>(k.min), std::stol(k.default_text) / 20));
+    else
+      for (const auto& c : k.choices)
+        if (c != k.default_text && other.empty()) other = c;
+    ASSERT_FALSE(other.empty()) << k.key;
+    ASSERT_NE(other, k.default_text) << k.key;
+    const Overrides base{{"drive", "3"}};
+    Overrides changed = base;
+    changed.emplace_back(k.key, other);
+    const auto a = run_scenario(*circle, *e, base).to_json(), b = run_scenario(*circle, *e, changed).to_json();
+    EXPECT_EQ(a["settings"][k.key], k.default_text);
+    EXPECT_EQ(b["settings"][k.key], other);
+    EXPECT_NE(a["details"]["trace"], b["details"]["trace"]) << k.key << " = " << other << " changed nothing";
+  }
 }
 
 std::vector<std::string> scenario_names() {

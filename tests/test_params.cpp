@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 
 #include "harness/params.hpp"
+#include "harness/runner.hpp"
 #include "harness/scenario.hpp"
 
 using namespace liftcheck;
@@ -19,10 +20,9 @@ std::string error_of(const Overrides& ov) {
 }  // namespace
 
 TEST(Params, DefaultsAndOverrides) {
-  const Params p = Params::resolve(circle_params(), {{"R", "0.25"}, {"wheel", "cylinder"}}, "car.circle");
+  const Params p = Params::resolve(circle_params(), {{"R", "0.25"}}, "car.circle");
   EXPECT_EQ(p.num("R"), 0.25);
   EXPECT_EQ(p.num("l"), 1.0);
-  EXPECT_EQ(p.str("wheel"), "cylinder");
   EXPECT_EQ(p.to_json()["R"], 0.25);
 }
 
@@ -34,9 +34,30 @@ TEST(Params, BadInputNamesTheProblem) {
   EXPECT_EQ(error_of({{"R", ""}}), "parameter 'R' needs a finite number, got ''");
   EXPECT_EQ(error_of({{"l", "0"}}), "parameter 'l' must be > 0 (got 0)");
   EXPECT_EQ(error_of({{"R", "-1"}}), "parameter 'R' must be > 0 (got -1)");
-  EXPECT_EQ(error_of({{"iterations", "2.5"}}), "parameter 'iterations' needs a whole number, got '2.5'");
-  EXPECT_EQ(error_of({{"wheel", "square"}}), "parameter 'wheel' must be one of sphere|cylinder, got 'square'");
   EXPECT_EQ(error_of({{"R", "1e3"}}), "");
+}
+
+// Engine settings are split from the scenario's parameters, typed and ranged by the engine.
+TEST(Params, EngineSettings) {
+  const Scenario& circle = *find_scenario("car.circle");
+  const EngineInfo& bullet = *find_engine("bullet");
+  const auto setting_error = [&](const EngineInfo& e, const Overrides& ov) -> std::string {
+    try {
+      split_settings(circle, e, ov);
+    } catch (const InputError& err) {
+      return err.what();
+    }
+    return "";
+  };
+  const auto [params, settings] = split_settings(circle, bullet, {{"R", "0.25"}, {"wheel", "cylinder"}});
+  EXPECT_EQ(params, (Overrides{{"R", "0.25"}}));
+  EXPECT_EQ(settings.at("wheel"), "cylinder");
+  EXPECT_EQ(settings.at("iterations"), "100");
+  EXPECT_EQ(settings.at("friction_dirs"), "wheel");
+  EXPECT_EQ(setting_error(bullet, {{"iterations", "2.5"}}), "parameter 'iterations' needs a whole number, got '2.5'");
+  EXPECT_EQ(setting_error(bullet, {{"wheel", "square"}}), "parameter 'wheel' must be one of sphere|cylinder, got 'square'");
+  EXPECT_EQ(setting_error(*find_engine("ode"), {{"iterations", "5"}}),
+            "engine 'ode' has no setting 'iterations' for cars (its settings there: wheel, friction_dirs; 'iterations' is a car setting of 'bullet')");
 }
 
 TEST(Params, SplitAssignment) {

@@ -31,11 +31,11 @@ class ThrowingCar final : public CarEngine {
 }  // namespace
 
 TEST(Runner, AnExplodingEngineIsAnErrorRunNotACrash) {
-  const EngineInfo bad{"exploding", "0", "test double", [] { return std::make_unique<ExplodingCar>(); }};
+  const EngineInfo bad{"exploding", "0", "test double", [](const Settings&) { return std::make_unique<ExplodingCar>(); }};
   const RunRecord r = run_scenario(*find_scenario("car.cycle"), bad);
   EXPECT_EQ(r.status, Status::kError);
   EXPECT_NE(r.message.find("not finite"), std::string::npos) << r.message;
-  const EngineInfo thrower{"thrower", "0", "test double", [] { return std::make_unique<ThrowingCar>(); }};
+  const EngineInfo thrower{"thrower", "0", "test double", [](const Settings&) { return std::make_unique<ThrowingCar>(); }};
   const RunRecord t = run_scenario(*find_scenario("car.circle"), thrower);
   EXPECT_EQ(t.status, Status::kError);
   EXPECT_EQ(t.message, "solver diverged");

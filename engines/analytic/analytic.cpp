@@ -37,8 +37,8 @@ EngineInfo analytic_engine() {
   return {.name = "analytic",
           .version = "1",
           .description = "car: horizontal lift (4.1); disks: lift (21) with root-found contact",
-          .make_car = [] { return std::make_unique<AnalyticCar>(); },
-          .make_disks = [] { return std::make_unique<AnalyticDisks>(); },
+          .make_car = [](const Settings&) { return std::make_unique<AnalyticCar>(); },
+          .make_disks = [](const Settings&) { return std::make_unique<AnalyticDisks>(); },
           .contact_dynamics = false,
           .settings = {{"car integrator", "Boost.Odeint runge_kutta_dopri5, dense output, abs and rel tolerance 1e-13"},
                        {"disk integrator", "Boost.Odeint runge_kutta_dopri5 at 1e-12; first contact by TOMS 748 on the dense output"}}};

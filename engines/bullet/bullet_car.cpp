@@ -58,6 +58,9 @@ class WheelFrictionWorld final : public btDiscreteDynamicsWorld {
 };
 
 class BulletCar final : public RigidCar {
+ public:
+  using RigidCar::RigidCar;
+
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
     teardown();
@@ -70,9 +73,9 @@ class BulletCar final : public RigidCar {
     core_ = std::make_unique<BulletCore>();
     world_ = core_->make_world<WheelFrictionWorld>();
     world_->setGravity(btVector3(0, 0, -setup.gravity_mps2));
-    world_->align = setup.friction_dirs == "wheel";
+    world_->align = setting("friction_dirs") == "wheel";
     btContactSolverInfo& info = world_->getSolverInfo();
-    info.m_numIterations = setup.solver_iterations;
+    info.m_numIterations = std::stoi(setting("iterations"));
     info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     // Fixed world axes when not aligned: no velocity-dependent friction direction either.
     info.m_solverMode |= SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
@@ -95,7 +98,7 @@ class BulletCar final : public RigidCar {
     chassis_ = add_body(d.chassis_mass_kg, chassis_shape, btTransform(yaw_chassis, to_world(-0.5 * d.l_m, 0, d.R_m)), 0, 0);
 
     btCollisionShape* wheel_shape = nullptr;
-    if (setup.wheel_shape == "cylinder")
+    if (setting("wheel") == "cylinder")
       wheel_shape = add_shape(std::make_unique<btCylinderShape>(btVector3(d.R_m, 0.5 * d.wheel_width_m, d.R_m)));  // along local y
     else
       wheel_shape = add_shape(std::make_unique<btSphereShape>(d.R_m));
@@ -213,8 +216,8 @@ EngineInfo bullet_engine() {
   return {.name = "bullet",
           .version = fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
           .description = "Bullet: btHinge2Constraint front wheel, hinge rear wheels, 2 friction directions, fixed step",
-          .make_car = [] { return std::make_unique<BulletCar>(); },
-          .make_disks = make_bullet_disks,
+          .make_car = [](const Settings& s) { return std::make_unique<BulletCar>(s); },
+          .make_disks = [](const Settings&) { return make_bullet_disks(); },
           .contact_dynamics = true,
           .settings = {{"precision", "double (bullet-float64)"},
            {"stepper", "btDiscreteDynamicsWorld, stepSimulation(dt, 1, dt), sequential impulse solver"},
@@ -223,7 +226,8 @@ EngineInfo bullet_engine() {
            {"contact", "friction = mu x 1 (Bullet multiplies both bodies' coefficients)"},
            {"friction directions", "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
-           {"disks", "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), sequential-impulse response"}}};
+           {"disks", "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), sequential-impulse response"}},
+          .knobs = {SettingSpec{"iterations", "car", "100", "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", true, 1, 10000, {}}, SettingSpec{"wheel", "car", "sphere", "wheel collision shape", false, 0, 0, {"sphere", "cylinder"}}, SettingSpec{"friction_dirs", "car", "wheel", "first friction direction: along the wheel's rolling direction, or the engine's default axes", false, 0, 0, {"wheel", "world"}}}};
 }
 
 }  // namespace liftcheck

@@ -26,6 +26,7 @@ namespace {
 
 class OdeCar final : public RigidCar {
  public:
+  using RigidCar::RigidCar;
   ~OdeCar() override { destroy(); }
 
  protected:
@@ -38,7 +39,6 @@ class OdeCar final : public RigidCar {
     dWorldSetGravity(world_, 0, 0, -setup.gravity_mps2);
     dWorldSetERP(world_, 0.2);
     dWorldSetCFM(world_, 1e-10);
-    dWorldSetQuickStepNumIterations(world_, setup.solver_iterations);
     ground_ = dCreatePlane(space_, 0, 0, 1, 0);
 
     const double c = std::cos(q0.phi_rad), s = std::sin(q0.phi_rad);
@@ -63,7 +63,7 @@ class OdeCar final : public RigidCar {
       dMass wm;
       dGeomID g;
       dMatrix3 Rw;
-      if (setup.wheel_shape == "cylinder") {
+      if (setting("wheel") == "cylinder") {
         dMassSetCylinderTotal(&wm, d.wheel_mass_kg, 3, d.R_m, d.wheel_width_m);  // along local z
         g = dCreateCylinder(space_, d.R_m, d.wheel_width_m);
         // Local z along the axle: rotate +90 deg about x (z -> -y), then yaw.
@@ -108,7 +108,7 @@ class OdeCar final : public RigidCar {
       dJointSetHingeAxis(rear_joint_[i], -s, c, 0);
     }
     mu_ = setup.mu;
-    wheel_dirs_ = setup.friction_dirs == "wheel";
+    wheel_dirs_ = setting("friction_dirs") == "wheel";
   }
 
   void actuate(double spin_radps, double steer_radps, const ServoDef& servo) override {
@@ -204,8 +204,8 @@ EngineInfo ode_engine() {
   return {.name = "ode",
           .version = fmt::format("{} ({})", LIFTCHECK_ODE_VERSION, sizeof(dReal) == 8 ? "double" : "single"),
           .description = "Open Dynamics Engine: hinge-2 front wheel, contact joints (dContactApprox1), dWorldStep",
-          .make_car = [] { return std::make_unique<OdeCar>(); },
-          .make_disks = make_ode_disks,
+          .make_car = [](const Settings& s) { return std::make_unique<OdeCar>(s); },
+          .make_disks = [](const Settings&) { return make_ode_disks(); },
           .contact_dynamics = true,
           .settings = {{"stepper", "dWorldStep (direct LCP solver), global ERP 0.2, CFM 1e-10"},
            {"front wheel", "dHinge2Joint, suspension CFM 1e-10; velocity motors on steering and spin"},
@@ -213,7 +213,9 @@ EngineInfo ode_engine() {
            {"contact", "dContactApprox1 | SoftERP 0.2 | SoftCFM 1e-9, up to 4 points per wheel"},
            {"friction directions", "wheel: dContactFDir1 along the rolling direction (axle x up); world: ODE's default axes from the normal"},
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
-           {"disks", "M: dynamic sphere (radius 1, 1 kg) driven by a dJointLMotor (force limit 1e5 N) to the commanded velocity; N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless"}}};
+           {"iterations", "none: dWorldStep is a direct solver (a setting 'iterations' is rejected)"},
+           {"disks", "M: dynamic sphere (radius 1, 1 kg) driven by a dJointLMotor (force limit 1e5 N) to the commanded velocity; N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless"}},
+          .knobs = {SettingSpec{"wheel", "car", "sphere", "wheel collision shape", false, 0, 0, {"sphere", "cylinder"}}, SettingSpec{"friction_dirs", "car", "wheel", "first friction direction: along the wheel's rolling direction, or the engine's default axes", false, 0, 0, {"wheel", "world"}}}};
 }
 
 }  // namespace liftcheck
