@@ -143,11 +143,25 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
                              std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count());
   }
   const double sweeps_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_sweeps).count();
+  // Sweeps are a gate: each engine's entry in each sweep passes or names its problems.
+  int gates = 0, gates_failed = 0;
+  for (const auto& sw : sweep_results)
+    for (const auto& entry : sw["engines"]) {
+      ++gates;
+      if (entry["gate"]["pass"].get<bool>()) continue;
+      ++gates_failed;
+      std::cout << fmt::format("FAIL   sweep {} on {}: {}\n", sw["name"].get<std::string>(), entry["engine"].get<std::string>(),
+                               fmt::join(entry["gate"]["problems"].get<std::vector<std::string>>(), "; "));
+    }
+  all_pass = all_pass && gates_failed == 0;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   nlohmann::json results = results_json(runs, context_json(es, wall));
   results["context"]["runs_s"] = runs_s;
   results["context"]["sweeps_s"] = sweeps_s;
   results["sweeps"] = sweep_results;
+  results["summary"]["sweep_gates"] = gates;
+  results["summary"]["sweep_gates_failed"] = gates_failed;
+  results["summary"]["unexpected"] = results["summary"]["unexpected"].get<int>() + gates_failed;
   results["scenarios"] = nlohmann::json::array();
   for (const Scenario* s : ss) results["scenarios"].push_back(s->to_json());
   try {
@@ -166,10 +180,10 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
   const auto& sum = results["summary"];
   int expected_fails = 0;
   for (const auto& r : runs) expected_fails += r.negative_control && r.status == Status::kFail ? 1 : 0;
-  std::cout << fmt::format("validate: {} runs, {} unexpected ({} pass, {} fail of which {} negative controls failing as designed, "
-                           "{} error, {} skip); {}\n",
-                           sum["total"].get<int>(), sum["unexpected"].get<int>(), sum["pass"].get<int>(), sum["fail"].get<int>(),
-                           expected_fails, sum["error"].get<int>(), sum["skip"].get<int>(),
+  std::cout << fmt::format("validate: {} runs and {} sweep gates, {} unexpected ({} pass, {} fail of which {} negative controls failing as designed, "
+                           "{} error, {} skip; {} sweep gates failed); {}\n",
+                           sum["total"].get<int>(), gates, sum["unexpected"].get<int>(), sum["pass"].get<int>(), sum["fail"].get<int>(),
+                           expected_fails, sum["error"].get<int>(), sum["skip"].get<int>(), gates_failed,
                            report ? "report: " + (out / "index.html").string() : "results: " + (out / "results.json").string());
   return all_pass ? 0 : 1;
 }

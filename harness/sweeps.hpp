@@ -25,7 +25,24 @@ struct SweepDef {
   std::string fit_noise;         ///< its error against the exact value, which defines the noise floor
   double marker = 0.0;           ///< an x value to mark on the plot (0: none)
   std::string marker_label;
+  /// The gate on the fit: the fitted slope must lie within slope_band of slope_expected.
+  double slope_expected = 0.0;
+  double slope_band = 0.0;
 };
+
+/// A sweep point known to fail on an engine, reviewed data (harness/expectations.json): the
+/// reason in one sentence and the measured figure. A listed point that passes is unexpected.
+struct KnownSweepFailure {
+  std::string sweep, engine;
+  double x;
+  std::string reason, measured;
+};
+const std::vector<KnownSweepFailure>& known_sweep_failures();
+
+/// The gate of one sweep entry (one engine's points and fit): every point passes its tolerances
+/// unless listed as a known failure (and then it must fail), no point is an error, and the fit
+/// lies in its band. Adds "gate" {"pass", "problems", counts} to the entry and returns pass.
+bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry);
 
 const std::vector<SweepDef>& sweep_catalogue();
 

@@ -74,6 +74,25 @@ std::string junit_xml(const json& results) {
     suites += fmt::format("  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\">\n{}  </testsuite>\n",
                           xml(sc), by[sc].size(), f, e, s, cases);
   }
+  // The sweeps' gates: a suite per sweep, a case per engine.
+  for (const auto& sw : results.value("sweeps", json::array())) {
+    int f = 0;
+    std::string cases;
+    for (const auto& entry : sw["engines"]) {
+      const json& gate = entry["gate"];
+      cases += fmt::format("    <testcase classname=\"sweep.{}\" name=\"{}\" time=\"0\">", xml(sw["name"]), xml(entry["engine"]));
+      if (!gate["pass"].get<bool>()) {
+        std::string msg;
+        for (const auto& p : gate["problems"]) msg += (msg.empty() ? "" : "; ") + p.get<std::string>();
+        cases += fmt::format("<failure message=\"{}\"/>", xml(msg));
+        ++f;
+      }
+      cases += "</testcase>\n";
+    }
+    tests += static_cast<int>(sw["engines"].size()), failures += f;
+    suites += fmt::format("  <testsuite name=\"sweep.{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"0\">\n{}  </testsuite>\n",
+                          xml(sw["name"]), sw["engines"].size(), f, cases);
+  }
   return fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"liftcheck\" tests=\"{}\" failures=\"{}\" "
                      "errors=\"{}\" skipped=\"{}\">\n{}</testsuites>\n",
                      tests, failures, errors, skipped, suites);
