@@ -137,24 +137,37 @@ std::function<Vec2(double)> at_samples(const disks::LiftResult& ref) {
 /// distance. Contact: collision and its time (in steps), and, from the engine's own contact log,
 /// that it reported contact on the first state whose disks overlapped and not before, and that
 /// its contact response kept the penetration small.
-Outcome disk_outcome(const Params& p, const DiskRun& run, const disks::LiftResult& ref, const std::optional<double>& expected_t,
-                     const std::function<Vec2(double)>& cM_ref) {
+Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run, const disks::LiftResult& ref,
+                     const std::optional<double>& expected_t, const std::function<Vec2(double)>& cM_ref) {
   const double dt = p.num("dt"), f = first_order(p);
   Outcome o;
   o.details["trace"] = trace_json(run.trace);
   o.details["reference"] = trace_json(ref.trace);
   o.values["collision"] = {expected_t ? 1.0 : 0.0, run.t_contact_s ? 1.0 : 0.0};
-  if (expected_t && run.t_contact_s) {
-    // A stepping engine's contact happened between its last state reported free of contact and its
-    // first reported in contact: the midpoint of that step is compared (tolerance in steps).
-    const double t = run.contact_log ? std::max(0.0, *run.t_contact_s - 0.5 * dt) : *run.t_contact_s;
-    o.values["t_contact"] = {*expected_t, t, 0.0, dt};
-  }
   o.details["t_contact_expected_s"] = expected_t ? nlohmann::json(*expected_t) : nlohmann::json();
   o.details["t_contact_measured_s"] = run.t_contact_s ? nlohmann::json(*run.t_contact_s) : nlohmann::json();
   o.details["reference_min_distance"] = ref.min_distance;
   const double t_limit = std::min(expected_t.value_or(INFINITY), run.t_contact_s.value_or(INFINITY));
-  o.values["path_error"] = {0.0, path_error(run, cM_ref, t_limit), 0.0, f};
+  const double path_err = path_error(run, cM_ref, t_limit);
+  o.values["path_error"] = {0.0, path_err, 0.0, f};
+  // The lift's closing speed -d|c_M - c_N|/dt at the expected contact.
+  double closing = NAN;
+  if (expected_t && ref.cM_contact.allFinite()) {
+    const Vec2 cN = pb.path.position(*expected_t), vN = pb.path.velocity(*expected_t);
+    closing = -(ref.cM_contact - cN).normalized().dot(pb.rule(*expected_t, ref.cM_contact, cN, vN) - vN);
+    o.details["closing_speed_mps"] = closing;
+  }
+  if (expected_t && run.t_contact_s) {
+    // A stepping engine's contact happened between its last state reported free of contact and its
+    // first reported in contact: the midpoint of that step is compared. The tolerance is that step
+    // plus the time the engine's own measured path error (gated by path_error) shifts the contact
+    // by at the closing speed: an engine integrating a zero-order-held command is first-order late
+    // or early, and a contact later than its own path explains is a fault.
+    const double t = run.contact_log ? std::max(0.0, *run.t_contact_s - 0.5 * dt) : *run.t_contact_s;
+    const double shift_s = run.contact_log && closing > 0.0 ? path_err / closing : 0.0;
+    o.values["t_contact"] = {*expected_t, t, 0.0, dt + shift_s};
+    o.details["t_contact_shift_allowed_s"] = shift_s;
+  }
   if (!expected_t && !run.t_contact_s) {
     o.values["min_distance"] = {ref.min_distance, run.min_distance, 0.0, f};
     o.values["final_distance"] = {ref.final_distance, final_distance(run), 0.0, f};
@@ -163,7 +176,8 @@ Outcome disk_outcome(const Params& p, const DiskRun& run, const disks::LiftResul
     o.values["contact_missed"] = {0.0, std::max(0.0, log->overlap_unreported_m)};
     if (run.t_contact_s) {
       o.values["contact_report_gap"] = {0.0, std::max(0.0, log->distance_at_first_m - disks::kContactDistance)};
-      o.values["penetration_max"] = {0.0, std::max(0.0, log->penetration_max_m), 0.0, f};
+      // The response must bound the overlap (tolerance in steps of closing travel).
+      if (closing > 0.0) o.values["penetration_max"] = {0.0, std::max(0.0, log->penetration_max_m), 0.0, closing * dt};
     }
     o.details["contact_log"] = {{"distance_at_first_m", std::isfinite(log->distance_at_first_m) ? nlohmann::json(log->distance_at_first_m) : nlohmann::json()},
                                 {"overlap_unreported_m", log->overlap_unreported_m},
@@ -175,8 +189,9 @@ Outcome disk_outcome(const Params& p, const DiskRun& run, const disks::LiftResul
   return o;
 }
 
-Outcome disk_outcome(const Params& p, const DiskRun& run, const disks::LiftResult& ref, const std::optional<double>& expected_t) {
-  return disk_outcome(p, run, ref, expected_t, at_samples(ref));
+Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run, const disks::LiftResult& ref,
+                     const std::optional<double>& expected_t) {
+  return disk_outcome(p, pb, run, ref, expected_t, at_samples(ref));
 }
 
 /// Largest |d(t) - d(0)| and largest angle between c(t) = c_M - c_N and c(0) over the trace.
@@ -213,7 +228,7 @@ Outcome run_copy(const Params& p, DiskEngine& e) {
   const double d0 = (p.vec("cM") - p.vec("cN")).norm();
   const disks::LiftResult ref = analytic(pb, setup_from(p));
   // c_M - c_N is constant: no contact from a disjoint start, and c_M(t) = c_M(0) + c_N(t) - c_N(0).
-  Outcome o = disk_outcome(p, r, ref, std::nullopt, [&](double t) { return Vec2(pb.cM0 + pb.path.position(t) - pb.path.position(0.0)); });
+  Outcome o = disk_outcome(p, pb, r, ref, std::nullopt, [&](double t) { return Vec2(pb.cM0 + pb.path.position(t) - pb.path.position(0.0)); });
   o.values["min_distance"] = {d0, r.min_distance, 0.0, first_order(p)};
   o.values["final_distance"] = {d0, final_distance(r), 0.0, first_order(p)};
   o.values["distance_spread"] = {0.0, spreads(r).first, 0.0, first_order(p)};
@@ -227,7 +242,7 @@ Outcome run_actuated(const Params& p, DiskEngine& e) {
   const DiskProblem pb = problem(p, m);
   const DiskRun r = run_checked(e, setup_from(p), pb);
   const disks::LiftResult ref = analytic(pb, setup_from(p));
-  return disk_outcome(p, r, ref, ref.t_contact_s);
+  return disk_outcome(p, pb, r, ref, ref.t_contact_s);
 }
 
 Outcome run_repel(const Params& p, DiskEngine& e) {
@@ -239,7 +254,7 @@ Outcome run_repel(const Params& p, DiskEngine& e) {
   const double d0 = (p.vec("cM") - p.vec("cN")).norm(), T = p.num("T");
   const std::optional<double> touch = disks::repel_touch_time(d0, m.lambda);  // Lemma 5.1
   const std::optional<double> t = touch && *touch <= T ? touch : std::nullopt;
-  Outcome o = disk_outcome(p, r, analytic(pb, setup_from(p)), t);
+  Outcome o = disk_outcome(p, pb, r, analytic(pb, setup_from(p)), t);
   if (!t && !r.t_contact_s) o.values["final_distance"] = {disks::repel_distance(d0, m.lambda, T), final_distance(r), 0.0, first_order(p)};
   o.values["direction_change"] = {0.0, spreads(r, t.value_or(T)).second, 0.0, first_order(p)};
   return o;
@@ -258,7 +273,7 @@ Outcome run_orbit(const Params& p, DiskEngine& e) {
     const Vec2 a = r.trace[i - 1].cM - r.trace[i - 1].cN, b = r.trace[i].cM - r.trace[i].cN;
     turned += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
   }
-  Outcome o = disk_outcome(p, r, analytic(pb, setup_from(p)), std::nullopt);  // the distance is constant
+  Outcome o = disk_outcome(p, pb, r, analytic(pb, setup_from(p)), std::nullopt);  // the distance is constant
   o.values["distance_spread"] = {0.0, spreads(r).first, 0.0, first_order(p)};
   o.values["turned_angle"] = {m.omega * T, turned, 0.0, first_order(p)};
   return o;
@@ -281,7 +296,7 @@ Outcome run_linear(const Params& p, DiskEngine& e) {
   const auto closed = [&](double t) { return disks::linear_cM(m.a, m.b, cM0, cN0, pb.path.position(t)); };
   const auto t = first_contact([&](double s) { return Vec2(closed(s) - pb.path.position(s)); }, pb.T_s);
   // The engine's path is compared with the closed form (43) itself.
-  Outcome o = disk_outcome(p, r, analytic(pb, setup_from(p)), t, closed);
+  Outcome o = disk_outcome(p, pb, r, analytic(pb, setup_from(p)), t, closed);
   if (!t && !r.t_contact_s) {
     o.values["cM_end_error"] = {0.0, (r.trace.back().cM - closed(r.trace.back().t_s)).norm(), 0.0, first_order(p)};
     o.values["final_distance"] = {(closed(pb.T_s) - pb.path.position(pb.T_s)).norm(), final_distance(r), 0.0, first_order(p)};
@@ -309,7 +324,7 @@ Outcome run_forced(const Params& p, DiskEngine& e) {
   const DiskProblem pb{disks::rule_of(m), path, cM0, p.num("T")};
   const DiskRun r = run_checked(e, setup_from(p), pb);
   double t = disks::forced_contact_time(m.a, m.b, cM0, cN0, speed);
-  Outcome o = disk_outcome(p, r, analytic(pb, setup_from(p)), t <= p.num("T") ? std::optional<double>(t) : std::nullopt);
+  Outcome o = disk_outcome(p, pb, r, analytic(pb, setup_from(p)), t <= p.num("T") ? std::optional<double>(t) : std::nullopt);
   if (r.t_contact_s) {  // Lemma 6.1: at contact N is on the boundary of D
     const Vec2 cN = path.position(*r.t_contact_s);
     o.values["contact_on_D"] = {disks::collision_radius(m.a, m.b), (cN - path.goal).norm(), 0.0, p.num("dt") * speed};
@@ -328,7 +343,7 @@ Outcome run_moving_away(const Params& p, DiskEngine& e) {
   const disks::LiftResult ref = analytic(pb, setup_from(p));
   disks::Mechanism base = linear_from(p);
   const disks::LiftResult without = disks::lift(base, pb.path, pb.cM0, pb.T_s);
-  Outcome o = disk_outcome(p, r, ref, ref.t_contact_s);
+  Outcome o = disk_outcome(p, pb, r, ref, ref.t_contact_s);
   o.details["base_mechanism_t_contact_s"] = without.t_contact_s ? nlohmann::json(*without.t_contact_s) : nlohmann::json();
   return o;
 }
@@ -348,7 +363,7 @@ Outcome run_extended(const Params& p, DiskEngine& e) {
   const DiskProblem pb{disks::rule_following(q, T), path, cM0, T};
   const DiskRun r = run_checked(e, setup_from(p), pb);
   const disks::LiftResult ref = analytic(pb, setup_from(p));
-  Outcome o = disk_outcome(p, r, ref, std::nullopt);  // the plan keeps the clearance in N's frame
+  Outcome o = disk_outcome(p, pb, r, ref, std::nullopt);  // the plan keeps the clearance in N's frame
   o.values["end_error"] = {0.0, (r.trace.back().cM - L(cM1, T)).norm(), 0.0, first_order(p)};  // (11): ends at L(e', gamma)(1)  // (11): ends at L(e', gamma)(1)
   return o;
 }
@@ -369,7 +384,7 @@ Outcome run_target(const Params& p, DiskEngine& e) {
   const DiskProblem pb{disks::rule_following(q, T), path, cM0, T};
   const DiskRun r = run_checked(e, setup_from(p), pb);
   const disks::LiftResult ref = analytic(pb, setup_from(p));
-  Outcome o = disk_outcome(p, r, ref, std::nullopt);
+  Outcome o = disk_outcome(p, pb, r, ref, std::nullopt);
   o.values["end_error"] = {0.0, (r.trace.back().cM - target(T)).norm(), 0.0, first_order(p)};
   return o;
 }
@@ -393,9 +408,10 @@ std::vector<Scenario> disk_scenarios() {
        "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact"},
       {"contact_report_gap", "m", TolKind::kAbsolute, {{"default", 1e-9}},
        "how far apart the disks were on the state where the engine first reported contact"},
-      abs_("penetration_max", "m", 0.0, 2.5e-3, "largest overlap 2 - |c_M - c_N| after the first contact (the contact response bounds it)"),
+      // Contact is first seen up to one step of closing travel deep; a Baumgarte-stabilised response
+      // (ERP 0.2) holds a sustained push at up to 1 / ERP = 5 such steps.
+      abs_("penetration_max", "m", 0.0, 5.0, "largest overlap 2 - |c_M - c_N| after the first contact; tolerance in steps of closing travel at the lift's closing speed"),
       min_d, final_d};
-  // Engines' penetration: one step of closing at up to 2.5 m/s before the first contact is seen.
   const auto metrics = [&](std::vector<MetricDef> extra, double analytic_path_tol = 1e-8) {
     std::vector<MetricDef> all = common;
     for (auto& m : all)

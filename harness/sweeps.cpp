@@ -143,7 +143,8 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
   nlohmann::json per_engine = nlohmann::json::array();
   for (const EngineInfo* e : engines) {
     if (!e->make_disks) continue;
-    int tp = 0, tn = 0, fp = 0, fn = 0, near = 0, unexplained = 0, errors = 0;
+    int tp = 0, tn = 0, fp = 0, fn = 0, near = 0, unexplained = 0, errors = 0, failing = 0;
+    std::vector<std::string> failing_cases;
     double worst_steps = 0.0;
     nlohmann::json rows = nlohmann::json::array();
     for (const Case& c : cases) {
@@ -157,6 +158,11 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
       }
       const auto& d = rec["details"];
       const bool hit = d["t_contact_measured_s"].is_number();
+      if (rec["status"] != "pass") {
+        ++failing;
+        if (failing_cases.size() < 5)
+          failing_cases.push_back(fmt::format("a={} b={} {}: {}", c.a, c.b, c.path, rec["message"].get<std::string>()));
+      }
       const bool is_near = std::abs(c.min_d - 2.0) < near_m;
       (c.collision ? (hit ? tp : fn) : (hit ? fp : tn)) += 1;
       near += is_near ? 1 : 0;
@@ -174,9 +180,10 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
     nlohmann::json problems = nlohmann::json::array();
     if (unexplained > 0) problems.push_back(fmt::format("{} disagreements with the analytic outcome away from the boundary", unexplained));
     if (errors > 0) problems.push_back(fmt::format("{} error runs", errors));
+    if (failing > 0) problems.push_back(fmt::format("{} runs out of tolerance ({})", failing, fmt::join(failing_cases, "; ")));
     per_engine.push_back({{"engine", e->name},
                           {"confusion", {{"both_collide", tp}, {"neither", tn}, {"engine_only", fp}, {"analytic_only", fn}}},
-                          {"errors", errors}, {"near_boundary_cases", near}, {"unexplained_disagreements", unexplained},
+                          {"errors", errors}, {"runs_out_of_tolerance", failing}, {"near_boundary_cases", near}, {"unexplained_disagreements", unexplained},
                           {"worst_t_error_steps", worst_steps}, {"cases", rows},
                           {"gate", {{"pass", problems.empty()}, {"problems", problems}}}});
   }

@@ -112,7 +112,7 @@ LiftResult lift_with(Stepper stepper, const Rule& rule, const NPath& path, const
     r.trace.push_back({t, Vec2(x[0], x[1]), path.position(t)});
   };
   r.min_distance = (cM0 - path.position(0.0)).norm();
-  if (r.min_distance <= kContactDistance) r.t_contact_s = 0.0;  // touching (or overlapping) from the start
+  if (r.min_distance <= kContactDistance) r.t_contact_s = 0.0, r.cM_contact = cM0;  // touching (or overlapping) from the start
   r.trace.push_back({0.0, cM0, path.position(0.0)});
   long next_sample = 1;
   while (stepper.current_time() < T_s) {
@@ -131,6 +131,9 @@ LiftResult lift_with(Stepper stepper, const Rule& rule, const NPath& path, const
         const auto [lo, up] = boost::math::tools::toms748_solve(f, ta, tb, da - kContactDistance, db - kContactDistance,
                                                                 boost::math::tools::eps_tolerance<double>(52), iters);
         r.t_contact_s = 0.5 * (lo + up);
+        State x;
+        stepper.calc_state(*r.t_contact_s, x);
+        r.cM_contact = Vec2(x[0], x[1]);
       }
     }
     // The step's minimum: Brent's method on the dense output around the lowest probe.

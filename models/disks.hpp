@@ -84,6 +84,7 @@ struct LiftResult {
   double min_distance = 0.0;
   double final_distance = 0.0;
   Vec2 cM_end;
+  Vec2 cM_contact = Vec2::Constant(NAN);  ///< M at the first contact (when there is one)
   std::vector<Sample> trace;
 };
 
