@@ -1,0 +1,196 @@
+// The tricycle in ODE as a class, for the engine registry and for tests that derive from it
+// (tests/faults). See ode_car.cpp for the model.
+#pragma once
+
+#include <ode/ode.h>
+
+#include <array>
+#include <cmath>
+
+#include "engines/ode/ode_car.hpp"
+#include "engines/rigid_car.hpp"
+
+namespace liftcheck {
+
+class OdeCar : public RigidCar {
+ public:
+  using RigidCar::RigidCar;
+  ~OdeCar() override { destroy(); }
+
+ protected:
+  void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
+    init_ode();
+    destroy();
+    world_ = dWorldCreate();
+    space_ = dSimpleSpaceCreate(nullptr);
+    contacts_ = dJointGroupCreate(0);
+    dWorldSetGravity(world_, 0, 0, -setup.gravity_mps2);
+    dWorldSetERP(world_, 0.2);
+    dWorldSetCFM(world_, 1e-10);
+    ground_ = dCreatePlane(space_, 0, 0, 1, 0);
+
+    const double c = std::cos(q0.phi_rad), s = std::sin(q0.phi_rad);
+    const auto to_world = [&](double bx, double by, double bz) {
+      return std::array<double, 3>{q0.x_m + c * bx - s * by, q0.y_m + s * bx + c * by, bz};
+    };
+    dMatrix3 R_chassis;
+    dRFromAxisAndAngle(R_chassis, 0, 0, 1, q0.phi_rad);
+
+    // Chassis: a box from the rear axle to the front axle, at axle height.
+    chassis_ = dBodyCreate(world_);
+    dMass m;
+    dMassSetBoxTotal(&m, d.chassis_mass_kg, d.l_m, d.track_m, d.chassis_height_m);
+    dBodySetMass(chassis_, &m);
+    const auto cc = to_world(-0.5 * d.l_m, 0.0, d.R_m);
+    // ODE puts the centre of mass at the body origin: the chassis origin is the box centre.
+    dBodySetPosition(chassis_, cc[0], cc[1], cc[2]);
+    dBodySetRotation(chassis_, R_chassis);
+
+    const auto make_wheel = [&](const std::array<double, 3>& p, double yaw) {
+      dBodyID b = dBodyCreate(world_);
+      dMass wm;
+      dGeomID g;
+      dMatrix3 Rw;
+      if (setting("wheel") == "cylinder") {
+        dMassSetCylinderTotal(&wm, d.wheel_mass_kg, 3, d.R_m, d.wheel_width_m);  // along local z
+        g = dCreateCylinder(space_, d.R_m, d.wheel_width_m);
+        // Local z along the axle: rotate +90 deg about x (z -> -y), then yaw.
+        dMatrix3 Rx, Rz;
+        dRFromAxisAndAngle(Rx, 1, 0, 0, M_PI / 2);
+        dRFromAxisAndAngle(Rz, 0, 0, 1, yaw);
+        dMultiply0(Rw, Rz, Rx, 3, 3, 3);
+      } else {
+        dMassSetSphereTotal(&wm, d.wheel_mass_kg, d.R_m);
+        g = dCreateSphere(space_, d.R_m);
+        dRFromAxisAndAngle(Rw, 0, 0, 1, yaw);
+      }
+      dBodySetMass(b, &wm);
+      dBodySetPosition(b, p[0], p[1], p[2]);
+      dBodySetRotation(b, Rw);
+      dGeomSetBody(g, b);
+      return b;
+    };
+    const double steer_yaw = q0.phi_rad + q0.beta_rad;
+    front_ = make_wheel(to_world(0.0, 0.0, d.R_m), steer_yaw);
+    rear_[0] = make_wheel(to_world(-d.l_m, 0.5 * d.track_m, d.R_m), q0.phi_rad);
+    rear_[1] = make_wheel(to_world(-d.l_m, -0.5 * d.track_m, d.R_m), q0.phi_rad);
+
+    // Front: hinge-2, axis 1 vertical (steering), axis 2 the axle (left of the wheel).
+    steer_joint_ = dJointCreateHinge2(world_, nullptr);
+    dJointAttach(steer_joint_, chassis_, front_);
+    const auto fa = to_world(0.0, 0.0, d.R_m);
+    dJointSetHinge2Anchor(steer_joint_, fa[0], fa[1], fa[2]);
+    const dReal z_axis[3] = {0, 0, 1};
+    const dReal axle[3] = {-std::sin(steer_yaw), std::cos(steer_yaw), 0};
+    dJointSetHinge2Axes(steer_joint_, z_axis, axle);
+    dJointSetHinge2Param(steer_joint_, dParamSuspensionERP, 0.2);
+    dJointSetHinge2Param(steer_joint_, dParamSuspensionCFM, 1e-10);  // rigid: no suspension
+    beta0_ = q0.beta_rad;
+
+    // Rear: plain hinges about the rear axle.
+    for (int i = 0; i < 2; ++i) {
+      rear_joint_[i] = dJointCreateHinge(world_, nullptr);
+      dJointAttach(rear_joint_[i], chassis_, rear_[i]);
+      const dReal* p = dBodyGetPosition(rear_[i]);
+      dJointSetHingeAnchor(rear_joint_[i], p[0], p[1], p[2]);
+      dJointSetHingeAxis(rear_joint_[i], -s, c, 0);
+    }
+    mu_ = setup.mu;
+    wheel_dirs_ = setting("friction_dirs") == "wheel";
+  }
+
+  void actuate(double spin_radps, double steer_radps, const ServoDef& servo) override {
+    // Body 1 relative to body 2: both rates are negated.
+    dJointSetHinge2Param(steer_joint_, dParamVel, -steer_radps);
+    dJointSetHinge2Param(steer_joint_, dParamFMax, servo.steer_torque_max_Nm);
+    dJointSetHinge2Param(steer_joint_, dParamVel2, -spin_radps);
+    dJointSetHinge2Param(steer_joint_, dParamFMax2, servo.spin_torque_max_Nm);
+  }
+
+  void step(double dt_s) override {
+    dSpaceCollide(space_, this, &OdeCar::near_callback);
+    dWorldStep(world_, dt_s);
+    dJointGroupEmpty(contacts_);
+  }
+
+  RigidCarState read() const override {
+    const dReal* p = dBodyGetPosition(front_);
+    const dReal* Rc = dBodyGetRotation(chassis_);  // row-major 3x4
+    RigidCarState s{};
+    s.spin_joint_rad = dJointGetHinge2Angle2(steer_joint_);
+    s.steer_rad = beta0_ - dJointGetHinge2Angle1(steer_joint_);
+    s.x_m = p[0];
+    s.y_m = p[1];
+    s.z_m = p[2];
+    s.phi_rad = std::atan2(Rc[4], Rc[0]);  // chassis x axis in the world: (R00, R10)
+    s.rear_z_m = std::min(dBodyGetPosition(rear_[0])[2], dBodyGetPosition(rear_[1])[2]);
+    const dBodyID bodies[3] = {front_, rear_[0], rear_[1]};
+    for (int w = 0; w < 3; ++w) {
+      const dReal* v = dBodyGetLinearVel(bodies[w]);
+      const dReal* o = dBodyGetAngularVel(bodies[w]);
+      dVector3 axle;
+      if (w == 0) dJointGetHinge2Axis2(steer_joint_, axle);
+      else dJointGetHingeAxis(rear_joint_[w - 1], axle);
+      s.wheels[w] = {{v[0], v[1], v[2]}, {o[0], o[1], o[2]}, {axle[0], axle[1], axle[2]}, dBodyGetPosition(bodies[w])[2]};
+    }
+    return s;
+  }
+
+ protected:
+  /// Last word on a wheel-ground contact before its joint is made (the fault-injection suite
+  /// changes the friction model here); liftcheck's model leaves it as built.
+  virtual void contact_surface(dContact&, dBodyID /*wheel*/) const {}
+
+ private:
+  static void near_callback(void* data, dGeomID o1, dGeomID o2) {
+    auto* self = static_cast<OdeCar*>(data);
+    if ((o1 == self->ground_) == (o2 == self->ground_)) return;  // only wheel against ground
+    const dGeomID wheel = o1 == self->ground_ ? o2 : o1;
+    dBodyID body = dGeomGetBody(wheel);
+    // Rolling direction: the axle (the hinge axis) turned a quarter about the up axis.
+    dVector3 axle;
+    if (body == self->front_) dJointGetHinge2Axis2(self->steer_joint_, axle);
+    else dJointGetHingeAxis(self->rear_joint_[body == self->rear_[0] ? 0 : 1], axle);
+    dContact contact[4];
+    const int n = dCollide(o1, o2, 4, &contact[0].geom, sizeof(dContact));
+    for (int i = 0; i < n; ++i) {
+      dSurfaceParameters& sp = contact[i].surface;
+      sp.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
+      sp.mu = self->mu_;
+      sp.soft_erp = 0.2;
+      sp.soft_cfm = 1e-9;
+      if (self->wheel_dirs_) {
+        sp.mode |= dContactFDir1;
+        const double nx = axle[1], ny = -axle[0];  // axle x up: forward for a left-pointing axle
+        const double len = std::hypot(nx, ny);
+        contact[i].fdir1[0] = nx / len;
+        contact[i].fdir1[1] = ny / len;
+        contact[i].fdir1[2] = 0.0;
+      }
+      self->contact_surface(contact[i], body);
+      dJointID j = dJointCreateContact(self->world_, self->contacts_, &contact[i]);
+      dJointAttach(j, dGeomGetBody(contact[i].geom.g1), dGeomGetBody(contact[i].geom.g2));
+    }
+  }
+
+  void destroy() {
+    if (contacts_) dJointGroupDestroy(contacts_);
+    if (space_) dSpaceDestroy(space_);  // destroys its geoms
+    if (world_) dWorldDestroy(world_);  // destroys bodies and joints
+    contacts_ = nullptr;
+    space_ = nullptr;
+    world_ = nullptr;
+  }
+
+  dWorldID world_ = nullptr;
+  dSpaceID space_ = nullptr;
+  dJointGroupID contacts_ = nullptr;
+  dGeomID ground_ = nullptr;
+  dBodyID chassis_ = nullptr, front_ = nullptr, rear_[2] = {nullptr, nullptr};
+  dJointID steer_joint_ = nullptr, rear_joint_[2] = {nullptr, nullptr};
+  double beta0_ = 0.0, mu_ = 1.0;
+  bool wheel_dirs_ = true;
+};
+
+
+}  // namespace liftcheck

@@ -1,0 +1,227 @@
+// The fault-injection suite: engines broken on purpose, each of which the validation must flag.
+// Every fault is run through the whole default catalogue exactly as `validate` runs an engine;
+// it must leave at least one run not as expected, and the test names the metric built to catch it.
+// A fault that slips through is a hole in the scenarios, to be closed there, not here.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <deque>
+
+#include "engines/driven_disks.hpp"
+#include "engines/ode/ode_car_model.hpp"
+#include "engines/ode/ode_disks.hpp"
+#include "harness/runner.hpp"
+
+using namespace liftcheck;
+
+namespace {
+
+// ---- disk faults ---------------------------------------------------------------------------
+
+/// No physics at all: positions are placed from outside (M moved by its command times dt, N put
+/// on its path), contact when the centres are within 2, and no contact response.
+class NoPhysicsDisks final : public DrivenDisks {
+ protected:
+  void build(const DiskSetup&, const disks::Vec2& cM0, const disks::Vec2& cN0) override { s_ = {cM0, cN0}; }
+  StepContacts step(const disks::Vec2& vM, const disks::Vec2& cN_next, const disks::Vec2&, double dt) override {
+    StepContacts c;
+    const double d = (s_.cM - s_.cN).norm();
+    if (d <= 2.0) c = {1, 2.0 - d};
+    s_.cM += vM * dt;
+    s_.cN = cN_next;
+    return c;
+  }
+  State read() const override { return s_; }
+
+ private:
+  State s_;
+};
+
+/// ODE whose contact report reaches the caller one step late (the physics is untouched).
+class LateContactDisks final : public OdeDisks {
+ protected:
+  StepContacts step(const disks::Vec2& vM, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt) override {
+    const StepContacts now = OdeDisks::step(vM, cN_next, vN, dt);
+    const StepContacts late = previous_;
+    previous_ = now;
+    return late;
+  }
+
+ private:
+  StepContacts previous_;
+};
+
+/// ODE with a 2 cm collision margin: each sphere's collision shape is 1 cm larger than the disk.
+class MarginDisks final : public OdeDisks {
+ protected:
+  void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
+    DiskSetup wide = setup;
+    wide.radius_m += 0.01;
+    OdeDisks::build(wide, cM0, cN0);
+  }
+};
+
+// ---- car faults ----------------------------------------------------------------------------
+
+Settings ode_defaults() { return find_engine("ode")->defaults("car"); }
+
+/// Wheels that slip 1% along the rolling direction: the contact's surface moves along the first
+/// friction direction at 1% of the wheel's ground speed (dContactMotion1).
+class SlippingCar final : public OdeCar {
+ public:
+  SlippingCar() : OdeCar(ode_defaults()) {}
+
+ protected:
+  void contact_surface(dContact& c, dBodyID wheel) const override {
+    const dReal* v = dBodyGetLinearVel(wheel);
+    c.surface.mode |= dContactMotion1;
+    c.surface.motion1 = 0.01 * (v[0] * c.fdir1[0] + v[1] * c.fdir1[1]);
+  }
+};
+
+/// Lateral grip that leaks: force-dependent slip across the rolling direction (dContactSlip2,
+/// 1 mm/s per newton).
+class LeakyCar final : public OdeCar {
+ public:
+  LeakyCar() : OdeCar(ode_defaults()) {}
+
+ protected:
+  void contact_surface(dContact& c, dBodyID) const override {
+    c.surface.mode |= dContactSlip2;
+    c.surface.slip2 = 1e-3;
+  }
+};
+
+/// Friction fixed to the world axes (ODE's default pyramid axes instead of the wheel's).
+std::unique_ptr<CarEngine> world_friction_car() {
+  Settings s = ode_defaults();
+  s["friction_dirs"] = "world";
+  return std::make_unique<OdeCar>(s);
+}
+
+/// A heading that lags half a step: each reported heading is the mean of this step's and the last.
+class LaggingCar final : public OdeCar {
+ public:
+  LaggingCar() : OdeCar(ode_defaults()) {}
+
+ protected:
+  RigidCarState read() const override {
+    RigidCarState s = OdeCar::read();
+    const double now = s.phi_rad;
+    if (has_previous_) s.phi_rad = now + 0.5 * std::remainder(previous_phi_ - now, 2.0 * M_PI);
+    previous_phi_ = now;
+    has_previous_ = true;
+    return s;
+  }
+
+ private:
+  mutable double previous_phi_ = 0.0;
+  mutable bool has_previous_ = false;
+};
+
+EngineInfo disk_fault(const std::string& name, std::function<std::unique_ptr<DiskEngine>()> make) {
+  EngineInfo e;
+  e.name = name;
+  e.version = "0";
+  e.description = "fault injection";
+  e.make_disks = [make](const Settings&) { return make(); };
+  e.contact_dynamics = true;
+  return e;
+}
+
+EngineInfo car_fault(const std::string& name, std::function<std::unique_ptr<CarEngine>()> make) {
+  EngineInfo e;
+  e.name = name;
+  e.version = "0";
+  e.description = "fault injection";
+  e.make_car = [make](const Settings&) { return make(); };
+  e.contact_dynamics = true;
+  return e;
+}
+
+/// Every scenario of the catalogue at its defaults, as `validate` runs them.
+std::vector<RunRecord> validate(const EngineInfo& e) {
+  std::vector<RunRecord> runs;
+  for (const Scenario& s : scenarios()) runs.push_back(run_scenario(s, e));
+  return runs;
+}
+
+/// The runs not as expected, and whether `metric` failed in `scenario`.
+struct Verdict {
+  int unexpected = 0;
+  bool metric_failed = false;
+  std::string summary;
+};
+
+Verdict judge(const EngineInfo& e, const std::string& scenario, const std::string& metric) {
+  Verdict v;
+  for (const RunRecord& r : validate(e)) {
+    if (r.status == Status::kSkip) continue;
+    if (!r.as_expected()) {
+      ++v.unexpected;
+      v.summary += r.scenario + ": " + r.message + "\n";
+    }
+    if (r.scenario == scenario)
+      for (const Metric& m : r.metrics)
+        if (m.name == metric && !m.pass) v.metric_failed = true;
+  }
+  return v;
+}
+
+}  // namespace
+
+TEST(Faults, DiskEngineWithoutPhysics) {
+  const Verdict v = judge(disk_fault("no-physics", [] { return std::make_unique<NoPhysicsDisks>(); }), "disks.repel", "penetration_max");
+  EXPECT_GT(v.unexpected, 0);
+  EXPECT_TRUE(v.metric_failed) << v.summary;
+  // Every disk scenario in which the disks meet must fail it (without contact, an engine that
+  // realises the commanded velocity exactly is indistinguishable from placing M by hand).
+  for (const char* name : {"disks.repel", "disks.linear", "disks.forced"}) {
+    const RunRecord r = run_scenario(*find_scenario(name), disk_fault("no-physics", [] { return std::make_unique<NoPhysicsDisks>(); }));
+    EXPECT_EQ(r.status, Status::kFail) << name << ": " << r.message;
+  }
+}
+
+TEST(Faults, DiskContactReportedOneStepLate) {
+  const Verdict v = judge(disk_fault("late-contact", [] { return std::make_unique<LateContactDisks>(); }), "disks.repel", "contact_missed");
+  EXPECT_GT(v.unexpected, 0);
+  EXPECT_TRUE(v.metric_failed) << v.summary;
+}
+
+TEST(Faults, DiskCollisionMarginOf2cm) {
+  const Verdict v = judge(disk_fault("margin", [] { return std::make_unique<MarginDisks>(); }), "disks.repel", "contact_report_gap");
+  EXPECT_GT(v.unexpected, 0);
+  EXPECT_TRUE(v.metric_failed) << v.summary;
+}
+
+TEST(Faults, WheelsSlipOnePercentAlongTheRollingDirection) {
+  const Verdict v = judge(car_fault("slip-1pct", [] { return std::make_unique<SlippingCar>(); }), "car.circle", "slip_along_max");
+  EXPECT_GT(v.unexpected, 0);
+  EXPECT_TRUE(v.metric_failed) << v.summary;
+}
+
+TEST(Faults, LateralGripLeaks) {
+  const Verdict v = judge(car_fault("leaky-grip", [] { return std::make_unique<LeakyCar>(); }), "car.circle", "slip_across_max");
+  EXPECT_GT(v.unexpected, 0);
+  EXPECT_TRUE(v.metric_failed) << v.summary;
+}
+
+TEST(Faults, FrictionFixedToWorldAxes) {
+  const Verdict v = judge(car_fault("world-friction", world_friction_car), "car.covariance", "spread_xy");
+  EXPECT_GT(v.unexpected, 0);
+  EXPECT_TRUE(v.metric_failed) << v.summary;
+}
+
+TEST(Faults, HeadingLagsHalfAStep) {
+  const Verdict v = judge(car_fault("heading-lag", [] { return std::make_unique<LaggingCar>(); }), "car.circle", "heading_residual");
+  EXPECT_GT(v.unexpected, 0);
+  EXPECT_TRUE(v.metric_failed) << v.summary;
+}
+
+// The unbroken engine passes the same judgement: the faults, not the suite, are what fail.
+TEST(Faults, TheUnbrokenEnginePasses) {
+  const Verdict disks = judge(disk_fault("ode-disks", [] { return std::make_unique<OdeDisks>(); }), "disks.repel", "penetration_max");
+  EXPECT_EQ(disks.unexpected, 0) << disks.summary;
+  const Verdict car = judge(car_fault("ode-car", [] { return std::make_unique<OdeCar>(ode_defaults()); }), "car.circle", "heading_residual");
+  EXPECT_EQ(car.unexpected, 0) << car.summary;
+}
