@@ -276,6 +276,9 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   const double size = rod_shift(setup.car, q0, end_exact);
   const Config lo_end = Config::from(q0.vec() + predicted);
   const double lo_size = rod_shift(setup.car, q0, lo_end);
+  // The bracket expansion is in eps R / l (the heading a wheel turn of eps swings the rod by), so
+  // its relative error is of that order when R > l.
+  lo_factor *= std::max(1.0, setup.car.R_m / setup.car.l_m);
   Outcome o;
   o.values["dx"] = {exact[car::kX], d[car::kX], size};
   o.values["dy"] = {exact[car::kY], d[car::kY], size};
@@ -393,10 +396,12 @@ const MetricDef SLIP_RMS = abs_("slip_rms", "m/s", 0.0, 1e-4, "RMS contact-point
 
 std::vector<MetricDef> cycle_metrics() {
   const std::string size = ", relative to the size of the holonomy (rms shift of the rod's ends)";
-  // The analytic engine integrates (4.1) at 1e-13 while the exact holonomy composes closed-form
-  // flows: at eps = 0.05 the iterated holonomy is 1e-9 m and round-off 3e-15 m, hence the floor.
+  // The analytic engine integrates (4.1) at 1e-13 per step while the exact holonomy composes
+  // closed-form flows: over a cycle's profile kinks the integration leaves up to ~1e-11 m (measured
+  // at accel = 100 m/s^2 and at speed = 1 mm/s), which is all of a 1e-9 m holonomy's relative
+  // budget at eps = 0.05. Hence an absolute floor for the analytic engine.
   const auto floored = [](MetricDef m) {
-    m.floor = {{"analytic", 1e-13}};
+    m.floor = {{"analytic", 5e-11}};
     return m;
   };
   return {SLIP_ALONG, SLIP_ACROSS, SLIP_RMS,
@@ -419,7 +424,7 @@ std::vector<Scenario> car_scenarios() {
                "Fixed steering: the front-axle centre draws a circle of radius l/sin(beta0), the rear-axle "
                "centre one of radius l/tan(beta0), about the same centre.",
                "(4.1), (D.1), appendix D",
-               with(car_params("0.3"), {number("drive", "10", "m", "front-wheel path length", 0.0, true, 1e4)}),
+               with(car_params("0.3"), {number("drive", "10", "m", "front-wheel path length (enough arc to fit a circle)", 1.0, false, 1e4)}),
                {rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path"),
                 rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path"),
                 abs_("center_x", "m", 1e-9, 1e-3, "fitted circle centre, world x"),
@@ -464,7 +469,7 @@ std::vector<Scenario> car_scenarios() {
                with(car_params("0.1"), {number("factor", "4", "1", "speed factor f", 1.0, true, 100.0)}),
                {abs_("end_spread", "m", 1e-9, 1e-3, "largest distance between the end positions of the runs"),
                 abs_("heading_spread", "rad", 1e-9, 1e-3, "largest difference between the end headings"),
-                abs_("end_error", "m", 1e-9, 1e-3, "end position at the middle speed against the reference lift")},
+                abs_("end_error", "m", 1e-7, 1e-3, "end position at the middle speed against the reference lift (Bulirsch-Stoer; the analytic engine runs dopri5, both at 1e-13 per step; they differ by up to 1.2e-8 m across the steering kinks)")},
                run_reparam});
   {
     auto params = with(car_params("0.3"), {number("drive", "2", "m", "arc length before the cycle", 0.0, true, 1e3),

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <cstdint>
 #include <stdexcept>
+#include <string>
 
 namespace liftcheck::disks {
 
@@ -114,8 +115,11 @@ LiftResult lift_with(Stepper stepper, const Rule& rule, const NPath& path, const
   r.min_distance = (cM0 - path.position(0.0)).norm();
   if (r.min_distance <= kContactDistance) r.t_contact_s = 0.0, r.cM_contact = cM0;  // touching (or overlapping) from the start
   r.trace.push_back({0.0, cM0, path.position(0.0)});
-  long next_sample = 1;
+  long next_sample = 1, steps = 0;
   while (stepper.current_time() < T_s) {
+    if (++steps > def.max_steps)
+      throw LiftStalled("the lift (21) stalled at t = " + std::to_string(stepper.current_time()) +
+                        " s: M's rule is discontinuous in time there");
     const auto [t0, t1] = stepper.do_step(rhs);
     const double hi = std::min(t1, T_s);
     // Probe the step: bracket the first crossing of d = 2 and the lowest point of d.

@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 #include <functional>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -75,6 +76,13 @@ struct LiftDef {
   /// and an unbounded step would jump over N's whole approach.
   double max_step_s = 0.01;
   double sample_dt_s = 0.02;
+  long max_steps = 200000;  ///< LiftStalled past this (a smooth 10 s problem takes ~1000)
+};
+
+/// The lift needed more steps than LiftDef::max_steps: the rule is discontinuous in time (a
+/// planner switching sides around N, say), and an error-controlled integrator would crawl.
+struct LiftStalled : std::runtime_error {
+  using std::runtime_error::runtime_error;
 };
 
 struct LiftResult {
