@@ -2,8 +2,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fmt/format.h>
 
 #include "harness/runner.hpp"
+#include "harness/sweeps.hpp"
 #include "models/holonomy.hpp"
 
 using namespace liftcheck;
@@ -107,4 +109,68 @@ TEST(Runner, RecordsAreDeterministic) {
   const auto b = run_scenario(*find_scenario("car.iterated"), *find_engine("analytic")).to_json();
   EXPECT_EQ(a["metrics"], b["metrics"]);
   EXPECT_EQ(a["details"], b["details"]);
+}
+
+// The reference passes every scenario at every parameter value its ranges allow: each numeric
+// parameter at the ends of its range (durations capped for time), one at a time. A value the
+// scenario rejects as non-physical or ill-posed is an InputError; anything else must pass.
+TEST(Runner, AnalyticPassesAcrossParameterRanges) {
+  const EngineInfo& analytic = *find_engine("analytic");
+  int runs = 0;
+  for (const Scenario& s : scenarios()) {
+    if (s.needs_contact_dynamics) continue;
+    for (const ParamSpec& p : s.params) {
+      if (p.kind != ParamKind::kNumber && p.kind != ParamKind::kInteger) continue;
+      const double def = std::stod(p.default_text);
+      std::vector<double> values;
+      values.push_back(std::isfinite(p.min) ? (p.min_exclusive ? p.min + (p.min == 0.0 ? 1e-3 : std::abs(p.min) * 1e-3) : p.min) : def - 3.0);
+      values.push_back(std::isfinite(p.max) ? (p.key == "drive" || p.key == "T" ? std::min(p.max, 15.0) : p.max) : def + 3.0);
+      for (double v : values) {
+        if (p.kind == ParamKind::kInteger) v = std::round(v);
+        const std::string text = fmt::format("{}", v);
+        try {
+          const RunRecord r = run_scenario(s, analytic, {{p.key, text}});
+          ++runs;
+          EXPECT_EQ(r.status, Status::kPass) << s.name << " " << p.key << "=" << text << ": " << r.message;
+        } catch (const InputError&) {
+        }
+      }
+    }
+  }
+  EXPECT_GT(runs, 150);
+}
+
+// Sweeps are a gate: an unlisted failing point, a listed known failure that passes, an error
+// point and a slope outside its band each fail it; listed failures that fail pass it.
+TEST(Sweeps, GateNamesEveryProblem) {
+  SweepDef sw;
+  sw.name = "error_vs_speed";
+  sw.param = "speed";
+  nlohmann::json entry{{"engine", "ode"},
+                       {"points", {{{"x", 0.5}, {"status", "pass"}, {"message", ""}},
+                                   {{"x", 3.5}, {"status", "fail"}, {"message", "out of tolerance: front_radius"}}}}};
+  ASSERT_FALSE(known_sweep_failures().empty());
+  EXPECT_TRUE(gate_sweep_entry(sw, entry)) << entry["gate"].dump();  // 3.5 m/s on ode is a listed failure
+  EXPECT_EQ(entry["gate"]["points_known_failure"], 1);
+  entry["points"][1]["status"] = "pass";
+  EXPECT_FALSE(gate_sweep_entry(sw, entry));  // listed, but passes: the file is no longer true
+  entry["points"][1]["status"] = "error";
+  EXPECT_FALSE(gate_sweep_entry(sw, entry));
+  entry["points"][1]["status"] = "fail";
+  entry["points"][0]["status"] = "fail";
+  EXPECT_FALSE(gate_sweep_entry(sw, entry));  // 0.5 m/s is not listed
+  EXPECT_EQ(entry["gate"]["points_unexpected"], 1);
+
+  SweepDef fit;
+  fit.name = "slope";
+  fit.param = "eps";
+  fit.loglog_fit = true;
+  fit.slope_expected = 2.0;
+  fit.slope_band = 0.05;
+  nlohmann::json good{{"engine", "x"}, {"points", nlohmann::json::array()}, {"fit", {{"slope", 1.98}}}};
+  nlohmann::json bad{{"engine", "x"}, {"points", nlohmann::json::array()}, {"fit", {{"slope", 1.9}}}};
+  nlohmann::json none{{"engine", "x"}, {"points", nlohmann::json::array()}, {"fit", {{"slope", nullptr}}}};
+  EXPECT_TRUE(gate_sweep_entry(fit, good));
+  EXPECT_FALSE(gate_sweep_entry(fit, bad));
+  EXPECT_FALSE(gate_sweep_entry(fit, none));
 }
