@@ -18,6 +18,11 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
   for (const EngineInfo* e : engines) {
     nlohmann::json settings = nlohmann::json::object();
     for (const auto& [k, v] : e->settings) settings[k] = v;
+    // The settings a user may change (--set), with their defaults: part of what the engine is.
+    for (const SettingSpec& k : e->knobs)
+      settings[fmt::format("--set {} ({})", k.key, k.vehicle)] =
+          fmt::format("{}; default {}; {}", k.help, k.default_text,
+                      k.integer ? fmt::format("{} to {}", k.min, k.max) : fmt::format("{}", fmt::join(k.choices, " | ")));
     es.push_back({{"name", e->name}, {"version", e->version}, {"description", e->description},
                   {"contact_dynamics", e->contact_dynamics}, {"settings", settings}});
   }

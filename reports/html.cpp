@@ -229,6 +229,25 @@ std::string index_html(const json& results) {
     if (p["group"] == "sweeps")
       h += fmt::format("<figure class=\"wide\"><img class=\"plot\" src=\"{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>\n",
                        esc(p["file"]), esc(p["caption"]), esc(p["caption"]));
+  // The sweeps' gates: each engine's points pass, fail as listed known failures (with the reason
+  // from the reviewed expectations), or are unexpected; fitted slopes lie in their bands.
+  h += "<h3>Sweep gates</h3>\n<table><tr><th class=\"l\">sweep</th><th class=\"l\">engine</th><th>gate</th><th>points passing</th>"
+       "<th>known failures</th><th>unexpected</th><th>errors</th><th class=\"l\">problems and known failures</th></tr>\n";
+  for (const auto& sw : results.value("sweeps", json::array()))
+    for (const auto& e : sw["engines"]) {
+      const json& g = e["gate"];
+      std::string notes;
+      for (const auto& p : g["problems"]) notes += "<li>" + esc(p) + "</li>";
+      for (const auto& pt : e.value("points", json::array()))
+        if (pt.contains("known_failure"))
+          notes += fmt::format("<li class=\"xfail\">{} = {}: known failure: {}</li>", esc(sw["param"]), pt["x"].dump(), esc(pt["known_failure"]));
+      const bool pass = g["pass"].get<bool>();
+      h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"st {}\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
+                       "<td class=\"l\"><ul>{}</ul></td></tr>\n",
+                       esc(sw["name"]), esc(e["engine"]), pass ? "pass" : "fail", pass ? "pass" : "FAIL", g.value("points_pass", 0),
+                       g.value("points_known_failure", 0), g.value("points_unexpected", 0), g.value("points_error", e.value("errors", 0)), notes);
+    }
+  h += "</table>\n";
   for (const auto& sw : results.value("sweeps", json::array())) {
     if (sw.value("kind", "") == "outcomes") {
       h += "<h3>Collision outcomes against the analytic model</h3>\n<table><tr><th class=\"l\">engine</th><th>both collide</th>"
