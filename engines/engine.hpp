@@ -66,6 +66,9 @@ class CarEngine {
   /// Contact-point slip of every wheel over the last drive (from t = 0 to its end). Empty for a
   /// model whose wheels roll without slipping by construction (the analytic lift).
   virtual std::vector<WheelSlip> slip() const { return {}; }
+  /// False for a model that reports the commanded (alpha, beta) as its realized shape (the
+  /// analytic lift): comparisons of the realized shape with the command are then informational.
+  virtual bool realizes_shape() const { return true; }
 };
 
 /// Two unit disks: N moves along a known path, M's velocity is commanded from a reaction rule.

@@ -283,7 +283,7 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   o.values["dx"] = {exact[car::kX], d[car::kX], size};
   o.values["dy"] = {exact[car::kY], d[car::kY], size};
   o.values["dphi"] = {exact[car::kPhi], d[car::kPhi], size / l};
-  o.values["base_closure"] = {0.0, std::hypot(d[car::kAlpha], d[car::kBeta])};
+  o.values["base_closure"] = {0.0, std::hypot(d[car::kAlpha], d[car::kBeta]), 0.0, 1.0, !engine.realizes_shape()};
   o.values["lo_dx"] = {predicted[car::kX], d[car::kX], lo_size, lo_factor};
   o.values["lo_dy"] = {predicted[car::kY], d[car::kY], lo_size, lo_factor};
   o.values["lo_dphi"] = {predicted[car::kPhi], d[car::kPhi], lo_size / l, lo_factor};
@@ -333,7 +333,7 @@ Outcome run_steer_in_place(const Params& p, CarEngine& engine) {
   Outcome o;
   o.values["front_shift"] = {0.0, max_shift};
   o.values["dphi"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - q0.phi_rad))};
-  o.values["beta_reached"] = {q0.beta_rad + d_beta, end.beta_rad};
+  o.values["beta_reached"] = {q0.beta_rad + d_beta, end.beta_rad, 0.0, 1.0, !engine.realizes_shape()};
   o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
                {"errors", error_split(setup.car, trace, car::flow_beta(q0, d_beta))}};
   add_slip(o, engine);

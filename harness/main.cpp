@@ -66,7 +66,7 @@ void print_record(const RunRecord& r) {
   for (const auto& m : r.metrics)
     std::cout << fmt::format("  {:<20} {:>14.8g} {:>14.8g} {:>10.3g} {:>10.3g} {:>6.3g} {:<3} {} {}\n", m.name,
                              m.expected, m.measured, m.abs_error, m.rel_error, m.tolerance,
-                             m.kind == TolKind::kRelative ? "rel" : "abs", m.unit, m.pass ? "ok" : "FAIL");
+                             m.kind == TolKind::kRelative ? "rel" : "abs", m.unit, m.informational ? "info" : m.pass ? "ok" : "FAIL");
 }
 
 int cmd_run(const std::string& scenario, const std::string& engine, const std::vector<std::string>& sets, bool json) {

@@ -25,6 +25,7 @@ bool RunRecord::as_expected() const {
 double RunRecord::worst_ratio() const {
   double worst = 0.0;
   for (const auto& m : metrics) {
+    if (m.informational) continue;
     const double err = m.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
     double ratio = m.tolerance > 0 ? err / m.tolerance : (err > 0 ? INFINITY : 0.0);
     if (m.floor > 0.0) ratio = std::min(ratio, m.abs_error / m.floor);
@@ -65,6 +66,7 @@ std::vector<Metric> score(const Scenario& scenario, const std::string& engine, c
     const double err = def.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
     m.floor = def.kind == TolKind::kRelative ? def.floor_for(engine) : 0.0;
     m.pass = (std::isfinite(err) && err <= m.tolerance) || (std::isfinite(m.abs_error) && m.abs_error <= m.floor);
+    m.informational = v.informational;
     out.push_back(m);
   }
   for (const auto& [name, v] : outcome.values)
@@ -139,20 +141,27 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
     }
     r.metrics = score(scenario, engine.name, outcome);
     r.details = outcome.details;
-    bool finite = true, pass = !r.metrics.empty();
+    // A pass needs at least one counted metric; informational ones neither pass nor fail a run.
+    bool finite = true, pass = false, any_fail = false;
     for (const auto& m : r.metrics) {
+      if (m.informational) continue;
       finite = finite && std::isfinite(m.measured);
-      pass = pass && m.pass;
+      pass = true;
+      any_fail = any_fail || !m.pass;
     }
+    pass = pass && !any_fail;
     if (!finite) {
       r.status = Status::kError;
       r.message = "engine produced a non-finite measurement";
+    } else if (std::none_of(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return !m.informational; })) {
+      r.status = Status::kError;
+      r.message = "no metric measured the engine (every one is informational)";
     } else {
       r.status = pass ? Status::kPass : Status::kFail;
       if (!pass) {
         std::vector<std::string> failed;
         for (const auto& m : r.metrics)
-          if (!m.pass) failed.push_back(m.name);
+          if (!m.pass && !m.informational) failed.push_back(m.name);
         r.message = fmt::format("out of tolerance: {}", fmt::join(failed, ", "));
       }
     }

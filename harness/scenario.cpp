@@ -22,6 +22,7 @@ nlohmann::json Metric::to_json() const {
           {"tolerance", tolerance}, {"tolerance_kind", kind == TolKind::kRelative ? "rel" : "abs"},
           {"unit", unit},           {"pass", pass}};
   if (floor > 0.0) j["floor"] = floor;
+  if (informational) j["informational"] = true;
   return j;
 }
 

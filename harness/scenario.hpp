@@ -40,6 +40,9 @@ struct Measurement {
   /// The engine's tolerance is multiplied by this (for leading-order predictions whose error
   /// shrinks with eps, the multiplier is eps).
   double tolerance_factor = 1.0;
+  /// Expected and measured come from the same computation (e.g. a model that reports the
+  /// commanded shape as its realized one): shown, never counted as a pass.
+  bool informational = false;
 };
 
 /// What a scenario function returns: measurements by metric name, plus free-form details
@@ -56,6 +59,7 @@ struct Metric {
   TolKind kind;
   bool pass;
   double floor = 0.0;  ///< absolute floor of a relative metric (0: none)
+  bool informational = false;  ///< shown only: not a pass, not a fail
   nlohmann::json to_json() const;
 };
 

@@ -34,7 +34,9 @@ json merged(json a, const json& b) {
 double ratio(const json& m) {
   const double err = m["tolerance_kind"] == "rel" ? m["rel_error"].get<double>() : m["abs_error"].get<double>();
   const double tol = m["tolerance"].get<double>();
-  return tol > 0 ? err / tol : (err > 0 ? INFINITY : 0.0);
+  double r = tol > 0 ? err / tol : (err > 0 ? INFINITY : 0.0);
+  if (m.value("floor", 0.0) > 0.0) r = std::min(r, m["abs_error"].get<double>() / m["floor"].get<double>());
+  return r;
 }
 
 }  // namespace
@@ -116,7 +118,7 @@ json diff_results(const json& base, const json& head, const DiffDef& def) {
       d["fixed"].push_back(merged(id, {{"from", br["status"]}, {"to", (*hr)["status"]}}));
     if (!br["metrics"].is_object() || !(*hr)["metrics"].is_object()) continue;
     for (const auto& [name, hm] : (*hr)["metrics"].items()) {
-      if (!br["metrics"].contains(name)) continue;
+      if (!br["metrics"].contains(name) || hm.value("informational", false)) continue;
       const json& bm = br["metrics"][name];
       const double rb = ratio(bm), rh = ratio(hm);
       const json entry = merged(id, {{"metric", name}, {"base_ratio", rb}, {"head_ratio", rh},

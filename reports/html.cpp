@@ -123,11 +123,11 @@ std::string metric_table(const json& r) {
   std::string h = "<table><tr><th class=\"l\">metric</th><th>expected</th><th>measured</th><th>abs error</th>"
                   "<th>rel error</th><th>tolerance</th><th>unit</th><th>result</th></tr>\n";
   for (const auto& [name, m] : r["metrics"].items()) {
-    const bool ok = m["pass"].get<bool>();
+    const bool ok = m["pass"].get<bool>(), info = m.value("informational", false);
     h += fmt::format("<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{} ({})</td><td>{}</td>"
                      "<td class=\"st {}\">{}</td></tr>\n",
                      esc(name), num(m["expected"]), num(m["measured"]), num(m["abs_error"]), num(m["rel_error"]),
-                     num(m["tolerance"]), esc(m["tolerance_kind"]), esc(m["unit"]), ok ? "pass" : "fail", ok ? "ok" : "FAIL");
+                     num(m["tolerance"]), esc(m["tolerance_kind"]), esc(m["unit"]), info ? "skip" : ok ? "pass" : "fail", info ? "info (not counted)" : ok ? "ok" : "FAIL");
   }
   return h + "</table>\n";
 }

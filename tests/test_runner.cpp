@@ -174,3 +174,33 @@ TEST(Sweeps, GateNamesEveryProblem) {
   EXPECT_FALSE(gate_sweep_entry(fit, bad));
   EXPECT_FALSE(gate_sweep_entry(fit, none));
 }
+
+// An informational metric (expected and measured from the same computation) is shown but never
+// counted: it neither passes a run nor fails it, and a run with nothing else is no pass.
+TEST(Runner, InformationalMetricsAreNotCounted) {
+  Scenario s;
+  s.name = "test.informational";
+  s.vehicle = "car";
+  s.metrics = {{"self", "1", TolKind::kAbsolute, {{"default", 1.0}}, "compares a value with itself"},
+               {"real", "1", TolKind::kAbsolute, {{"default", 1.0}}, "measures the engine"}};
+  double real_error = 0.5;
+  bool with_real = true;
+  s.run_car = [&](const Params&, CarEngine&) {
+    Outcome o;
+    o.values["self"] = {0.0, 7.0, 0.0, 1.0, true};  // out of tolerance, but informational
+    if (with_real) o.values["real"] = {0.0, real_error};
+    return o;
+  };
+  const EngineInfo e{"stub", "0", "test double", [](const Settings&) { return std::make_unique<ThrowingCar>(); }};
+  RunRecord r = run_scenario(s, e);
+  EXPECT_EQ(r.status, Status::kPass) << r.message;
+  EXPECT_TRUE(r.metrics[0].informational);
+  EXPECT_NEAR(r.worst_ratio(), 0.5, 1e-15);
+  real_error = 2.0;
+  r = run_scenario(s, e);
+  EXPECT_EQ(r.status, Status::kFail);
+  EXPECT_EQ(r.message, "out of tolerance: real");
+  with_real = false;
+  r = run_scenario(s, e);
+  EXPECT_EQ(r.status, Status::kError);
+}

@@ -15,6 +15,7 @@ class AnalyticCar final : public CarEngine {
     def.sample_dt_s = setup_.sample_dt_s;
     return car::lift(setup_.car, path, q0_, def);
   }
+  bool realizes_shape() const override { return false; }
 
  private:
   CarSetup setup_;
