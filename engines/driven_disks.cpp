@@ -25,14 +25,17 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     const double d = (s.cM - s.cN).norm();
     const StepContacts c = step(pb.rule(t, s.cM, s.cN, vN), pb.path.position(t + h), vN, h);
     // The collision pass ran on the state at t, whose distance is d.
+    const bool first = c.count > 0 && !r.t_contact_s;
     if (c.count > 0) {
-      if (!r.t_contact_s) {
+      if (first) {
         r.t_contact_s = t;
         log.distance_at_first_m = d;
       }
       ++log.steps_in_contact;
       log.depth_reported_max_m = std::max(log.depth_reported_max_m, c.depth_max_m);
-    } else if (!r.t_contact_s) {
+      log.gap_reported_max_m = std::max(log.gap_reported_max_m, d - touch);
+      log.depth_error_max_m = std::max(log.depth_error_max_m, std::abs(c.depth_max_m - std::max(0.0, touch - d)));
+    } else {
       log.overlap_unreported_m = std::max(log.overlap_unreported_m, touch - d);
     }
     s = read();
@@ -41,6 +44,9 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     const double d1 = (s.cM - s.cN).norm();
     r.min_distance = std::min(r.min_distance, d1);
     if (r.t_contact_s) log.penetration_max_m = std::max(log.penetration_max_m, touch - d1);
+    if (first) log.overlap_growth_first_m = (touch - d1) - (touch - d);
+    // N is moved by the engine along its known path: where the engine put it is checked too.
+    log.n_path_error_max_m = std::max(log.n_path_error_max_m, (s.cN - pb.path.position(t + h)).norm());
     if ((k + 1) % sample_every == 0 || k + 1 == steps) r.trace.push_back({k + 1 == steps ? pb.T_s : t + h, s.cM, s.cN});
   }
   log.apart_at_end = r.t_contact_s && (r.trace.back().cM - r.trace.back().cN).norm() > touch;

@@ -91,10 +91,14 @@ struct DiskProblem {
 /// reported centre distances |c_M - c_N| at the states its collision passes ran on.
 struct DiskContactLog {
   double distance_at_first_m = NAN;  ///< at the state on which contact was first reported
-  double overlap_unreported_m = 0.0; ///< largest 2 - |c_M - c_N| > 0 at states reported free of contact, before the first contact
+  double overlap_unreported_m = 0.0; ///< largest 2 - |c_M - c_N| > 0 at any state reported free of contact
+  double gap_reported_max_m = 0.0;   ///< largest |c_M - c_N| - 2 > 0 at any state reported in contact
+  double depth_error_max_m = 0.0;    ///< largest |reported depth - (2 - |c_M - c_N|)| at states reported in contact
+  double overlap_growth_first_m = 0.0; ///< overlap on the state after the first contact minus that at it (a response acting at once stops the approach)
   double penetration_max_m = 0.0;    ///< largest 2 - |c_M - c_N| from the first contact to T (the contact response bounds it)
   double depth_reported_max_m = 0.0; ///< deepest penetration the engine's contact points reported
   long steps_in_contact = 0;         ///< steps whose collision pass reported contact
+  double n_path_error_max_m = 0.0;   ///< largest distance of N from its path, every step
   bool apart_at_end = false;         ///< after contact, |c_M - c_N| > 2 at T (the disks separated)
 };
 

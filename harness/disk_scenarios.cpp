@@ -206,14 +206,22 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
     o.values["final_distance"] = {ref.final_distance, final_distance(run), 0.0, f};
   }
   if (const auto& log = run.contact_log) {
+    o.values["n_path_error"] = {0.0, log->n_path_error_max_m};
     o.values["contact_missed"] = {0.0, std::max(0.0, log->overlap_unreported_m)};
     if (run.t_contact_s) {
-      o.values["contact_report_gap"] = {0.0, std::max(0.0, log->distance_at_first_m - disks::kContactDistance)};
+      o.values["contact_report_gap"] = {0.0, std::max(0.0, log->gap_reported_max_m)};
+      o.values["contact_depth_error"] = {0.0, log->depth_error_max_m};
+      // A response acting on the first contact stops the approach within that step.
+      if (closing > 0.0) o.values["overlap_growth"] = {0.0, std::max(0.0, log->overlap_growth_first_m), 0.0, closing * dt};
       // The response must bound the overlap (tolerance in steps of closing travel).
       if (closing > 0.0) o.values["penetration_max"] = {0.0, std::max(0.0, log->penetration_max_m), 0.0, closing * dt};
     }
     o.details["contact_log"] = {{"distance_at_first_m", std::isfinite(log->distance_at_first_m) ? nlohmann::json(log->distance_at_first_m) : nlohmann::json()},
                                 {"overlap_unreported_m", log->overlap_unreported_m},
+                                {"gap_reported_max_m", log->gap_reported_max_m},
+                                {"depth_error_max_m", log->depth_error_max_m},
+                                {"overlap_growth_first_m", log->overlap_growth_first_m},
+                                {"n_path_error_max_m", log->n_path_error_max_m},
                                 {"penetration_max_m", log->penetration_max_m},
                                 {"depth_reported_max_m", log->depth_reported_max_m},
                                 {"steps_in_contact", log->steps_in_contact},
@@ -449,10 +457,14 @@ std::vector<Scenario> disk_scenarios() {
       kCollision, kTContact,
       abs_("path_error", "m", 1e-8, 1e-2, "largest distance of c_M from the reference up to the first contact"),
       // The engine's own contact log against its own reported positions: exact for any engine.
+      {"n_path_error", "m", TolKind::kAbsolute, {{"default", 1e-9}}, "largest distance of N, as the engine moved it, from its path"},
       {"contact_missed", "m", TolKind::kAbsolute, {{"default", 1e-9}},
        "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact"},
       {"contact_report_gap", "m", TolKind::kAbsolute, {{"default", 1e-9}},
-       "how far apart the disks were on the state where the engine first reported contact"},
+       "largest gap |c_M - c_N| - 2 on a state the engine's collision pass reported in contact"},
+      {"contact_depth_error", "m", TolKind::kAbsolute, {{"default", 1e-9}},
+       "largest difference between the depth the engine's contacts report and the overlap of its bodies"},
+      abs_("overlap_growth", "m", 0.0, 0.1, "growth of the overlap over the step after the first contact; tolerance in steps of closing travel"),
       // Contact is first seen up to one step of closing travel deep; a Baumgarte-stabilised response
       // (ERP 0.2) holds a sustained push at up to 1 / ERP = 5 such steps.
       abs_("penetration_max", "m", 0.0, 5.0, "largest overlap 2 - |c_M - c_N| after the first contact; tolerance in steps of closing travel at the lift's closing speed"),

@@ -1,5 +1,6 @@
 #include "harness/sweeps.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -44,7 +45,7 @@ const std::vector<KnownSweepFailure>& known_sweep_failures() {
     for (const auto& e : j.at("sweep_points"))
       for (const auto& engine : e.at("engines"))
         for (const auto& x : e.at("x"))
-          v.push_back({e.at("sweep"), engine, x.get<double>(), e.at("reason"), e.at("measured")});
+          v.push_back({e.at("sweep"), engine, x.get<double>(), e.at("metrics").get<std::vector<std::string>>(), e.at("reason"), e.at("measured")});
     return v;
   }();
   return all;
@@ -63,9 +64,15 @@ bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
     if (st == "error") {
       ++error;
       problems.push_back(fmt::format("{} = {}: error: {}", sweep.param, x, pt["message"].get<std::string>()));
-    } else if (k && st == "fail") {
+    } else if (k && st == "fail" && std::all_of(pt["failed"].begin(), pt["failed"].end(), [&](const nlohmann::json& m) {
+                 return std::find(k->metrics.begin(), k->metrics.end(), m.get<std::string>()) != k->metrics.end();
+               })) {
       ++known;
       pt["known_failure"] = k->reason;
+    } else if (k && st == "fail") {
+      ++unexpected;
+      problems.push_back(fmt::format("{} = {}: a known failure ({}) now also fails other metrics: {}", sweep.param, x,
+                                     fmt::join(k->metrics, ", "), pt["message"].get<std::string>()));
     } else if (k) {
       ++unexpected;
       problems.push_back(fmt::format("{} = {}: listed as a known failure ({}) but passes", sweep.param, x, k->reason));
@@ -204,7 +211,9 @@ nlohmann::json run_sweep(const SweepDef& s, const std::vector<const EngineInfo*>
     for (double x : s.values) {
       const RunRecord r = run_scenario(*scenario, *e, point_overrides(s, x));
       const nlohmann::json rec = r.to_json();
-      nlohmann::json pt{{"x", x}, {"status", to_string(r.status)}, {"message", r.message}};
+      nlohmann::json pt{{"x", x}, {"status", to_string(r.status)}, {"message", r.message}, {"failed", nlohmann::json::array()}};
+      for (const Metric& m : r.metrics)
+        if (!m.pass && !m.informational) pt["failed"].push_back(m.name);
       for (const auto& key : s.record) pt[key] = value_of(rec, key);
       if (s.loglog_fit && r.status != Status::kError) {
         const nlohmann::json y = value_of(rec, s.fit_y), noise = value_of(rec, s.fit_noise);

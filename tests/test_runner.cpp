@@ -147,11 +147,14 @@ TEST(Sweeps, GateNamesEveryProblem) {
   sw.name = "error_vs_speed";
   sw.param = "speed";
   nlohmann::json entry{{"engine", "ode"},
-                       {"points", {{{"x", 0.5}, {"status", "pass"}, {"message", ""}},
-                                   {{"x", 3.5}, {"status", "fail"}, {"message", "out of tolerance: front_radius"}}}}};
+                       {"points", {{{"x", 0.5}, {"status", "pass"}, {"message", ""}, {"failed", nlohmann::json::array()}},
+                                   {{"x", 3.5}, {"status", "fail"}, {"message", "out of tolerance: front_radius"}, {"failed", {"front_radius"}}}}}};
   ASSERT_FALSE(known_sweep_failures().empty());
   EXPECT_TRUE(gate_sweep_entry(sw, entry)) << entry["gate"].dump();  // 3.5 m/s on ode is a listed failure
   EXPECT_EQ(entry["gate"]["points_known_failure"], 1);
+  entry["points"][1]["failed"] = {"front_radius", "base_closure"};
+  EXPECT_FALSE(gate_sweep_entry(sw, entry));  // listed, but now failing a metric the list does not name
+  entry["points"][1]["failed"] = {"front_radius"};
   entry["points"][1]["status"] = "pass";
   EXPECT_FALSE(gate_sweep_entry(sw, entry));  // listed, but passes: the file is no longer true
   entry["points"][1]["status"] = "error";
