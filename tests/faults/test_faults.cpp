@@ -168,12 +168,17 @@ Verdict judge(const EngineInfo& e, const std::string& scenario, const std::strin
   return v;
 }
 
+/// The fault is flagged by validate, and `metric` in `scenario` is among what flags it.
+void expect_flagged(const EngineInfo& e, const std::string& scenario, const std::string& metric) {
+  const Verdict v = judge(e, scenario, metric);
+  EXPECT_GT(v.unexpected, 0) << e.name << " slipped through every scenario";
+  EXPECT_TRUE(v.metric_failed) << e.name << ": " << metric << " in " << scenario << " did not flag it; flagged:\n" << v.summary;
+}
+
 }  // namespace
 
 TEST(Faults, DiskEngineWithoutPhysics) {
   const Verdict v = judge(disk_fault("no-physics", [] { return std::make_unique<NoPhysicsDisks>(); }), "disks.repel", "penetration_max");
-  EXPECT_GT(v.unexpected, 0);
-  EXPECT_TRUE(v.metric_failed) << v.summary;
   // Every disk scenario in which the disks meet must fail it (without contact, an engine that
   // realises the commanded velocity exactly is indistinguishable from placing M by hand).
   for (const char* name : {"disks.repel", "disks.linear", "disks.forced"}) {
@@ -183,39 +188,27 @@ TEST(Faults, DiskEngineWithoutPhysics) {
 }
 
 TEST(Faults, DiskContactReportedOneStepLate) {
-  const Verdict v = judge(disk_fault("late-contact", [] { return std::make_unique<LateContactDisks>(); }), "disks.repel", "contact_missed");
-  EXPECT_GT(v.unexpected, 0);
-  EXPECT_TRUE(v.metric_failed) << v.summary;
+  expect_flagged(disk_fault("late-contact", [] { return std::make_unique<LateContactDisks>(); }), "disks.repel", "contact_missed");
 }
 
 TEST(Faults, DiskCollisionMarginOf2cm) {
-  const Verdict v = judge(disk_fault("margin", [] { return std::make_unique<MarginDisks>(); }), "disks.repel", "contact_report_gap");
-  EXPECT_GT(v.unexpected, 0);
-  EXPECT_TRUE(v.metric_failed) << v.summary;
+  expect_flagged(disk_fault("margin", [] { return std::make_unique<MarginDisks>(); }), "disks.repel", "contact_report_gap");
 }
 
 TEST(Faults, WheelsSlipOnePercentAlongTheRollingDirection) {
-  const Verdict v = judge(car_fault("slip-1pct", [] { return std::make_unique<SlippingCar>(); }), "car.circle", "slip_along_max");
-  EXPECT_GT(v.unexpected, 0);
-  EXPECT_TRUE(v.metric_failed) << v.summary;
+  expect_flagged(car_fault("slip-1pct", [] { return std::make_unique<SlippingCar>(); }), "car.circle", "slip_along_max");
 }
 
 TEST(Faults, LateralGripLeaks) {
-  const Verdict v = judge(car_fault("leaky-grip", [] { return std::make_unique<LeakyCar>(); }), "car.circle", "slip_across_max");
-  EXPECT_GT(v.unexpected, 0);
-  EXPECT_TRUE(v.metric_failed) << v.summary;
+  expect_flagged(car_fault("leaky-grip", [] { return std::make_unique<LeakyCar>(); }), "car.circle", "slip_across_max");
 }
 
 TEST(Faults, FrictionFixedToWorldAxes) {
-  const Verdict v = judge(car_fault("world-friction", world_friction_car), "car.covariance", "spread_xy");
-  EXPECT_GT(v.unexpected, 0);
-  EXPECT_TRUE(v.metric_failed) << v.summary;
+  expect_flagged(car_fault("world-friction", world_friction_car), "car.covariance", "spread_xy");
 }
 
 TEST(Faults, HeadingLagsHalfAStep) {
-  const Verdict v = judge(car_fault("heading-lag", [] { return std::make_unique<LaggingCar>(); }), "car.circle", "heading_residual");
-  EXPECT_GT(v.unexpected, 0);
-  EXPECT_TRUE(v.metric_failed) << v.summary;
+  expect_flagged(car_fault("heading-lag", [] { return std::make_unique<LaggingCar>(); }), "car.circle", "heading_residual");
 }
 
 // The unbroken engine passes the same judgement: the faults, not the suite, are what fail.
