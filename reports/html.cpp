@@ -185,10 +185,10 @@ std::string index_html(const json& results) {
                    ctx.value("sweeps_s", 0.0), results.value("report", json::object()).value("report_s", 0.0));
   int expected_fails = 0;
   for (const auto& r : results["runs"]) expected_fails += (r["status"] == "fail" && r.value("negative_control", false)) ? 1 : 0;
-  h += fmt::format("<p><b>{} runs</b>: {} pass, {} fail ({} of them expected: negative controls), {} error, {} skip. "
-                   "{}</p>\n",
+  h += fmt::format("<p><b>{} runs</b>: {} pass, {} fail ({} of them expected: negative controls), {} error, {} skip; "
+                   "<b>{} <a href=\"#sweeps\">sweep gates</a></b>, {} failed. {}</p>\n",
                    sum["total"].get<int>(), sum["pass"].get<int>(), sum["fail"].get<int>(), expected_fails,
-                   sum["error"].get<int>(), sum["skip"].get<int>(),
+                   sum["error"].get<int>(), sum["skip"].get<int>(), sum.value("sweep_gates", 0), sum.value("sweep_gates_failed", 0),
                    sum["unexpected"].get<int>() == 0 ? "<span class=\"st pass\">&nbsp;ALL AS EXPECTED&nbsp;</span>"
                                                      : fmt::format("<span class=\"st fail\">&nbsp;{} UNEXPECTED&nbsp;</span>", sum["unexpected"].get<int>()));
 
