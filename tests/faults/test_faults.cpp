@@ -119,23 +119,25 @@ class LaggingCar final : public OdeCar {
   mutable bool has_previous_ = false;
 };
 
-EngineInfo disk_fault(const std::string& name, std::function<std::unique_ptr<DiskEngine>()> make) {
+/// A broken engine that claims contact dynamics, like the rigid-body engines it imitates.
+EngineInfo fault(const std::string& name) {
   EngineInfo e;
   e.name = name;
   e.version = "0";
   e.description = "fault injection";
-  e.make_disks = [make](const Settings&) { return make(); };
   e.contact_dynamics = true;
   return e;
 }
 
+EngineInfo disk_fault(const std::string& name, std::function<std::unique_ptr<DiskEngine>()> make) {
+  EngineInfo e = fault(name);
+  e.make_disks = [make](const Settings&) { return make(); };
+  return e;
+}
+
 EngineInfo car_fault(const std::string& name, std::function<std::unique_ptr<CarEngine>()> make) {
-  EngineInfo e;
-  e.name = name;
-  e.version = "0";
-  e.description = "fault injection";
+  EngineInfo e = fault(name);
   e.make_car = [make](const Settings&) { return make(); };
-  e.contact_dynamics = true;
   return e;
 }
 
