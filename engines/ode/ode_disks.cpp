@@ -50,8 +50,10 @@ void OdeDisks::near_callback(void* data, dGeomID o1, dGeomID o2) {
   for (int i = 0; i < n; ++i) {
     contact[i].surface.mode = 0;  // frictionless: only the normal response
     contact[i].surface.mu = 0.0;
+    const bool keep = self->keep_contact(contact[i]);
     self->seen_.count += 1;
     self->seen_.depth_max_m = std::max(self->seen_.depth_max_m, static_cast<double>(contact[i].geom.depth));
+    if (!keep) continue;
     dJointID j = dJointCreateContact(self->world_, self->contacts_, &contact[i]);
     dJointAttach(j, dGeomGetBody(contact[i].geom.g1), dGeomGetBody(contact[i].geom.g2));
   }

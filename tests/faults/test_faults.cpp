@@ -61,6 +61,24 @@ class MarginDisks final : public OdeDisks {
   }
 };
 
+/// ODE whose contact response starts one step after contact is first seen (reported on time).
+class LateResponseDisks final : public OdeDisks {
+ protected:
+  bool keep_contact(dContact&) override { return seen_before_ || !(seen_before_ = true); }
+
+ private:
+  bool seen_before_ = false;
+};
+
+/// ODE whose contacts carry a depth 100 times too deep (a units slip): the response overshoots.
+class DeepContactDisks final : public OdeDisks {
+ protected:
+  bool keep_contact(dContact& c) override {
+    c.geom.depth *= 100.0;
+    return true;
+  }
+};
+
 // ---- car faults ----------------------------------------------------------------------------
 
 Settings ode_defaults() { return find_engine("ode")->defaults("car"); }
@@ -195,6 +213,14 @@ TEST(Faults, DiskContactReportedOneStepLate) {
 
 TEST(Faults, DiskCollisionMarginOf2cm) {
   expect_flagged(disk_fault("margin", [] { return std::make_unique<MarginDisks>(); }), "disks.repel", "contact_report_gap");
+}
+
+TEST(Faults, DiskContactResponseOneStepLate) {
+  expect_flagged(disk_fault("late-response", [] { return std::make_unique<LateResponseDisks>(); }), "disks.repel", "overlap_growth");
+}
+
+TEST(Faults, DiskContactDepthHundredfold) {
+  expect_flagged(disk_fault("deep-contact", [] { return std::make_unique<DeepContactDisks>(); }), "disks.repel", "contact_depth_error");
 }
 
 TEST(Faults, WheelsSlipOnePercentAlongTheRollingDirection) {
