@@ -27,9 +27,15 @@ struct SettingSpec {
   std::string vehicle;       ///< "car" or "disks": the vehicle it applies to
   std::string default_text;
   std::string help;
-  bool integer = false;      ///< a whole number in [min, max]; otherwise one of `choices`
+  enum Kind { kInteger, kReal, kChoice };
+  Kind kind = kChoice;       ///< a whole number or a real in [min, max], or one of `choices`
   double min = 0.0, max = 0.0;
   std::vector<std::string> choices;
+  bool min_exclusive = false;  ///< reals: the range is (min, max]
+
+  bool numeric() const { return kind != kChoice; }
+  /// "1 to 10000", "(0, 2]" or "a | b": the range as a user reads it.
+  std::string range_text() const;
 };
 
 /// Validated setting values by key, every declared setting of the engine's vehicle present.
@@ -53,6 +59,9 @@ struct WheelSlip {
   double along_max_mps = 0.0;   ///< largest |v_contact . rolling direction|
   double across_max_mps = 0.0;  ///< largest |v_contact . axle|
   double rms_mps = 0.0;         ///< root mean square of the horizontal |v_contact| over the steps
+  /// False where the engine has no wheel spin of its own (a raycast vehicle derives the wheel's
+  /// rotation from the chassis speed): the along-slip then compares a value with itself.
+  bool along_measured = true;
 };
 
 /// A car in an engine: reset to a configuration, drive a base path, report (alpha, beta, x, y, phi).
@@ -69,6 +78,9 @@ class CarEngine {
   /// False for a model that reports the commanded (alpha, beta) as its realized shape (the
   /// analytic lift): comparisons of the realized shape with the command are then informational.
   virtual bool realizes_shape() const { return true; }
+  /// Simulated time the engine stepped since construction (settling included), s: the
+  /// denominator of the cost per simulated second.
+  virtual double simulated_s() const = 0;
 };
 
 /// Two unit disks: N moves along a known path, M's velocity is commanded from a reaction rule.
@@ -120,10 +132,18 @@ struct EngineError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// One run target: an engine in a named configuration (the solver, joints, contact model and
+/// defaults its users run). Everything the harness and the reports need to know about a target
+/// is here, so adding one is its folder plus one registry line.
 struct EngineInfo {
-  std::string name;
+  std::string name;          ///< configuration name, the run target ("ode-quick")
+  std::string library;       ///< the engine it configures ("ODE"), for grouping
   std::string version;
   std::string description;
+  std::string color;         ///< "#rrggbb": its traces in every plot and snapshot
+  /// The exact model every other target is compared with (sweeps, outcome maps): tolerances
+  /// for the reference are those keyed "reference" in the scenario data.
+  bool is_reference = false;
   std::function<std::unique_ptr<CarEngine>(const Settings&)> make_car;  ///< empty: the engine has no car
   std::function<std::unique_ptr<DiskEngine>(const Settings&)> make_disks;  ///< empty: no two-disk vehicles
   /// Simulates contact forces with friction, so wheels can slip (the analytic model cannot).
@@ -137,8 +157,10 @@ struct EngineInfo {
   Settings defaults(const std::string& vehicle) const;
 };
 
-/// Every engine compiled in, in a fixed order (analytic first).
+/// Every configuration compiled in, in a fixed order (the reference first).
 const std::vector<EngineInfo>& engines();
 const EngineInfo* find_engine(const std::string& name);
+/// The configuration marked is_reference (exactly one).
+const EngineInfo& reference_engine();
 
 }  // namespace liftcheck

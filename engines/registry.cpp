@@ -3,6 +3,9 @@
 #include "engines/ode/ode_car.hpp"
 #include "engines/engine.hpp"
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+
 namespace liftcheck {
 
 const std::vector<EngineInfo>& engines() {
@@ -21,6 +24,21 @@ Settings EngineInfo::defaults(const std::string& vehicle) const {
   for (const SettingSpec& k : knobs)
     if (k.vehicle == vehicle) s[k.key] = k.default_text;
   return s;
+}
+
+std::string SettingSpec::range_text() const {
+  switch (kind) {
+    case kInteger: return fmt::format("{:g} to {:g}", min, max);
+    case kReal: return fmt::format("{}{:g}, {:g}]", min_exclusive ? "(" : "[", min, max);
+    case kChoice: break;
+  }
+  return fmt::format("{}", fmt::join(choices, " | "));
+}
+
+const EngineInfo& reference_engine() {
+  for (const EngineInfo& e : engines())
+    if (e.is_reference) return e;
+  throw std::logic_error("no reference engine registered");
 }
 
 const EngineInfo* find_engine(const std::string& name) {

@@ -43,6 +43,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
     actuate(alpha_rate + servo_.spin_gain_per_s * (target_alpha - alpha),
             beta_rate + servo_.steer_gain_per_s * (target_beta - s.steer_rad), servo_);
     step(dt);
+    stepped_s_ += dt;
     s = read();
     alpha += e2::wrap_angle(s.spin_joint_rad - prev_joint);
     prev_joint = s.spin_joint_rad;
@@ -91,6 +92,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   for (int w = 0; w < 3; ++w) {
     slip_[w].wheel = kWheelNames[w];
     slip_[w].rms_mps = steps > 0 ? std::sqrt(sum_sq[w] / steps) : 0.0;
+    slip_[w].along_measured = wheels_spin();
   }
   return trace;
 }

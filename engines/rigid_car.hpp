@@ -63,6 +63,7 @@ class RigidCar : public CarEngine {
   void reset(const CarSetup& setup, const car::Config& q0) final;
   std::vector<car::TimedConfig> drive(const car::BasePath& path) final;
   std::vector<WheelSlip> slip() const final { return slip_; }
+  double simulated_s() const final { return stepped_s_; }
 
  protected:
   /// Builds the world with the car at q0 (steering at q0.beta), at rest on the ground.
@@ -71,6 +72,8 @@ class RigidCar : public CarEngine {
   virtual void actuate(double spin_radps, double steer_radps, const ServoDef& servo) = 0;
   virtual void step(double dt_s) = 0;
   virtual RigidCarState read() const = 0;
+  /// False where a wheel has no spin state of its own (WheelSlip::along_measured).
+  virtual bool wheels_spin() const { return true; }
 
   /// The engine's knob value (declared in its EngineInfo; validated by the harness).
   const std::string& setting(const std::string& key) const { return settings_.at(key); }
@@ -81,6 +84,7 @@ class RigidCar : public CarEngine {
   ServoDef servo_;
   car::Config q0_;
   std::vector<WheelSlip> slip_;
+  double stepped_s_ = 0.0;
 };
 
 }  // namespace liftcheck

@@ -22,8 +22,9 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
     for (const SettingSpec& k : e->knobs)
       settings[fmt::format("--set {} ({})", k.key, k.vehicle)] =
           fmt::format("{}; default {}; {}", k.help, k.default_text,
-                      k.integer ? fmt::format("{} to {}", k.min, k.max) : fmt::format("{}", fmt::join(k.choices, " | ")));
-    es.push_back({{"name", e->name}, {"version", e->version}, {"description", e->description},
+                      k.range_text());
+    es.push_back({{"name", e->name}, {"library", e->library}, {"version", e->version}, {"description", e->description},
+                  {"color", e->color}, {"is_reference", e->is_reference},
                   {"contact_dynamics", e->contact_dynamics}, {"settings", settings}});
   }
   char host[256] = "unknown";

@@ -82,8 +82,9 @@ std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const En
   for (const SettingSpec& k : engine.knobs) {
     if (k.vehicle != scenario.vehicle) continue;
     names.push_back(k.key);
-    ParamSpec ps{k.key, k.integer ? ParamKind::kInteger : ParamKind::kChoice, k.default_text, k.integer ? "1" : "", k.help};
-    if (k.integer) ps.min = k.min, ps.max = k.max;
+    const ParamKind kind = k.kind == SettingSpec::kInteger ? ParamKind::kInteger : k.kind == SettingSpec::kReal ? ParamKind::kNumber : ParamKind::kChoice;
+    ParamSpec ps{k.key, kind, k.default_text, k.numeric() ? "1" : "", k.help};
+    if (k.numeric()) ps.min = k.min, ps.max = k.max, ps.min_exclusive = k.min_exclusive;
     ps.choices = k.choices;
     knob_specs.push_back(ps);
   }
@@ -106,7 +107,7 @@ std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const En
   }
   const nlohmann::json knobs = Params::resolve(knob_specs, knob_overrides, scenario.name).to_json();
   Settings settings;
-  for (const auto& [key, v] : knobs.items()) settings[key] = v.is_string() ? v.get<std::string>() : fmt::format("{}", v.get<double>());
+  for (const auto& [key, v] : knobs.items()) settings[key] = v.is_string() ? v.get<std::string>() : fmt::format("{:g}", v.get<double>());
   return {params, settings};
 }
 

@@ -93,7 +93,8 @@ TEST(Settings, EveryDeclaredSettingChangesAResult) {
   for (const SettingSpec& k : e->knobs) {
     ASSERT_EQ(k.vehicle, "car") << k.key << ": only car settings are tested here";
     std::string other;
-    if (k.integer) other = fmt::format("{}", std::max<long>(static_cast<long>(k.min), std::stol(k.default_text) / 20));
+    if (k.kind == SettingSpec::kInteger) other = fmt::format("{}", std::max<long>(static_cast<long>(k.min), std::stol(k.default_text) / 20));
+    else if (k.kind == SettingSpec::kReal) other = fmt::format("{:g}", std::stod(k.default_text) * 0.5);
     else
       for (const auto& c : k.choices)
         if (c != k.default_text && other.empty()) other = c;

@@ -21,6 +21,7 @@ class ExplodingCar final : public CarEngine {
     bad.x_m = std::nan("");
     return {{0.0, q0_}, {path.duration_s(), bad}};
   }
+  double simulated_s() const override { return 0.0; }
   car::Config q0_;
 };
 
@@ -28,16 +29,28 @@ class ThrowingCar final : public CarEngine {
  public:
   void reset(const CarSetup&, const car::Config&) override {}
   std::vector<car::TimedConfig> drive(const car::BasePath&) override { throw EngineError("solver diverged"); }
+  double simulated_s() const override { return 0.0; }
 };
+
+/// A test double's registry entry: a car engine made by `make`.
+EngineInfo stub_engine(std::string name, std::function<std::unique_ptr<CarEngine>(const Settings&)> make) {
+  EngineInfo e;
+  e.name = std::move(name);
+  e.library = "test";
+  e.version = "0";
+  e.description = "test double";
+  e.make_car = std::move(make);
+  return e;
+}
 
 }  // namespace
 
 TEST(Runner, AnExplodingEngineIsAnErrorRunNotACrash) {
-  const EngineInfo bad{"exploding", "0", "test double", [](const Settings&) { return std::make_unique<ExplodingCar>(); }};
+  const EngineInfo bad = stub_engine("exploding", [](const Settings&) { return std::make_unique<ExplodingCar>(); });
   const RunRecord r = run_scenario(*find_scenario("car.cycle"), bad);
   EXPECT_EQ(r.status, Status::kError);
   EXPECT_NE(r.message.find("not finite"), std::string::npos) << r.message;
-  const EngineInfo thrower{"thrower", "0", "test double", [](const Settings&) { return std::make_unique<ThrowingCar>(); }};
+  const EngineInfo thrower = stub_engine("thrower", [](const Settings&) { return std::make_unique<ThrowingCar>(); });
   const RunRecord t = run_scenario(*find_scenario("car.circle"), thrower);
   EXPECT_EQ(t.status, Status::kError);
   EXPECT_EQ(t.message, "solver diverged");
@@ -194,7 +207,7 @@ TEST(Runner, InformationalMetricsAreNotCounted) {
     if (with_real) o.values["real"] = {0.0, real_error};
     return o;
   };
-  const EngineInfo e{"stub", "0", "test double", [](const Settings&) { return std::make_unique<ThrowingCar>(); }};
+  const EngineInfo e = stub_engine("stub", [](const Settings&) { return std::make_unique<ThrowingCar>(); });
   RunRecord r = run_scenario(s, e);
   EXPECT_EQ(r.status, Status::kPass) << r.message;
   EXPECT_TRUE(r.metrics[0].informational);

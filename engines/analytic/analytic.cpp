@@ -13,13 +13,16 @@ class AnalyticCar final : public CarEngine {
   std::vector<car::TimedConfig> drive(const car::BasePath& path) override {
     car::LiftDef def;
     def.sample_dt_s = setup_.sample_dt_s;
+    simulated_s_ += path.duration_s();
     return car::lift(setup_.car, path, q0_, def);
   }
   bool realizes_shape() const override { return false; }
+  double simulated_s() const override { return simulated_s_; }
 
  private:
   CarSetup setup_;
   car::Config q0_;
+  double simulated_s_ = 0.0;
 };
 
 class AnalyticDisks final : public DiskEngine {
@@ -36,8 +39,11 @@ class AnalyticDisks final : public DiskEngine {
 
 EngineInfo analytic_engine() {
   return {.name = "analytic",
+          .library = "liftcheck",
           .version = "1",
-          .description = "car: horizontal lift (4.1); disks: lift (21) with root-found contact",
+          .description = "the exact models: car by the horizontal lift (4.1), disks by the lift (21) with root-found contact",
+          .color = "#1a1a1a",
+          .is_reference = true,
           .make_car = [](const Settings&) { return std::make_unique<AnalyticCar>(); },
           .make_disks = [](const Settings&) { return std::make_unique<AnalyticDisks>(); },
           .contact_dynamics = false,

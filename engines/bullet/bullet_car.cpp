@@ -214,8 +214,10 @@ class BulletCar final : public RigidCar {
 
 EngineInfo bullet_engine() {
   return {.name = "bullet",
+          .library = "Bullet",
           .version = fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
-          .description = "Bullet: btHinge2Constraint front wheel, hinge rear wheels, 2 friction directions, fixed step",
+          .description = "Bullet rigid bodies: btHinge2Constraint front wheel, hinge rear wheels, 2 friction directions, fixed step",
+          .color = "#ff7f0e",
           .make_car = [](const Settings& s) { return std::make_unique<BulletCar>(s); },
           .make_disks = [](const Settings&) { return make_bullet_disks(); },
           .contact_dynamics = true,
@@ -227,7 +229,7 @@ EngineInfo bullet_engine() {
            {"friction directions", "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
            {"disks", "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), sequential-impulse response"}},
-          .knobs = {SettingSpec{"iterations", "car", "100", "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", true, 1, 10000, {}}, SettingSpec{"wheel", "car", "sphere", "wheel collision shape", false, 0, 0, {"sphere", "cylinder"}}, SettingSpec{"friction_dirs", "car", "wheel", "first friction direction: along the wheel's rolling direction, or the engine's default axes", false, 0, 0, {"wheel", "world"}}}};
+          .knobs = {SettingSpec{"iterations", "car", "100", "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", SettingSpec::kInteger, 1, 10000, {}}, SettingSpec{"wheel", "car", "sphere", "wheel collision shape", SettingSpec::kChoice, 0, 0, {"sphere", "cylinder"}}, SettingSpec{"friction_dirs", "car", "wheel", "first friction direction: along the wheel's rolling direction, or the engine's default axes", SettingSpec::kChoice, 0, 0, {"wheel", "world"}}}};
 }
 
 }  // namespace liftcheck

@@ -25,8 +25,10 @@ void init_ode() {
 
 EngineInfo ode_engine() {
   return {.name = "ode",
+          .library = "ODE",
           .version = fmt::format("{} ({})", LIFTCHECK_ODE_VERSION, sizeof(dReal) == 8 ? "double" : "single"),
           .description = "Open Dynamics Engine: hinge-2 front wheel, contact joints (dContactApprox1), dWorldStep",
+          .color = "#1f77b4",
           .make_car = [](const Settings& s) { return std::make_unique<OdeCar>(s); },
           .make_disks = [](const Settings&) { return make_ode_disks(); },
           .contact_dynamics = true,
@@ -38,7 +40,7 @@ EngineInfo ode_engine() {
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
            {"iterations", "none: dWorldStep is a direct solver (a setting 'iterations' is rejected)"},
            {"disks", "M: dynamic sphere (radius 1, 1 kg) driven by a dJointLMotor (force limit 1e5 N) to the commanded velocity; N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless"}},
-          .knobs = {SettingSpec{"wheel", "car", "sphere", "wheel collision shape", false, 0, 0, {"sphere", "cylinder"}}, SettingSpec{"friction_dirs", "car", "wheel", "first friction direction: along the wheel's rolling direction, or the engine's default axes", false, 0, 0, {"wheel", "world"}}}};
+          .knobs = {SettingSpec{"wheel", "car", "sphere", "wheel collision shape", SettingSpec::kChoice, 0, 0, {"sphere", "cylinder"}}, SettingSpec{"friction_dirs", "car", "wheel", "first friction direction: along the wheel's rolling direction, or the engine's default axes", SettingSpec::kChoice, 0, 0, {"wheel", "world"}}}};
 }
 
 }  // namespace liftcheck
