@@ -18,7 +18,7 @@ const nlohmann::json& circle_run() {
 }
 
 render::Scene end_scene() {
-  for (auto& s : render::snapshots_for(circle_run()))
+  for (auto& s : render::snapshots_for(circle_run(), render::color_from_hex(find_engine("analytic")->color)))
     if (s.tag == "end") return s.scene;
   return {};
 }

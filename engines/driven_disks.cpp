@@ -24,6 +24,7 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     const Vec2 vN = pb.path.velocity(t);
     const double d = (s.cM - s.cN).norm();
     const StepContacts c = step(pb.rule(t, s.cM, s.cN, vN), pb.path.position(t + h), vN, h);
+    stepped_s_ += h;
     // The collision pass ran on the state at t, whose distance is d.
     const bool first = c.count > 0 && !r.t_contact_s;
     if (c.count > 0) {

@@ -12,6 +12,7 @@ namespace liftcheck {
 class DrivenDisks : public DiskEngine {
  public:
   DiskRun run(const DiskSetup& setup, const DiskProblem& problem) final;
+  double simulated_s() const final { return stepped_s_; }
 
  protected:
   struct State {
@@ -28,6 +29,9 @@ class DrivenDisks : public DiskEngine {
   /// cN_next (velocity vN), collision detection runs on the state at the start of the step.
   virtual StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt_s) = 0;
   virtual State read() const = 0;
+
+ private:
+  double stepped_s_ = 0.0;
 };
 
 }  // namespace liftcheck

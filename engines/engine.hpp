@@ -125,6 +125,8 @@ class DiskEngine {
  public:
   virtual ~DiskEngine() = default;
   virtual DiskRun run(const DiskSetup& setup, const DiskProblem& problem) = 0;
+  /// Simulated time stepped since construction, s (the exact model: the problems' horizons).
+  virtual double simulated_s() const = 0;
 };
 
 /// Thrown by an engine whose simulation failed (NaN, explosion, bad setup): reported as an error run.

@@ -12,8 +12,9 @@ const std::vector<EngineInfo>& engines() {
   static const std::vector<EngineInfo> all = [] {
     std::vector<EngineInfo> v;
     v.push_back(analytic_engine());
-    v.push_back(bullet_engine());
     v.push_back(ode_engine());
+    v.push_back(ode_quick_engine());
+    v.push_back(bullet_engine());
     return v;
   }();
   return all;

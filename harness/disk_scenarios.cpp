@@ -253,11 +253,11 @@ DiskProblem problem(const Params& p, const disks::Mechanism& m) {
 }
 
 MetricDef abs_(std::string name, std::string unit, double analytic, double engines, std::string help) {
-  return {std::move(name), std::move(unit), TolKind::kAbsolute, {{"analytic", analytic}, {"default", engines}}, std::move(help)};
+  return {std::move(name), std::move(unit), TolKind::kAbsolute, {{"reference", analytic}, {"default", engines}}, std::move(help)};
 }
 const MetricDef kCollision{"collision", "1", TolKind::kAbsolute, {{"default", 0.0}}, "1 if the disks touch within T, else 0"};
 // The contact time is compared in engine steps: the tolerance is this many steps of dt.
-const MetricDef kTContact{"t_contact", "s", TolKind::kAbsolute, {{"analytic", 1e-6}, {"default", 1.0}},
+const MetricDef kTContact{"t_contact", "s", TolKind::kAbsolute, {{"reference", 1e-6}, {"default", 1.0}},
                           "first contact time (engines: the midpoint of the step in which contact came); tolerance in steps of dt"};
 
 // ---- scenario functions --------------------------------------------------------------------
@@ -472,7 +472,7 @@ std::vector<Scenario> disk_scenarios() {
   const auto metrics = [&](std::vector<MetricDef> extra, double analytic_path_tol = 1e-8) {
     std::vector<MetricDef> all = common;
     for (auto& m : all)
-      if (m.name == "path_error" || m.name == "min_distance" || m.name == "final_distance") m.tolerance["analytic"] = analytic_path_tol;
+      if (m.name == "path_error" || m.name == "min_distance" || m.name == "final_distance") m.tolerance["reference"] = analytic_path_tol;
     all.insert(all.end(), extra.begin(), extra.end());
     return all;
   };
@@ -511,7 +511,7 @@ std::vector<Scenario> disk_scenarios() {
       with(disk_params("0,0", "6,-2", "1.5,0", "line", "20", false),
            {number("a", "0.5", "1", "coefficient a", -100.0, false, 100.0), number("b", "0.5", "1", "coefficient b", -100.0, false, 100.0)}),
       metrics({
-       {"contact_on_D", "m", TolKind::kAbsolute, {{"analytic", 1e-6}, {"default", 1.0}},
+       {"contact_on_D", "m", TolKind::kAbsolute, {{"reference", 1e-6}, {"default", 1.0}},
         "|c_N - c^0| at contact against the radius of D (tolerance in steps of N's travel)"}}),
       run_forced);
   add("disks.moving-away", "The linear mechanism a = 2 meets N at t = 1 s; adding the moving-away reaction form (31) "

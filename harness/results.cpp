@@ -23,9 +23,20 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
       settings[fmt::format("--set {} ({})", k.key, k.vehicle)] =
           fmt::format("{}; default {}; {}", k.help, k.default_text,
                       k.range_text());
+    nlohmann::json knobs = nlohmann::json::array();
+    for (const SettingSpec& k : e->knobs) {
+      nlohmann::json j{{"key", k.key}, {"vehicle", k.vehicle}, {"default", k.default_text}, {"help", k.help},
+                       {"kind", k.kind == SettingSpec::kInteger ? "integer" : k.kind == SettingSpec::kReal ? "real" : "choice"}};
+      if (k.numeric()) j["min"] = k.min, j["max"] = k.max, j["min_exclusive"] = k.min_exclusive;
+      else j["choices"] = k.choices;
+      knobs.push_back(j);
+    }
+    std::vector<std::string> vehicles;
+    if (e->make_car) vehicles.push_back("car");
+    if (e->make_disks) vehicles.push_back("disks");
     es.push_back({{"name", e->name}, {"library", e->library}, {"version", e->version}, {"description", e->description},
-                  {"color", e->color}, {"is_reference", e->is_reference},
-                  {"contact_dynamics", e->contact_dynamics}, {"settings", settings}});
+                  {"color", e->color}, {"is_reference", e->is_reference}, {"vehicles", vehicles},
+                  {"contact_dynamics", e->contact_dynamics}, {"settings", settings}, {"knobs", knobs}});
   }
   char host[256] = "unknown";
   gethostname(host, sizeof host - 1);
@@ -45,10 +56,11 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
 
 nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::json& context) {
   nlohmann::json rs = nlohmann::json::array();
-  std::map<std::string, int> counts{{"pass", 0}, {"fail", 0}, {"error", 0}, {"skip", 0}};
+  // Counted by verdict: a known failure is not a fail, an unexpected pass is not a pass.
+  std::map<std::string, int> counts{{"pass", 0}, {"known failure", 0}, {"unexpected pass", 0}, {"fail", 0}, {"error", 0}, {"skip", 0}};
   for (const auto& r : runs) {
     rs.push_back(r.to_json());
-    ++counts[to_string(r.status)];
+    ++counts[r.verdict()];
   }
   nlohmann::json summary(counts);
   summary["total"] = runs.size();

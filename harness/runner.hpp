@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "engines/engine.hpp"
+#include "harness/expectations.hpp"
 #include "harness/scenario.hpp"
 
 namespace liftcheck {
@@ -23,10 +24,17 @@ struct RunRecord {
   std::vector<Metric> metrics;
   nlohmann::json details = nlohmann::json::object();
   double wall_s = 0.0;
-  bool negative_control = false;  ///< the scenario is meant to fail
+  double simulated_s = 0.0;  ///< simulated time the engine stepped (cost per simulated second)
+  /// A reviewed known failure of this default run (harness/expectations.json), or null.
+  const KnownFailure* known = nullptr;
 
-  /// Pass, skip, or the expected fail of a negative control.
+  /// The metrics out of tolerance (informational ones never are).
+  std::vector<std::string> failed_metrics() const;
+  /// Skip; pass when no failure is known; a known failure failing only (and at least one of) its
+  /// listed metrics.
   bool as_expected() const;
+  /// "pass", "known failure", "unexpected pass", "fail", "error" or "skip".
+  std::string verdict() const;
 
   /// Largest error relative to its tolerance over all metrics (<= 1 when all pass).
   double worst_ratio() const;
@@ -36,7 +44,8 @@ struct RunRecord {
 };
 
 /// Resolves parameters (InputError on bad ones), runs, scores. Engine failures become an error
-/// record; InputError raised by the scenario for non-physical combinations propagates.
+/// record; InputError raised by the scenario for non-physical combinations propagates. A run whose
+/// parameters and settings are the defaults carries its known failure, if the expectations list one.
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides = {});
 
 /// Splits `overrides` into the scenario's parameters and the engine's settings for the scenario's
@@ -45,7 +54,12 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
 /// another engine has it).
 std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides);
 
-/// Scores an outcome against the metric definitions for `engine`.
-std::vector<Metric> score(const Scenario& scenario, const std::string& engine, const Outcome& outcome);
+/// Scores an outcome against the metric definitions' tolerances under `key`, falling back to
+/// "default" (the key of a configuration is tolerance_key()).
+std::vector<Metric> score(const Scenario& scenario, const std::string& key, const Outcome& outcome);
+
+/// "reference" for the exact model, the configuration's name otherwise (which the catalogue never
+/// lists: every engine is held to the same "default" tolerances).
+std::string tolerance_key(const EngineInfo& engine);
 
 }  // namespace liftcheck

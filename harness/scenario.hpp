@@ -20,10 +20,10 @@ struct MetricDef {
   std::string name;
   std::string unit;
   TolKind kind = TolKind::kRelative;
-  /// Tolerance per engine name; "default" applies to engines not listed.
+  /// Tolerance by role: "reference" for the exact model, "default" for every engine.
   std::map<std::string, double> tolerance;
   std::string help;
-  /// Absolute floor per engine name (relative metrics only): an absolute error at or below it
+  /// Absolute floor by role (relative metrics only): an absolute error at or below it
   /// passes, for quantities that can be tiny (round-off of a 1e-9 m holonomy is not an error).
   std::map<std::string, double> floor = {};
 

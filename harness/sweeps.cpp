@@ -131,7 +131,7 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
   const Scenario* sc = find_scenario("disks.linear");
   const std::vector<double> as{-1.0, 0.0, 0.5, 0.9, 1.5, 2.0, 3.0}, bs{-1.0, 0.0, 0.5, 1.0};
   const std::vector<std::string> paths{"line", "circle", "figure8"};
-  const EngineInfo* reference = find_engine("analytic");
+  const EngineInfo* reference = &reference_engine();
   struct Case { double a, b; std::string path; Overrides overrides; bool collision; double t, min_d; nlohmann::json record; };
   std::vector<Case> cases;
   for (const auto& path : paths)
@@ -159,7 +159,7 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
       const nlohmann::json rec = e == reference ? c.record : run_scenario(*sc, *e, c.overrides).to_json();
       if (rec["status"] == "error") {  // its own column: no outcome to compare
         ++errors;
-        rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"analytic", c.collision}, {"engine", nullptr},
+        rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"reference", c.collision}, {"engine", nullptr},
                         {"status", "error"}, {"message", rec["message"]}});
         continue;
       }
@@ -179,17 +179,17 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
         steps = (d["t_contact_measured_s"].get<double>() - c.t) / 1e-3;
         worst_steps = std::max(worst_steps, std::abs(steps));
       }
-      rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"analytic", c.collision}, {"engine", hit},
-                      {"analytic_t_contact_s", c.collision ? nlohmann::json(c.t) : nlohmann::json()},
+      rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"reference", c.collision}, {"engine", hit},
+                      {"reference_t_contact_s", c.collision ? nlohmann::json(c.t) : nlohmann::json()},
                       {"t_error_steps", std::isfinite(steps) ? nlohmann::json(steps) : nlohmann::json()},
-                      {"analytic_min_distance", c.min_d}, {"near_boundary", is_near}, {"status", rec["status"]}});
+                      {"reference_min_distance", c.min_d}, {"near_boundary", is_near}, {"status", rec["status"]}});
     }
     nlohmann::json problems = nlohmann::json::array();
     if (unexplained > 0) problems.push_back(fmt::format("{} disagreements with the analytic outcome away from the boundary", unexplained));
     if (errors > 0) problems.push_back(fmt::format("{} error runs", errors));
     if (failing > 0) problems.push_back(fmt::format("{} runs out of tolerance ({})", failing, fmt::join(failing_cases, "; ")));
     per_engine.push_back({{"engine", e->name},
-                          {"confusion", {{"both_collide", tp}, {"neither", tn}, {"engine_only", fp}, {"analytic_only", fn}}},
+                          {"confusion", {{"both_collide", tp}, {"neither", tn}, {"engine_only", fp}, {"reference_only", fn}}},
                           {"errors", errors}, {"runs_out_of_tolerance", failing}, {"near_boundary_cases", near}, {"unexplained_disagreements", unexplained},
                           {"worst_t_error_steps", worst_steps}, {"cases", rows},
                           {"gate", {{"pass", problems.empty()}, {"problems", problems}}}});
@@ -199,6 +199,76 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
           {"scenario", "disks.linear"}, {"grid", {{"a", as}, {"b", bs}, {"path", paths}}},
           {"fixed", {{"cM", "0,0"}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}, {"dt", "0.001"}}},
           {"near_boundary_m", near_m}, {"engines", per_engine}};
+}
+
+const MapDef& speed_accuracy_map() {
+  static const MapDef m = [] {
+    MapDef d;
+    d.title = "Speed against accuracy: error against the exact reference and wall-clock cost per simulated second, "
+              "over dt (0.25 to 10 ms) and solver iterations (5 to 200)";
+    d.panels = {{"car.circle", {"front_radius", "rear_radius"}, "relative error of the circle radii"},
+                {"car.cycle", {"dx", "dy", "dphi"}, "relative error of the holonomy"}};
+    d.dt_s = {0.00025, 0.0005, 0.001, 0.002, 0.005, 0.01};
+    d.iterations = {5, 10, 20, 50, 100, 200};
+    return d;
+  }();
+  return m;
+}
+
+nlohmann::json run_map(const MapDef& map, const std::vector<const EngineInfo*>& engines) {
+  nlohmann::json panels = nlohmann::json::array();
+  for (const MapDef::Panel& panel : map.panels) {
+    const Scenario* sc = find_scenario(panel.scenario);
+    nlohmann::json curves = nlohmann::json::array();
+    std::vector<nlohmann::json*> all_points;
+    for (const EngineInfo* e : engines) {
+      if (!e->make_car) continue;
+      const bool iterative = std::any_of(e->knobs.begin(), e->knobs.end(), [](const SettingSpec& k) { return k.vehicle == "car" && k.key == "iterations"; });
+      struct Point { std::string knob; double value; Overrides ov; };
+      std::vector<Point> grid;
+      if (e->is_reference) {
+        grid.push_back({"default", 0.0, {}});  // the exact model has no step: one point
+      } else {
+        for (double dt : map.dt_s) grid.push_back({"dt", dt, {{"dt", fmt::format("{}", dt)}}});
+        if (iterative)
+          for (int n : map.iterations) grid.push_back({"iterations", static_cast<double>(n), {{"iterations", fmt::format("{}", n)}}});
+      }
+      nlohmann::json points = nlohmann::json::array();
+      for (const Point& g : grid) {
+        const RunRecord r = run_scenario(*sc, *e, g.ov);
+        double err = NAN;
+        for (const Metric& m : r.metrics)
+          if (std::find(panel.error_metrics.begin(), panel.error_metrics.end(), m.name) != panel.error_metrics.end() && std::isfinite(m.rel_error))
+            err = std::isnan(err) ? m.rel_error : std::max(err, m.rel_error);
+        const double cost = r.simulated_s > 0.0 ? r.wall_s / r.simulated_s : NAN;
+        points.push_back({{"knob", g.knob}, {"value", g.value}, {"status", to_string(r.status)}, {"message", r.message},
+                          {"error", r.status == Status::kError || !std::isfinite(err) ? nlohmann::json() : nlohmann::json(err)},
+                          {"wall_s", r.wall_s}, {"simulated_s", r.simulated_s},
+                          {"cost_s_per_s", std::isfinite(cost) ? nlohmann::json(cost) : nlohmann::json()}, {"pareto", false}});
+      }
+      curves.push_back({{"engine", e->name}, {"points", points}});
+    }
+    // The Pareto front over every configuration's points: none cheaper and at least as accurate.
+    for (auto& c : curves) {
+      if (find_engine(c["engine"].get<std::string>())->is_reference) continue;  // the yardstick, not a contender
+      for (auto& p : c["points"])
+        if (p["error"].is_number() && p["cost_s_per_s"].is_number()) all_points.push_back(&p);
+    }
+    for (nlohmann::json* p : all_points) {
+      const double e0 = (*p)["error"], c0 = (*p)["cost_s_per_s"];
+      bool dominated = false;
+      for (const nlohmann::json* q : all_points) {
+        if (q == p) continue;
+        const double e1 = (*q)["error"], c1 = (*q)["cost_s_per_s"];
+        if (e1 <= e0 && c1 <= c0 && (e1 < e0 || c1 < c0)) dominated = true;
+      }
+      (*p)["pareto"] = !dominated;
+    }
+    panels.push_back({{"scenario", panel.scenario}, {"error_metrics", panel.error_metrics}, {"error_label", panel.error_label},
+                      {"curves", curves}});
+  }
+  return {{"name", map.name}, {"kind", "map"}, {"title", map.title}, {"dt_s", map.dt_s}, {"iterations", map.iterations},
+          {"panels", panels}};
 }
 
 nlohmann::json run_sweep(const SweepDef& s, const std::vector<const EngineInfo*>& engines) {

@@ -55,4 +55,23 @@ nlohmann::json run_sweep(const SweepDef& sweep, const std::vector<const EngineIn
 /// of the collision domain (analytic closest approach within `near_m` of contact) labelled.
 nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, double near_m = 0.01);
 
+/// The speed-accuracy map: scenarios run on every configuration over the engine step dt and, for
+/// configurations with an iterative solver (a car setting "iterations"), over the iteration count;
+/// each point's error against the exact reference and its cost in wall-clock seconds per simulated
+/// second, with the Pareto front over all configurations marked. Exploration, not a gate.
+struct MapDef {
+  std::string name = "speed_accuracy";
+  std::string title;
+  struct Panel {
+    std::string scenario;
+    std::vector<std::string> error_metrics;  ///< the point's error: the largest relative error among these
+    std::string error_label;
+  };
+  std::vector<Panel> panels;
+  std::vector<double> dt_s;         ///< at each configuration's default settings
+  std::vector<int> iterations;      ///< at the scenario's default dt
+};
+const MapDef& speed_accuracy_map();
+nlohmann::json run_map(const MapDef& map, const std::vector<const EngineInfo*>& engines);
+
 }  // namespace liftcheck

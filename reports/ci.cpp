@@ -67,8 +67,8 @@ std::string junit_xml(const json& results) {
       } else if (!as_expected(*r)) {
         cases += fmt::format("<failure message=\"{}\"/>", xml((*r)["message"]));
         ++f;
-      } else if (st == "fail") {
-        cases += "<system-out>negative control: failed as designed</system-out>";
+      } else if (st == "fail" && r->contains("expectation") && (*r)["expectation"].is_object()) {
+        cases += fmt::format("<system-out>known failure: {}</system-out>", xml((*r)["expectation"]["reason"]));
       }
       cases += "</testcase>\n";
     }

@@ -213,11 +213,15 @@ std::vector<int> decode_utf8(const std::string& s) {
 
 }  // namespace
 
-Color engine_color(const std::string& engine) {
-  if (engine == "analytic") return colors::kAnalytic;
-  if (engine == "ode") return colors::kOde;
-  if (engine == "bullet") return colors::kBullet;
-  return colors::kOther;
+Color color_from_hex(const std::string& hex) {
+  if (hex.size() != 7 || hex[0] != '#') return colors::kUnknown;
+  float rgb[3];
+  for (int i = 0; i < 3; ++i) {
+    const std::string part = hex.substr(1 + 2 * i, 2);
+    if (!std::isxdigit(static_cast<unsigned char>(part[0])) || !std::isxdigit(static_cast<unsigned char>(part[1]))) return colors::kUnknown;
+    rgb[i] = static_cast<float>(std::stoi(part, nullptr, 16)) / 255.0f;
+  }
+  return {rgb[0], rgb[1], rgb[2], 1.0f};
 }
 
 int text_width(const std::string& text, float size_px) {

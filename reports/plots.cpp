@@ -1,5 +1,6 @@
 #include "reports/plots.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fmt/format.h>
@@ -14,11 +15,12 @@ namespace {
 
 using json = nlohmann::json;
 
-std::string color_of(const std::string& engine) {
-  if (engine == "analytic") return "#1a1a1a";
-  if (engine == "ode") return "#1f77b4";
-  if (engine == "bullet") return "#ff7f0e";
-  return "#2ca02c";
+/// Each configuration's colour, from the results' context (EngineInfo::color).
+std::map<std::string, std::string> colors_of(const json& results) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : results["context"].value("engines", json::array()))
+    if (e.contains("color") && e["color"].is_string()) out[e["name"].get<std::string>()] = e["color"].get<std::string>();
+  return out;
 }
 
 std::string safe(const std::string& s) {
@@ -53,6 +55,11 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
   std::filesystem::create_directories(out / "plots");
   Script S;
   std::vector<PlotFile> files;
+  const std::map<std::string, std::string> colors = colors_of(results);
+  const auto color_of = [&](const std::string& engine) {
+    const auto it = colors.find(engine);
+    return it == colors.end() ? std::string("#808080") : it->second;
+  };
   // Runs by scenario, in catalogue order.
   std::vector<std::string> order;
   std::map<std::string, std::vector<const json*>> by_scenario;
@@ -112,12 +119,12 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
         if (first)
           for (const auto& c : (*first)["cases"]) {
             if (c["path"] != path) continue;
-            (c["analytic"].get<bool>() ? hit : miss).push_back({c["a"].get<double>(), c["b"].get<double>()});
+            (c["reference"].get<bool>() ? hit : miss).push_back({c["a"].get<double>(), c["b"].get<double>()});
             if (c["near_boundary"].get<bool>()) nearb.push_back({c["a"].get<double>(), c["b"].get<double>()});
           }
         for (const auto& e : sw["engines"])
           for (const auto& c : e["cases"])
-            if (c["path"] == path && c["analytic"] != c["engine"]) dis.push_back({c["a"].get<double>(), c["b"].get<double>()});
+            if (c["path"] == path && c["reference"] != c["engine"]) dis.push_back({c["a"].get<double>(), c["b"].get<double>()});
         hit.push_back({NAN, NAN}), miss.push_back({NAN, NAN}), nearb.push_back({NAN, NAN}), dis.push_back({NAN, NAN});
         const std::string bh = S.block(hit), bm = S.block(miss), bn = S.block(nearb), bd = S.block(dis);
         S.gp << fmt::format("set title 'N on a {}'\nplot {} u 1:2 w p pt 7 ps 1.3 lc rgb '#d62728' t 'collision', "
@@ -187,6 +194,43 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
     if (cmd.empty()) continue;
     S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
     files.push_back({"sweeps", file, sw["title"]});
+  }
+
+  // Speed-accuracy maps: a panel per scenario, error against cost, a curve per configuration and
+  // knob (dt solid, iterations dashed), the Pareto front over the configurations ringed.
+  for (const auto& map : results.value("maps", json::array())) {
+    const std::string file = fmt::format("plots/map-{}.svg", safe(map["name"]));
+    const auto& panels = map["panels"];
+    S.begin(out / file, "", 1200, 520);
+    S.gp << fmt::format("set multiplot layout 1,{} title \"{}\" font ',11'\nset logscale xy\nset format x '10^{{%T}}'\nset format y '10^{{%T}}'\n"
+                        "set xlabel 'wall-clock cost [s per simulated s]'\nset key inside top right font ',8'\n",
+                        panels.size(), map["title"].get<std::string>());
+    for (const auto& panel : panels) {
+      std::string cmd;
+      std::vector<std::vector<double>> front;
+      for (const auto& c : panel["curves"]) {
+        const std::string eng = c["engine"];
+        for (const char* knob : {"default", "dt", "iterations"}) {
+          std::vector<std::vector<double>> rows;
+          for (const auto& p : c["points"])
+            if (p["knob"] == knob && p["error"].is_number() && p["cost_s_per_s"].is_number()) {
+              rows.push_back({p["cost_s_per_s"].get<double>(), std::max(p["error"].get<double>(), 1e-16)});
+              if (p["pareto"].get<bool>()) front.push_back(rows.back());
+            }
+          if (rows.empty()) continue;
+          const std::string style = std::string(knob) == "iterations" ? "w lp pt 6 dt 2" : std::string(knob) == "dt" ? "w lp pt 7" : "w p pt 9 ps 1.6";
+          cmd += fmt::format("{} u 1:2 {} lw 1.5 lc rgb '{}' t '{}{}', ", S.block(rows), style, color_of(eng), eng,
+                             std::string(knob) == "default" ? "" : fmt::format(" ({})", knob));
+        }
+      }
+      std::sort(front.begin(), front.end());
+      if (!front.empty()) cmd += fmt::format("{} u 1:2 w lp pt 6 ps 2.4 lw 1 dt 3 lc rgb '#000000' t 'Pareto front', ", S.block(front));
+      if (cmd.empty()) continue;
+      S.gp << fmt::format("set title '{}'\nset ylabel '{}'\nplot {}\n", panel["scenario"].get<std::string>(),
+                          panel["error_label"].get<std::string>(), cmd.substr(0, cmd.size() - 2));
+    }
+    S.gp << "unset multiplot\n";
+    files.push_back({"sweeps", file, map["title"]});
   }
 
   const auto script = out / "plots" / "plots.gp";

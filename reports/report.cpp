@@ -40,18 +40,25 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
     std::vector<std::string> errors;
     std::string gl_version;
     std::mutex mu;
+    std::map<std::string, render::Color> ink;  // each configuration's colour, from the context
+    for (const auto& e : results["context"].value("engines", json::array()))
+      ink[e["name"].get<std::string>()] = render::color_from_hex(e.value("color", ""));
+    const auto ink_of = [&](const json& r) {
+      const auto it = ink.find(r["engine"].get<std::string>());
+      return it == ink.end() ? render::colors::kUnknown : it->second;
+    };
     const auto worker = [&](int id) {
       render::Renderer renderer;
       for (std::size_t i = id; i < runs.size(); i += def.threads) {
         const json& r = runs[i];
         const std::string base = fmt::format("snapshots/{}__{}", file_safe(r["scenario"]), file_safe(r["engine"]));
         try {
-          for (const auto& s : render::snapshots_for(r)) {
+          for (const auto& s : render::snapshots_for(r, ink_of(r))) {
             const std::string file = fmt::format("{}__{}.png", base, s.tag);
             render::write_png(out / file, renderer.render(s.scene));
             shots[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"tag", s.tag}, {"file", file}, {"caption", s.caption}});
           }
-          const render::Strip st = render::strip_for(r);
+          const render::Strip st = render::strip_for(r, ink_of(r));
           if (!st.frames.empty()) {
             std::vector<render::Image> frames;
             for (const auto& f : st.frames) frames.push_back(renderer.render(f));

@@ -16,18 +16,15 @@ struct Color {
 };
 
 namespace colors {
-inline constexpr Color kAnalytic{0.10f, 0.10f, 0.10f, 1.0f};  ///< the exact lift: near black
-inline constexpr Color kOde{0.12f, 0.47f, 0.71f, 1.0f};       ///< blue
-inline constexpr Color kBullet{1.00f, 0.50f, 0.05f, 1.0f};    ///< orange
-inline constexpr Color kOther{0.17f, 0.63f, 0.17f, 1.0f};     ///< green
+inline constexpr Color kUnknown{0.50f, 0.50f, 0.50f, 1.0f};   ///< a configuration without a colour
 inline constexpr Color kGround{0.97f, 0.97f, 0.95f, 1.0f};
 inline constexpr Color kGrid{0.82f, 0.82f, 0.80f, 1.0f};
 inline constexpr Color kGridMajor{0.65f, 0.65f, 0.63f, 1.0f};
 inline constexpr Color kContact{0.85f, 0.05f, 0.05f, 1.0f};
 }  // namespace colors
 
-/// The fixed colour of an engine's traces.
-Color engine_color(const std::string& engine);
+/// "#rrggbb" (a configuration's colour, EngineInfo::color) as a Color; kUnknown if malformed.
+Color color_from_hex(const std::string& hex);
 
 struct Polyline {
   std::vector<Vec2> points;

@@ -61,9 +61,9 @@ std::size_t row_at(const json& trace, double t) {
   return best;
 }
 
-void add_legend(Scene& s, const std::string& title, const std::string& engine, const std::string& ref_name) {
+void add_legend(Scene& s, const std::string& title, const std::string& engine, const Color& ink, const std::string& ref_name) {
   s.labels.push_back({title, Vec2(12, 10), true, 17.0f});
-  s.labels.push_back({"━ " + engine, Vec2(12, 32), true, 14.0f, engine_color(engine)});
+  s.labels.push_back({"━ " + engine, Vec2(12, 32), true, 14.0f, ink});
   s.labels.push_back({"▬ " + ref_name, Vec2(12, 50), true, 14.0f, Color{0.45f, 0.45f, 0.45f, 1.0f}});
 }
 
@@ -130,7 +130,7 @@ void add_paths(Scene& s, const json& trace, std::size_t upto, const CarGeom& g, 
   s.lines.push_back(r);
 }
 
-Scene car_scene(const json& run, double t, bool full_paths) {
+Scene car_scene(const json& run, const Color& ink, double t, bool full_paths) {
   Scene s;
   const CarGeom g = geom_of(run);
   const json& tr = run["details"]["trace"];
@@ -140,20 +140,20 @@ Scene car_scene(const json& run, double t, bool full_paths) {
     const json& ref = run["details"]["reference"];
     add_paths(s, ref, full_paths ? ref.size() : row_at(ref, t), g, Color{0.55f, 0.55f, 0.55f, 0.55f}, 7.0f, &b);
   }
-  add_paths(s, tr, full_paths ? tr.size() : k, g, engine_color(run["engine"]), 2.0f, &b);
+  add_paths(s, tr, full_paths ? tr.size() : k, g, ink, 2.0f, &b);
   add_car(s, tr[k], rear_spin(tr, k, g), g);
   b.add(front_of(tr[k]), g.l * 0.6);
   b.add(rear_of(tr[k], g.l), g.l * 0.6);
   frame(s, b);
   add_legend(s, fmt::format("{} · {} · t = {:.2f} s", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
                             tr[k][0].get<double>()),
-             run["engine"], "exact lift of the commanded path");
+             run["engine"], ink, "exact lift of the commanded path");
   return s;
 }
 
 // ---- disks ---------------------------------------------------------------------------------
 
-Scene disk_scene(const json& run, double t, const std::string& moment) {
+Scene disk_scene(const json& run, const Color& ink, double t, const std::string& moment) {
   Scene s;
   const json& d = run["details"];
   const json& tr = d["trace"];
@@ -161,7 +161,7 @@ Scene disk_scene(const json& run, double t, const std::string& moment) {
   Bounds b;
   const auto cM = [](const json& row) { return Vec2(row[1].get<double>(), row[2].get<double>()); };
   const auto cN = [](const json& row) { return Vec2(row[3].get<double>(), row[4].get<double>()); };
-  Polyline nline{{}, Color{0.5f, 0.5f, 0.5f, 1.0f}, 1.5f, true}, mline{{}, engine_color(run["engine"]), 2.0f};
+  Polyline nline{{}, Color{0.5f, 0.5f, 0.5f, 1.0f}, 1.5f, true}, mline{{}, ink, 2.0f};
   for (const auto& row : tr) {
     nline.points.push_back(cN(row)), mline.points.push_back(cM(row));
     b.add(cN(row), 1.0), b.add(cM(row), 1.0);
@@ -185,7 +185,7 @@ Scene disk_scene(const json& run, double t, const std::string& moment) {
   // The forbidden zone of c_M: the disk of radius 2 about c_N.
   s.circles.push_back({cN(tr[k]), 2.0, Color{0.45f, 0.45f, 0.45f, 0.9f}, Color{0, 0, 0, 0}, 1.5f, true});
   s.pucks.push_back({cN(tr[k]), 1.0, 0.25, Color{0.80f, 0.55f, 0.45f, 1.0f}});
-  s.pucks.push_back({cM(tr[k]), 1.0, 0.25, lighten(engine_color(run["engine"]), 0.45f)});
+  s.pucks.push_back({cM(tr[k]), 1.0, 0.25, lighten(ink, 0.45f)});
   s.labels.push_back({"N", cN(tr[k]) + Vec2(-0.15, 0.35), false, 16.0f});
   s.labels.push_back({"M", cM(tr[k]) + Vec2(-0.15, 0.35), false, 16.0f});
   if (d["t_contact_measured_s"].is_number()) {
@@ -195,37 +195,37 @@ Scene disk_scene(const json& run, double t, const std::string& moment) {
   frame(s, b, 0.08);
   add_legend(s, fmt::format("{} · {} · {} t = {:.2f} s", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
                             moment, tr[k][0].get<double>()),
-             run["engine"], "analytic lift (21)");
+             run["engine"], ink, "analytic lift (21)");
   return s;
 }
 
 /// car.covariance: every start of the manoeuvre (turned and shifted by E(2)) with its path, the start
 /// pose faint and the end pose solid.
-Scene covariance_scene(const json& run) {
+Scene covariance_scene(const json& run, const Color& ink) {
   Scene s;
   const CarGeom g = geom_of(run);
   Bounds b;
   for (const auto& r : run["details"]["runs"]) {
     const json& tr = r["trace"];
     if (!tr.is_array() || tr.empty()) continue;
-    add_paths(s, tr, tr.size(), g, engine_color(run["engine"]), 2.0f, &b);
+    add_paths(s, tr, tr.size(), g, ink, 2.0f, &b);
     add_car(s, tr.front(), 0.0, g, 0.25f);
     add_car(s, tr.back(), rear_spin(tr, tr.size() - 1, g), g);
   }
   frame(s, b, 0.05);
   add_legend(s, fmt::format("{} · {} · {} starts", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
                             run["details"]["runs"].size()),
-             run["engine"], "(faint: start poses)");
+             run["engine"], ink, "(faint: start poses)");
   return s;
 }
 
 }  // namespace
 
-std::vector<Snapshot> snapshots_for(const json& run) {
+std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
   std::vector<Snapshot> out;
   if (!run.contains("details") || !run["details"].is_object()) return out;
   if (run["details"].contains("runs") && run["scenario"] == "car.covariance") {
-    out.push_back({"end", "all starts (turned over the full circle, every other one shifted) and their paths", covariance_scene(run)});
+    out.push_back({"end", "all starts (turned over the full circle, every other one shifted) and their paths", covariance_scene(run, ink)});
     return out;
   }
   if (!run["details"].contains("trace")) return out;
@@ -234,13 +234,13 @@ std::vector<Snapshot> snapshots_for(const json& run) {
   const double t0 = tr.front()[0].get<double>(), t1 = tr.back()[0].get<double>();
   const std::string scen = run["scenario"];
   if (scen.rfind("disks.", 0) == 0) {
-    out.push_back({"start", "start", disk_scene(run, t0, "start")});
+    out.push_back({"start", "start", disk_scene(run, ink, t0, "start")});
     if (run["details"]["t_contact_measured_s"].is_number()) {
       const double tc = run["details"]["t_contact_measured_s"].get<double>();
-      out.push_back({"contact", fmt::format("first contact, t = {:.3f} s", tc), disk_scene(run, tc, "contact")});
+      out.push_back({"contact", fmt::format("first contact, t = {:.3f} s", tc), disk_scene(run, ink, tc, "contact")});
     }
-    out.push_back({"end", "end", disk_scene(run, t1, "end")});
-    Snapshot p{"perspective", "end, perspective view", disk_scene(run, t1, "end")};
+    out.push_back({"end", "end", disk_scene(run, ink, t1, "end")});
+    Snapshot p{"perspective", "end, perspective view", disk_scene(run, ink, t1, "end")};
     Bounds b;
     b.add(Vec2(tr.back()[1].get<double>(), tr.back()[2].get<double>()), 2.5);
     b.add(Vec2(tr.back()[3].get<double>(), tr.back()[4].get<double>()), 2.5);
@@ -248,9 +248,9 @@ std::vector<Snapshot> snapshots_for(const json& run) {
     out.push_back(p);
     return out;
   }
-  out.push_back({"start", "start", car_scene(run, t0, false)});
-  out.push_back({"end", "end, with the whole paths", car_scene(run, t1, true)});
-  Snapshot p{"perspective", "end, perspective view", car_scene(run, t1, true)};
+  out.push_back({"start", "start", car_scene(run, ink, t0, false)});
+  out.push_back({"end", "end, with the whole paths", car_scene(run, ink, t1, true)});
+  Snapshot p{"perspective", "end, perspective view", car_scene(run, ink, t1, true)};
   const CarGeom g = geom_of(run);
   Bounds b;
   b.add(front_of(tr.back()), 1.5 * g.l);
@@ -260,7 +260,7 @@ std::vector<Snapshot> snapshots_for(const json& run) {
   return out;
 }
 
-Strip strip_for(const json& run) {
+Strip strip_for(const json& run, const Color& ink) {
   Strip st;
   const std::string scen = run["scenario"];
   if (scen != "car.cycle" && scen != "car.iterated" && scen != "car.iterated-beta") return st;
@@ -293,7 +293,7 @@ Strip strip_for(const json& run) {
   double mag = 1.0;
   if (shift > 0) mag = std::pow(10.0, std::round(std::log10(0.5 * g.l / shift)));
   s.arrows.push_back({p0, p0 + mag * (pe - p0), Color{0.5f, 0.5f, 0.5f, 0.8f}, 7.0f});
-  s.arrows.push_back({p0, p0 + mag * (p1 - p0), engine_color(run["engine"]), 3.0f});
+  s.arrows.push_back({p0, p0 + mag * (p1 - p0), ink, 3.0f});
   frame(s, b, 0.05);
   s.labels.push_back({fmt::format("shift {:.3g} mm, arrows ×{:g}", shift * 1e3, mag), Vec2(8, 6), true, 13.0f});
   st.frames.push_back(std::move(s));

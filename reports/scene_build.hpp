@@ -22,9 +22,10 @@ struct Strip {
   int per_row = 6;
 };
 
-/// Snapshots for one run record (none when the record has no trace).
-std::vector<Snapshot> snapshots_for(const nlohmann::json& run);
+/// Snapshots for one run record (none when the record has no trace), its traces drawn in `ink`
+/// (the configuration's colour from the results' context).
+std::vector<Snapshot> snapshots_for(const nlohmann::json& run, const Color& ink);
 /// The frame strip of a parking-cycle run (car.cycle, car.iterated, car.iterated-beta); empty frames otherwise.
-Strip strip_for(const nlohmann::json& run);
+Strip strip_for(const nlohmann::json& run, const Color& ink);
 
 }  // namespace liftcheck::render

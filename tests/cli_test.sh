@@ -29,7 +29,7 @@ bad_input() {  # bad_input NAME PATTERN ARGS...: exit 2, exactly one stderr line
 }
 
 bad_input unknown-scenario "unknown scenario 'car.nope'" run car.nope
-bad_input unknown-engine "unknown engine 'warp'" run car.circle --engine warp
+bad_input unknown-engine "unknown engine configuration 'warp'" run car.circle --engine warp
 bad_input unknown-param "unknown parameter 'speeed'" run car.circle --set speeed=1
 bad_input non-number "parameter 'R' needs a finite number, got 'abc'" run car.circle --set R=abc
 bad_input zero-l "parameter 'l' must be > 0" run car.circle --set l=0
@@ -41,7 +41,7 @@ bad_input unknown-subcommand "error" frobnicate
 bad_input ode-has-no-iterations "engine 'ode' has no setting 'iterations'" run car.cycle --engine ode --set iterations=5
 bad_input analytic-has-no-wheel "engine 'analytic' has no setting 'wheel'" run car.circle --set wheel=cylinder
 bad_input iterations-range "parameter 'iterations' must be >= 1" run car.cycle --engine bullet --set iterations=0
-bad_input validate-unknown-engine "unknown engine 'warp'" validate --engines warp --out "$tmp/r0"
+bad_input validate-unknown-engine "unknown engine configuration 'warp'" validate --engines warp --out "$tmp/r0"
 bad_input validate-no-match "no scenario matches 'zzz*'" validate --filter 'zzz*' --out "$tmp/r1"
 [ -e "$tmp/r1/results.json" ] && { echo "FAIL validate-no-match left a results.json"; fails=$((fails + 1)); }
 

@@ -56,8 +56,20 @@ TEST(Params, EngineSettings) {
   EXPECT_EQ(settings.at("friction_dirs"), "wheel");
   EXPECT_EQ(setting_error(bullet, {{"iterations", "2.5"}}), "parameter 'iterations' needs a whole number, got '2.5'");
   EXPECT_EQ(setting_error(bullet, {{"wheel", "square"}}), "parameter 'wheel' must be one of sphere|cylinder, got 'square'");
-  EXPECT_EQ(setting_error(*find_engine("ode"), {{"iterations", "5"}}),
-            "engine 'ode' has no setting 'iterations' for cars (its settings there: wheel, friction_dirs; 'iterations' is a car setting of 'bullet')");
+  const std::string no_iterations = setting_error(*find_engine("ode"), {{"iterations", "5"}});
+  EXPECT_EQ(no_iterations.rfind("engine 'ode' has no setting 'iterations' for cars (its settings there: wheel, friction_dirs; 'iterations' is a setting of ", 0), 0u)
+      << no_iterations;
+  EXPECT_NE(no_iterations.find("ode-quick"), std::string::npos) << no_iterations;
+  EXPECT_NE(no_iterations.find("bullet"), std::string::npos) << no_iterations;
+  // The quick-step solver's SOR factor: a real in (0, 2], only where it exists.
+  const EngineInfo& quick = *find_engine("ode-quick");
+  EXPECT_EQ(split_settings(circle, quick, {{"w", "1.0"}}).second.at("w"), "1");
+  EXPECT_EQ(split_settings(circle, quick, {}).second.at("w"), "1.3");
+  EXPECT_EQ(split_settings(circle, quick, {}).second.at("iterations"), "50");
+  EXPECT_EQ(setting_error(quick, {{"w", "0"}}), "parameter 'w' must be > 0 (got 0)");
+  EXPECT_NE(setting_error(quick, {{"w", "2.5"}}), "");
+  EXPECT_NE(setting_error(quick, {{"w", "fast"}}), "");
+  EXPECT_EQ(setting_error(*find_engine("ode"), {{"w", "1.0"}}).rfind("engine 'ode' has no setting 'w' for cars", 0), 0u);
 }
 
 TEST(Params, SplitAssignment) {

@@ -31,8 +31,13 @@ class AnalyticDisks final : public DiskEngine {
     disks::LiftDef def;
     def.sample_dt_s = setup.sample_dt_s;
     const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);
+    simulated_s_ += pb.T_s;
     return {r.t_contact_s, r.min_distance, r.trace, std::nullopt};
   }
+  double simulated_s() const override { return simulated_s_; }
+
+ private:
+  double simulated_s_ = 0.0;
 };
 
 }  // namespace

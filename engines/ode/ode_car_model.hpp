@@ -14,7 +14,7 @@ namespace liftcheck {
 
 class OdeCar : public RigidCar {
  public:
-  using RigidCar::RigidCar;
+  explicit OdeCar(Settings settings, const OdeStepper& stepper = {}) : RigidCar(std::move(settings)), stepper_(stepper) {}
   ~OdeCar() override { destroy(); }
 
  protected:
@@ -25,8 +25,7 @@ class OdeCar : public RigidCar {
     space_ = dSimpleSpaceCreate(nullptr);
     contacts_ = dJointGroupCreate(0);
     dWorldSetGravity(world_, 0, 0, -setup.gravity_mps2);
-    dWorldSetERP(world_, 0.2);
-    dWorldSetCFM(world_, 1e-10);
+    stepper_.configure(world_);
     ground_ = dCreatePlane(space_, 0, 0, 1, 0);
 
     const double c = std::cos(q0.phi_rad), s = std::sin(q0.phi_rad);
@@ -109,7 +108,7 @@ class OdeCar : public RigidCar {
 
   void step(double dt_s) override {
     dSpaceCollide(space_, this, &OdeCar::near_callback);
-    dWorldStep(world_, dt_s);
+    stepper_.step(world_, dt_s);
     dJointGroupEmpty(contacts_);
   }
 
@@ -190,6 +189,7 @@ class OdeCar : public RigidCar {
   dJointID steer_joint_ = nullptr, rear_joint_[2] = {nullptr, nullptr};
   double beta0_ = 0.0, mu_ = 1.0;
   bool wheel_dirs_ = true;
+  OdeStepper stepper_;
 };
 
 

@@ -20,8 +20,7 @@ void OdeDisks::build(const DiskSetup& setup, const disks::Vec2& cM0, const disks
   space_ = dSimpleSpaceCreate(nullptr);
   contacts_ = dJointGroupCreate(0);
   dWorldSetGravity(world_, 0, 0, 0);
-  dWorldSetERP(world_, 0.2);
-  dWorldSetCFM(world_, 1e-10);
+  stepper_.configure(world_);
   const disks::Vec2 at[2] = {cM0, cN0};
   dBodyID* body[2] = {&M_, &N_};
   for (int i = 0; i < 2; ++i) {
@@ -68,7 +67,7 @@ DrivenDisks::StepContacts OdeDisks::step(const disks::Vec2& vM_cmd, const disks:
   dBodySetLinearVel(N_, (cN_next.x() - p[0]) / dt_s, (cN_next.y() - p[1]) / dt_s, 0.0);
   seen_ = {};
   dSpaceCollide(space_, this, &OdeDisks::near_callback);
-  dWorldStep(world_, dt_s);
+  stepper_.step(world_, dt_s);
   dJointGroupEmpty(contacts_);
   return seen_;
 }
@@ -88,6 +87,6 @@ void OdeDisks::destroy() {
   world_ = nullptr;
 }
 
-std::unique_ptr<DiskEngine> make_ode_disks() { return std::make_unique<OdeDisks>(); }
+std::unique_ptr<DiskEngine> make_ode_disks(const OdeStepper& stepper) { return std::make_unique<OdeDisks>(stepper); }
 
 }  // namespace liftcheck

@@ -6,11 +6,13 @@
 #include <ode/ode.h>
 
 #include "engines/driven_disks.hpp"
+#include "engines/ode/ode_car.hpp"
 
 namespace liftcheck {
 
 class OdeDisks : public DrivenDisks {
  public:
+  explicit OdeDisks(const OdeStepper& stepper = {}) : stepper_(stepper) {}
   ~OdeDisks() override;
 
  protected:
@@ -31,6 +33,7 @@ class OdeDisks : public DrivenDisks {
   dBodyID M_ = nullptr, N_ = nullptr;
   dJointID motor_ = nullptr;
   StepContacts seen_;
+  OdeStepper stepper_;
 };
 
 }  // namespace liftcheck

@@ -177,6 +177,9 @@ Verdict judge(const EngineInfo& e, const std::string& scenario, const std::strin
   Verdict v;
   for (const RunRecord& r : validate(e)) {
     if (r.status == Status::kSkip) continue;
+    // A negative control fails on every engine with contact dynamics: the expectations list it for
+    // each real configuration; a fault engine is judged as the configuration it breaks would be.
+    if (find_scenario(r.scenario)->negative_control && r.status == Status::kFail) continue;
     if (!r.as_expected()) {
       ++v.unexpected;
       v.summary += r.scenario + ": " + r.message + "\n";
