@@ -1,5 +1,6 @@
 #include "engines/analytic/analytic.hpp"
 #include "engines/bullet/bullet_car.hpp"
+#include "engines/bullet/bullet_raycast.hpp"
 #include "engines/ode/ode_car.hpp"
 #include "engines/engine.hpp"
 
@@ -15,6 +16,7 @@ const std::vector<EngineInfo>& engines() {
     v.push_back(ode_engine());
     v.push_back(ode_quick_engine());
     v.push_back(bullet_engine());
+    v.push_back(bullet_raycast_engine());
     return v;
   }();
   return all;
