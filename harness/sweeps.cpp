@@ -47,7 +47,8 @@ const std::vector<KnownSweepFailure>& known_sweep_failures() {
         const auto metrics = e.value("metrics", std::vector<std::string>{});
         const bool fit = e.value("fit_fails", false);
         if (e.contains("x")) {
-          for (const auto& x : e.at("x")) v.push_back({e.at("sweep"), engine, x.get<double>(), metrics, e.at("reason"), e.at("measured"), false, false});
+          for (const auto& x : e.at("x"))
+            v.push_back({e.at("sweep"), engine, x.get<double>(), metrics, e.at("reason"), e.at("measured"), false, false, e.value("error", false)});
           if (fit) v.push_back({e.at("sweep"), engine, NAN, {}, e.at("reason"), e.at("measured"), false, true});
         } else {
           v.push_back({e.at("sweep"), engine, NAN, metrics, e.at("reason"), e.at("measured"), !metrics.empty(), fit});
@@ -79,7 +80,13 @@ bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
       k = anywhere;
       ++anywhere_failed;
     }
-    if (st == "error") {
+    if (st == "error" && k && k->error) {
+      ++known;
+      pt["known_failure"] = k->reason;
+    } else if (k && k->error) {
+      ++unexpected;
+      problems.push_back(fmt::format("{} = {}: listed as ending in an error ({}) but ran: {}", sweep.param, x, k->reason, st));
+    } else if (st == "error") {
       ++error;
       problems.push_back(fmt::format("{} = {}: error: {}", sweep.param, x, pt["message"].get<std::string>()));
     } else if (k && st == "fail" && std::all_of(pt["failed"].begin(), pt["failed"].end(), [&](const nlohmann::json& m) {

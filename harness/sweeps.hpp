@@ -41,6 +41,8 @@ struct KnownSweepFailure {
   bool every_x = false;
   /// "fit_fails": the fitted slope misses its band (or has too few points), and must.
   bool fit_fails = false;
+  /// "error": the listed points end as errors (the engine blows up there), and must.
+  bool error = false;
 };
 const std::vector<KnownSweepFailure>& known_sweep_failures();
 
