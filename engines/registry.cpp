@@ -1,5 +1,6 @@
 #include "engines/analytic/analytic.hpp"
 #include "engines/bullet/bullet_car.hpp"
+#include "engines/bullet/bullet_multibody.hpp"
 #include "engines/ode/ode_car.hpp"
 #include "engines/engine.hpp"
 
@@ -13,6 +14,7 @@ const std::vector<EngineInfo>& engines() {
     std::vector<EngineInfo> v;
     v.push_back(analytic_engine());
     v.push_back(bullet_engine());
+    v.push_back(bullet_multibody_engine());
     v.push_back(ode_engine());
     return v;
   }();
