@@ -1,5 +1,6 @@
 #include "engines/analytic/analytic.hpp"
 #include "engines/bullet/bullet_car.hpp"
+#include "engines/bullet/bullet_multibody.hpp"
 #include "engines/bullet/bullet_raycast.hpp"
 #include "engines/ode/ode_car.hpp"
 #include "engines/engine.hpp"
@@ -16,6 +17,7 @@ const std::vector<EngineInfo>& engines() {
     v.push_back(ode_engine());
     v.push_back(ode_quick_engine());
     v.push_back(bullet_engine());
+    v.push_back(bullet_multibody_engine());
     v.push_back(bullet_raycast_engine());
     return v;
   }();
