@@ -247,7 +247,8 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
   o.values["spread_phi"] = {0.0, spread_phi};
   // In the default regime the wheels slide a little, identically at every heading: the distance
   // from the no-slip lift is information here, the no-slip check is car.circle's.
-  o.details = {{"runs", rows}, {"exact_end_in_start_frame", {exact.x_m, exact.y_m, exact.phi_rad}},
+  // "drawing": the report draws every start and its path in one picture.
+  o.details = {{"runs", rows}, {"drawing", "starts"}, {"exact_end_in_start_frame", {exact.x_m, exact.y_m, exact.phi_rad}},
                {"largest_distance_from_no_slip_lift_m", worst}};
   return o;
 }

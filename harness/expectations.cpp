@@ -1,18 +1,46 @@
 #include "harness/expectations.hpp"
 
-#include <nlohmann/json.hpp>
+#include <cmath>
+#include <fmt/format.h>
+#include <stdexcept>
 
 #include "liftcheck_expectations.hpp"
 
 namespace liftcheck {
+
+Ceilings parse_ceilings(const nlohmann::json& metrics, const std::string& where) {
+  if (!metrics.is_object() || metrics.empty())
+    throw std::logic_error(fmt::format("harness/expectations.json: {}: \"metrics\" must map each failing metric to its error ceiling", where));
+  Ceilings c;
+  for (const auto& [name, v] : metrics.items()) {
+    if (!v.is_number() || !(v.get<double>() > 0.0) || !std::isfinite(v.get<double>()))
+      throw std::logic_error(fmt::format("harness/expectations.json: {}: the ceiling of '{}' must be a positive number", where, name));
+    c[name] = v.get<double>();
+  }
+  return c;
+}
+
+std::vector<std::string> beyond_ceilings(const Ceilings& ceilings, const std::vector<std::pair<std::string, double>>& failed) {
+  std::vector<std::string> problems;
+  for (const auto& [name, error] : failed) {
+    const auto it = ceilings.find(name);
+    if (it == ceilings.end())
+      problems.push_back(fmt::format("{} fails but is not among the known failure's metrics", name));
+    else if (!(error <= it->second))
+      problems.push_back(fmt::format("{} error {:.3g} is above its known ceiling {:.3g}", name, error, it->second));
+  }
+  return problems;
+}
 
 const std::vector<KnownFailure>& known_run_failures() {
   static const std::vector<KnownFailure> all = [] {
     std::vector<KnownFailure> v;
     const nlohmann::json j = nlohmann::json::parse(kExpectationsJson);
     for (const auto& e : j.value("runs", nlohmann::json::array()))
-      for (const auto& engine : e.at("engines"))
-        v.push_back({e.at("scenario"), engine, e.at("metrics").get<std::vector<std::string>>(), e.at("reason"), e.at("measured")});
+      for (const auto& engine : e.at("engines")) {
+        const std::string where = fmt::format("{} on {}", e.at("scenario").get<std::string>(), engine.get<std::string>());
+        v.push_back({e.at("scenario"), engine, parse_ceilings(e.at("metrics"), where), e.at("reason"), e.at("measured")});
+      }
     return v;
   }();
   return all;

@@ -163,7 +163,7 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
       std::cout << fmt::format("sweep  {:<32} {:8.3f} s\n", sw.name,
                                std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count());
     }
-  if (sweeps && matches("disks.linear")) {
+  if (sweeps && matches(outcome_sweep_scenario())) {
     const auto ts = std::chrono::steady_clock::now();
     sweep_results.push_back(run_outcome_sweep(es));
     std::cout << fmt::format("sweep  {:<32} {:8.3f} s\n", "disk_outcomes",

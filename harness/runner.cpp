@@ -24,14 +24,19 @@ std::vector<std::string> RunRecord::failed_metrics() const {
   return out;
 }
 
+std::vector<std::string> RunRecord::beyond_known() const {
+  if (!known) return {};
+  std::vector<std::pair<std::string, double>> failed;
+  for (const auto& m : metrics)
+    if (!m.pass && !m.informational) failed.emplace_back(m.name, m.compared_error());
+  return beyond_ceilings(known->metrics, failed);
+}
+
 bool RunRecord::as_expected() const {
   if (status == Status::kSkip) return true;
   if (!known) return status == Status::kPass;
   if (status != Status::kFail) return false;
-  const auto failed = failed_metrics();
-  return !failed.empty() && std::all_of(failed.begin(), failed.end(), [&](const std::string& m) {
-    return std::find(known->metrics.begin(), known->metrics.end(), m) != known->metrics.end();
-  });
+  return !failed_metrics().empty() && beyond_known().empty();
 }
 
 std::string RunRecord::verdict() const {
@@ -63,12 +68,13 @@ double RunRecord::worst_rel_error() const {
 nlohmann::json RunRecord::to_json() const {
   nlohmann::json ms = nlohmann::json::object();
   for (const auto& m : metrics) ms[m.name] = m.to_json();
-  return {{"scenario", scenario}, {"engine", engine},   {"params", params}, {"settings", settings},
+  return {{"scenario", scenario}, {"engine", engine}, {"vehicle", vehicle}, {"params", params}, {"settings", settings},
           {"status", to_string(status)}, {"message", message}, {"metrics", ms},
           {"worst_ratio", metrics.empty() ? nlohmann::json() : nlohmann::json(worst_ratio())},
           {"worst_rel_error", std::isnan(worst_rel_error()) ? nlohmann::json() : nlohmann::json(worst_rel_error())},
           {"verdict", verdict()}, {"as_expected", as_expected()},
-          {"expectation", known ? nlohmann::json{{"metrics", known->metrics}, {"reason", known->reason}, {"measured", known->measured}}
+          {"expectation", known ? nlohmann::json{{"metrics", known->metrics}, {"reason", known->reason}, {"measured", known->measured},
+                                                 {"beyond", beyond_known()}}
                                 : nlohmann::json()},
           {"wall_s", wall_s}, {"simulated_s", simulated_s}, {"details", details}};
 }
@@ -140,6 +146,7 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
   RunRecord r;
   r.scenario = scenario.name;
   r.engine = engine.name;
+  r.vehicle = scenario.vehicle;
   const auto [param_overrides, settings] = split_settings(scenario, engine, overrides);
   const Params params = Params::resolve(scenario.params, param_overrides, scenario.name);
   r.params = params.to_json();
@@ -191,6 +198,8 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
     } else {
       r.status = pass ? Status::kPass : Status::kFail;
       if (!pass) r.message = fmt::format("out of tolerance: {}", fmt::join(r.failed_metrics(), ", "));
+      if (!pass && r.known && !r.beyond_known().empty())
+        r.message += fmt::format("; worse than its known failure: {}", fmt::join(r.beyond_known(), "; "));
     }
   } catch (const InputError&) {
     throw;

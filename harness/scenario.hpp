@@ -60,6 +60,8 @@ struct Metric {
   bool pass;
   double floor = 0.0;  ///< absolute floor of a relative metric (0: none)
   bool informational = false;  ///< shown only: not a pass, not a fail
+  /// The error its tolerance is compared with: relative or absolute, by kind.
+  double compared_error() const { return kind == TolKind::kRelative ? rel_error : abs_error; }
   nlohmann::json to_json() const;
 };
 

@@ -2,11 +2,13 @@
 // stored as flat points in results.json ("sweeps"), with fitted slopes where the sweep asks.
 #pragma once
 
+#include <cmath>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "engines/engine.hpp"
+#include "harness/expectations.hpp"
 #include "harness/params.hpp"
 
 namespace liftcheck {
@@ -28,21 +30,33 @@ struct SweepDef {
   /// The gate on the fit: the fitted slope must lie within slope_band of slope_expected.
   double slope_expected = 0.0;
   double slope_band = 0.0;
+  /// How the report plots it: "values" (the recorded metrics' measured values, front and rear, over
+  /// the exact curves), "sizes" (measured against exact size, log-log) or "errors" (the first
+  /// recorded metric's relative error, log y).
+  std::string plot = "errors";
+  std::string x_label, y_label;
+  bool log_x = false;
+  /// Exact curves drawn under the points: a gnuplot expression in x and its title.
+  std::vector<std::pair<std::string, std::string>> curves = {};
 };
 
-/// A sweep point known to fail on an engine, reviewed data (harness/expectations.json): the
-/// reason in one sentence and the measured figure. A listed point that passes is unexpected.
+/// A sweep's known failure, reviewed data (harness/expectations.json "sweep_points"): the reason
+/// in one sentence and the measured figure. Every kind must still fail as listed, so the file stays
+/// true, and no worse than listed, so a regression of a known failure is caught.
 struct KnownSweepFailure {
+  enum Kind {
+    kPoint,     ///< "x": these points fail, only in "metrics", each no worse than its ceiling
+    kError,     ///< "x" with "error_contains": these points end in an error whose message contains it
+    kFit,       ///< "fit_problem": the slope gate fails with a problem starting with it
+    kAnywhere,  ///< no "x": up to "points_max" points may fail in "metrics" (ceilings), at least one must
+  };
   std::string sweep, engine;
-  double x;                          ///< the point (when every_x is false)
-  std::vector<std::string> metrics;  ///< the metrics that fail; a point failing any other is unexpected
+  Kind kind = kPoint;
+  double x = NAN;
+  Ceilings metrics;
+  std::string pattern;  ///< kError: part of the message; kFit: start of the fit problem
+  int points_max = 0;   ///< kAnywhere
   std::string reason, measured;
-  /// No "x" in the file: any point may fail in `metrics`, and at least one must.
-  bool every_x = false;
-  /// "fit_fails": the fitted slope misses its band (or has too few points), and must.
-  bool fit_fails = false;
-  /// "error": the listed points end as errors (the engine blows up there), and must.
-  bool error = false;
 };
 const std::vector<KnownSweepFailure>& known_sweep_failures();
 
@@ -52,6 +66,8 @@ const std::vector<KnownSweepFailure>& known_sweep_failures();
 bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry);
 
 const std::vector<SweepDef>& sweep_catalogue();
+/// The scenario the outcome sweep (run_outcome_sweep) runs over its grid.
+const std::string& outcome_sweep_scenario();
 
 /// Runs one sweep on the given engines. Engines that cannot run the scenario are left out.
 nlohmann::json run_sweep(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines);

@@ -70,7 +70,7 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
   }
   for (const auto& sc : order) {
     std::vector<std::string> plots;
-    const bool disks = sc.rfind("disks.", 0) == 0;
+    const bool disks = by_scenario[sc].front()->value("vehicle", "") == "disks";
     const std::string file = fmt::format("plots/{}-{}.svg", safe(sc), disks ? "distance" : "paths");
     std::string cmd;
     bool any = false, reference_done = false;
@@ -88,7 +88,7 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
       };
       if (!reference_done && d.contains("reference")) {
         const std::string b = S.block(rows_of(d["reference"]));
-        cmd += fmt::format("{} u 1:2 w l lw 7 lc rgb '#b0b0b0' t '{}', ", b, disks ? "analytic lift (21)" : "exact lift (front axle)");
+        cmd += fmt::format("{} u 1:2 w l lw 7 lc rgb '#b0b0b0' t '{}', ", b, disks ? "exact lift (21)" : "exact lift (front axle)");
         reference_done = true;
       }
       const std::string b = S.block(rows_of(d["trace"]));
@@ -141,17 +141,20 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
     const auto& rec = sw["record"];
     S.begin(out / file, sw["title"]);
     std::string cmd;
-    const bool holonomy = name.rfind("holonomy", 0) == 0;
-    if (name == "radius_vs_beta") {
-      S.gp << "set xlabel 'beta_0 [rad]'\nset ylabel 'radius [m]'\nset logscale y\n";
-      cmd += "1.0/sin(x) w l lw 6 lc rgb '#c8c8c8' t 'l/sin(beta_0)', 1.0/tan(x) w l lw 6 lc rgb '#e0e0e0' t 'l/tan(beta_0)', ";
-    } else if (holonomy) {
-      S.gp << "set xlabel 'eps [rad]'\nset ylabel 'net shift of the tie rod [m]'\nset logscale xy\nset format y '10^{%T}'\n";
-    } else {
-      S.gp << fmt::format("set xlabel '{}'\nset ylabel 'relative error of the front radius'\nset logscale y\nset format y '10^{{%T}}'\n",
-                          param == "dt" ? "dt [s]" : "speed [m/s]");
-      if (param == "dt") S.gp << "set logscale x\n";
-    }
+    // The sweep says how it is plotted (its catalogue entry): measured values over exact curves,
+    // measured against exact sizes, or relative errors.
+    const json plot = sw.value("plot", json::object());
+    const std::string kind = plot.value("kind", "errors");
+    const bool values = kind == "values", holonomy = kind == "sizes";
+    S.gp << fmt::format("set xlabel '{}'\nset ylabel '{}'\n", plot.value("x_label", param), plot.value("y_label", ""));
+    if (values) S.gp << "set logscale y\n";
+    else if (holonomy) S.gp << "set logscale xy\nset format y '10^{%T}'\n";
+    else S.gp << "set logscale y\nset format y '10^{%T}'\n";
+    if (plot.value("log_x", false)) S.gp << "set logscale x\n";
+    int shade = 0;
+    for (const auto& c : plot.value("curves", json::array()))
+      cmd += fmt::format("{} w l lw 6 lc rgb '{}' t '{}', ", c["expr"].get<std::string>(), shade++ == 0 ? "#c8c8c8" : "#e0e0e0",
+                         c["title"].get<std::string>());
     if (sw.contains("marker")) {
       S.gp << fmt::format("set arrow from {0}, graph 0 to {0}, graph 1 nohead lc rgb '#cc0000' dt 2\nset label \"{1}\" at {0}, graph 0.95 offset 0.5,0 tc rgb '#cc0000'\n",
                           sw["marker"]["x"].get<double>(), sw["marker"]["label"].get<std::string>());
@@ -162,7 +165,7 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
       std::vector<std::vector<double>> a, b2, exact;
       for (const auto& pt : e["points"]) {
         const double x = pt["x"].get<double>();
-        if (name == "radius_vs_beta") {
+        if (values) {
           const auto& f = pt[rec[0].get<std::string>()];
           const auto& r = pt[rec[1].get<std::string>()];
           if (f.is_object() && f["measured"].is_number()) a.push_back({x, f["measured"].get<double>()});
@@ -188,7 +191,7 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
       if (holonomy && e.contains("fit") && e["fit"]["slope"].is_number())
         title += fmt::format(" (slope {:.2f})", e["fit"]["slope"].get<double>());
       cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb '{}' t '{}{}', ", S.block(a), color_of(eng), title,
-                         name == "radius_vs_beta" ? " front" : "");
+                         values ? " front" : "");
       if (!b2.empty()) cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb '{}' t '{} rear', ", S.block(b2), color_of(eng), eng);
     }
     if (cmd.empty()) continue;

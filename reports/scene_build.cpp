@@ -195,7 +195,7 @@ Scene disk_scene(const json& run, const Color& ink, double t, const std::string&
   frame(s, b, 0.08);
   add_legend(s, fmt::format("{} · {} · {} t = {:.2f} s", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
                             moment, tr[k][0].get<double>()),
-             run["engine"], ink, "analytic lift (21)");
+             run["engine"], ink, "exact lift (21)");
   return s;
 }
 
@@ -224,7 +224,7 @@ Scene covariance_scene(const json& run, const Color& ink) {
 std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
   std::vector<Snapshot> out;
   if (!run.contains("details") || !run["details"].is_object()) return out;
-  if (run["details"].contains("runs") && run["scenario"] == "car.covariance") {
+  if (run["details"].value("drawing", "") == "starts" && run["details"].contains("runs")) {
     out.push_back({"end", "all starts (turned over the full circle, every other one shifted) and their paths", covariance_scene(run, ink)});
     return out;
   }
@@ -232,8 +232,7 @@ std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
   const json& tr = run["details"]["trace"];
   if (!tr.is_array() || tr.size() < 2) return out;
   const double t0 = tr.front()[0].get<double>(), t1 = tr.back()[0].get<double>();
-  const std::string scen = run["scenario"];
-  if (scen.rfind("disks.", 0) == 0) {
+  if (run.value("vehicle", "") == "disks") {
     out.push_back({"start", "start", disk_scene(run, ink, t0, "start")});
     if (run["details"]["t_contact_measured_s"].is_number()) {
       const double tc = run["details"]["t_contact_measured_s"].get<double>();
@@ -262,12 +261,11 @@ std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
 
 Strip strip_for(const json& run, const Color& ink) {
   Strip st;
-  const std::string scen = run["scenario"];
-  if (scen != "car.cycle" && scen != "car.iterated" && scen != "car.iterated-beta") return st;
-  if (!run["details"].contains("trace")) return st;
+  // A parking cycle records its number of steps: a frame at the start and after each step.
+  if (!run.contains("details") || !run["details"].is_object() || !run["details"].contains("steps") || !run["details"].contains("trace")) return st;
   const json& tr = run["details"]["trace"];
   const CarGeom g = geom_of(run);
-  const int n = scen == "car.cycle" ? 5 : 11;
+  const int n = run["details"]["steps"].get<int>() + 1;
   Bounds b;
   for (const auto& row : tr) b.add(front_of(row), 1.2 * g.R), b.add(rear_of(row, g.l), 0.5 * g.track + 1.2 * g.R);
   for (int i = 0; i < n; ++i) {

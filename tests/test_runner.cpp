@@ -1,7 +1,9 @@
 // Scoring, error handling and the analytic engine's records against exact computations.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <set>
 #include <fmt/format.h>
 
 #include "harness/runner.hpp"
@@ -161,10 +163,18 @@ TEST(Sweeps, GateNamesEveryProblem) {
   sw.param = "speed";
   nlohmann::json entry{{"engine", "ode"},
                        {"points", {{{"x", 0.5}, {"status", "pass"}, {"message", ""}, {"failed", nlohmann::json::array()}},
-                                   {{"x", 3.5}, {"status", "fail"}, {"message", "out of tolerance: front_radius"}, {"failed", {"front_radius"}}}}}};
+                                   {{"x", 3.5}, {"status", "fail"}, {"message", "out of tolerance: front_radius"}, {"failed", {"front_radius"}},
+                                    {"errors", {{"front_radius", 4.0}}}}}}};
   ASSERT_FALSE(known_sweep_failures().empty());
-  EXPECT_TRUE(gate_sweep_entry(sw, entry)) << entry["gate"].dump();  // 3.5 m/s on ode is a listed failure
+  EXPECT_TRUE(gate_sweep_entry(sw, entry)) << entry["gate"].dump();  // 3.5 m/s on ode is a listed failure (+446%)
   EXPECT_EQ(entry["gate"]["points_known_failure"], 1);
+  double ceiling = 0.0;
+  for (const auto& k : known_sweep_failures())
+    if (k.sweep == "error_vs_speed" && k.engine == "ode" && k.x == 3.5) ceiling = k.metrics.at("front_radius");
+  ASSERT_GT(ceiling, 4.0);
+  entry["points"][1]["errors"]["front_radius"] = 10.0 * ceiling;
+  EXPECT_FALSE(gate_sweep_entry(sw, entry));  // listed, but ten times worse than its ceiling: a regression
+  entry["points"][1]["errors"]["front_radius"] = 4.0;
   entry["points"][1]["failed"] = {"front_radius", "base_closure"};
   EXPECT_FALSE(gate_sweep_entry(sw, entry));  // listed, but now failing a metric the list does not name
   entry["points"][1]["failed"] = {"front_radius"};
@@ -189,6 +199,67 @@ TEST(Sweeps, GateNamesEveryProblem) {
   EXPECT_TRUE(gate_sweep_entry(fit, good));
   EXPECT_FALSE(gate_sweep_entry(fit, bad));
   EXPECT_FALSE(gate_sweep_entry(fit, none));
+}
+
+// A known failure is no blanket: a run must fail only in its listed metrics, each no worse than its
+// ceiling, and a listed run that passes is unexpected.
+TEST(Expectations, AKnownFailureThatWorsensIsAFailure) {
+  const KnownFailure* k = find_known_failure("car.circle", "bullet-raycast");
+  ASSERT_NE(k, nullptr);
+  ASSERT_TRUE(k->metrics.count("front_radius"));
+  const double ceiling = k->metrics.at("front_radius");
+  RunRecord r;
+  r.scenario = "car.circle";
+  r.engine = "bullet-raycast";
+  r.known = k;
+  r.status = Status::kFail;
+  Metric m{"front_radius", "m", 3.4, 3.4, 0.0, 0.5 * ceiling, 1e-4, TolKind::kRelative, false};
+  r.metrics = {m};
+  EXPECT_TRUE(r.as_expected());
+  EXPECT_EQ(r.verdict(), "known failure");
+  r.metrics[0].rel_error = 2.0 * ceiling;
+  EXPECT_FALSE(r.as_expected());
+  EXPECT_EQ(r.verdict(), "fail");
+  ASSERT_EQ(r.beyond_known().size(), 1u);
+  EXPECT_NE(r.beyond_known()[0].find("above its known ceiling"), std::string::npos) << r.beyond_known()[0];
+  r.metrics[0].rel_error = 0.5 * ceiling;
+  r.metrics.push_back({"slip_along_max", "m/s", 0.0, 1.0, 1.0, INFINITY, 1e-4, TolKind::kAbsolute, false});  // informational for raycast, not listed
+  EXPECT_FALSE(r.as_expected());
+  r.metrics.pop_back();
+  r.status = Status::kPass;
+  r.metrics[0].pass = true;
+  EXPECT_EQ(r.verdict(), "unexpected pass");
+  EXPECT_FALSE(r.as_expected());
+}
+
+// The reviewed file names only what exists: every entry's scenario or sweep, configuration,
+// metrics and points, with ceilings, and no scenario x configuration listed twice.
+TEST(Expectations, EveryEntryNamesWhatExists) {
+  std::set<std::pair<std::string, std::string>> seen;
+  ASSERT_FALSE(known_run_failures().empty());
+  for (const KnownFailure& k : known_run_failures()) {
+    const Scenario* s = find_scenario(k.scenario);
+    ASSERT_NE(s, nullptr) << k.scenario;
+    EXPECT_NE(find_engine(k.engine), nullptr) << k.engine;
+    EXPECT_TRUE(seen.insert({k.scenario, k.engine}).second) << k.scenario << " on " << k.engine << " listed twice";
+    for (const auto& [metric, ceiling] : k.metrics) {
+      EXPECT_NE(s->metric(metric), nullptr) << k.scenario << " has no metric " << metric;
+      EXPECT_GT(ceiling, 0.0);
+    }
+  }
+  for (const KnownSweepFailure& k : known_sweep_failures()) {
+    EXPECT_NE(find_engine(k.engine), nullptr) << k.engine;
+    const SweepDef* sw = nullptr;
+    for (const SweepDef& d : sweep_catalogue())
+      if (d.name == k.sweep) sw = &d;
+    const Scenario* s = sw ? find_scenario(sw->scenario) : find_scenario("disks.linear");
+    if (!sw) EXPECT_EQ(k.sweep, "disk_outcomes");  // the outcome sweep runs disks.linear
+    for (const auto& [metric, ceiling] : k.metrics) EXPECT_NE(s->metric(metric), nullptr) << k.sweep << " has no metric " << metric;
+    if (sw && (k.kind == KnownSweepFailure::kPoint || k.kind == KnownSweepFailure::kError))
+      EXPECT_NE(std::find(sw->values.begin(), sw->values.end(), k.x), sw->values.end()) << k.sweep << " has no point " << k.x;
+    if (k.kind == KnownSweepFailure::kFit) EXPECT_TRUE(sw && sw->loglog_fit) << k.sweep << " fits no slope";
+    if (k.kind == KnownSweepFailure::kAnywhere) EXPECT_GT(k.points_max, 0);
+  }
 }
 
 // An informational metric (expected and measured from the same computation) is shown but never
