@@ -8,6 +8,7 @@
 #include <iostream>
 #include <sstream>
 
+#include "harness/external.hpp"
 #include "harness/results.hpp"
 #include "liftcheck_version.hpp"
 #include "harness/runner.hpp"
@@ -107,8 +108,31 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   return r.as_expected() ? 0 : 1;
 }
 
+int cmd_path(const std::string& scenario, const std::vector<std::string>& sets, const std::string& format) {
+  const Scenario& s = scenario_or_throw(scenario);
+  Overrides ov;
+  for (const auto& a : sets) ov.push_back(split_assignment(a));
+  const nlohmann::json path = scenario_path(s, ov);
+  if (format == "json") std::cout << path.dump() << "\n";
+  else std::cout << path_csv(path);
+  return 0;
+}
+
+int cmd_score(const std::string& scenario, const std::string& trace_file, const std::vector<std::string>& sets, const std::string& name,
+              bool json) {
+  const Scenario& s = scenario_or_throw(scenario);
+  if (name.empty() || find_engine(name)) throw InputError(fmt::format("--name '{}' must be new (not a built-in configuration)", name));
+  Overrides ov;
+  for (const auto& a : sets) ov.push_back(split_assignment(a));
+  const EngineInfo e = replay_engine(name, s, read_trace(trace_file, s.vehicle));
+  const RunRecord r = run_scenario(s, e, ov);
+  if (json) std::cout << r.to_json().dump() << "\n";
+  else print_record(r);
+  return r.as_expected() ? 0 : 1;
+}
+
 int cmd_validate(const std::string& engine_list, const std::string& filter, const std::string& out_dir, bool sweeps,
-                 bool report) {
+                 bool report, const std::string& trace_dir) {
   std::vector<const EngineInfo*> es;
   if (engine_list.empty()) {
     for (const auto& e : engines()) es.push_back(&e);
@@ -126,6 +150,28 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
   for (const auto& s : scenarios())
     if (matches(s.name)) ss.push_back(&s);
   if (ss.empty()) throw InputError(fmt::format("no scenario matches '{}'", filter));
+
+  // An outside simulator: the folder's name is its configuration, each SCENARIO.csv (or .json) in
+  // it a run. Every trace is read before anything runs, so a malformed one stops validate at once.
+  std::map<std::string, Trace> traces;
+  EngineInfo external;
+  if (!trace_dir.empty()) {
+    const std::filesystem::path dir(trace_dir);
+    if (!std::filesystem::is_directory(dir)) throw InputError(fmt::format("--trace-dir '{}' is not a folder", trace_dir));
+    external.name = std::filesystem::absolute(dir).lexically_normal().filename().string();
+    if (external.name.empty()) external.name = std::filesystem::absolute(dir).lexically_normal().parent_path().filename().string();
+    if (external.name.empty() || find_engine(external.name))
+      throw InputError(fmt::format("--trace-dir '{}': its name '{}' must not be a built-in configuration's", trace_dir, external.name));
+    for (const Scenario* s : ss)
+      for (const char* ext : {".csv", ".json"})
+        if (const auto f = dir / (s->name + ext); std::filesystem::exists(f) && !traces.count(s->name)) traces[s->name] = read_trace(f, s->vehicle);
+    if (traces.empty()) throw InputError(fmt::format("--trace-dir '{}' holds no SCENARIO.csv or .json for the scenarios run", trace_dir));
+    external.library = "external";
+    external.version = "-";
+    external.description = fmt::format("a simulator outside liftcheck, scored from the traces in {}", trace_dir);
+    external.color = "#7f7f7f";
+    external.contact_dynamics = true;
+  }
 
   const std::filesystem::path out(out_dir);
   std::error_code ec;
@@ -152,6 +198,13 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
                                r.known && r.as_expected() ? fmt::format(" (known: {})", r.known->reason) : "");
       runs.push_back(std::move(r));
     }
+  for (const Scenario* s : ss) {
+    if (!traces.count(s->name)) continue;
+    const RunRecord r = run_scenario(*s, replay_engine(external.name, *s, traces.at(s->name)));
+    all_pass = all_pass && r.as_expected();
+    std::cout << fmt::format("{:<15} {:<22} {:<16} {:8.3f} s  {}\n", r.verdict(), s->name, r.engine, r.wall_s, r.message);
+    runs.push_back(r);
+  }
   const double runs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   const auto t_sweeps = std::chrono::steady_clock::now();
   nlohmann::json sweep_results = nlohmann::json::array();
@@ -189,7 +242,9 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
     }
   all_pass = all_pass && gates_failed == 0;
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  nlohmann::json results = results_json(runs, context_json(es, wall));
+  std::vector<const EngineInfo*> listed = es;
+  if (!traces.empty()) listed.push_back(&external);
+  nlohmann::json results = results_json(runs, context_json(listed, wall));
   results["context"]["runs_s"] = runs_s;
   results["context"]["sweeps_s"] = sweeps_s;
   results["sweeps"] = sweep_results;
@@ -286,9 +341,26 @@ int main(int argc, char** argv) {
   validate->add_option("--engines", engine_list, "comma-separated engine configurations (default: all; see 'liftcheck engines')");
   validate->add_option("--filter", filter, "glob on scenario names (comma-separated globs: any may match)")->capture_default_str();
   validate->add_option("--out", out_dir, "output folder")->capture_default_str();
+  std::string trace_dir;
+  validate->add_option("--trace-dir", trace_dir, "score every SCENARIO.csv (or .json) in this folder as a run of the configuration named after it");
   bool no_sweeps = false, no_report = false;
   validate->add_flag("--no-sweeps", no_sweeps, "skip the parameter sweeps");
   validate->add_flag("--no-report", no_report, "write results.json only (no snapshots, plots or HTML)");
+
+  std::string path_format = "csv";
+  auto* path_cmd = app.add_subcommand("path", "write a scenario's commanded path (cars: t,alpha,beta; disks: N's t,cNx,cNy) for a simulator outside liftcheck");
+  path_cmd->add_option("scenario", scenario, "scenario name (see 'liftcheck list')")->required();
+  path_cmd->add_option("--set", sets, "override a parameter, KEY=VALUE (repeatable)")->allow_extra_args(false);
+  path_cmd->add_option("--format", path_format, "csv or json")->check(CLI::IsMember({"csv", "json"}))->capture_default_str();
+
+  std::string trace_file, score_name = "external";
+  bool score_json = false;
+  auto* score = app.add_subcommand("score", "score a simulator's trace of a scenario exactly as an engine run");
+  score->add_option("scenario", scenario, "scenario name (see 'liftcheck list')")->required();
+  score->add_option("--trace", trace_file, "CSV with a header t,alpha,beta,x,y,phi (cars) or t,cMx,cMy,cNx,cNy (disks), or JSON")->required();
+  score->add_option("--set", sets, "override a parameter, KEY=VALUE (repeatable), as given to 'liftcheck path'")->allow_extra_args(false);
+  score->add_option("--name", score_name, "the configuration name in the record")->capture_default_str();
+  score->add_flag("--json", score_json, "print the run record as one JSON object");
 
   std::string base_path, head_path;
   double growth = 10.0;
@@ -315,7 +387,9 @@ int main(int argc, char** argv) {
     if (*list) return cmd_list(list_json);
     if (*engines_cmd) return cmd_engines(engines_json);
     if (*run) return cmd_run(scenario, engine, sets, run_json);
-    if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps, !no_report);
+    if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps, !no_report, trace_dir);
+    if (*path_cmd) return cmd_path(scenario, sets, path_format);
+    if (*score) return cmd_score(scenario, trace_file, sets, score_name, score_json);
     if (*diff) return cmd_diff(base_path, head_path, growth, diff_json);
   } catch (const InputError& e) {
     std::cerr << "liftcheck: error: " << e.what() << "\n";

@@ -1,0 +1,304 @@
+#include "harness/external.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <fstream>
+#include <sstream>
+
+#include "models/car.hpp"
+
+namespace liftcheck {
+
+namespace {
+
+using json = nlohmann::json;
+
+InputError single_run_only(const std::string& scenario, int runs) {
+  return InputError(fmt::format("scenario '{}' drives {} runs; liftcheck path and score take scenarios with a single run", scenario, runs));
+}
+
+/// Captures the path a car scenario commands; drives it with the exact lift so that the scenario
+/// function completes (its outcome is discarded).
+class RecordingCar final : public CarEngine {
+ public:
+  explicit RecordingCar(std::string scenario) : scenario_(std::move(scenario)) {}
+  void reset(const CarSetup& setup, const car::Config& q0) override {
+    setup_ = setup;
+    q0_ = q0;
+  }
+  std::vector<car::TimedConfig> drive(const car::BasePath& path) override {
+    if (++drives_ > 1) throw single_run_only(scenario_, drives_);
+    const double T = path.duration_s(), h = setup_.sample_dt_s;
+    const long n = static_cast<long>(std::ceil(T / h - 1e-9));
+    for (long k = 0; k <= n; ++k) {
+      const double t = std::min(T, k * h);
+      const car::BaseSample s = path.at(t);
+      rows.push_back({t, s.alpha_rad, s.beta_rad});
+    }
+    start = q0_;
+    car::LiftDef def;
+    def.sample_dt_s = h;
+    return car::lift(setup_.car, path, q0_, def);
+  }
+  double simulated_s() const override { return 0.0; }
+  bool realizes_shape() const override { return false; }
+
+  std::vector<std::vector<double>> rows;
+  car::Config start;
+
+ private:
+  std::string scenario_;
+  CarSetup setup_;
+  car::Config q0_;
+  int drives_ = 0;
+};
+
+/// Captures N's path and M's start of a disk scenario; runs the exact lift so the scenario completes.
+class RecordingDisks final : public DiskEngine {
+ public:
+  explicit RecordingDisks(std::string scenario) : scenario_(std::move(scenario)) {}
+  DiskRun run(const DiskSetup& setup, const DiskProblem& pb) override {
+    if (++runs_ > 1) throw single_run_only(scenario_, runs_);
+    const double h = setup.sample_dt_s;
+    const long n = static_cast<long>(std::ceil(pb.T_s / h - 1e-9));
+    for (long k = 0; k <= n; ++k) {
+      const double t = std::min(pb.T_s, k * h);
+      const disks::Vec2 c = pb.path.position(t);
+      rows.push_back({t, c.x(), c.y()});
+    }
+    cM0 = pb.cM0;
+    T_s = pb.T_s;
+    disks::LiftDef def;
+    def.sample_dt_s = h;
+    const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);
+    return {r.t_contact_s, r.min_distance, r.trace, std::nullopt};
+  }
+  double simulated_s() const override { return 0.0; }
+
+  std::vector<std::vector<double>> rows;
+  disks::Vec2 cM0 = disks::Vec2::Zero();
+  double T_s = 0.0;
+
+ private:
+  std::string scenario_;
+  int runs_ = 0;
+};
+
+/// The trace must span the run: from t = 0 to the end of what the scenario drives.
+void check_span(const Trace& tr, double T_s, double sample_dt_s) {
+  const double t0 = tr.rows.front()[0], t1 = tr.rows.back()[0];
+  if (std::abs(t0) > 0.5 * sample_dt_s)
+    throw InputError(fmt::format("{}: the trace starts at t = {:g} s, not at 0", tr.file, t0));
+  if (t1 < T_s - 0.5 * sample_dt_s)
+    throw InputError(fmt::format("{}: the trace ends at t = {:g} s, before the run's end at {:g} s", tr.file, t1, T_s));
+}
+
+class ReplayCar final : public CarEngine {
+ public:
+  ReplayCar(std::string scenario, Trace trace) : scenario_(std::move(scenario)), trace_(std::move(trace)) {}
+  void reset(const CarSetup& setup, const car::Config&) override { setup_ = setup; }
+  std::vector<car::TimedConfig> drive(const car::BasePath& path) override {
+    if (++drives_ > 1) throw single_run_only(scenario_, drives_);
+    check_span(trace_, path.duration_s(), setup_.sample_dt_s);
+    std::vector<car::TimedConfig> out;
+    for (const auto& r : trace_.rows) out.push_back({r[0], car::Config{r[1], r[2], r[3], r[4], r[5]}});
+    simulated_s_ = trace_.rows.back()[0];
+    return out;
+  }
+  double simulated_s() const override { return simulated_s_; }
+
+ private:
+  std::string scenario_;
+  Trace trace_;
+  CarSetup setup_;
+  int drives_ = 0;
+  double simulated_s_ = 0.0;
+};
+
+class ReplayDisks final : public DiskEngine {
+ public:
+  ReplayDisks(std::string scenario, Trace trace) : scenario_(std::move(scenario)), trace_(std::move(trace)) {}
+  DiskRun run(const DiskSetup& setup, const DiskProblem& pb) override {
+    if (++runs_ > 1) throw single_run_only(scenario_, runs_);
+    check_span(trace_, pb.T_s, setup.sample_dt_s);
+    DiskRun r;
+    r.min_distance = INFINITY;
+    for (const auto& row : trace_.rows) {
+      const disks::Vec2 cM(row[1], row[2]), cN(row[3], row[4]);
+      const double d = (cM - cN).norm();
+      r.min_distance = std::min(r.min_distance, d);
+      // The simulator's own positions: its first sample in contact.
+      if (!r.t_contact_s && d <= 2.0 * setup.radius_m) r.t_contact_s = row[0];
+      r.trace.push_back({row[0], cM, cN});
+    }
+    simulated_s_ = trace_.rows.back()[0];
+    return r;
+  }
+  double simulated_s() const override { return simulated_s_; }
+
+ private:
+  std::string scenario_;
+  Trace trace_;
+  int runs_ = 0;
+  double simulated_s_ = 0.0;
+};
+
+/// One CSV or JSON cell as a finite number, or an InputError naming where.
+double number_at(const std::string& text, const std::string& file, int line, const std::string& column) {
+  std::size_t used = 0;
+  double v = NAN;
+  try {
+    v = std::stod(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  std::string rest = text.substr(std::min(used, text.size()));
+  rest.erase(0, rest.find_first_not_of(" \t\r"));
+  if (used == 0 || !rest.empty()) throw InputError(fmt::format("{}:{}: column '{}' is not a number: '{}'", file, line, column, text));
+  if (!std::isfinite(v)) throw InputError(fmt::format("{}:{}: column '{}' is not finite: '{}'", file, line, column, text));
+  return v;
+}
+
+std::string trim(std::string s) {
+  s.erase(0, s.find_first_not_of(" \t\r"));
+  s.erase(s.find_last_not_of(" \t\r") + 1);
+  return s;
+}
+
+}  // namespace
+
+const std::vector<std::string>& trace_columns(const std::string& vehicle) {
+  static const std::vector<std::string> car{"t", "alpha", "beta", "x", "y", "phi"}, disks{"t", "cMx", "cMy", "cNx", "cNy"};
+  return vehicle == "car" ? car : disks;
+}
+
+const std::vector<std::string>& path_columns(const std::string& vehicle) {
+  static const std::vector<std::string> car{"t", "alpha", "beta"}, disks{"t", "cNx", "cNy"};
+  return vehicle == "car" ? car : disks;
+}
+
+json scenario_path(const Scenario& scenario, const Overrides& overrides) {
+  const Params params = Params::resolve(scenario.params, overrides, scenario.name);
+  json out{{"scenario", scenario.name}, {"vehicle", scenario.vehicle}, {"params", params.to_json()},
+           {"columns", path_columns(scenario.vehicle)}};
+  if (scenario.vehicle == "car") {
+    RecordingCar rec(scenario.name);
+    scenario.run_car(params, rec);
+    const car::Config& q = rec.start;
+    out["start"] = {{"alpha", q.alpha_rad}, {"beta", q.beta_rad}, {"x", q.x_m}, {"y", q.y_m}, {"phi", q.phi_rad}};
+    out["rows"] = rec.rows;
+  } else {
+    RecordingDisks rec(scenario.name);
+    scenario.run_disks(params, rec);
+    out["start"] = {{"cMx", rec.cM0.x()}, {"cMy", rec.cM0.y()}, {"T", rec.T_s}};
+    out["rows"] = rec.rows;
+  }
+  return out;
+}
+
+std::string path_csv(const json& path) {
+  std::string s = fmt::format("# liftcheck path of {} ({}): the commanded {}; SI units, radians\n", path["scenario"].get<std::string>(),
+                              path["vehicle"].get<std::string>(),
+                              path["vehicle"] == "car" ? "shape path (alpha, beta) from the start below" : "path of N, M starting below");
+  for (const auto& [k, v] : path["params"].items()) s += fmt::format("# param {} = {}\n", k, v.is_string() ? v.get<std::string>() : v.dump());
+  for (const auto& [k, v] : path["start"].items()) s += fmt::format("# start {} = {:.17g}\n", k, v.get<double>());
+  s += fmt::format("# write back: {}\n", fmt::join(trace_columns(path["vehicle"]), ","));
+  s += fmt::format("{}\n", fmt::join(path["columns"].get<std::vector<std::string>>(), ","));
+  for (const auto& row : path["rows"]) {
+    std::string line;
+    for (const auto& v : row) line += fmt::format("{}{:.17g}", line.empty() ? "" : ",", v.get<double>());
+    s += line + "\n";
+  }
+  return s;
+}
+
+Trace read_trace(const std::filesystem::path& file, const std::string& vehicle) {
+  Trace tr;
+  tr.file = file.string();
+  std::ifstream in(file);
+  if (!in) throw InputError(fmt::format("cannot read trace '{}'", tr.file));
+  const std::vector<std::string>& want = trace_columns(vehicle);
+  std::stringstream buf;
+  buf << in.rdbuf();
+  const std::string text = buf.str();
+  const std::size_t first = text.find_first_not_of(" \t\r\n");
+  if (first != std::string::npos && (text[first] == '[' || text[first] == '{')) {
+    json j;
+    try {
+      j = json::parse(text);
+    } catch (const json::exception& e) {
+      throw InputError(fmt::format("{}: not valid JSON ({})", tr.file, e.what()));
+    }
+    const json rows = j.is_object() ? j.value("rows", json()) : j;
+    if (!rows.is_array()) throw InputError(fmt::format("{}: JSON trace needs an array of rows (or {{\"rows\": [...]}})", tr.file));
+    int i = 0;
+    for (const auto& r : rows) {
+      ++i;
+      if (!r.is_object()) throw InputError(fmt::format("{}: row {} is not an object with the columns {}", tr.file, i, fmt::join(want, ", ")));
+      std::vector<double> row;
+      for (const auto& c : want) {
+        if (!r.contains(c)) throw InputError(fmt::format("{}: row {} has no column '{}'", tr.file, i, c));
+        if (!r[c].is_number() || !std::isfinite(r[c].get<double>()))
+          throw InputError(fmt::format("{}: row {}: column '{}' is not a finite number", tr.file, i, c));
+        row.push_back(r[c].get<double>());
+      }
+      tr.rows.push_back(row);
+    }
+  } else {
+    std::istringstream lines(text);
+    std::string line;
+    int n = 0;
+    std::vector<int> index;  // for each wanted column, its position in the header
+    std::size_t width = 0;
+    while (std::getline(lines, line)) {
+      ++n;
+      const std::string t = trim(line);
+      if (t.empty() || t[0] == '#') continue;
+      std::vector<std::string> cells;
+      std::stringstream ss(t);
+      std::string cell;
+      while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
+      if (index.empty()) {
+        for (const auto& c : want) {
+          const auto it = std::find(cells.begin(), cells.end(), c);
+          if (it == cells.end())
+            throw InputError(fmt::format("{}:{}: the header has no column '{}' (needs {})", tr.file, n, c, fmt::join(want, ",")));
+          index.push_back(static_cast<int>(it - cells.begin()));
+        }
+        width = cells.size();
+        continue;
+      }
+      if (cells.size() != width)
+        throw InputError(fmt::format("{}:{}: {} columns, the header has {}", tr.file, n, cells.size(), width));
+      std::vector<double> row;
+      for (std::size_t k = 0; k < want.size(); ++k) row.push_back(number_at(cells[index[k]], tr.file, n, want[k]));
+      if (!tr.rows.empty() && !(row[0] > tr.rows.back()[0]))
+        throw InputError(fmt::format("{}:{}: time goes from {:g} to {:g} s: it must increase", tr.file, n, tr.rows.back()[0], row[0]));
+      tr.rows.push_back(row);
+    }
+    if (index.empty()) throw InputError(fmt::format("{}: no header line (needs {})", tr.file, fmt::join(want, ",")));
+  }
+  for (std::size_t i = 1; i < tr.rows.size(); ++i)
+    if (!(tr.rows[i][0] > tr.rows[i - 1][0]))
+      throw InputError(fmt::format("{}: row {}: time goes from {:g} to {:g} s: it must increase", tr.file, i + 1, tr.rows[i - 1][0], tr.rows[i][0]));
+  if (tr.rows.size() < 2) throw InputError(fmt::format("{}: {} rows; a trace needs at least 2", tr.file, tr.rows.size()));
+  return tr;
+}
+
+EngineInfo replay_engine(const std::string& name, const Scenario& scenario, const Trace& trace) {
+  EngineInfo e;
+  e.name = name;
+  e.library = "external";
+  e.version = "-";
+  e.description = fmt::format("a simulator outside liftcheck, scored from its trace ({})", trace.file);
+  e.color = "#7f7f7f";
+  e.contact_dynamics = true;
+  e.settings = {{"trace", trace.file}};
+  const std::string sc = scenario.name;
+  if (scenario.vehicle == "car") e.make_car = [sc, trace](const Settings&) { return std::make_unique<ReplayCar>(sc, trace); };
+  else e.make_disks = [sc, trace](const Settings&) { return std::make_unique<ReplayDisks>(sc, trace); };
+  return e;
+}
+
+}  // namespace liftcheck
