@@ -72,9 +72,10 @@ class CarEngine {
   /// Drives `path` from the reset configuration; returns the realized configuration over time,
   /// starting at t = 0 and ending at the path's end, every setup.sample_dt_s.
   virtual std::vector<car::TimedConfig> drive(const car::BasePath& path) = 0;
-  /// Contact-point slip of every wheel over the last drive (from t = 0 to its end). Empty for a
-  /// model whose wheels roll without slipping by construction (the analytic lift).
-  virtual std::vector<WheelSlip> slip() const { return {}; }
+  /// Contact-point slip of every wheel over the last drive (from t = 0 to its end). Every engine
+  /// must say: empty only for a model without contact points to measure (the analytic lift rolls
+  /// without slipping by construction; an outside simulator's trace has no wheel states).
+  virtual std::vector<WheelSlip> slip() const = 0;
   /// False for a model that reports the commanded (alpha, beta) as its realized shape (the
   /// analytic lift): comparisons of the realized shape with the command are then informational.
   virtual bool realizes_shape() const { return true; }

@@ -43,6 +43,7 @@ class RecordingCar final : public CarEngine {
   }
   double simulated_s() const override { return 0.0; }
   bool realizes_shape() const override { return false; }
+  std::vector<WheelSlip> slip() const override { return {}; }
 
   std::vector<std::vector<double>> rows;
   car::Config start;
@@ -107,6 +108,7 @@ class ReplayCar final : public CarEngine {
     return out;
   }
   double simulated_s() const override { return simulated_s_; }
+  std::vector<WheelSlip> slip() const override { return {}; }  // a trace has no wheel states
 
  private:
   std::string scenario_;
@@ -293,7 +295,9 @@ EngineInfo replay_engine(const std::string& name, const Scenario& scenario, cons
   e.version = "-";
   e.description = fmt::format("a simulator outside liftcheck, scored from its trace ({})", trace.file);
   e.color = "#7f7f7f";
-  e.contact_dynamics = true;
+  // Its contact forces are unknown to liftcheck (no wheel states, no contact log): scenarios that
+  // need contact dynamics (the negative control) are skipped for it.
+  e.contact_dynamics = false;
   e.settings = {{"trace", trace.file}};
   const std::string sc = scenario.name;
   if (scenario.vehicle == "car") e.make_car = [sc, trace](const Settings&) { return std::make_unique<ReplayCar>(sc, trace); };

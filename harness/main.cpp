@@ -170,7 +170,7 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
     external.version = "-";
     external.description = fmt::format("a simulator outside liftcheck, scored from the traces in {}", trace_dir);
     external.color = "#7f7f7f";
-    external.contact_dynamics = true;
+    external.contact_dynamics = false;
   }
 
   const std::filesystem::path out(out_dir);

@@ -29,7 +29,12 @@ std::vector<std::string> RunRecord::beyond_known() const {
   std::vector<std::pair<std::string, double>> failed;
   for (const auto& m : metrics)
     if (!m.pass && !m.informational) failed.emplace_back(m.name, m.compared_error());
-  return beyond_ceilings(known->metrics, failed);
+  std::vector<std::string> problems = beyond_ceilings(known->metrics, failed);
+  // A listed metric that is no longer measured (or no longer counted) hides the failure it lists.
+  for (const auto& [name, ceiling] : known->metrics)
+    if (std::none_of(metrics.begin(), metrics.end(), [&](const Metric& m) { return m.name == name && !m.informational; }))
+      problems.push_back(fmt::format("{} is listed but was not measured", name));
+  return problems;
 }
 
 bool RunRecord::as_expected() const {

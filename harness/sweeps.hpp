@@ -36,6 +36,8 @@ struct SweepDef {
   std::string plot = "errors";
   std::string x_label, y_label;
   bool log_x = false;
+  /// The scenario parameters the swept value sets (empty: `param` itself).
+  std::vector<std::string> param_keys = {};
   /// Exact curves drawn under the points: a gnuplot expression in x and its title.
   std::vector<std::pair<std::string, std::string>> curves = {};
 };
@@ -45,7 +47,7 @@ struct SweepDef {
 /// true, and no worse than listed, so a regression of a known failure is caught.
 struct KnownSweepFailure {
   enum Kind {
-    kPoint,     ///< "x": these points fail, only in "metrics", each no worse than its ceiling
+    kPoint,     ///< "points": [{"x", "metrics"}]: each point fails, only in its metrics, no worse than their ceilings
     kError,     ///< "x" with "error_contains": these points end in an error whose message contains it
     kFit,       ///< "fit_problem": the slope gate fails with a problem starting with it
     kAnywhere,  ///< no "x": up to "points_max" points may fail in "metrics" (ceilings), at least one must

@@ -287,9 +287,10 @@ std::string index_html(const json& results) {
                          e["unexplained_disagreements"].get<int>() == 0 ? "pass" : "fail", e["unexplained_disagreements"].get<int>(),
                          e["worst_t_error_steps"].get<double>());
       }
-      h += fmt::format("</table>\n<p class=\"note\">disks.linear over the grid a &isin; {}, b &isin; {} and N on a line, "
-                       "circle or figure eight; near boundary: the reference closest approach is within {} m of contact.</p>\n",
-                       esc(sw["grid"]["a"].dump()), esc(sw["grid"]["b"].dump()), sw["near_boundary_m"].get<double>());
+      h += fmt::format("</table>\n<p class=\"note\">{} over the grid a &isin; {}, b &isin; {} and N's paths {}; near boundary: "
+                       "the reference closest approach is within {} m of contact.</p>\n",
+                       esc(sw["scenario"]), esc(sw["grid"]["a"].dump()), esc(sw["grid"]["b"].dump()), esc(sw["grid"]["path"].dump()),
+                       sw["near_boundary_m"].get<double>());
     } else if (sw.contains("engines")) {
       for (const auto& e : sw["engines"])
         if (e.contains("fit") && e["fit"]["slope"].is_number())

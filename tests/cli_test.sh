@@ -130,5 +130,46 @@ quick = es[names.index("ode-quick")]
 assert any(k["key"] == "w" and k["kind"] == "real" for k in quick["knobs"]), quick["knobs"]
 PY
 
+# A simulator outside liftcheck: the path out, the example simulator, the trace scored.
+check path-csv 0 "$bin" path car.circle
+cp "$tmp/out" "$tmp/path.csv"
+grep -q "^t,alpha,beta$" "$tmp/path.csv" && grep -q "^# param speed = 0.5$" "$tmp/path.csv" && passes=$((passes + 1)) || { echo "FAIL path csv"; fails=$((fails + 1)); }
+check path-json 0 "$bin" path disks.repel --format json
+python3 -c 'import json,sys; p=json.load(open(sys.argv[1])); assert p["columns"] == ["t","cNx","cNy"] and len(p["rows"]) > 100, p["columns"]' "$tmp/out" \
+  && passes=$((passes + 1)) || { echo "FAIL path json"; fails=$((fails + 1)); }
+bad_input path-multi-run "drives 2 runs" path car.covariance
+python3 "$(dirname "$0")/../examples/kinematic_car.py" "$tmp/path.csv" "$tmp/trace.csv"
+check score-example-passes 0 "$bin" score car.circle --trace "$tmp/trace.csv" --name mysim
+grep -q "^car.circle on mysim: pass" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL score example"; fails=$((fails + 1)); }
+python3 "$(dirname "$0")/../examples/kinematic_car.py" "$tmp/path.csv" "$tmp/far.csv" --slip 0.02
+check score-2pct-farther-fails 1 "$bin" score car.circle --trace "$tmp/far.csv"
+# The reference's own trace scores as a pass.
+"$bin" run car.cycle --json >"$tmp/ref.json"
+python3 -c '
+import json, sys
+r = json.load(open(sys.argv[1]))
+with open(sys.argv[2], "w") as f:
+    f.write("t,alpha,beta,x,y,phi\n")
+    for row in r["details"]["trace"]: f.write(",".join("%.17g" % v for v in row) + "\n")' "$tmp/ref.json" "$tmp/ref.csv"
+check score-reference-passes 0 "$bin" score car.cycle --trace "$tmp/ref.csv"
+printf 't,alpha,beta,x,y\n0,0,0,0,0\n' >"$tmp/bad1.csv"
+bad_input score-missing-column "bad1.csv:1: the header has no column 'phi'" score car.circle --trace "$tmp/bad1.csv"
+printf 't,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.1,0,0,0,abc,0\n' >"$tmp/bad2.csv"
+bad_input score-non-number "bad2.csv:3: column 'y' is not a number" score car.circle --trace "$tmp/bad2.csv"
+printf 't,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.2,0,0,0,0,0\n0.1,0,0,0,0,0\n' >"$tmp/bad3.csv"
+bad_input score-time-backwards "bad3.csv:4: time goes from 0.2 to 0.1 s" score car.circle --trace "$tmp/bad3.csv"
+printf 't,alpha,beta,x,y,phi\n0,0,0,0,0,0\n' >"$tmp/bad4.csv"
+bad_input score-too-few-rows "1 rows; a trace needs at least 2" score car.circle --trace "$tmp/bad4.csv"
+printf 't,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.1,0,0,nan,0,0\n' >"$tmp/bad5.csv"
+bad_input score-nan "bad5.csv:3: column 'x' is not finite" score car.circle --trace "$tmp/bad5.csv"
+head -50 "$tmp/trace.csv" >"$tmp/short.csv"
+bad_input score-short-trace "before the run's end" score car.circle --trace "$tmp/short.csv"
+# A folder of traces is one more configuration in validate.
+mkdir -p "$tmp/mysim"
+cp "$tmp/trace.csv" "$tmp/mysim/car.circle.csv"
+check trace-dir 0 "$bin" validate --filter car.circle --engines analytic --no-sweeps --no-report --trace-dir "$tmp/mysim" --out "$tmp/td"
+python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); r=[x for x in d["runs"] if x["engine"]=="mysim"]; assert len(r)==1 and r[0]["status"]=="pass", r; assert "mysim" in [e["name"] for e in d["context"]["engines"]]' "$tmp/td/results.json" \
+  && passes=$((passes + 1)) || { echo "FAIL trace-dir"; fails=$((fails + 1)); }
+
 echo "$passes passed, $fails failed"
 [ "$fails" -eq 0 ]

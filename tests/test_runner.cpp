@@ -24,6 +24,7 @@ class ExplodingCar final : public CarEngine {
     return {{0.0, q0_}, {path.duration_s(), bad}};
   }
   double simulated_s() const override { return 0.0; }
+  std::vector<WheelSlip> slip() const override { return {}; }
   car::Config q0_;
 };
 
@@ -32,6 +33,7 @@ class ThrowingCar final : public CarEngine {
   void reset(const CarSetup&, const car::Config&) override {}
   std::vector<car::TimedConfig> drive(const car::BasePath&) override { throw EngineError("solver diverged"); }
   double simulated_s() const override { return 0.0; }
+  std::vector<WheelSlip> slip() const override { return {}; }
 };
 
 /// A test double's registry entry: a car engine made by `make`.
@@ -213,21 +215,33 @@ TEST(Expectations, AKnownFailureThatWorsensIsAFailure) {
   r.engine = "bullet-raycast";
   r.known = k;
   r.status = Status::kFail;
-  Metric m{"front_radius", "m", 3.4, 3.4, 0.0, 0.5 * ceiling, 1e-4, TolKind::kRelative, false};
-  r.metrics = {m};
+  // Every listed metric failing at half its ceiling: the failure as known.
+  for (const auto& [name, c] : k->metrics) {
+    Metric m{name, "", 0.0, 0.0, 0.5 * c, 0.5 * c, 0.0, TolKind::kAbsolute, false};
+    if (name == "front_radius") m.kind = TolKind::kRelative;
+    r.metrics.push_back(m);
+  }
+  const auto front = std::find_if(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return m.name == "front_radius"; });
   EXPECT_TRUE(r.as_expected());
   EXPECT_EQ(r.verdict(), "known failure");
-  r.metrics[0].rel_error = 2.0 * ceiling;
+  front->rel_error = 2.0 * ceiling;  // twice worse than its ceiling
   EXPECT_FALSE(r.as_expected());
   EXPECT_EQ(r.verdict(), "fail");
   ASSERT_EQ(r.beyond_known().size(), 1u);
   EXPECT_NE(r.beyond_known()[0].find("above its known ceiling"), std::string::npos) << r.beyond_known()[0];
-  r.metrics[0].rel_error = 0.5 * ceiling;
-  r.metrics.push_back({"slip_along_max", "m/s", 0.0, 1.0, 1.0, INFINITY, 1e-4, TolKind::kAbsolute, false});  // informational for raycast, not listed
+  front->rel_error = 0.5 * ceiling;
+  r.metrics.push_back({"slip_along_max", "m/s", 0.0, 1.0, 1.0, INFINITY, 1e-4, TolKind::kAbsolute, false});  // not listed
   EXPECT_FALSE(r.as_expected());
   r.metrics.pop_back();
+  const Metric dropped = *front;  // a listed metric no longer measured hides its failure
+  r.metrics.erase(front);
+  EXPECT_FALSE(r.as_expected());
+  ASSERT_EQ(r.beyond_known().size(), 1u);
+  EXPECT_NE(r.beyond_known()[0].find("not measured"), std::string::npos) << r.beyond_known()[0];
+  r.metrics.push_back(dropped);
+  EXPECT_TRUE(r.as_expected());
   r.status = Status::kPass;
-  r.metrics[0].pass = true;
+  for (auto& m : r.metrics) m.pass = true;
   EXPECT_EQ(r.verdict(), "unexpected pass");
   EXPECT_FALSE(r.as_expected());
 }
@@ -240,20 +254,30 @@ TEST(Expectations, EveryEntryNamesWhatExists) {
   for (const KnownFailure& k : known_run_failures()) {
     const Scenario* s = find_scenario(k.scenario);
     ASSERT_NE(s, nullptr) << k.scenario;
-    EXPECT_NE(find_engine(k.engine), nullptr) << k.engine;
+    const EngineInfo* e = find_engine(k.engine);
+    ASSERT_NE(e, nullptr) << k.engine;
+    // The configuration runs the scenario (an entry for a skipped run could never be checked).
+    EXPECT_TRUE(s->vehicle == "car" ? bool(e->make_car) : bool(e->make_disks)) << k.engine << " does not run " << k.scenario;
+    EXPECT_TRUE(!s->needs_contact_dynamics || e->contact_dynamics) << k.engine << " does not run " << k.scenario;
     EXPECT_TRUE(seen.insert({k.scenario, k.engine}).second) << k.scenario << " on " << k.engine << " listed twice";
     for (const auto& [metric, ceiling] : k.metrics) {
       EXPECT_NE(s->metric(metric), nullptr) << k.scenario << " has no metric " << metric;
       EXPECT_GT(ceiling, 0.0);
     }
   }
+  std::set<std::string> sweep_keys;
   for (const KnownSweepFailure& k : known_sweep_failures()) {
-    EXPECT_NE(find_engine(k.engine), nullptr) << k.engine;
+    const EngineInfo* e = find_engine(k.engine);
+    ASSERT_NE(e, nullptr) << k.engine;
+    EXPECT_TRUE(sweep_keys.insert(fmt::format("{}|{}|{}|{}", k.sweep, k.engine, static_cast<int>(k.kind), k.x)).second)
+        << k.sweep << " on " << k.engine << " at " << k.x << " listed twice";
+    if (k.kind == KnownSweepFailure::kError || k.kind == KnownSweepFailure::kFit) EXPECT_FALSE(k.pattern.empty()) << k.sweep;
     const SweepDef* sw = nullptr;
     for (const SweepDef& d : sweep_catalogue())
       if (d.name == k.sweep) sw = &d;
-    const Scenario* s = sw ? find_scenario(sw->scenario) : find_scenario("disks.linear");
-    if (!sw) EXPECT_EQ(k.sweep, "disk_outcomes");  // the outcome sweep runs disks.linear
+    const Scenario* s = find_scenario(sw ? sw->scenario : outcome_sweep_scenario());
+    if (!sw) EXPECT_EQ(k.sweep, "disk_outcomes");  // the outcome sweep
+    EXPECT_TRUE(s->vehicle == "car" ? bool(e->make_car) : bool(e->make_disks)) << k.engine << " does not run sweep " << k.sweep;
     for (const auto& [metric, ceiling] : k.metrics) EXPECT_NE(s->metric(metric), nullptr) << k.sweep << " has no metric " << metric;
     if (sw && (k.kind == KnownSweepFailure::kPoint || k.kind == KnownSweepFailure::kError))
       EXPECT_NE(std::find(sw->values.begin(), sw->values.end(), k.x), sw->values.end()) << k.sweep << " has no point " << k.x;

@@ -17,6 +17,7 @@ class AnalyticCar final : public CarEngine {
     return car::lift(setup_.car, path, q0_, def);
   }
   bool realizes_shape() const override { return false; }
+  std::vector<WheelSlip> slip() const override { return {}; }  // rolls without slipping by construction
   double simulated_s() const override { return simulated_s_; }
 
  private:
