@@ -123,10 +123,18 @@ class DartCar final : public RigidCar {
     chassis_ = chassis;
 
     const double I_wheel = 0.4 * d.wheel_mass_kg * d.R_m * d.R_m;  // solid sphere
-    const auto wheel_body = [&](BodyNode* b) {
+    // friction_dirs = wheel: the first friction direction is the rolling direction, x of the body
+    // that steers the wheel (the knuckle for the front wheel, the chassis for the rear ones);
+    // world: DART's default, a direction derived from the contact normal alone.
+    const bool wheel_dirs = setting("friction_dirs") == "wheel";
+    const auto wheel_body = [&](BodyNode* b, const BodyNode* heading) {
       b->setMass(d.wheel_mass_kg);
       b->setMomentOfInertia(I_wheel, I_wheel, I_wheel);
-      add_shape(b, std::make_shared<dart::dynamics::SphereShape>(d.R_m), setup.mu);
+      ShapeNode* sn = add_shape(b, std::make_shared<dart::dynamics::SphereShape>(d.R_m), setup.mu);
+      if (wheel_dirs) {
+        sn->getDynamicsAspect()->setFirstFrictionDirection(Eigen::Vector3d::UnitX());
+        sn->getDynamicsAspect()->setFirstFrictionDirectionFrame(heading);
+      }
     };
 
     dart::dynamics::RevoluteJoint::Properties steer_p;
@@ -141,7 +149,7 @@ class DartCar final : public RigidCar {
     spin_p.mName = "spin";
     spin_p.mAxis = Eigen::Vector3d::UnitY();
     auto [wj, front] = car_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(knuckle, spin_p, named("front wheel"));
-    wheel_body(front);
+    wheel_body(front, knuckle);
     spin_ = wj;
     wheels_[0] = front;
 
@@ -151,7 +159,7 @@ class DartCar final : public RigidCar {
       rp.mAxis = Eigen::Vector3d::UnitY();
       rp.mT_ParentBodyToJoint.translation() = Eigen::Vector3d(-d.l_m, (side == 0 ? 0.5 : -0.5) * d.track_m, 0.0);
       auto [rj, rb] = car_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(chassis, rp, named(rp.mName + " wheel"));
-      wheel_body(rb);
+      wheel_body(rb, chassis);
       wheels_[1 + side] = rb;
     }
 
@@ -288,7 +296,8 @@ std::vector<std::pair<std::string, std::string>> settings_for(Detector det) {
                                          ContactConstraint::getErrorReductionParameter(), ContactConstraint::getMaxErrorReductionVelocity(),
                                          ContactConstraint::getErrorAllowance(), ContactConstraint::getConstraintForceMixing())},
       {"collision detector", detector},
-      {"friction", "Coulomb, wheel and ground both mu (DART takes the smaller of the two), friction pyramid with two directions from the contact normal (DART's default first direction, world-fixed)"},
+      {"friction", "Coulomb, wheel and ground both mu (DART takes the smaller of the two), friction pyramid with two directions; the first one is set by friction_dirs"},
+      {"friction directions", "world (DART's default): derived from the contact normal alone, so fixed to the world axes; wheel: DynamicsAspect first friction direction x of the knuckle (front) or chassis (rear), the rolling direction"},
       {"joints", "Skeleton: FreeJoint chassis (frame at the front-axle centre, 40 kg box, centre of mass l/2 behind, no collision shape); RevoluteJoint steering knuckle (0.05 kg) about the chassis z; RevoluteJoint front wheel about the knuckle's y; RevoluteJoint rear wheels about the chassis y; sphere wheels 2 kg"},
       {"ground", "static skeleton (WeldJoint, not mobile): a 200 x 200 x 1 m BoxShape with its top face at z = 0"},
       {"servo", "Joint::SERVO actuators on steering and spin (command = joint velocity, solved with the contacts), force limits +-500 N m; rate = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s"},
@@ -307,7 +316,9 @@ EngineInfo make_info(Detector det) {
           .make_car = [det](const Settings& s) { return std::make_unique<DartCar>(s, det); },
           .make_disks = [det](const Settings&) { return std::make_unique<DartDisks>(det); },
           .contact_dynamics = true,
-          .settings = settings_for(det)};
+          .settings = settings_for(det),
+          .knobs = {SettingSpec{"friction_dirs", "car", "world", "first friction direction: DART's default from the contact normal (world-fixed), or along the wheel's rolling direction (DynamicsAspect::setFirstFrictionDirection)",
+                                SettingSpec::kChoice, 0, 0, {"world", "wheel"}}}};
 }
 
 }  // namespace
