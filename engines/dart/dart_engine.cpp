@@ -296,7 +296,7 @@ std::vector<std::pair<std::string, std::string>> settings_for(Detector det) {
                                          ContactConstraint::getErrorReductionParameter(), ContactConstraint::getMaxErrorReductionVelocity(),
                                          ContactConstraint::getErrorAllowance(), ContactConstraint::getConstraintForceMixing())},
       {"collision detector", detector},
-      {"friction", "Coulomb, wheel and ground both mu (DART takes the smaller of the two), friction pyramid with two directions; the first one is set by friction_dirs"},
+      {"friction", "Coulomb, wheel and ground shapes both set to mu (so the pair has mu whichever way DART combines them), friction pyramid with two directions; the first one is set by friction_dirs"},
       {"friction directions", "world (DART's default): derived from the contact normal alone, so fixed to the world axes; wheel: DynamicsAspect first friction direction x of the knuckle (front) or chassis (rear), the rolling direction"},
       {"joints", "Skeleton: FreeJoint chassis (frame at the front-axle centre, 40 kg box, centre of mass l/2 behind, no collision shape); RevoluteJoint steering knuckle (0.05 kg) about the chassis z; RevoluteJoint front wheel about the knuckle's y; RevoluteJoint rear wheels about the chassis y; sphere wheels 2 kg"},
       {"ground", "static skeleton (WeldJoint, not mobile): a 200 x 200 x 1 m BoxShape with its top face at z = 0"},
