@@ -16,6 +16,8 @@
 // about the chassis z at the front-axle centre, the front wheel hinged about the knuckle's y; the
 // rear wheels hinged about the chassis y. Wheels are spheres (condim 3) on a ground plane. Velocity
 // actuators (force = kv (ctrl - qvel), limited to the servo's torque) realise the rate commands.
+// Joint damping as the velocity term (which Euler integrates implicitly) is not used: MuJoCo applies
+// it after the constraint solve, so the contact forces never see it and the driven wheel slips.
 //
 // Disks: M a sphere on two slide joints (x, y) with velocity actuators whose gain is M's mass / dt,
 // so MuJoCo's Euler step realises the commanded velocity in one step when nothing pushes back;
@@ -47,8 +49,12 @@ struct Variant {
 };
 
 constexpr double kKnuckleMass_kg = 0.05, kKnuckleInertia_kgm2 = 1e-4;
-constexpr double kSpinKv_Nms = 10.0;   // velocity actuator gains (N m per rad/s)
-constexpr double kSteerKv_Nms = 5.0;
+// Velocity actuator gains: MuJoCo's Euler step treats an actuator's velocity term explicitly, so
+// kv dt / I must stay well below 2 for the joint's own inertia I (a wheel that loses grip turns on
+// that alone). kv = I / dt makes one step deadbeat for the unloaded joint: 72 N m s on the spin at
+// R = 0.3 m and dt = 1 ms. Stiffer gains (kv dt / I = 2.8) made a sliding wheel's servo oscillate.
+double spin_inertia(const TricycleDef& d) { return 0.4 * d.wheel_mass_kg * d.R_m * d.R_m; }
+double steer_inertia(const TricycleDef& d) { return spin_inertia(d) + kKnuckleInertia_kgm2; }
 constexpr double kDiskMass_kg = 1.0;
 constexpr int kDefaultNoslip = 10;
 constexpr double kDefaultImpratio = 10.0;
@@ -181,7 +187,7 @@ class MujocoCar final : public RigidCar {
         fmt::arg("half_h", num(0.5 * d.chassis_height_m)), fmt::arg("mc", num(d.chassis_mass_kg)),
         fmt::arg("bw", num(std::cos(0.5 * q0.beta_rad))), fmt::arg("bz", num(std::sin(0.5 * q0.beta_rad))),
         fmt::arg("mk", num(kKnuckleMass_kg)), fmt::arg("ik", num(kKnuckleInertia_kgm2)), fmt::arg("wheel", wheel_geom),
-        fmt::arg("l_neg", num(-d.l_m)), fmt::arg("kv_spin", num(kSpinKv_Nms)), fmt::arg("kv_steer", num(kSteerKv_Nms)),
+        fmt::arg("l_neg", num(-d.l_m)), fmt::arg("kv_spin", num(spin_inertia(d) / setup.dt_s)), fmt::arg("kv_steer", num(steer_inertia(d) / setup.dt_s)),
         fmt::arg("tspin", num(servo_.spin_torque_max_Nm)), fmt::arg("tspin_neg", num(-servo_.spin_torque_max_Nm)),
         fmt::arg("tsteer", num(servo_.steer_torque_max_Nm)), fmt::arg("tsteer_neg", num(-servo_.steer_torque_max_Nm)));
     sim_.reset();
@@ -317,8 +323,9 @@ class MujocoDisks final : public DrivenDisks {
 std::string version() { return fmt::format("{} (header {})", mj_versionString(), mjVERSION_HEADER); }
 
 const char* const kServo =
-    "MuJoCo velocity actuators (force = kv (ctrl - qvel)) on the spin (kv 10 N m s) and steering (kv 5 N m s) hinges, "
-    "force limited to 500 N m; ctrl = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s";
+    "MuJoCo velocity actuators (force = kv (ctrl - qvel), explicit in the Euler step) on the spin and steering hinges, kv = I / dt "
+    "for the joint's own inertia I (deadbeat when unloaded: 72 N m s at R = 0.3 m, dt = 1 ms), force limited to 500 N m; "
+    "ctrl = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s";
 const char* const kJoints =
     "chassis: free joint at the front-axle centre (box 40 kg l/2 behind it, no collision); steering knuckle (0.05 kg) hinged "
     "about the chassis z at the front-axle centre; front wheel hinged about the knuckle's y; rear wheels hinged about the chassis y";
