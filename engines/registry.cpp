@@ -2,6 +2,7 @@
 #include "engines/bullet/bullet_car.hpp"
 #include "engines/bullet/bullet_multibody.hpp"
 #include "engines/bullet/bullet_raycast.hpp"
+#include "engines/mujoco/mujoco_engine.hpp"
 #include "engines/dart/dart_engine.hpp"
 #include "engines/ode/ode_car.hpp"
 #include "engines/engine.hpp"
@@ -20,6 +21,9 @@ const std::vector<EngineInfo>& engines() {
     v.push_back(bullet_engine());
     v.push_back(bullet_multibody_engine());
     v.push_back(bullet_raycast_engine());
+    v.push_back(mujoco_engine());
+    v.push_back(mujoco_noslip_engine());
+    v.push_back(mujoco_stiff_engine());
     v.push_back(dart_engine());
     v.push_back(dart_primitive_engine());
     return v;

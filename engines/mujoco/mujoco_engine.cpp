@@ -1,0 +1,397 @@
+// MuJoCo (libmujoco 2.2.x) in three configurations: its defaults as shipped, the defaults plus the
+// noslip post-solver, and the stiffest contact refsafe allows with an elliptic cone and impratio 10.
+//
+// Every model is MJCF text built here and compiled by mj_loadXML from a virtual file system owned by
+// the instance (no files on disk, no shared state). MuJoCo's error and warning handlers are left as
+// shipped; a bad state (its warnings for NaN in qpos, qvel or qacc) is reported as an engine error.
+//
+// Stepping is mj_step split in its two halves: mj_step2 integrates the state that the previous
+// mj_step1 computed positions, velocities and contacts for (with the controls set in between), then
+// mj_step1 runs kinematics and collision on the new state. So body poses, velocities and contacts
+// read between steps describe the current state, and the contacts a step uses are those of the
+// state it starts from. With the Euler integrator this is exactly mj_step.
+//
+// Car: the chassis carries a free joint whose origin is the front-axle centre (TricycleDef's
+// chassis frame), a box of the chassis mass l/2 behind it (no collision); a steering knuckle hinged
+// about the chassis z at the front-axle centre, the front wheel hinged about the knuckle's y; the
+// rear wheels hinged about the chassis y. Wheels are spheres (condim 3) on a ground plane. Velocity
+// actuators (force = kv (ctrl - qvel), limited to the servo's torque) realise the rate commands.
+// Joint damping as the velocity term (which Euler integrates implicitly) is not used: MuJoCo applies
+// it after the constraint solve, so the contact forces never see it and the driven wheel slips.
+//
+// Disks: M a sphere on two slide joints (x, y) with velocity actuators whose gain is M's mass / dt,
+// so MuJoCo's Euler step realises the commanded velocity in one step when nothing pushes back;
+// N a mocap sphere placed on its path each step. Both frictionless (condim 1), no gravity.
+#include "engines/mujoco/mujoco_engine.hpp"
+
+#include <mujoco/mujoco.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fmt/format.h>
+#include <memory>
+#include <string>
+
+#include "engines/driven_disks.hpp"
+#include "engines/rigid_car.hpp"
+#include "models/e2.hpp"
+
+namespace liftcheck {
+
+namespace {
+
+/// What a configuration changes from MuJoCo's defaults.
+struct Variant {
+  int noslip_iterations = 0;  ///< 0: MuJoCo's default (off)
+  bool stiff = false;         ///< solref (2 dt, 1), elliptic cone
+  double impratio = 1.0;      ///< MuJoCo's default 1
+};
+
+constexpr double kKnuckleMass_kg = 0.05, kKnuckleInertia_kgm2 = 1e-4;
+// Velocity actuator gains: MuJoCo's Euler step treats an actuator's velocity term explicitly, so
+// kv dt / I must stay well below 2 for the joint's own inertia I (a wheel that loses grip turns on
+// that alone). kv = I / dt makes one step deadbeat for the unloaded joint: 72 N m s on the spin at
+// R = 0.3 m and dt = 1 ms. Stiffer gains (kv dt / I = 2.8) made a sliding wheel's servo oscillate.
+double spin_inertia(const TricycleDef& d) { return 0.4 * d.wheel_mass_kg * d.R_m * d.R_m; }
+double steer_inertia(const TricycleDef& d) { return spin_inertia(d) + kKnuckleInertia_kgm2; }
+constexpr double kDiskMass_kg = 1.0;
+constexpr int kDefaultNoslip = 10;
+constexpr double kDefaultImpratio = 10.0;
+
+/// The <option> element and the geom defaults of a variant at time step dt.
+std::string option_xml(const Variant& v, double dt, double gravity) {
+  std::string opt = fmt::format(R"(<option timestep="{:.17g}" gravity="0 0 {:.17g}")", dt, -gravity);
+  if (v.noslip_iterations > 0) opt += fmt::format(R"( noslip_iterations="{}")", v.noslip_iterations);
+  if (v.stiff) opt += fmt::format(R"( cone="elliptic" impratio="{:.17g}")", v.impratio);
+  opt += "/>\n";
+  if (v.stiff) opt += fmt::format(R"(<default><geom solref="{:.17g} 1"/></default>)" "\n", 2.0 * dt);
+  return opt;
+}
+
+/// A compiled model and its data, owned together.
+class Sim {
+ public:
+  explicit Sim(const std::string& xml) {
+    // mjVFS holds its file table inline (a few MB): on the heap, one per model.
+    auto vfs = std::make_unique<mjVFS>();
+    mj_defaultVFS(vfs.get());
+    const char* name = "liftcheck.xml";
+    if (mj_makeEmptyFileVFS(vfs.get(), name, static_cast<int>(xml.size())) != 0)
+      throw EngineError("MuJoCo: could not make the model file in the virtual file system");
+    std::memcpy(vfs->filedata[mj_findFileVFS(vfs.get(), name)], xml.data(), xml.size());
+    char err[1000] = "";
+    m_ = mj_loadXML(name, vfs.get(), err, sizeof err);
+    mj_deleteVFS(vfs.get());
+    if (!m_) throw EngineError(fmt::format("MuJoCo could not compile the model: {}", err));
+    d_ = mj_makeData(m_);
+    if (!d_) {
+      mj_deleteModel(m_);
+      throw EngineError("MuJoCo could not allocate its data");
+    }
+  }
+  Sim(const Sim&) = delete;
+  Sim& operator=(const Sim&) = delete;
+  ~Sim() {
+    mj_deleteData(d_);
+    mj_deleteModel(m_);
+  }
+
+  mjModel* m() const { return m_; }
+  mjData* d() const { return d_; }
+
+  int id(mjtObj type, const char* name) const {
+    const int i = mj_name2id(m_, type, name);
+    if (i < 0) throw EngineError(fmt::format("MuJoCo model has no object named {}", name));
+    return i;
+  }
+
+  /// Positions, velocities and contacts of the current state.
+  void start() {
+    mj_step1(m_, d_);
+    check();
+  }
+  /// Integrates one step with the controls set, then computes the new state's kinematics and contacts.
+  void step() {
+    mj_step2(m_, d_);
+    check();
+  }
+  void finish_step() {
+    mj_step1(m_, d_);
+    check();
+  }
+
+ private:
+  void check() const {
+    for (int w : {mjWARN_BADQPOS, mjWARN_BADQVEL, mjWARN_BADQACC})
+      if (d_->warning[w].number > 0)
+        throw EngineError(fmt::format("MuJoCo reported a bad state ({}) at t = {:.4f} s",
+                                      w == mjWARN_BADQPOS ? "qpos" : w == mjWARN_BADQVEL ? "qvel" : "qacc", d_->time));
+  }
+
+  mjModel* m_ = nullptr;
+  mjData* d_ = nullptr;
+};
+
+std::string num(double x) { return fmt::format("{:.17g}", x); }
+
+class MujocoCar final : public RigidCar {
+ public:
+  MujocoCar(const Settings& s, Variant v) : RigidCar(s), v_(v) {}
+
+ protected:
+  void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
+    Variant v = v_;
+    if (settings_.count("noslip_iterations")) v.noslip_iterations = std::stoi(setting("noslip_iterations"));
+    if (settings_.count("impratio")) v.impratio = std::stod(setting("impratio"));
+    beta0_ = q0.beta_rad;
+    const std::string wheel_geom = fmt::format(
+        R"(<geom type="sphere" size="{}" mass="{}" condim="3" friction="{} 0.005 0.0001" contype="1" conaffinity="2"/>)",
+        num(d.R_m), num(d.wheel_mass_kg), num(setup.mu));
+    const std::string xml = fmt::format(
+        R"(<mujoco model="liftcheck tricycle">
+{option}<worldbody>
+<geom name="ground" type="plane" size="0 0 1" condim="3" friction="{mu} 0.005 0.0001" contype="2" conaffinity="1"/>
+<body name="chassis" pos="{x} {y} {R}" quat="{qw} 0 0 {qz}">
+  <freejoint name="chassis"/>
+  <geom type="box" pos="{half_l_neg} 0 0" size="{half_l} {half_track} {half_h}" mass="{mc}" contype="0" conaffinity="0"/>
+  <body name="knuckle" quat="{bw} 0 0 {bz}">
+    <joint name="steer" type="hinge" axis="0 0 1"/>
+    <inertial pos="0 0 0" mass="{mk}" diaginertia="{ik} {ik} {ik}"/>
+    <body name="front">
+      <joint name="spin" type="hinge" axis="0 1 0"/>
+      {wheel}
+    </body>
+  </body>
+  <body name="rear_left" pos="{l_neg} {half_track} 0">
+    <joint name="rear_left" type="hinge" axis="0 1 0"/>
+    {wheel}
+  </body>
+  <body name="rear_right" pos="{l_neg} {half_track_neg} 0">
+    <joint name="rear_right" type="hinge" axis="0 1 0"/>
+    {wheel}
+  </body>
+</body>
+</worldbody>
+<actuator>
+<velocity name="spin" joint="spin" kv="{kv_spin}" forcelimited="true" forcerange="{tspin_neg} {tspin}"/>
+<velocity name="steer" joint="steer" kv="{kv_steer}" forcelimited="true" forcerange="{tsteer_neg} {tsteer}"/>
+</actuator>
+</mujoco>
+)",
+        fmt::arg("option", option_xml(v, setup.dt_s, setup.gravity_mps2)), fmt::arg("mu", num(setup.mu)),
+        fmt::arg("x", num(q0.x_m)), fmt::arg("y", num(q0.y_m)), fmt::arg("R", num(d.R_m)),
+        fmt::arg("qw", num(std::cos(0.5 * q0.phi_rad))), fmt::arg("qz", num(std::sin(0.5 * q0.phi_rad))),
+        fmt::arg("half_l_neg", num(-0.5 * d.l_m)), fmt::arg("half_l", num(0.5 * d.l_m)),
+        fmt::arg("half_track", num(0.5 * d.track_m)), fmt::arg("half_track_neg", num(-0.5 * d.track_m)),
+        fmt::arg("half_h", num(0.5 * d.chassis_height_m)), fmt::arg("mc", num(d.chassis_mass_kg)),
+        fmt::arg("bw", num(std::cos(0.5 * q0.beta_rad))), fmt::arg("bz", num(std::sin(0.5 * q0.beta_rad))),
+        fmt::arg("mk", num(kKnuckleMass_kg)), fmt::arg("ik", num(kKnuckleInertia_kgm2)), fmt::arg("wheel", wheel_geom),
+        fmt::arg("l_neg", num(-d.l_m)), fmt::arg("kv_spin", num(spin_inertia(d) / setup.dt_s)), fmt::arg("kv_steer", num(steer_inertia(d) / setup.dt_s)),
+        fmt::arg("tspin", num(servo_.spin_torque_max_Nm)), fmt::arg("tspin_neg", num(-servo_.spin_torque_max_Nm)),
+        fmt::arg("tsteer", num(servo_.steer_torque_max_Nm)), fmt::arg("tsteer_neg", num(-servo_.steer_torque_max_Nm)));
+    sim_.reset();
+    sim_ = std::make_unique<Sim>(xml);
+    const mjModel* m = sim_->m();
+    chassis_ = sim_->id(mjOBJ_BODY, "chassis");
+    wheel_[0] = sim_->id(mjOBJ_BODY, "front");
+    wheel_[1] = sim_->id(mjOBJ_BODY, "rear_left");
+    wheel_[2] = sim_->id(mjOBJ_BODY, "rear_right");
+    spin_qpos_ = m->jnt_qposadr[sim_->id(mjOBJ_JOINT, "spin")];
+    steer_qpos_ = m->jnt_qposadr[sim_->id(mjOBJ_JOINT, "steer")];
+    spin_act_ = sim_->id(mjOBJ_ACTUATOR, "spin");
+    steer_act_ = sim_->id(mjOBJ_ACTUATOR, "steer");
+    sim_->start();
+  }
+
+  void actuate(double spin_radps, double steer_radps, const ServoDef&) override {
+    sim_->d()->ctrl[spin_act_] = spin_radps;
+    sim_->d()->ctrl[steer_act_] = steer_radps;
+  }
+
+  void step(double) override {
+    sim_->step();
+    sim_->finish_step();
+  }
+
+  RigidCarState read() const override {
+    const mjModel* m = sim_->m();
+    const mjData* d = sim_->d();
+    const mjtNum* front = d->xpos + 3 * wheel_[0];
+    const mjtNum* rot = d->xmat + 9 * chassis_;  // row-major: world = rot * body
+    RigidCarState st{};
+    st.spin_joint_rad = e2::wrap_angle(d->qpos[spin_qpos_]);
+    st.steer_rad = beta0_ + d->qpos[steer_qpos_];
+    st.x_m = front[0];
+    st.y_m = front[1];
+    st.z_m = front[2];
+    st.phi_rad = std::atan2(rot[3], rot[0]);
+    st.rear_z_m = std::min(d->xpos[3 * wheel_[1] + 2], d->xpos[3 * wheel_[2] + 2]);
+    for (int w = 0; w < 3; ++w) {
+      const int b = wheel_[w];
+      mjtNum vel[6];  // angular, linear; world axes, at the body's centre of mass (the wheel centre)
+      mj_objectVelocity(m, d, mjOBJ_BODY, b, vel, 0);
+      const mjtNum* r = d->xmat + 9 * b;
+      st.wheels[w] = {Eigen::Vector3d(vel[3], vel[4], vel[5]), Eigen::Vector3d(vel[0], vel[1], vel[2]),
+                      Eigen::Vector3d(r[1], r[4], r[7]).normalized(),  // the body's y axis: the hinge axis
+                      d->xpos[3 * b + 2]};
+    }
+    return st;
+  }
+
+ private:
+  Variant v_;
+  std::unique_ptr<Sim> sim_;
+  double beta0_ = 0.0;
+  int chassis_ = -1, wheel_[3] = {-1, -1, -1};
+  int spin_qpos_ = -1, steer_qpos_ = -1, spin_act_ = -1, steer_act_ = -1;
+};
+
+class MujocoDisks final : public DrivenDisks {
+ public:
+  explicit MujocoDisks(Variant v) : v_(v) {}
+
+ protected:
+  void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
+    const double kv = kDiskMass_kg / setup.dt_s;  // one Euler step: v' = v + dt (kv / m)(v_cmd - v) = v_cmd
+    const std::string xml = fmt::format(
+        R"(<mujoco model="liftcheck disks">
+{option}<worldbody>
+<body name="M" pos="{mx} {my} 0">
+  <joint name="x" type="slide" axis="1 0 0"/>
+  <joint name="y" type="slide" axis="0 1 0"/>
+  <geom type="sphere" size="{r}" mass="{mass}" condim="1" friction="0 0 0"/>
+</body>
+<body name="N" mocap="true" pos="{nx} {ny} 0">
+  <geom type="sphere" size="{r}" condim="1" friction="0 0 0"/>
+</body>
+</worldbody>
+<actuator>
+<velocity name="x" joint="x" kv="{kv}"/>
+<velocity name="y" joint="y" kv="{kv}"/>
+</actuator>
+</mujoco>
+)",
+        fmt::arg("option", option_xml(v_, setup.dt_s, 0.0)), fmt::arg("mx", num(cM0.x())), fmt::arg("my", num(cM0.y())),
+        fmt::arg("nx", num(cN0.x())), fmt::arg("ny", num(cN0.y())), fmt::arg("r", num(setup.radius_m)),
+        fmt::arg("mass", num(kDiskMass_kg)), fmt::arg("kv", num(kv)));
+    sim_.reset();
+    sim_ = std::make_unique<Sim>(xml);
+    M_ = sim_->id(mjOBJ_BODY, "M");
+    N_ = sim_->id(mjOBJ_BODY, "N");
+    mocap_ = sim_->m()->body_mocapid[N_];
+    gM_ = sim_->m()->body_geomadr[M_];
+    gN_ = sim_->m()->body_geomadr[N_];
+    ax_ = sim_->id(mjOBJ_ACTUATOR, "x");
+    ay_ = sim_->id(mjOBJ_ACTUATOR, "y");
+    sim_->start();
+  }
+
+  StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2&, double) override {
+    mjData* d = sim_->d();
+    // The contacts this step uses: those mj_step1 generated on the state at its start.
+    StepContacts c;
+    for (int i = 0; i < d->ncon; ++i) {
+      const mjContact& k = d->contact[i];
+      const bool pair = (k.geom1 == gM_ && k.geom2 == gN_) || (k.geom1 == gN_ && k.geom2 == gM_);
+      if (!pair || k.dist > 0) continue;
+      c.count += 1;
+      c.depth_max_m = std::max(c.depth_max_m, -k.dist);
+    }
+    d->ctrl[ax_] = vM_cmd.x();
+    d->ctrl[ay_] = vM_cmd.y();
+    sim_->step();
+    // N moves along its path: the mocap body is placed, then the new state's kinematics and contacts.
+    d->mocap_pos[3 * mocap_ + 0] = cN_next.x();
+    d->mocap_pos[3 * mocap_ + 1] = cN_next.y();
+    d->mocap_pos[3 * mocap_ + 2] = 0.0;
+    sim_->finish_step();
+    return c;
+  }
+
+  State read() const override {
+    const mjtNum* x = sim_->d()->xpos;
+    return {{x[3 * M_], x[3 * M_ + 1]}, {x[3 * N_], x[3 * N_ + 1]}};
+  }
+
+ private:
+  Variant v_;
+  std::unique_ptr<Sim> sim_;
+  int M_ = -1, N_ = -1, mocap_ = -1, gM_ = -1, gN_ = -1, ax_ = -1, ay_ = -1;
+};
+
+std::string version() { return fmt::format("{} (header {})", mj_versionString(), mjVERSION_HEADER); }
+
+const char* const kServo =
+    "MuJoCo velocity actuators (force = kv (ctrl - qvel), explicit in the Euler step) on the spin and steering hinges, kv = I / dt "
+    "for the joint's own inertia I (deadbeat when unloaded: 72 N m s at R = 0.3 m, dt = 1 ms), force limited to 500 N m; "
+    "ctrl = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s";
+const char* const kJoints =
+    "chassis: free joint at the front-axle centre (box 40 kg l/2 behind it, no collision); steering knuckle (0.05 kg) hinged "
+    "about the chassis z at the front-axle centre; front wheel hinged about the knuckle's y; rear wheels hinged about the chassis y";
+const char* const kStepping = "mj_step1 / set ctrl / mj_step2 (equal to mj_step); Euler integrator (MuJoCo's default), Newton solver, 100 iterations, tolerance 1e-8";
+const char* const kDisks =
+    "M: sphere (radius 1, 1 kg) on slide joints x and y, velocity actuators kv = 1 kg / dt (one Euler step realises the command); "
+    "N: mocap sphere placed on its path each step; no gravity, frictionless (condim 1); first contact from the contacts mj_step1 "
+    "generated on the state a step starts from (dist <= 0); the configuration's contact options apply";
+
+std::vector<std::pair<std::string, std::string>> common_settings(const std::string& contact, const std::string& cone) {
+  return {{"model", "MJCF built in code, compiled by mj_loadXML from an in-memory virtual file system"},
+          {"stepping", kStepping},
+          {"timestep", "the scenario's dt (option timestep)"},
+          {"joints", kJoints},
+          {"wheels", "spheres of radius R, 2 kg, condim 3, friction mu (torsional 0.005 and rolling 1e-4 unused at condim 3); ground plane, friction mu (MuJoCo takes the larger)"},
+          {"contact", contact},
+          {"friction cone", cone},
+          {"servo", kServo},
+          {"disks", kDisks}};
+}
+
+}  // namespace
+
+EngineInfo mujoco_engine() {
+  auto settings = common_settings("MuJoCo's defaults: solref 0.02 1, solimp 0.9 0.95 0.001, margin 0", "pyramidal (MuJoCo's default), impratio 1");
+  settings.push_back({"noslip", "off (noslip_iterations 0, MuJoCo's default)"});
+  return {.name = "mujoco",
+          .library = "MuJoCo",
+          .version = version(),
+          .description = "MuJoCo as shipped: MJCF tricycle with a free-joint chassis, hinge wheels, velocity actuators; Euler, Newton, pyramidal cone, soft contacts (solref 0.02 1)",
+          .color = "#2ca02c",
+          .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, Variant{}); },
+          .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{}); },
+          .contact_dynamics = true,
+          .settings = settings};
+}
+
+EngineInfo mujoco_noslip_engine() {
+  auto settings = common_settings("MuJoCo's defaults: solref 0.02 1, solimp 0.9 0.95 0.001, margin 0", "pyramidal (MuJoCo's default), impratio 1");
+  settings.push_back({"noslip", fmt::format("noslip post-solver: car --set noslip_iterations (default {}); disks {} (frictionless, so it has no friction rows to act on)", kDefaultNoslip, kDefaultNoslip)});
+  return {.name = "mujoco-noslip",
+          .library = "MuJoCo",
+          .version = version(),
+          .description = "MuJoCo's defaults plus the noslip post-solver (10 iterations), the remedy MuJoCo's documentation names for slip",
+          .color = "#98df8a",
+          .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, Variant{.noslip_iterations = kDefaultNoslip}); },
+          .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{.noslip_iterations = kDefaultNoslip}); },
+          .contact_dynamics = true,
+          .settings = settings,
+          .knobs = {SettingSpec{"noslip_iterations", "car", std::to_string(kDefaultNoslip), "noslip post-solver iterations (option noslip_iterations; 0 turns it off)", SettingSpec::kInteger, 0, 1000, {}}}};
+}
+
+EngineInfo mujoco_stiff_engine() {
+  auto settings = common_settings("solref (2 dt, 1): time constant at its refsafe floor of 2 x timestep (0.002 at 1 ms), damping ratio 1; solimp 0.9 0.95 0.001 (default), margin 0",
+                                  fmt::format("elliptic; impratio: car --set impratio (default {:g}), disks {:g}", kDefaultImpratio, kDefaultImpratio));
+  settings.push_back({"noslip", "off (noslip_iterations 0, MuJoCo's default)"});
+  return {.name = "mujoco-stiff",
+          .library = "MuJoCo",
+          .version = version(),
+          .description = "MuJoCo with the stiffest contacts refsafe allows (solref 2 dt), elliptic friction cone, impratio 10",
+          .color = "#006d2c",
+          .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, Variant{.stiff = true, .impratio = kDefaultImpratio}); },
+          .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{.stiff = true, .impratio = kDefaultImpratio}); },
+          .contact_dynamics = true,
+          .settings = settings,
+          .knobs = {SettingSpec{"impratio", "car", fmt::format("{:g}", kDefaultImpratio), "ratio of frictional to normal constraint impedance (option impratio)", SettingSpec::kReal, 0.0, 1000.0, {}, true}}};
+}
+
+}  // namespace liftcheck
