@@ -58,6 +58,7 @@ struct KnownSweepFailure {
   Ceilings metrics;
   std::string pattern;  ///< kError: part of the message; kFit: start of the fit problem
   int points_max = 0;   ///< kAnywhere
+  int disagreements_max = 0;  ///< kAnywhere of the outcome sweep: outcome disagreements away from the boundary allowed
   std::string reason, measured;
 };
 const std::vector<KnownSweepFailure>& known_sweep_failures();
