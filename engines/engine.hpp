@@ -82,6 +82,9 @@ class CarEngine {
   /// Simulated time the engine stepped since construction (settling included), s: the
   /// denominator of the cost per simulated second.
   virtual double simulated_s() const = 0;
+  /// True for a trace read back from a simulator outside liftcheck: nothing inside it is known,
+  /// so its whole path is compared with the exact lift at every sample.
+  virtual bool replays_trace() const { return false; }
 };
 
 /// Two unit disks: N moves along a known path, M's velocity is commanded from a reaction rule.
@@ -113,6 +116,9 @@ struct DiskContactLog {
   long steps_in_contact = 0;         ///< steps whose collision pass reported contact
   double n_path_error_max_m = 0.0;   ///< largest distance of N from its path, every step
   bool apart_at_end = false;         ///< after contact, |c_M - c_N| > 2 at T (the disks separated)
+  /// Contact was reported by the engine's own collision pipeline. False for a trace from outside,
+  /// whose "contact" is read off its positions: comparing those with themselves measures nothing.
+  bool reported_by_engine = true;
 };
 
 struct DiskRun {

@@ -73,6 +73,31 @@ std::vector<car::TimedConfig> drive_checked(CarEngine& engine, const CarSetup& s
   return trace;
 }
 
+/// A simulator outside liftcheck shows only its trace: its whole path is compared with the exact
+/// lift of the commanded path at every sample (front-axle position), and its realized shape with
+/// the commanded one. An engine liftcheck runs is checked through its own states instead.
+void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup, const car::BasePath& path, const Config& q0,
+                     const std::vector<car::TimedConfig>& trace) {
+  if (!engine.replays_trace()) return;
+  double pos = 0.0, shape = 0.0;
+  car::LiftDef def;
+  def.sample_dt_s = setup.sample_dt_s;
+  const auto exact = car::lift(setup.car, path, q0, def);
+  for (const auto& s : trace) {
+    // The exact lift at the same time: every row on the path's sample grid (checked when the trace
+    // was read to cover it) is compared; rows in between are not.
+    const auto it = std::min_element(exact.begin(), exact.end(), [&](const car::TimedConfig& a, const car::TimedConfig& b) {
+      return std::abs(a.t_s - s.t_s) < std::abs(b.t_s - s.t_s);
+    });
+    if (std::abs(it->t_s - s.t_s) > 1e-6 * std::max(1.0, s.t_s)) continue;
+    pos = std::max(pos, std::hypot(s.q.x_m - it->q.x_m, s.q.y_m - it->q.y_m));
+    const car::BaseSample cmd = path.at(std::min(s.t_s, path.duration_s()));
+    shape = std::max({shape, std::abs(s.q.alpha_rad - cmd.alpha_rad), std::abs(s.q.beta_rad - cmd.beta_rad)});
+  }
+  o.values["trace_path_error"] = {0.0, pos};
+  o.values["trace_shape_error"] = {0.0, shape};
+}
+
 /// At most ~400 rows [t, alpha, beta, x, y, phi] for plots and snapshots.
 nlohmann::json trace_json(const std::vector<car::TimedConfig>& trace) {
   nlohmann::json rows = nlohmann::json::array();
@@ -143,6 +168,8 @@ Outcome run_circle(const Params& p, CarEngine& engine) {
   const double d_alpha = p.num("drive") / setup.car.R_m;
   const car::BasePath path({{d_alpha, 0.0}}, 0.0, q0.beta_rad, setup.drive);
   const auto trace = drive_checked(engine, setup, q0, path);
+  Outcome traced;
+  add_trace_check(traced, engine, setup, path, q0, trace);
 
   std::vector<Eigen::Vector2d> front, rear;
   for (const auto& s : trace) {
@@ -154,7 +181,7 @@ Outcome run_circle(const Params& p, CarEngine& engine) {
   const Config end_exact = car::flow_alpha(setup.car, q0, d_alpha);
   const Config& end = trace.back().q;
 
-  Outcome o;
+  Outcome o = traced;
   o.values["front_radius"] = {fe.radius_m, ff.radius_m};
   o.values["rear_radius"] = {re.radius_m, rf.radius_m};
   o.values["center_x"] = {fe.cx_m, ff.cx_m};
@@ -272,6 +299,8 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   const Config q0 = start_from(p);
   const car::BasePath path(car::to_segments(steps), 0.0, q0.beta_rad, setup.drive);
   const auto trace = drive_checked(engine, setup, q0, path);
+  Outcome traced;
+  add_trace_check(traced, engine, setup, path, q0, trace);
   // Net change from the engine's own start (a rigid car settles on its wheels before t = 0).
   const Vec5 d = trace.back().q.vec() - trace.front().q.vec();
   const Config end_exact = car::apply_exact(setup.car, q0, steps);
@@ -284,7 +313,7 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   // The bracket expansion is in eps R / l (the heading a wheel turn of eps swings the rod by), so
   // its relative error is of that order when R > l.
   lo_factor *= std::max(1.0, setup.car.R_m / setup.car.l_m);
-  Outcome o;
+  Outcome o = traced;
   o.values["dx"] = {exact[car::kX], d[car::kX], size};
   o.values["dy"] = {exact[car::kY], d[car::kY], size};
   o.values["dphi"] = {exact[car::kPhi], d[car::kPhi], size / l};
@@ -332,10 +361,12 @@ Outcome run_steer_in_place(const Params& p, CarEngine& engine) {
   if (std::abs(q0.beta_rad + d_beta) > 1.4) throw InputError("beta + d_beta must stay within [-1.4, 1.4] rad");
   const car::BasePath path({{0.0, d_beta}}, 0.0, q0.beta_rad, setup.drive);
   const auto trace = drive_checked(engine, setup, q0, path);
+  Outcome traced;
+  add_trace_check(traced, engine, setup, path, q0, trace);
   double max_shift = 0.0;
   for (const auto& s : trace) max_shift = std::max(max_shift, std::hypot(s.q.x_m - q0.x_m, s.q.y_m - q0.y_m));
   const Config& end = trace.back().q;
-  Outcome o;
+  Outcome o = traced;
   o.values["front_shift"] = {0.0, max_shift};
   o.values["dphi"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - q0.phi_rad))};
   o.values["beta_reached"] = {q0.beta_rad + d_beta, end.beta_rad, 0.0, 1.0, !engine.realizes_shape()};
@@ -398,6 +429,9 @@ MetricDef abs_(std::string name, std::string unit, double analytic, double engin
 const MetricDef SLIP_ALONG = abs_("slip_along_max", "m/s", 0.0, 1e-4, "largest contact-point speed along a wheel's rolling direction (worst wheel)");
 const MetricDef SLIP_ACROSS = abs_("slip_across_max", "m/s", 0.0, 1e-4, "largest contact-point speed along a wheel's axle (worst wheel)");
 const MetricDef SLIP_RMS = abs_("slip_rms", "m/s", 0.0, 1e-4, "RMS contact-point speed over the drive (worst wheel)");
+// A trace from a simulator outside liftcheck (liftcheck score): every sample against the exact lift.
+const MetricDef TRACE_PATH = abs_("trace_path_error", "m", 0.0, 1e-3, "outside simulator's trace: largest distance of the front-axle centre from the exact lift at any sample");
+const MetricDef TRACE_SHAPE = abs_("trace_shape_error", "rad", 0.0, 1e-3, "outside simulator's trace: largest difference of its (alpha, beta) from the commanded path at any sample");
 
 std::vector<MetricDef> cycle_metrics() {
   const std::string size = ", relative to the size of the holonomy (rms shift of the rod's ends)";
@@ -409,7 +443,7 @@ std::vector<MetricDef> cycle_metrics() {
     m.floor = {{"reference", 5e-11}};
     return m;
   };
-  return {SLIP_ALONG, SLIP_ACROSS, SLIP_RMS,
+  return {SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE,
       floored(rel("dx", "m", 1e-9, 0.02, "net x change against the exact holonomy" + size)),
       floored(rel("dy", "m", 1e-9, 0.02, "net y change against the exact holonomy" + size)),
       floored(rel("dphi", "rad", 1e-9, 0.02, "net heading change against the exact holonomy" + size + " / l")),
@@ -437,7 +471,7 @@ std::vector<Scenario> car_scenarios() {
                 abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact arc"),
                 abs_("final_heading_error", "rad", 1e-9, 1e-3, "heading at the end against the exact arc"),
                 abs_("heading_residual", "rad", 1e-9, 1e-5, "largest difference between the heading and the one the exact circle gives at the sampled position (tolerance at dt = 1 ms, x dt / 1 ms)"),
-                SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
+                SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
                run_circle});
   v.push_back({"car.cycle", "car",
                "Simple parking cycle (section 5, steps i-iv): the net pose change is the holonomy of the loop, "
@@ -465,7 +499,7 @@ std::vector<Scenario> car_scenarios() {
                {abs_("front_shift", "m", 1e-12, 1e-4, "largest displacement of the front-axle centre"),
                 abs_("dphi", "rad", 1e-12, 1e-3, "heading change"),
                 abs_("beta_reached", "rad", 1e-12, 1e-3, "realized steering angle at the end"),
-                SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
+                SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
                run_steer_in_place});
   v.push_back({"car.reparam", "car",
                "The same path in (alpha, beta), steering while driving, at speed/f, speed and speed*f: the lift "
@@ -510,7 +544,7 @@ std::vector<Scenario> car_scenarios() {
                   {rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path"),
                    rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path"),
                    abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact arc"),
-                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
+                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
                   run_slip};
     slip.needs_contact_dynamics = true;
     slip.negative_control = true;

@@ -207,10 +207,12 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
   }
   if (const auto& log = run.contact_log) {
     o.values["n_path_error"] = {0.0, log->n_path_error_max_m};
-    o.values["contact_missed"] = {0.0, std::max(0.0, log->overlap_unreported_m)};
+    if (log->reported_by_engine) o.values["contact_missed"] = {0.0, std::max(0.0, log->overlap_unreported_m)};
     if (run.t_contact_s) {
-      o.values["contact_report_gap"] = {0.0, std::max(0.0, log->gap_reported_max_m)};
-      o.values["contact_depth_error"] = {0.0, log->depth_error_max_m};
+      if (log->reported_by_engine) {
+        o.values["contact_report_gap"] = {0.0, std::max(0.0, log->gap_reported_max_m)};
+        o.values["contact_depth_error"] = {0.0, log->depth_error_max_m};
+      }
       // A response acting on the first contact stops the approach within that step.
       if (closing > 0.0) o.values["overlap_growth"] = {0.0, std::max(0.0, log->overlap_growth_first_m), 0.0, closing * dt};
       // The response must bound the overlap (tolerance in steps of closing travel).

@@ -14,6 +14,40 @@ namespace {
 
 using json = nlohmann::json;
 
+/// The times of a path written out and of the trace read back: every h from 0, and T.
+std::vector<double> grid(double T_s, double h_s) {
+  std::vector<double> t;
+  const long n = static_cast<long>(std::ceil(T_s / h_s - 1e-9));
+  for (long k = 0; k <= n; ++k) t.push_back(std::min(T_s, k * h_s));
+  return t;
+}
+
+/// The trace must have one row at each time of the path it answers (as `liftcheck path` wrote them).
+void check_grid(const Trace& tr, double T_s, double h_s) {
+  const std::vector<double> want = grid(T_s, h_s);
+  if (tr.rows.size() != want.size())
+    throw InputError(fmt::format("{}: {} rows; the path has {} (every {:g} s from 0 to {:g} s): write one row per path row", tr.file,
+                                 tr.rows.size(), want.size(), h_s, T_s));
+  for (std::size_t i = 0; i < want.size(); ++i)
+    if (std::abs(tr.rows[i][0] - want[i]) > 1e-6 * std::max(1.0, want[i]))
+      throw InputError(fmt::format("{}: row {} is at t = {:g} s; the path's row {} is at {:g} s", tr.file, i + 1, tr.rows[i][0], i + 1, want[i]));
+}
+
+/// A car trace must have a row at each time of the path (it may have more, at times in between,
+/// as a lift that samples its path's corners does), and none outside [0, T].
+void check_covers(const Trace& tr, double T_s, double h_s) {
+  if (tr.rows.front()[0] < -1e-9 || tr.rows.back()[0] > T_s + 1e-6 * std::max(1.0, T_s))
+    throw InputError(fmt::format("{}: the trace runs from t = {:g} to {:g} s; the path from 0 to {:g} s", tr.file, tr.rows.front()[0],
+                                 tr.rows.back()[0], T_s));
+  std::size_t i = 0;
+  for (const double t : grid(T_s, h_s)) {
+    while (i < tr.rows.size() && tr.rows[i][0] < t - 1e-6 * std::max(1.0, t)) ++i;
+    if (i == tr.rows.size() || std::abs(tr.rows[i][0] - t) > 1e-6 * std::max(1.0, t))
+      throw InputError(fmt::format("{}: no row at t = {:g} s; the path has a row every {:g} s from 0 to {:g} s: write one at each",
+                                   tr.file, t, h_s, T_s));
+  }
+}
+
 InputError single_run_only(const std::string& scenario, int runs) {
   return InputError(fmt::format("scenario '{}' drives {} runs; liftcheck path and score take scenarios with a single run", scenario, runs));
 }
@@ -29,10 +63,8 @@ class RecordingCar final : public CarEngine {
   }
   std::vector<car::TimedConfig> drive(const car::BasePath& path) override {
     if (++drives_ > 1) throw single_run_only(scenario_, drives_);
-    const double T = path.duration_s(), h = setup_.sample_dt_s;
-    const long n = static_cast<long>(std::ceil(T / h - 1e-9));
-    for (long k = 0; k <= n; ++k) {
-      const double t = std::min(T, k * h);
+    const double h = setup_.sample_dt_s;
+    for (const double t : grid(path.duration_s(), h)) {
       const car::BaseSample s = path.at(t);
       rows.push_back({t, s.alpha_rad, s.beta_rad});
     }
@@ -61,17 +93,15 @@ class RecordingDisks final : public DiskEngine {
   explicit RecordingDisks(std::string scenario) : scenario_(std::move(scenario)) {}
   DiskRun run(const DiskSetup& setup, const DiskProblem& pb) override {
     if (++runs_ > 1) throw single_run_only(scenario_, runs_);
-    const double h = setup.sample_dt_s;
-    const long n = static_cast<long>(std::ceil(pb.T_s / h - 1e-9));
-    for (long k = 0; k <= n; ++k) {
-      const double t = std::min(pb.T_s, k * h);
+    // Every engine step: a disk trace is scored like a stepping engine's states.
+    for (const double t : grid(pb.T_s, setup.dt_s)) {
       const disks::Vec2 c = pb.path.position(t);
       rows.push_back({t, c.x(), c.y()});
     }
     cM0 = pb.cM0;
     T_s = pb.T_s;
     disks::LiftDef def;
-    def.sample_dt_s = h;
+    def.sample_dt_s = setup.sample_dt_s;
     const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);
     return {r.t_contact_s, r.min_distance, r.trace, std::nullopt};
   }
@@ -86,22 +116,13 @@ class RecordingDisks final : public DiskEngine {
   int runs_ = 0;
 };
 
-/// The trace must span the run: from t = 0 to the end of what the scenario drives.
-void check_span(const Trace& tr, double T_s, double sample_dt_s) {
-  const double t0 = tr.rows.front()[0], t1 = tr.rows.back()[0];
-  if (std::abs(t0) > 0.5 * sample_dt_s)
-    throw InputError(fmt::format("{}: the trace starts at t = {:g} s, not at 0", tr.file, t0));
-  if (t1 < T_s - 0.5 * sample_dt_s)
-    throw InputError(fmt::format("{}: the trace ends at t = {:g} s, before the run's end at {:g} s", tr.file, t1, T_s));
-}
-
 class ReplayCar final : public CarEngine {
  public:
   ReplayCar(std::string scenario, Trace trace) : scenario_(std::move(scenario)), trace_(std::move(trace)) {}
   void reset(const CarSetup& setup, const car::Config&) override { setup_ = setup; }
   std::vector<car::TimedConfig> drive(const car::BasePath& path) override {
     if (++drives_ > 1) throw single_run_only(scenario_, drives_);
-    check_span(trace_, path.duration_s(), setup_.sample_dt_s);
+    check_covers(trace_, path.duration_s(), setup_.sample_dt_s);
     std::vector<car::TimedConfig> out;
     for (const auto& r : trace_.rows) out.push_back({r[0], car::Config{r[1], r[2], r[3], r[4], r[5]}});
     simulated_s_ = trace_.rows.back()[0];
@@ -109,6 +130,7 @@ class ReplayCar final : public CarEngine {
   }
   double simulated_s() const override { return simulated_s_; }
   std::vector<WheelSlip> slip() const override { return {}; }  // a trace has no wheel states
+  bool replays_trace() const override { return true; }
 
  private:
   std::string scenario_;
@@ -123,17 +145,39 @@ class ReplayDisks final : public DiskEngine {
   ReplayDisks(std::string scenario, Trace trace) : scenario_(std::move(scenario)), trace_(std::move(trace)) {}
   DiskRun run(const DiskSetup& setup, const DiskProblem& pb) override {
     if (++runs_ > 1) throw single_run_only(scenario_, runs_);
-    check_span(trace_, pb.T_s, setup.sample_dt_s);
+    check_grid(trace_, pb.T_s, setup.dt_s);
+    // The simulator's states every engine step, judged as a stepping engine's are, except that
+    // its contact is read off its own positions (the first state overlapping): what its contact
+    // pipeline reported is unknown, so only the geometry is checked (penetration, the approach
+    // after contact, N on its path).
+    const double touch = 2.0 * setup.radius_m;
+    const long sample_every = std::max(1L, std::lround(setup.sample_dt_s / setup.dt_s));
     DiskRun r;
+    DiskContactLog log;
+    log.reported_by_engine = false;
     r.min_distance = INFINITY;
-    for (const auto& row : trace_.rows) {
+    for (std::size_t k = 0; k < trace_.rows.size(); ++k) {
+      const auto& row = trace_.rows[k];
       const disks::Vec2 cM(row[1], row[2]), cN(row[3], row[4]);
       const double d = (cM - cN).norm();
       r.min_distance = std::min(r.min_distance, d);
-      // The simulator's own positions: its first sample in contact.
-      if (!r.t_contact_s && d <= 2.0 * setup.radius_m) r.t_contact_s = row[0];
-      r.trace.push_back({row[0], cM, cN});
+      log.n_path_error_max_m = std::max(log.n_path_error_max_m, (cN - pb.path.position(row[0])).norm());
+      if (!r.t_contact_s && d <= touch) {
+        r.t_contact_s = row[0];
+        log.distance_at_first_m = d;
+        if (k + 1 < trace_.rows.size()) {
+          const auto& nx = trace_.rows[k + 1];
+          log.overlap_growth_first_m = (touch - (disks::Vec2(nx[1], nx[2]) - disks::Vec2(nx[3], nx[4])).norm()) - (touch - d);
+        }
+      }
+      if (r.t_contact_s) {
+        log.penetration_max_m = std::max(log.penetration_max_m, touch - d);
+        log.steps_in_contact += d <= touch ? 1 : 0;
+      }
+      if (k % sample_every == 0 || k + 1 == trace_.rows.size()) r.trace.push_back({row[0], cM, cN});
     }
+    log.apart_at_end = r.t_contact_s && r.trace.back().cM != r.trace.back().cN && (r.trace.back().cM - r.trace.back().cN).norm() > touch;
+    r.contact_log = log;
     simulated_s_ = trace_.rows.back()[0];
     return r;
   }

@@ -163,7 +163,41 @@ bad_input score-too-few-rows "1 rows; a trace needs at least 2" score car.circle
 printf 't,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.1,0,0,nan,0,0\n' >"$tmp/bad5.csv"
 bad_input score-nan "bad5.csv:3: column 'x' is not finite" score car.circle --trace "$tmp/bad5.csv"
 head -50 "$tmp/trace.csv" >"$tmp/short.csv"
-bad_input score-short-trace "before the run's end" score car.circle --trace "$tmp/short.csv"
+bad_input score-short-trace "no row at t = 0.48 s" score car.circle --trace "$tmp/short.csv"
+# A trace that is not on the path's time grid (here: every other row) is refused.
+awk 'NR <= 2 || NR % 2 == 0' "$tmp/trace.csv" >"$tmp/sparse.csv"
+bad_input score-off-grid "no row at t =" score car.circle --trace "$tmp/sparse.csv"
+# Positions off the exact lift between the end points fail, though the end pose is right.
+python3 -c '
+import sys
+rows = open(sys.argv[1]).read().splitlines()
+out = []
+for i, line in enumerate(rows):
+    if line[0].isdigit() and 0.3 < i / len(rows) < 0.6:
+        v = line.split(","); v[3] = str(float(v[3]) + 0.01); line = ",".join(v)
+    out.append(line)
+open(sys.argv[2], "w").write("\n".join(out) + "\n")' "$tmp/trace.csv" "$tmp/detour.csv"
+check score-detour-fails 1 "$bin" score car.circle --trace "$tmp/detour.csv"
+grep -q "trace_path_error.*FAIL" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL detour not caught by trace_path_error"; fails=$((fails + 1)); }
+# A disk trace every engine step: the reference's own contact-free trace passes; one whose M
+# drives on through N after contact fails on penetration.
+"$bin" run disks.copy --set dt=0.01 --set sample_dt=0.01 --json >"$tmp/dc.json"
+python3 -c '
+import json, sys
+tr = json.load(open(sys.argv[1]))["details"]["trace"]
+open(sys.argv[2], "w").write("t,cMx,cMy,cNx,cNy\n" + "".join(",".join("%.17g" % v for v in r) + "\n" for r in tr))' "$tmp/dc.json" "$tmp/dc.csv"
+check score-disks-reference-passes 0 "$bin" score disks.copy --trace "$tmp/dc.csv" --set dt=0.01 --set sample_dt=0.01
+"$bin" run disks.repel --set dt=0.01 --set sample_dt=0.01 --json >"$tmp/dr.json"
+python3 -c '
+import json, math, sys
+rows = [list(r) for r in json.load(open(sys.argv[1]))["details"]["trace"]]
+k = next(i for i, r in enumerate(rows) if math.hypot(r[1] - r[3], r[2] - r[4]) <= 2)
+for i in range(k + 1, len(rows)):
+    rows[i][1] = rows[i - 1][1] + rows[k][1] - rows[k - 1][1]
+    rows[i][2] = rows[i - 1][2] + rows[k][2] - rows[k - 1][2]
+open(sys.argv[2], "w").write("t,cMx,cMy,cNx,cNy\n" + "".join(",".join("%.17g" % v for v in r) + "\n" for r in rows))' "$tmp/dr.json" "$tmp/through.csv"
+check score-disks-through-fails 1 "$bin" score disks.repel --trace "$tmp/through.csv" --set dt=0.01 --set sample_dt=0.01
+grep -q "penetration_max.*FAIL" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL penetration not caught"; fails=$((fails + 1)); }
 # A folder of traces is one more configuration in validate.
 mkdir -p "$tmp/mysim"
 cp "$tmp/trace.csv" "$tmp/mysim/car.circle.csv"

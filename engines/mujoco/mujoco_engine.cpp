@@ -2,8 +2,11 @@
 // noslip post-solver, and the stiffest contact refsafe allows with an elliptic cone and impratio 10.
 //
 // Every model is MJCF text built here and compiled by mj_loadXML from a virtual file system owned by
-// the instance (no files on disk, no shared state). MuJoCo's error and warning handlers are left as
-// shipped; a bad state (its warnings for NaN in qpos, qvel or qacc) is reported as an engine error.
+// the instance (no files on disk, no shared state). MuJoCo's warning handler is set once per process
+// to write to stderr (as shipped it writes to stdout, which would corrupt --json output, and to
+// MUJOCO_LOG.TXT in the user's folder); its error handler is left as shipped (it ends the process:
+// running engines where they can be abandoned is the reliability work still to do). A bad state
+// (its warnings for NaN in qpos, qvel or qacc) is reported as an engine error.
 //
 // Stepping is mj_step split in its two halves: mj_step2 integrates the state that the previous
 // mj_step1 computed positions, velocities and contacts for (with the controls set in between), then
@@ -29,6 +32,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <cstdio>
+#include <mutex>
 #include <fmt/format.h>
 #include <memory>
 #include <string>
@@ -69,10 +74,17 @@ std::string option_xml(const Variant& v, double dt, double gravity) {
   return opt;
 }
 
+/// MuJoCo's warnings go to stderr, set once per process before the first model is compiled.
+void route_warnings() {
+  static std::once_flag once;
+  std::call_once(once, [] { mju_user_warning = [](const char* msg) { std::fprintf(stderr, "MuJoCo warning: %s\n", msg); }; });
+}
+
 /// A compiled model and its data, owned together.
 class Sim {
  public:
   explicit Sim(const std::string& xml) {
+    route_warnings();
     // mjVFS holds its file table inline (a few MB): on the heap, one per model.
     auto vfs = std::make_unique<mjVFS>();
     mj_defaultVFS(vfs.get());
