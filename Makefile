@@ -5,7 +5,7 @@
 PACKAGES := cmake g++ make pkg-config git python3 \
             libeigen3-dev libboost-dev nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev \
             libbullet-dev libode-dev libosmesa6-dev libpng-dev libstb-dev fonts-dejavu-core gnuplot-nox \
-            libbenchmark-dev libmujoco-dev libqhull-dev libdart-dev libdart-external-ikfast-dev
+            libbenchmark-dev libmujoco-dev libqhull-dev libdart-dev libdart-external-ikfast-dev libxml2-utils
 BUILD_DIR ?= build
 REPORT_DIR ?= $(BUILD_DIR)/report
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)

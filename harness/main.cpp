@@ -263,6 +263,7 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
                                results["report"]["errors"].empty() ? "" : fmt::format("; {} problems, see index.html", results["report"]["errors"].size()));
     }
     write_file_atomic(out / "junit.xml", junit_xml(results));
+    write_file_atomic(out / "summary.md", summary_markdown(results, report ? "index.html" : ""));
     write_file_atomic(out / "results.json", results.dump(1));
   } catch (const std::runtime_error& err) {
     throw InputError(err.what());

@@ -2,6 +2,7 @@
 
 #include "reports/escape.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
@@ -39,6 +40,23 @@ double ratio(const json& m) {
   return r;
 }
 
+/// "expected E, measured M, error X (rel|abs), tolerance T": one metric of a record, as CI shows it.
+std::string metric_text(const json& m) {
+  const bool rel = m.value("tolerance_kind", "abs") == "rel";
+  return fmt::format("expected {:.9g}, measured {:.9g}, {} error {:.3g}, tolerance {:.3g}{}", m["expected"].get<double>(),
+                     m["measured"].get<double>(), rel ? "relative" : "absolute", m[rel ? "rel_error" : "abs_error"].get<double>(),
+                     m["tolerance"].get<double>(), m.value("informational", false) ? " (shown, not counted)" : "");
+}
+
+/// A failure's message: what went wrong and, for each metric out of tolerance, its figures.
+std::string failure_text(const json& r) {
+  std::string msg = r.value("verdict", r["status"].get<std::string>()) + ": " + r.value("message", "");
+  const json metrics = r.value("metrics", json::object());  // items() must not outlive it
+  for (const auto& [name, m] : metrics.items())
+    if (!m.value("pass", true) && !m.value("informational", false)) msg += fmt::format("; {}: {}", name, metric_text(m));
+  return msg;
+}
+
 }  // namespace
 
 std::string junit_xml(const json& results) {
@@ -49,11 +67,20 @@ std::string junit_xml(const json& results) {
     if (!by.count(sc)) order.push_back(sc);
     by[sc].push_back(&r);
   }
-  int tests = 0, failures = 0, errors = 0, skipped = 0;
+  int tests = 0, failures = 0, errors = 0;
   std::string suites;
   for (const auto& sc : order) {
     int f = 0, e = 0, s = 0;
     std::string cases;
+    // Every run's metrics as the suite's properties (the schema allows properties on suites, not
+    // on cases): "CONFIGURATION METRIC" = expected, measured, error, tolerance.
+    std::string props;
+    for (const json* r : by[sc]) {
+      const json metrics = r->value("metrics", json::object());  // items() must not outlive it
+      for (const auto& [name, m] : metrics.items())
+        props += fmt::format("    <property name=\"{} {}\" value=\"{}\"/>\n", xml((*r)["engine"]), xml(name), xml(metric_text(m)));
+    }
+    if (!props.empty()) props = "    <properties>\n" + props + "    </properties>\n";
     for (const json* r : by[sc]) {
       const std::string st = (*r)["status"];
       cases += fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.6f}\">", xml(sc), xml((*r)["engine"]),
@@ -65,16 +92,16 @@ std::string junit_xml(const json& results) {
         cases += fmt::format("<error message=\"{}\"/>", xml((*r)["message"]));
         ++e;
       } else if (!as_expected(*r)) {
-        cases += fmt::format("<failure message=\"{}\"/>", xml((*r)["message"]));
+        cases += fmt::format("<failure type=\"{}\" message=\"{}\"/>", xml(r->value("verdict", "fail")), xml(failure_text(*r)));
         ++f;
       } else if (st == "fail" && r->contains("expectation") && (*r)["expectation"].is_object()) {
         cases += fmt::format("<system-out>known failure: {}</system-out>", xml((*r)["expectation"]["reason"]));
       }
       cases += "</testcase>\n";
     }
-    tests += static_cast<int>(by[sc].size()), failures += f, errors += e, skipped += s;
-    suites += fmt::format("  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\">\n{}  </testsuite>\n",
-                          xml(sc), by[sc].size(), f, e, s, cases);
+    tests += static_cast<int>(by[sc].size()), failures += f, errors += e;
+    suites += fmt::format("  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\">\n{}{}  </testsuite>\n",
+                          xml(sc), by[sc].size(), f, e, s, props, cases);
   }
   // The sweeps' gates: a suite per sweep, a case per engine.
   for (const auto& sw : results.value("sweeps", json::array())) {
@@ -95,9 +122,61 @@ std::string junit_xml(const json& results) {
     suites += fmt::format("  <testsuite name=\"sweep.{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"0\">\n{}  </testsuite>\n",
                           xml(sw["name"]), sw["engines"].size(), f, cases);
   }
+  // junit-10.xsd (Jenkins' xunit plugin) allows no "skipped" on <testsuites>: it is per suite.
   return fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"liftcheck\" tests=\"{}\" failures=\"{}\" "
-                     "errors=\"{}\" skipped=\"{}\">\n{}</testsuites>\n",
-                     tests, failures, errors, skipped, suites);
+                     "errors=\"{}\">\n{}</testsuites>\n",
+                     tests, failures, errors, suites);
+}
+
+std::string summary_markdown(const json& results, const std::string& report_link) {
+  const json& sum = results["summary"];
+  std::string md = "## liftcheck validation\n\n";
+  const int unexpected = sum.value("unexpected", 0);
+  md += fmt::format("**{}** — {} runs: {} pass, {} known failures, {} unexpected passes, {} fail, {} error, {} skip; {} sweep gates, {} failed.{}\n\n",
+                    unexpected == 0 ? "all as expected" : fmt::format("{} unexpected", unexpected), sum.value("total", 0), sum.value("pass", 0),
+                    sum.value("known failure", 0), sum.value("unexpected pass", 0), sum.value("fail", 0), sum.value("error", 0),
+                    sum.value("skip", 0), sum.value("sweep_gates", 0), sum.value("sweep_gates_failed", 0),
+                    report_link.empty() ? "" : fmt::format(" [Report]({})", report_link));
+  // What is not as expected comes first.
+  std::string bad;
+  for (const auto& r : results["runs"])
+    if (!as_expected(r)) bad += fmt::format("- **{}** on `{}`: {}\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), failure_text(r));
+  for (const auto& sw : results.value("sweeps", json::array()))
+    for (const auto& e : sw["engines"])
+      if (!e["gate"]["pass"].get<bool>()) {
+        std::string problems;
+        for (const auto& p : e["gate"]["problems"]) problems += (problems.empty() ? "" : "; ") + p.get<std::string>();
+        bad += fmt::format("- sweep **{}** on `{}`: {}\n", sw["name"].get<std::string>(), e["engine"].get<std::string>(), problems);
+      }
+  if (!bad.empty()) md += "### Not as expected\n\n" + bad + "\n";
+  // The matrix.
+  std::vector<std::string> engines, scenarios;
+  for (const auto& e : results["context"]["engines"]) engines.push_back(e["name"]);
+  std::map<std::pair<std::string, std::string>, const json*> runs;
+  for (const auto& r : results["runs"]) {
+    if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end()) scenarios.push_back(r["scenario"]);
+    runs[{r["scenario"].get<std::string>(), r["engine"].get<std::string>()}] = &r;
+  }
+  md += "| scenario |";
+  for (const auto& e : engines) md += " " + e + " |";
+  md += "\n|---|";
+  for (std::size_t i = 0; i < engines.size(); ++i) md += ":-:|";
+  md += "\n";
+  for (const auto& sc : scenarios) {
+    md += "| " + sc + " |";
+    for (const auto& e : engines) {
+      const auto it = runs.find({sc, e});
+      std::string cell = " ";
+      if (it != runs.end()) {
+        const std::string v = it->second->value("verdict", (*it->second)["status"].get<std::string>());
+        cell = v == "pass" ? "✅" : v == "known failure" ? "🟦" : v == "skip" ? "–" : v == "error" ? "💥" : "❌";
+      }
+      md += " " + cell + " |";
+    }
+    md += "\n";
+  }
+  md += "\n✅ pass · 🟦 known failure (listed with its reason in harness/expectations.json) · ❌ fail or unexpected pass · 💥 error · – skip\n";
+  return md;
 }
 
 json diff_results(const json& base, const json& head, const DiffDef& def) {

@@ -6,9 +6,16 @@
 
 namespace liftcheck {
 
-/// One <testsuite> per scenario, one <testcase> per engine run; fails and errors carry the run's
-/// message, skips are skipped, a negative control failing as designed passes.
+/// One <testsuite> per scenario, one <testcase> per configuration's run, valid against Jenkins'
+/// junit-10.xsd (tests/junit-10.xsd): each suite's properties carry every run's metrics (expected,
+/// measured, error, tolerance); a failure's message names the failing metrics with their figures;
+/// skips are skipped; a listed known failure passes with its reason on system-out.
 std::string junit_xml(const nlohmann::json& results);
+
+/// summary.md, short enough for a pull-request comment: the verdict counts, the runs and sweep
+/// gates not as expected first (with their figures), then the configuration x scenario matrix in
+/// symbols, and a link to the report (`report_link`, empty: none).
+std::string summary_markdown(const nlohmann::json& results, const std::string& report_link);
 
 struct DiffDef {
   /// A metric counts as worse when its error grows by more than this factor and ends above

@@ -85,7 +85,15 @@ root = ET.parse(sys.argv[1]).getroot()
 assert root.tag == "testsuites" and root.get("tests") == "13" and root.get("failures") == "0", root.attrib
 assert len(root.findall("testsuite")) == 13
 assert len([s for s in root.findall("testsuite") if s.get("name").startswith("sweep.")]) == 5
+# every run's metrics ride on its suite as properties
+props = [p.get("name") for p in root.iter("property")]
+assert "analytic front_radius" in props and len(props) > 30, props[:5]
 PY
+# junit.xml validates against Jenkins' xunit schema; summary.md is written beside results.json.
+xmllint --noout --schema "$(dirname "$0")/junit-10.xsd" "$tmp/report/junit.xml" 2>"$tmp/err" && passes=$((passes + 1)) \
+  || { echo "FAIL junit-10.xsd"; cat "$tmp/err"; fails=$((fails + 1)); }
+grep -q "all as expected" "$tmp/report/summary.md" && grep -q "^| car.cycle | ✅ |$" "$tmp/report/summary.md" && passes=$((passes + 1)) \
+  || { echo "FAIL summary.md"; cat "$tmp/report/summary.md"; fails=$((fails + 1)); }
 check diff-same 0 "$bin" diff "$tmp/report/results.json" "$tmp/report/results.json"
 python3 - "$tmp/report/results.json" "$tmp/worse.json" <<'PY'
 import json, sys
@@ -204,6 +212,16 @@ cp "$tmp/trace.csv" "$tmp/mysim/car.circle.csv"
 check trace-dir 0 "$bin" validate --filter car.circle --engines analytic --no-sweeps --no-report --trace-dir "$tmp/mysim" --out "$tmp/td"
 python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); r=[x for x in d["runs"] if x["engine"]=="mysim"]; assert len(r)==1 and r[0]["status"]=="pass", r; assert "mysim" in [e["name"] for e in d["context"]["engines"]]' "$tmp/td/results.json" \
   && passes=$((passes + 1)) || { echo "FAIL trace-dir"; fails=$((fails + 1)); }
+
+# A failing outside simulator: the failure names its metrics and figures in junit.xml (still
+# valid) and leads summary.md.
+mkdir -p "$tmp/broken"
+cp "$tmp/far.csv" "$tmp/broken/car.circle.csv"
+check trace-dir-fails 1 "$bin" validate --filter car.circle --engines analytic --no-sweeps --no-report --trace-dir "$tmp/broken" --out "$tmp/tb"
+xmllint --noout --schema "$(dirname "$0")/junit-10.xsd" "$tmp/tb/junit.xml" 2>"$tmp/err" && grep -q 'failure type="fail" message="fail: out of tolerance: final_offset.*final_offset: expected 0, measured' "$tmp/tb/junit.xml" \
+  && passes=$((passes + 1)) || { echo "FAIL junit failure message"; cat "$tmp/err"; fails=$((fails + 1)); }
+grep -q "^### Not as expected" "$tmp/tb/summary.md" && grep -q "^- \*\*car.circle\*\* on \`broken\`: fail" "$tmp/tb/summary.md" && passes=$((passes + 1)) \
+  || { echo "FAIL summary.md failures first"; cat "$tmp/tb/summary.md"; fails=$((fails + 1)); }
 
 echo "$passes passed, $fails failed"
 [ "$fails" -eq 0 ]
