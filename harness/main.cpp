@@ -132,7 +132,7 @@ int cmd_score(const std::string& scenario, const std::string& trace_file, const 
 }
 
 int cmd_validate(const std::string& engine_list, const std::string& filter, const std::string& out_dir, bool sweeps,
-                 bool report, const std::string& trace_dir) {
+                 bool report, const std::string& trace_dir, const std::vector<std::string>& sets) {
   std::vector<const EngineInfo*> es;
   if (engine_list.empty()) {
     for (const auto& e : engines()) es.push_back(&e);
@@ -173,6 +173,27 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
     external.contact_dynamics = false;
   }
 
+  // --set applies to every run whose scenario has the parameter or whose configuration has the
+  // setting for the scenario's vehicle; a key no run takes is an input error.
+  Overrides global;
+  for (const auto& a : sets) global.push_back(split_assignment(a));
+  const auto overrides_for = [&](const Scenario& s, const EngineInfo& e) {
+    Overrides ov;
+    for (const auto& [key, value] : global) {
+      const bool param = std::any_of(s.params.begin(), s.params.end(), [&](const ParamSpec& p) { return p.key == key; });
+      const bool knob = std::any_of(e.knobs.begin(), e.knobs.end(), [&](const SettingSpec& k) { return k.key == key && k.vehicle == s.vehicle; });
+      if (param || knob) ov.emplace_back(key, value);
+    }
+    return ov;
+  };
+  for (const auto& [key, value] : global) {
+    bool taken = false;
+    for (const Scenario* s : ss)
+      for (const EngineInfo* e : es)
+        for (const auto& kv : overrides_for(*s, *e)) taken = taken || kv.first == key;
+    if (!taken) throw InputError(fmt::format("--set {}: no scenario run here has a parameter or setting '{}'", key, key));
+  }
+
   const std::filesystem::path out(out_dir);
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
@@ -186,8 +207,8 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
     for (const EngineInfo* e : es) {
       RunRecord r;
       try {
-        r = run_scenario(*s, *e);
-      } catch (const InputError& err) {  // defaults rejected by the scenario: a defect, reported per run
+        r = run_scenario(*s, *e, overrides_for(*s, *e));
+      } catch (const InputError& err) {  // values rejected by the scenario (a defect at the defaults): reported per run
         r.scenario = s->name;
         r.engine = e->name;
         r.status = Status::kError;
@@ -248,6 +269,8 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
   results["context"]["runs_s"] = runs_s;
   results["context"]["sweeps_s"] = sweeps_s;
   results["sweeps"] = sweep_results;
+  results["context"]["set"] = nlohmann::json::object();
+  for (const auto& [key, value] : global) results["context"]["set"][key] = value;
   results["maps"] = maps;
   results["summary"]["sweep_gates"] = gates;
   results["summary"]["sweep_gates_failed"] = gates_failed;
@@ -342,6 +365,8 @@ int main(int argc, char** argv) {
   validate->add_option("--engines", engine_list, "comma-separated engine configurations (default: all; see 'liftcheck engines')");
   validate->add_option("--filter", filter, "glob on scenario names (comma-separated globs: any may match)")->capture_default_str();
   validate->add_option("--out", out_dir, "output folder")->capture_default_str();
+  std::vector<std::string> validate_sets;
+  validate->add_option("--set", validate_sets, "KEY=VALUE for every run whose scenario has that parameter or whose configuration has that setting (repeatable; the sweeps keep their own values)")->allow_extra_args(false);
   std::string trace_dir;
   validate->add_option("--trace-dir", trace_dir, "score every SCENARIO.csv (or .json) in this folder as a run of the configuration named after it");
   bool no_sweeps = false, no_report = false;
@@ -388,7 +413,7 @@ int main(int argc, char** argv) {
     if (*list) return cmd_list(list_json);
     if (*engines_cmd) return cmd_engines(engines_json);
     if (*run) return cmd_run(scenario, engine, sets, run_json);
-    if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps, !no_report, trace_dir);
+    if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps, !no_report, trace_dir, validate_sets);
     if (*path_cmd) return cmd_path(scenario, sets, path_format);
     if (*score) return cmd_score(scenario, trace_file, sets, score_name, score_json);
     if (*diff) return cmd_diff(base_path, head_path, growth, diff_json);

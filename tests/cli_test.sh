@@ -213,6 +213,13 @@ check trace-dir 0 "$bin" validate --filter car.circle --engines analytic --no-sw
 python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); r=[x for x in d["runs"] if x["engine"]=="mysim"]; assert len(r)==1 and r[0]["status"]=="pass", r; assert "mysim" in [e["name"] for e in d["context"]["engines"]]' "$tmp/td/results.json" \
   && passes=$((passes + 1)) || { echo "FAIL trace-dir"; fails=$((fails + 1)); }
 
+# validate --set applies to the runs that have the key: ode-quick at 5 iterations fails, ode (no
+# such setting) runs as usual; a key no run has is refused.
+check validate-set 1 "$bin" validate --filter car.circle --engines ode,ode-quick --no-sweeps --no-report --set iterations=5 --out "$tmp/vs"
+python3 -c 'import json,sys; d={r["engine"]: r for r in json.load(open(sys.argv[1]))["runs"]}; assert d["ode"]["verdict"] == "pass" and d["ode-quick"]["verdict"] == "fail" and d["ode-quick"]["settings"]["iterations"] == "5", {k: v["verdict"] for k, v in d.items()}' "$tmp/vs/results.json" \
+  && passes=$((passes + 1)) || { echo "FAIL validate --set"; fails=$((fails + 1)); }
+bad_input validate-set-unknown "--set bogus: no scenario run here has a parameter or setting 'bogus'" validate --filter car.circle --engines ode --no-sweeps --no-report --set bogus=1 --out "$tmp/vs2"
+
 # A failing outside simulator: the failure names its metrics and figures in junit.xml (still
 # valid) and leads summary.md.
 mkdir -p "$tmp/broken"
