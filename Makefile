@@ -41,7 +41,7 @@ build: configure
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
 
 validate: build
-	./$(BUILD_DIR)/liftcheck validate --out $(REPORT_DIR)
+	./$(BUILD_DIR)/liftcheck validate --out $(REPORT_DIR) --baseline reports/baselines/default.json
 
 test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)

@@ -6,6 +6,7 @@
 #include <fnmatch.h>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 #include "harness/external.hpp"
@@ -108,6 +109,25 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   return r.as_expected() ? 0 : 1;
 }
 
+nlohmann::json read_results(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(fmt::format("cannot read '{}'", path));
+  nlohmann::json j;
+  try {
+    in >> j;
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(fmt::format("'{}' is not JSON", path));
+  }
+  if (!j.is_object() || !j.contains("runs") || !j["runs"].is_array())
+    throw InputError(fmt::format("'{}' is not a liftcheck results file (no \"runs\")", path));
+  try {
+    for (const auto& r : j["runs"]) (void)r.at("scenario").get<std::string>(), (void)r.at("engine").get<std::string>(), (void)r.at("status").get<std::string>();
+  } catch (const nlohmann::json::exception&) {
+    throw InputError(fmt::format("'{}' has a run without scenario, engine and status", path));
+  }
+  return j;
+}
+
 int cmd_path(const std::string& scenario, const std::vector<std::string>& sets, const std::string& format) {
   const Scenario& s = scenario_or_throw(scenario);
   Overrides ov;
@@ -132,7 +152,12 @@ int cmd_score(const std::string& scenario, const std::string& trace_file, const 
 }
 
 int cmd_validate(const std::string& engine_list, const std::string& filter, const std::string& out_dir, bool sweeps,
-                 bool report, const std::string& trace_dir, const std::vector<std::string>& sets) {
+                 bool report, const std::string& trace_dir, const std::vector<std::string>& sets, const std::string& baseline_path,
+                 bool update_baseline) {
+  if (update_baseline && baseline_path.empty()) throw InputError("--update-baseline needs --baseline FILE");
+  // Read before anything runs: a malformed baseline stops validate at once.
+  nlohmann::json baseline;
+  if (!baseline_path.empty() && !update_baseline) baseline = read_results(baseline_path);
   std::vector<const EngineInfo*> es;
   if (engine_list.empty()) {
     for (const auto& e : engines()) es.push_back(&e);
@@ -268,6 +293,27 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
   nlohmann::json results = results_json(runs, context_json(listed, wall));
   results["context"]["runs_s"] = runs_s;
   results["context"]["sweeps_s"] = sweeps_s;
+  // Against the baseline: only the runs made here are compared (a filtered run compares its share).
+  int baseline_problems = 0;
+  if (!baseline.is_null()) {
+    std::set<std::pair<std::string, std::string>> ran;
+    for (const auto& r : runs) ran.insert({r.scenario, r.engine});
+    nlohmann::json base = baseline;
+    base["runs"] = nlohmann::json::array();
+    for (const auto& r : baseline["runs"])
+      if (ran.count({r["scenario"].get<std::string>(), r["engine"].get<std::string>()})) base["runs"].push_back(r);
+    nlohmann::json d;
+    try {
+      d = diff_results(base, results);
+    } catch (const nlohmann::json::exception& e) {
+      throw InputError(fmt::format("'{}' is not a liftcheck baseline: {}", baseline_path, e.what()));
+    }
+    baseline_problems = static_cast<int>(d["regressions"].size() + d["worse"].size());
+    results["baseline"] = {{"file", baseline_path}, {"diff", d}};
+    std::cout << "against the baseline " << baseline_path << ":\n" << diff_text(d);
+    all_pass = all_pass && baseline_problems == 0;
+  }
+  results["summary"]["baseline_problems"] = baseline_problems;
   results["sweeps"] = sweep_results;
   results["context"]["set"] = nlohmann::json::object();
   for (const auto& [key, value] : global) results["context"]["set"][key] = value;
@@ -287,6 +333,10 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
     }
     write_file_atomic(out / "junit.xml", junit_xml(results));
     write_file_atomic(out / "summary.md", summary_markdown(results, report ? "index.html" : ""));
+    if (update_baseline) {
+      write_file_atomic(baseline_path, baseline_json(results).dump(1) + "\n");
+      std::cout << "baseline written: " << baseline_path << "\n";
+    }
     write_file_atomic(out / "results.json", results.dump(1));
   } catch (const std::runtime_error& err) {
     throw InputError(err.what());
@@ -298,25 +348,6 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
                            sum["unexpected pass"].get<int>(), sum["fail"].get<int>(), sum["error"].get<int>(), sum["skip"].get<int>(), gates_failed,
                            report ? "report: " + (out / "index.html").string() : "results: " + (out / "results.json").string());
   return all_pass ? 0 : 1;
-}
-
-nlohmann::json read_results(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("cannot read '{}'", path));
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception&) {
-    throw InputError(fmt::format("'{}' is not JSON", path));
-  }
-  if (!j.is_object() || !j.contains("runs") || !j["runs"].is_array())
-    throw InputError(fmt::format("'{}' is not a liftcheck results file (no \"runs\")", path));
-  try {
-    for (const auto& r : j["runs"]) (void)r.at("scenario").get<std::string>(), (void)r.at("engine").get<std::string>(), (void)r.at("status").get<std::string>();
-  } catch (const nlohmann::json::exception&) {
-    throw InputError(fmt::format("'{}' has a run without scenario, engine and status", path));
-  }
-  return j;
 }
 
 int cmd_diff(const std::string& base_path, const std::string& head_path, double growth, bool json) {
@@ -365,6 +396,10 @@ int main(int argc, char** argv) {
   validate->add_option("--engines", engine_list, "comma-separated engine configurations (default: all; see 'liftcheck engines')");
   validate->add_option("--filter", filter, "glob on scenario names (comma-separated globs: any may match)")->capture_default_str();
   validate->add_option("--out", out_dir, "output folder")->capture_default_str();
+  std::string baseline_file;
+  bool update_baseline = false;
+  validate->add_option("--baseline", baseline_file, "compare the runs made with this baseline (reports/baselines/default.json): a regression or a metric grown tenfold exits 1");
+  validate->add_flag("--update-baseline", update_baseline, "rewrite the --baseline file from this run instead of comparing");
   std::vector<std::string> validate_sets;
   validate->add_option("--set", validate_sets, "KEY=VALUE for every run whose scenario has that parameter or whose configuration has that setting (repeatable; the sweeps keep their own values)")->allow_extra_args(false);
   std::string trace_dir;
@@ -413,7 +448,7 @@ int main(int argc, char** argv) {
     if (*list) return cmd_list(list_json);
     if (*engines_cmd) return cmd_engines(engines_json);
     if (*run) return cmd_run(scenario, engine, sets, run_json);
-    if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps, !no_report, trace_dir, validate_sets);
+    if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps, !no_report, trace_dir, validate_sets, baseline_file, update_baseline);
     if (*path_cmd) return cmd_path(scenario, sets, path_format);
     if (*score) return cmd_score(scenario, trace_file, sets, score_name, score_json);
     if (*diff) return cmd_diff(base_path, head_path, growth, diff_json);

@@ -31,6 +31,9 @@ json merged(json a, const json& b) {
   return a;
 }
 
+/// A record's verdict ("known failure", ...), or its status in files written before verdicts.
+std::string verdict_of(const json& r) { return r.value("verdict", r["status"].get<std::string>()); }
+
 /// Error of a metric as a fraction of its tolerance.
 double ratio(const json& m) {
   const double err = m["tolerance_kind"] == "rel" ? m["rel_error"].get<double>() : m["abs_error"].get<double>();
@@ -128,6 +131,23 @@ std::string junit_xml(const json& results) {
                      tests, failures, errors, suites);
 }
 
+json baseline_json(const json& results) {
+  json runs = json::array();
+  for (const auto& r : results["runs"]) {
+    json metrics = json::object();
+    for (const auto& [name, m] : r["metrics"].items()) {
+      json kept = json::object();
+      for (const char* k : {"expected", "measured", "abs_error", "rel_error", "tolerance", "tolerance_kind", "floor", "pass", "informational"})
+        if (m.contains(k)) kept[k] = m[k];
+      metrics[name] = kept;
+    }
+    runs.push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"params", r["params"]}, {"settings", r["settings"]},
+                    {"status", r["status"]}, {"verdict", r.value("verdict", r["status"].get<std::string>())},
+                    {"as_expected", as_expected(r)}, {"message", r["message"]}, {"metrics", metrics}});
+  }
+  return {{"liftcheck_baseline", 1}, {"context", {{"liftcheck", results["context"]["liftcheck"]}}}, {"runs", runs}};
+}
+
 std::string summary_markdown(const json& results, const std::string& report_link) {
   const json& sum = results["summary"];
   std::string md = "## liftcheck validation\n\n";
@@ -137,6 +157,21 @@ std::string summary_markdown(const json& results, const std::string& report_link
                     sum.value("known failure", 0), sum.value("unexpected pass", 0), sum.value("fail", 0), sum.value("error", 0),
                     sum.value("skip", 0), sum.value("sweep_gates", 0), sum.value("sweep_gates_failed", 0),
                     report_link.empty() ? "" : fmt::format(" [Report]({})", report_link));
+  // Against the baseline, regressions and worsened metrics first.
+  if (results.contains("baseline") && results["baseline"].is_object()) {
+    const json& d = results["baseline"]["diff"];
+    std::string b;
+    for (const auto& r : d["regressions"])
+      b += fmt::format("- REGRESSION **{}** on `{}`: {} → {} ({})\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(),
+                       r["from"].get<std::string>(), r["to"].get<std::string>(), r["message"].get<std::string>());
+    for (const auto& r : d["worse"])
+      b += fmt::format("- worse **{}** on `{}`: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", r["scenario"].get<std::string>(),
+                       r["engine"].get<std::string>(), r["metric"].get<std::string>(), r["head_measured"].dump(), r["base_measured"].dump(),
+                       r["head_ratio"].get<double>(), r["base_ratio"].get<double>());
+    md += fmt::format("### Against the baseline ({})\n\n{}{} regressions, {} metrics worse, {} fixed, {} better\n\n",
+                      results["baseline"]["file"].get<std::string>(), b, d["regressions"].size(), d["worse"].size(), d["fixed"].size(),
+                      d["better"].size());
+  }
   // What is not as expected comes first.
   std::string bad;
   for (const auto& r : results["runs"])
@@ -192,9 +227,9 @@ json diff_results(const json& base, const json& head, const DiffDef& def) {
     }
     const json& br = *it->second;
     if (as_expected(br) && !as_expected(*hr))
-      d["regressions"].push_back(merged(id, {{"from", br["status"]}, {"to", (*hr)["status"]}, {"message", (*hr)["message"]}}));
+      d["regressions"].push_back(merged(id, {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}, {"message", (*hr)["message"]}}));
     else if (!as_expected(br) && as_expected(*hr))
-      d["fixed"].push_back(merged(id, {{"from", br["status"]}, {"to", (*hr)["status"]}}));
+      d["fixed"].push_back(merged(id, {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}}));
     if (!br["metrics"].is_object() || !(*hr)["metrics"].is_object()) continue;
     for (const auto& [name, hm] : (*hr)["metrics"].items()) {
       if (!br["metrics"].contains(name) || hm.value("informational", false)) continue;
@@ -221,9 +256,9 @@ std::string diff_text(const json& d) {
                      r["from"].get<std::string>(), r["to"].get<std::string>());
   for (const char* kind : {"worse", "better"})
     for (const auto& r : d[kind])
-      t += fmt::format("{:<10} {} on {}: {} at {:.3g} of tolerance, was {:.3g}\n", kind, r["scenario"].get<std::string>(),
-                       r["engine"].get<std::string>(), r["metric"].get<std::string>(), r["head_ratio"].get<double>(),
-                       r["base_ratio"].get<double>());
+      t += fmt::format("{:<10} {} on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", kind, r["scenario"].get<std::string>(),
+                       r["engine"].get<std::string>(), r["metric"].get<std::string>(), r["head_measured"].dump(), r["base_measured"].dump(),
+                       r["head_ratio"].get<double>(), r["base_ratio"].get<double>());
   for (const char* kind : {"added", "removed"})
     for (const auto& r : d[kind])
       t += fmt::format("{:<10} {} on {}\n", kind, r["scenario"].get<std::string>(), r["engine"].get<std::string>());

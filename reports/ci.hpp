@@ -12,6 +12,11 @@ namespace liftcheck {
 /// skips are skipped; a listed known failure passes with its reason on system-out.
 std::string junit_xml(const nlohmann::json& results);
 
+/// A baseline of a results file: its runs' records only (scenario, configuration, parameters,
+/// settings, status, verdict, metrics), without traces, details or timings, so it stays small and
+/// reviewable in a diff; `diff_results` compares a results file with it.
+nlohmann::json baseline_json(const nlohmann::json& results);
+
 /// summary.md, short enough for a pull-request comment: the verdict counts, the runs and sweep
 /// gates not as expected first (with their figures), then the configuration x scenario matrix in
 /// symbols, and a link to the report (`report_link`, empty: none).

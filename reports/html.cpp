@@ -200,6 +200,28 @@ std::string index_html(const json& results) {
                    sum["unexpected"].get<int>() == 0 ? "<span class=\"st pass\">&nbsp;ALL AS EXPECTED&nbsp;</span>"
                                                      : fmt::format("<span class=\"st fail\">&nbsp;{} UNEXPECTED&nbsp;</span>", sum["unexpected"].get<int>()));
 
+  // Against the baseline: regressions and worsened metrics lead, before and after side by side.
+  if (results.contains("baseline") && results["baseline"].is_object()) {
+    const json& d = results["baseline"]["diff"];
+    h += fmt::format("<h2 id=\"baseline\">Against the baseline <code>{}</code></h2>\n<p>{} regressions, {} metrics worse, {} fixed, {} better, "
+                     "{} runs added, {} removed.</p>\n",
+                     esc(results["baseline"]["file"]), d["regressions"].size(), d["worse"].size(), d["fixed"].size(), d["better"].size(),
+                     d["added"].size(), d["removed"].size());
+    std::string rows;
+    for (const auto& r : d["regressions"])
+      rows += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">verdict</td><td>{}</td><td class=\"st fail\">{}</td><td class=\"l\">{}</td></tr>\n",
+                          esc(r["scenario"]), esc(r["engine"]), esc(r["from"]), esc(r["to"]), esc(r["message"]));
+    for (const char* kind : {"worse", "better"})
+      for (const auto& r : d[kind])
+        rows += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{} ({:.3g} of tol.)</td>"
+                            "<td class=\"st {}\">{} ({:.3g} of tol.)</td><td class=\"l\">{}</td></tr>\n",
+                            esc(r["scenario"]), esc(r["engine"]), esc(r["metric"]), esc(r["base_measured"].dump()), r["base_ratio"].get<double>(),
+                            std::string(kind) == "worse" ? "fail" : "pass", esc(r["head_measured"].dump()), r["head_ratio"].get<double>(), kind);
+    if (!rows.empty())
+      h += "<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th class=\"l\">what</th><th>before</th><th>after</th>"
+           "<th class=\"l\"></th></tr>\n" + rows + "</table>\n";
+  }
+
   // Summary matrix.
   const auto engines = engine_order(results);
   h += "<h2 id=\"summary\">Summary</h2>\n<table id=\"matrix\"><tr><th class=\"l\">scenario</th><th class=\"l\">checks</th>";

@@ -99,7 +99,7 @@ python3 - "$tmp/report/results.json" "$tmp/worse.json" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 r = next(r for r in d["runs"] if r["scenario"] == "car.cycle")
-r.update(status="fail", as_expected=False, message="out of tolerance: dx")
+r.update(status="fail", verdict="fail", as_expected=False, message="out of tolerance: dx")
 json.dump(d, open(sys.argv[2], "w"))
 PY
 check diff-regression 1 "$bin" diff "$tmp/report/results.json" "$tmp/worse.json"
@@ -219,6 +219,15 @@ check validate-set 1 "$bin" validate --filter car.circle --engines ode,ode-quick
 python3 -c 'import json,sys; d={r["engine"]: r for r in json.load(open(sys.argv[1]))["runs"]}; assert d["ode"]["verdict"] == "pass" and d["ode-quick"]["verdict"] == "fail" and d["ode-quick"]["settings"]["iterations"] == "5", {k: v["verdict"] for k, v in d.items()}' "$tmp/vs/results.json" \
   && passes=$((passes + 1)) || { echo "FAIL validate --set"; fails=$((fails + 1)); }
 bad_input validate-set-unknown "--set bogus: no scenario run here has a parameter or setting 'bogus'" validate --filter car.circle --engines ode --no-sweeps --no-report --set bogus=1 --out "$tmp/vs2"
+
+# Against a baseline: the committed one passes for the runs made (a filtered share); a worsened
+# setting exits 1 naming the scenario, configuration, metric, old and new values.
+check baseline-committed 0 "$bin" validate --filter car.cycle --engines ode,bullet --no-sweeps --no-report --baseline "$(dirname "$0")/../reports/baselines/default.json" --out "$tmp/bl0"
+check baseline-write 0 "$bin" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/base.json" --update-baseline --out "$tmp/bl1"
+check baseline-worse 1 "$bin" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/base.json" --set iterations=5 --out "$tmp/bl2"
+grep -q "^REGRESSION car.circle on bullet: pass -> fail" "$tmp/out" && grep -q "^worse      car.circle on bullet: heading_residual measured .* (was .*), 1.09 of tolerance (was 0.0352)" "$tmp/out" \
+  && grep -q "Against the baseline" "$tmp/bl2/summary.md" && passes=$((passes + 1)) || { echo "FAIL baseline worse"; cat "$tmp/out"; fails=$((fails + 1)); }
+bad_input baseline-malformed "is not JSON" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/broken.json" --out "$tmp/bl3"
 
 # A failing outside simulator: the failure names its metrics and figures in junit.xml (still
 # valid) and leads summary.md.
