@@ -90,14 +90,17 @@ void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup,
     auto hi = std::lower_bound(exact.begin(), exact.end(), s.t_s - 1e-9,
                                [](const car::TimedConfig& a, double t) { return a.t_s < t; });
     if (hi == exact.end()) hi = std::prev(exact.end());
-    double ex = hi->q.x_m, ey = hi->q.y_m;
+    double ex = hi->q.x_m, ey = hi->q.y_m, ephi = hi->q.phi_rad;
     if (hi != exact.begin() && std::abs(hi->t_s - s.t_s) > 1e-9) {
       const auto lo = std::prev(hi);
       const double w = std::clamp((s.t_s - lo->t_s) / (hi->t_s - lo->t_s), 0.0, 1.0);
       ex = lo->q.x_m + w * (hi->q.x_m - lo->q.x_m);
       ey = lo->q.y_m + w * (hi->q.y_m - lo->q.y_m);
+      ephi = lo->q.phi_rad + w * (hi->q.phi_rad - lo->q.phi_rad);
     }
     pos = std::max(pos, std::hypot(s.q.x_m - ex, s.q.y_m - ey));
+    // The heading too: a trace can keep the front axle on the lift and turn the car wrongly.
+    shape = std::max(shape, std::abs(e2::wrap_angle(s.q.phi_rad - ephi)));
     const car::BaseSample cmd = path.at(std::min(s.t_s, path.duration_s()));
     shape = std::max({shape, std::abs(s.q.alpha_rad - cmd.alpha_rad), std::abs(s.q.beta_rad - cmd.beta_rad)});
   }
@@ -438,7 +441,7 @@ const MetricDef SLIP_ACROSS = abs_("slip_across_max", "m/s", 0.0, 1e-4, "largest
 const MetricDef SLIP_RMS = abs_("slip_rms", "m/s", 0.0, 1e-4, "RMS contact-point speed over the drive (worst wheel)");
 // A trace from a simulator outside liftcheck (liftcheck score): every sample against the exact lift.
 const MetricDef TRACE_PATH = abs_("trace_path_error", "m", 0.0, 1e-3, "outside simulator's trace: largest distance of the front-axle centre from the exact lift at any sample");
-const MetricDef TRACE_SHAPE = abs_("trace_shape_error", "rad", 0.0, 1e-3, "outside simulator's trace: largest difference of its (alpha, beta) from the commanded path at any sample");
+const MetricDef TRACE_SHAPE = abs_("trace_shape_error", "rad", 0.0, 1e-3, "outside simulator's trace: largest difference of its (alpha, beta) from the commanded path, or of its heading from the exact lift's, at any sample");
 
 std::vector<MetricDef> cycle_metrics() {
   const std::string size = ", relative to the size of the holonomy (rms shift of the rod's ends)";

@@ -187,8 +187,23 @@ for i, line in enumerate(rows):
 open(sys.argv[2], "w").write("\n".join(out) + "\n")' "$tmp/trace.csv" "$tmp/detour.csv"
 check score-detour-fails 1 "$bin" score car.circle --trace "$tmp/detour.csv"
 grep -q "trace_path_error.*FAIL" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL detour not caught by trace_path_error"; fails=$((fails + 1)); }
-# A disk trace every engine step: the reference's own contact-free trace passes; one whose M
-# drives on through N after contact fails on penetration.
+# A wrong heading mid-way, position and end pose right, fails on the car.cycle too.
+"$bin" path car.cycle >"$tmp/pc.csv"
+python3 "$(dirname "$0")/../examples/kinematic_car.py" "$tmp/pc.csv" "$tmp/tc.csv"
+python3 -c '
+import sys
+rows = open(sys.argv[1]).read().splitlines()
+out = []
+for i, line in enumerate(rows):
+    if line[0].isdigit() and 0.3 < i / len(rows) < 0.6:
+        v = line.split(","); v[5] = str(float(v[5]) + 1.0); line = ",".join(v)
+    out.append(line)
+open(sys.argv[2], "w").write("\n".join(out) + "\n")' "$tmp/tc.csv" "$tmp/turned.csv"
+check score-cycle-passes 0 "$bin" score car.cycle --trace "$tmp/tc.csv"
+check score-wrong-heading-fails 1 "$bin" score car.cycle --trace "$tmp/turned.csv"
+# A disk trace every engine step: the reference's own contact-free trace passes. With contact the
+# exact lift (a kinematic model, no contact response) overlaps after contact, so a simulator's
+# trace must stop there: M held at its first contact state passes, M driving on through N fails.
 "$bin" run disks.copy --set dt=0.01 --set sample_dt=0.01 --json >"$tmp/dc.json"
 python3 -c '
 import json, sys
@@ -200,10 +215,15 @@ python3 -c '
 import json, math, sys
 rows = [list(r) for r in json.load(open(sys.argv[1]))["details"]["trace"]]
 k = next(i for i, r in enumerate(rows) if math.hypot(r[1] - r[3], r[2] - r[4]) <= 2)
+write = lambda name, rr: open(name, "w").write("t,cMx,cMy,cNx,cNy\n" + "".join(",".join("%.17g" % v for v in r) + "\n" for r in rr))
+stop = [list(r) for r in rows]
 for i in range(k + 1, len(rows)):
+    stop[i][1], stop[i][2] = stop[k][1], stop[k][2]
     rows[i][1] = rows[i - 1][1] + rows[k][1] - rows[k - 1][1]
     rows[i][2] = rows[i - 1][2] + rows[k][2] - rows[k - 1][2]
-open(sys.argv[2], "w").write("t,cMx,cMy,cNx,cNy\n" + "".join(",".join("%.17g" % v for v in r) + "\n" for r in rows))' "$tmp/dr.json" "$tmp/through.csv"
+write(sys.argv[2], rows)
+write(sys.argv[3], stop)' "$tmp/dr.json" "$tmp/through.csv" "$tmp/stop.csv"
+check score-disks-stop-at-contact-passes 0 "$bin" score disks.repel --trace "$tmp/stop.csv" --set dt=0.01 --set sample_dt=0.01
 check score-disks-through-fails 1 "$bin" score disks.repel --trace "$tmp/through.csv" --set dt=0.01 --set sample_dt=0.01
 grep -q "penetration_max.*FAIL" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL penetration not caught"; fails=$((fails + 1)); }
 # A folder of traces is one more configuration in validate.
