@@ -176,29 +176,26 @@ bad_input score-short-trace "no row at t = 0.48 s" score car.circle --trace "$tm
 awk 'NR <= 2 || NR % 2 == 0' "$tmp/trace.csv" >"$tmp/sparse.csv"
 bad_input score-off-grid "no row at t =" score car.circle --trace "$tmp/sparse.csv"
 # Positions off the exact lift between the end points fail, though the end pose is right.
-python3 -c '
+# shift_middle IN OUT COLUMN DELTA: a trace with COLUMN moved by DELTA over its middle third.
+shift_middle() {
+  python3 -c '
 import sys
 rows = open(sys.argv[1]).read().splitlines()
+col, delta = int(sys.argv[3]), float(sys.argv[4])
 out = []
 for i, line in enumerate(rows):
     if line[0].isdigit() and 0.3 < i / len(rows) < 0.6:
-        v = line.split(","); v[3] = str(float(v[3]) + 0.01); line = ",".join(v)
+        v = line.split(","); v[col] = str(float(v[col]) + delta); line = ",".join(v)
     out.append(line)
-open(sys.argv[2], "w").write("\n".join(out) + "\n")' "$tmp/trace.csv" "$tmp/detour.csv"
+open(sys.argv[2], "w").write("\n".join(out) + "\n")' "$@"
+}
+shift_middle "$tmp/trace.csv" "$tmp/detour.csv" 3 0.01
 check score-detour-fails 1 "$bin" score car.circle --trace "$tmp/detour.csv"
 grep -q "trace_path_error.*FAIL" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL detour not caught by trace_path_error"; fails=$((fails + 1)); }
 # A wrong heading mid-way, position and end pose right, fails on the car.cycle too.
 "$bin" path car.cycle >"$tmp/pc.csv"
 python3 "$(dirname "$0")/../examples/kinematic_car.py" "$tmp/pc.csv" "$tmp/tc.csv"
-python3 -c '
-import sys
-rows = open(sys.argv[1]).read().splitlines()
-out = []
-for i, line in enumerate(rows):
-    if line[0].isdigit() and 0.3 < i / len(rows) < 0.6:
-        v = line.split(","); v[5] = str(float(v[5]) + 1.0); line = ",".join(v)
-    out.append(line)
-open(sys.argv[2], "w").write("\n".join(out) + "\n")' "$tmp/tc.csv" "$tmp/turned.csv"
+shift_middle "$tmp/tc.csv" "$tmp/turned.csv" 5 1.0
 check score-cycle-passes 0 "$bin" score car.cycle --trace "$tmp/tc.csv"
 check score-wrong-heading-fails 1 "$bin" score car.cycle --trace "$tmp/turned.csv"
 # A disk trace every engine step: the reference's own contact-free trace passes. With contact the
