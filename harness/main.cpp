@@ -8,11 +8,14 @@
 #include <iostream>
 #include <set>
 #include <sstream>
+#include <thread>
+#include <unistd.h>
 
 #include "harness/external.hpp"
 #include "harness/results.hpp"
 #include "liftcheck_version.hpp"
 #include "harness/runner.hpp"
+#include "harness/suite.hpp"
 #include "harness/sweeps.hpp"
 #include "reports/ci.hpp"
 #include "reports/report.hpp"
@@ -151,134 +154,36 @@ int cmd_score(const std::string& scenario, const std::string& trace_file, const 
   return r.as_expected() ? 0 : 1;
 }
 
-int cmd_validate(const std::string& engine_list, const std::string& filter, const std::string& out_dir, bool sweeps,
-                 bool report, const std::string& trace_dir, const std::vector<std::string>& sets, const std::string& baseline_path,
-                 bool update_baseline) {
-  if (update_baseline && baseline_path.empty()) throw InputError("--update-baseline needs --baseline FILE");
-  // Read before anything runs: a malformed baseline stops validate at once.
-  nlohmann::json baseline;
-  if (!baseline_path.empty() && !update_baseline) baseline = read_results(baseline_path);
-  std::vector<const EngineInfo*> es;
-  if (engine_list.empty()) {
-    for (const auto& e : engines()) es.push_back(&e);
-  } else {
-    for (const auto& n : split_list(engine_list)) es.push_back(&engine_or_throw(n));
-  }
-  if (es.empty()) throw InputError("--engines names no engine");
-  const std::vector<std::string> globs = split_list(filter);
-  const auto matches = [&](const std::string& name) {
-    for (const auto& g : globs)
-      if (fnmatch(g.c_str(), name.c_str(), 0) == 0) return true;
-    return false;
-  };
-  std::vector<const Scenario*> ss;
-  for (const auto& s : scenarios())
-    if (matches(s.name)) ss.push_back(&s);
-  if (ss.empty()) throw InputError(fmt::format("no scenario matches '{}'", filter));
+/// Where and what validate and merge write.
+struct OutputOptions {
+  std::string out_dir;
+  bool report = true;
+  std::string baseline_path;  ///< compare with it (or rewrite it)
+  bool update_baseline = false;
+};
 
-  // An outside simulator: the folder's name is its configuration, each SCENARIO.csv (or .json) in
-  // it a run. Every trace is read before anything runs, so a malformed one stops validate at once.
-  std::map<std::string, Trace> traces;
-  EngineInfo external;
-  if (!trace_dir.empty()) {
-    const std::filesystem::path dir(trace_dir);
-    if (!std::filesystem::is_directory(dir)) throw InputError(fmt::format("--trace-dir '{}' is not a folder", trace_dir));
-    external.name = std::filesystem::absolute(dir).lexically_normal().filename().string();
-    if (external.name.empty()) external.name = std::filesystem::absolute(dir).lexically_normal().parent_path().filename().string();
-    if (external.name.empty() || find_engine(external.name))
-      throw InputError(fmt::format("--trace-dir '{}': its name '{}' must not be a built-in configuration's", trace_dir, external.name));
-    for (const Scenario* s : ss)
-      for (const char* ext : {".csv", ".json"})
-        if (const auto f = dir / (s->name + ext); std::filesystem::exists(f) && !traces.count(s->name)) traces[s->name] = read_trace(f, s->vehicle);
-    if (traces.empty()) throw InputError(fmt::format("--trace-dir '{}' holds no SCENARIO.csv or .json for the scenarios run", trace_dir));
-    external.library = "external";
-    external.version = "-";
-    external.description = fmt::format("a simulator outside liftcheck, scored from the traces in {}", trace_dir);
-    external.color = "#7f7f7f";
-    external.contact_dynamics = false;
-  }
+/// Reads the baseline before anything runs: a malformed one stops at once.
+nlohmann::json read_baseline(const OutputOptions& o) {
+  if (o.update_baseline && o.baseline_path.empty()) throw InputError("--update-baseline needs --baseline FILE");
+  return !o.baseline_path.empty() && !o.update_baseline ? read_results(o.baseline_path) : nlohmann::json();
+}
 
-  // --set applies to every run whose scenario has the parameter or whose configuration has the
-  // setting for the scenario's vehicle; a key no run takes is an input error.
-  Overrides global;
-  for (const auto& a : sets) global.push_back(split_assignment(a));
-  const auto overrides_for = [&](const Scenario& s, const EngineInfo& e) {
-    Overrides ov;
-    for (const auto& [key, value] : global) {
-      const bool param = std::any_of(s.params.begin(), s.params.end(), [&](const ParamSpec& p) { return p.key == key; });
-      const bool knob = std::any_of(e.knobs.begin(), e.knobs.end(), [&](const SettingSpec& k) { return k.key == key && k.vehicle == s.vehicle; });
-      if (param || knob) ov.emplace_back(key, value);
-    }
-    return ov;
-  };
-  for (const auto& [key, value] : global) {
-    bool taken = false;
-    for (const Scenario* s : ss)
-      for (const EngineInfo* e : es)
-        for (const auto& kv : overrides_for(*s, *e)) taken = taken || kv.first == key;
-    if (!taken) throw InputError(fmt::format("--set {}: no scenario run here has a parameter or setting '{}'", key, key));
-  }
-
+std::filesystem::path make_out_dir(const std::string& out_dir) {
   const std::filesystem::path out(out_dir);
   std::error_code ec;
   std::filesystem::create_directories(out, ec);
-  if (ec || !std::filesystem::is_directory(out))
-    throw InputError(fmt::format("cannot create output folder '{}'", out_dir));
+  if (ec || !std::filesystem::is_directory(out)) throw InputError(fmt::format("cannot create output folder '{}'", out_dir));
+  return out;
+}
 
-  const auto t0 = std::chrono::steady_clock::now();
-  std::vector<RunRecord> runs;
-  bool all_pass = true;
-  for (const Scenario* s : ss)
-    for (const EngineInfo* e : es) {
-      RunRecord r;
-      try {
-        r = run_scenario(*s, *e, overrides_for(*s, *e));
-      } catch (const InputError& err) {  // values rejected by the scenario (a defect at the defaults): reported per run
-        r.scenario = s->name;
-        r.engine = e->name;
-        r.status = Status::kError;
-        r.message = err.what();
-      }
-      all_pass = all_pass && r.as_expected();
-      std::cout << fmt::format("{:<15} {:<22} {:<16} {:8.3f} s  {}{}\n", r.verdict(), s->name, e->name, r.wall_s, r.message,
-                               r.known && r.as_expected() ? fmt::format(" (known: {})", r.known->reason) : "");
-      runs.push_back(std::move(r));
-    }
-  for (const Scenario* s : ss) {
-    if (!traces.count(s->name)) continue;
-    const RunRecord r = run_scenario(*s, replay_engine(external.name, *s, traces.at(s->name)));
-    all_pass = all_pass && r.as_expected();
-    std::cout << fmt::format("{:<15} {:<22} {:<16} {:8.3f} s  {}\n", r.verdict(), s->name, r.engine, r.wall_s, r.message);
-    runs.push_back(r);
-  }
-  const double runs_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  const auto t_sweeps = std::chrono::steady_clock::now();
-  nlohmann::json sweep_results = nlohmann::json::array();
-  if (sweeps)
-    for (const SweepDef& sw : sweep_catalogue()) {
-      if (!matches(sw.scenario)) continue;
-      const auto ts = std::chrono::steady_clock::now();
-      sweep_results.push_back(run_sweep(sw, es));
-      std::cout << fmt::format("sweep  {:<32} {:8.3f} s\n", sw.name,
-                               std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count());
-    }
-  if (sweeps && matches(outcome_sweep_scenario())) {
-    const auto ts = std::chrono::steady_clock::now();
-    sweep_results.push_back(run_outcome_sweep(es));
-    std::cout << fmt::format("sweep  {:<32} {:8.3f} s\n", "disk_outcomes",
-                             std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count());
-  }
-  nlohmann::json maps = nlohmann::json::array();
-  const MapDef& map = speed_accuracy_map();
-  if (sweeps && std::any_of(map.panels.begin(), map.panels.end(), [&](const MapDef::Panel& p) { return matches(p.scenario); })) {
-    const auto ts = std::chrono::steady_clock::now();
-    maps.push_back(run_map(map, es));
-    std::cout << fmt::format("map    {:<32} {:8.3f} s\n", map.name, std::chrono::duration<double>(std::chrono::steady_clock::now() - ts).count());
-  }
-  const double sweeps_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_sweeps).count();
+/// The sweeps' gates, the baseline comparison (of the runs made only: a filtered or sharded run
+/// compares its share), then results.json, junit.xml, summary.md and the report; the exit status.
+int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann::json& baseline) {
+  const std::filesystem::path out = make_out_dir(o.out_dir);
+  bool all_pass = results["summary"]["unexpected"].get<int>() == 0;
   // Sweeps are a gate: each engine's entry in each sweep passes or names its problems.
   int gates = 0, gates_failed = 0;
-  for (const auto& sw : sweep_results)
+  for (const auto& sw : results["sweeps"])
     for (const auto& entry : sw["engines"]) {
       ++gates;
       if (entry["gate"]["pass"].get<bool>()) continue;
@@ -287,17 +192,10 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
                                fmt::join(entry["gate"]["problems"].get<std::vector<std::string>>(), "; "));
     }
   all_pass = all_pass && gates_failed == 0;
-  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::vector<const EngineInfo*> listed = es;
-  if (!traces.empty()) listed.push_back(&external);
-  nlohmann::json results = results_json(runs, context_json(listed, wall));
-  results["context"]["runs_s"] = runs_s;
-  results["context"]["sweeps_s"] = sweeps_s;
-  // Against the baseline: only the runs made here are compared (a filtered run compares its share).
   int baseline_problems = 0;
   if (!baseline.is_null()) {
     std::set<std::pair<std::string, std::string>> ran;
-    for (const auto& r : runs) ran.insert({r.scenario, r.engine});
+    for (const auto& r : results["runs"]) ran.insert({r["scenario"].get<std::string>(), r["engine"].get<std::string>()});
     nlohmann::json base = baseline;
     base["runs"] = nlohmann::json::array();
     for (const auto& r : baseline["runs"])
@@ -306,25 +204,19 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
     try {
       d = diff_results(base, results);
     } catch (const nlohmann::json::exception& e) {
-      throw InputError(fmt::format("'{}' is not a liftcheck baseline: {}", baseline_path, e.what()));
+      throw InputError(fmt::format("'{}' is not a liftcheck baseline: {}", o.baseline_path, e.what()));
     }
     baseline_problems = static_cast<int>(d["regressions"].size() + d["worse"].size());
-    results["baseline"] = {{"file", baseline_path}, {"diff", d}};
-    std::cout << "against the baseline " << baseline_path << ":\n" << diff_text(d);
+    results["baseline"] = {{"file", o.baseline_path}, {"diff", d}};
+    std::cout << "against the baseline " << o.baseline_path << ":\n" << diff_text(d);
     all_pass = all_pass && baseline_problems == 0;
   }
   results["summary"]["baseline_problems"] = baseline_problems;
-  results["sweeps"] = sweep_results;
-  results["context"]["set"] = nlohmann::json::object();
-  for (const auto& [key, value] : global) results["context"]["set"][key] = value;
-  results["maps"] = maps;
   results["summary"]["sweep_gates"] = gates;
   results["summary"]["sweep_gates_failed"] = gates_failed;
   results["summary"]["unexpected"] = results["summary"]["unexpected"].get<int>() + gates_failed;
-  results["scenarios"] = nlohmann::json::array();
-  for (const Scenario* s : ss) results["scenarios"].push_back(s->to_json());
   try {
-    if (report) {
+    if (o.report) {
       write_report(results, out);
       std::cout << fmt::format("report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", results["report"]["report_s"].get<double>(),
                                results["report"]["snapshots"].size(), results["report"]["strips"].size(),
@@ -332,22 +224,244 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, cons
                                results["report"]["errors"].empty() ? "" : fmt::format("; {} problems, see index.html", results["report"]["errors"].size()));
     }
     write_file_atomic(out / "junit.xml", junit_xml(results));
-    write_file_atomic(out / "summary.md", summary_markdown(results, report ? "index.html" : ""));
-    if (update_baseline) {
-      write_file_atomic(baseline_path, baseline_json(results).dump(1) + "\n");
-      std::cout << "baseline written: " << baseline_path << "\n";
+    write_file_atomic(out / "summary.md", summary_markdown(results, o.report ? "index.html" : ""));
+    if (o.update_baseline) {
+      write_file_atomic(o.baseline_path, baseline_json(results).dump(1) + "\n");
+      std::cout << "baseline written: " << o.baseline_path << "\n";
     }
     write_file_atomic(out / "results.json", results.dump(1));
   } catch (const std::runtime_error& err) {
     throw InputError(err.what());
   }
   const auto& sum = results["summary"];
-  std::cout << fmt::format("validate: {} runs and {} sweep gates, {} unexpected ({} pass, {} known failures, {} unexpected passes, {} fail, "
+  std::cout << fmt::format("{}: {} runs and {} sweep gates, {} unexpected ({} pass, {} known failures, {} unexpected passes, {} fail, "
                            "{} error, {} skip; {} sweep gates failed); {}\n",
+                           results.contains("shard") ? fmt::format("shard {}/{}", results["shard"]["index"].get<int>(), results["shard"]["total"].get<int>()) : "validate",
                            sum["total"].get<int>(), gates, sum["unexpected"].get<int>(), sum["pass"].get<int>(), sum["known failure"].get<int>(),
                            sum["unexpected pass"].get<int>(), sum["fail"].get<int>(), sum["error"].get<int>(), sum["skip"].get<int>(), gates_failed,
-                           report ? "report: " + (out / "index.html").string() : "results: " + (out / "results.json").string());
+                           o.report ? "report: " + (out / "index.html").string() : "results: " + (out / "results.json").string());
   return all_pass ? 0 : 1;
+}
+
+/// "I/N" (1 <= I <= N); GTEST_SHARD_INDEX (0-based) and GTEST_TOTAL_SHARDS when it is empty.
+std::pair<int, int> parse_shard(const std::string& text) {
+  const auto number = [](const std::string& t, const std::string& what) {
+    try {
+      size_t used = 0;
+      const long v = std::stol(t, &used);
+      if (used != t.size() || v < 0 || v > 100000) throw std::invalid_argument(t);
+      return static_cast<int>(v);
+    } catch (const std::logic_error&) {
+      throw InputError(fmt::format("{} '{}' is not a whole number", what, t));
+    }
+  };
+  if (text.empty()) {
+    const char* index = std::getenv("GTEST_SHARD_INDEX");
+    const char* total = std::getenv("GTEST_TOTAL_SHARDS");
+    if (!index || !total) return {0, 0};
+    const int n = number(total, "GTEST_TOTAL_SHARDS"), i = number(index, "GTEST_SHARD_INDEX");
+    if (n < 1 || i >= n) throw InputError(fmt::format("GTEST_SHARD_INDEX {} is not below GTEST_TOTAL_SHARDS {}", i, n));
+    return {i + 1, n};
+  }
+  const auto slash = text.find('/');
+  if (slash == std::string::npos) throw InputError(fmt::format("--shard '{}' must be I/N, the I-th of N shares (1 <= I <= N)", text));
+  const int i = number(text.substr(0, slash), "--shard index"), n = number(text.substr(slash + 1), "--shard count");
+  if (n < 1 || i < 1 || i > n) throw InputError(fmt::format("--shard '{}' must be I/N with 1 <= I <= N", text));
+  return {i, n};
+}
+
+/// A progress line on a terminal (rewritten in place), a plain line every tenth otherwise.
+struct Progress {
+  bool tty = isatty(STDOUT_FILENO) != 0;
+  std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+  size_t last_tenth = 0;
+  bool shown = false;
+  void clear() {
+    if (shown) std::cout << "\r\033[K" << std::flush;
+    shown = false;
+  }
+  void update(size_t done, size_t total) {
+    const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    if (tty) {
+      std::cout << fmt::format("\r\033[K[{}/{}] {:.1f} s", done, total, s) << std::flush;
+      shown = true;
+    } else if (total > 0 && done * 10 / total > last_tenth) {
+      last_tenth = done * 10 / total;
+      std::cout << fmt::format("progress {}/{} runs, {:.1f} s\n", done, total, s);
+    }
+  }
+};
+
+int cmd_validate(const std::string& engine_list, const std::string& filter, bool sweeps, const std::string& trace_dir,
+                 const std::vector<std::string>& sets, const OutputOptions& o, int jobs, const std::string& shard_text) {
+  const nlohmann::json baseline = read_baseline(o);
+  const auto [shard_index, shard_total] = parse_shard(shard_text);
+  if (jobs < 1) throw InputError(fmt::format("--jobs {} must be at least 1", jobs));
+  SuiteDef def;
+  if (engine_list.empty()) {
+    for (const auto& e : engines()) def.engines.push_back(&e);
+  } else {
+    for (const auto& n : split_list(engine_list)) def.engines.push_back(&engine_or_throw(n));
+  }
+  def.globs = split_list(filter);
+  def.sweeps = sweeps;
+  for (const auto& a : sets) def.set.push_back(split_assignment(a));
+
+  // An outside simulator: the folder's name is its configuration, each SCENARIO.csv (or .json) in
+  // it a run. Every trace is read before anything runs, so a malformed one stops validate at once.
+  EngineInfo external;
+  if (!trace_dir.empty()) {
+    if (shard_total > 0) throw InputError("--trace-dir cannot be sharded: score the traces in one run");
+    const std::filesystem::path dir(trace_dir);
+    if (!std::filesystem::is_directory(dir)) throw InputError(fmt::format("--trace-dir '{}' is not a folder", trace_dir));
+    external.name = std::filesystem::absolute(dir).lexically_normal().filename().string();
+    if (external.name.empty()) external.name = std::filesystem::absolute(dir).lexically_normal().parent_path().filename().string();
+    if (external.name.empty() || find_engine(external.name))
+      throw InputError(fmt::format("--trace-dir '{}': its name '{}' must not be a built-in configuration's", trace_dir, external.name));
+    for (const auto& s : scenarios())
+      for (const char* ext : {".csv", ".json"})
+        if (const auto f = dir / (s.name + ext); std::filesystem::exists(f) && !def.traces.count(s.name)) {
+          bool wanted = false;
+          for (const auto& g : def.globs) wanted = wanted || fnmatch(g.c_str(), s.name.c_str(), 0) == 0;
+          if (wanted) def.traces[s.name] = read_trace(f, s.vehicle);
+        }
+    if (def.traces.empty()) throw InputError(fmt::format("--trace-dir '{}' holds no SCENARIO.csv or .json for the scenarios run", trace_dir));
+    def.external_name = external.name;
+    external.library = "external";
+    external.version = "-";
+    external.description = fmt::format("a simulator outside liftcheck, scored from the traces in {}", trace_dir);
+    external.color = "#7f7f7f";
+    external.contact_dynamics = false;
+  }
+  const SuitePlan plan = plan_suite(def);
+  (void)make_out_dir(o.out_dir);
+
+  std::vector<size_t> which;
+  if (shard_total > 0) which = shard_share(plan, shard_index, shard_total);
+  else for (size_t i = 0; i < plan.items.size(); ++i) which.push_back(i);
+  const auto t0 = std::chrono::steady_clock::now();
+  Progress progress;
+  double runs_s = 0.0, points_s = 0.0;
+  const auto records = run_items(plan, which, jobs, [&](size_t i, const nlohmann::json& r) {
+    const SuiteItem& it = plan.items[i];
+    (it.kind == SuiteItem::kRun ? runs_s : points_s) += r["wall_s"].get<double>();
+    if (it.kind != SuiteItem::kRun) return;
+    progress.clear();
+    const bool known = r["expectation"].is_object() && r["as_expected"].get<bool>();
+    std::cout << fmt::format("{:<15} {:<22} {:<16} {:8.3f} s  {}{}\n", r["verdict"].get<std::string>(), it.scenario->name, it.engine->name,
+                             r["wall_s"].get<double>(), r["message"].get<std::string>(),
+                             known ? fmt::format(" (known: {})", r["expectation"]["reason"].get<std::string>()) : "");
+  }, [&](size_t done, size_t total) { progress.update(done, total); });
+  progress.clear();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  std::map<std::string, nlohmann::json> by_key;
+  for (size_t k = 0; k < which.size(); ++k) by_key[plan.items[which[k]].key] = records[k];
+
+  std::vector<const EngineInfo*> listed = def.engines;
+  if (!def.traces.empty()) listed.push_back(&external);
+  nlohmann::json context = context_json(listed, wall);
+  context["runs_s"] = runs_s;
+  context["points_s"] = points_s;
+  context["jobs"] = jobs;
+  context["set"] = nlohmann::json::object();
+  for (const auto& [key, value] : def.set) context["set"][key] = value;
+  nlohmann::json results;
+  if (shard_total > 0) {
+    // A share: its runs and the records of its points, which merge assembles with the others'.
+    nlohmann::json runs = nlohmann::json::array(), points = nlohmann::json::object();
+    for (size_t i : which)
+      (plan.items[i].kind == SuiteItem::kRun ? runs.push_back(by_key.at(plan.items[i].key)) : (void)(points[plan.items[i].key] = by_key.at(plan.items[i].key)));
+    results = results_from_records(runs, context);
+    results["sweeps"] = nlohmann::json::array();
+    results["maps"] = nlohmann::json::array();
+    results["shard"] = {{"index", shard_index}, {"total", shard_total}, {"items", which.size()}};
+    nlohmann::json keys = nlohmann::json::array();
+    for (const SuiteItem& it : plan.items) keys.push_back(it.key);
+    results["plan"] = {{"selection", plan.selection()}, {"keys", keys}};
+    results["points"] = points;
+    std::cout << fmt::format("shard {}/{}: {} of {} runs and points ({} sweep, outcome and map points; their gates are judged at merge)\n",
+                             shard_index, shard_total, which.size(), plan.items.size(), points.size());
+  } else {
+    const nlohmann::json assembled = assemble_suite(plan, by_key);
+    results = results_from_records(assembled["runs"], context);
+    results["sweeps"] = assembled["sweeps"];
+    results["maps"] = assembled["maps"];
+  }
+  results["scenarios"] = nlohmann::json::array();
+  for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
+  return finish_suite(results, o, baseline);
+}
+
+/// Joins shard folders into one suite: refuses shards of another liftcheck or another selection,
+/// a missing or repeated share, then assembles the sweeps from the merged points.
+int cmd_merge(const std::vector<std::string>& dirs, const OutputOptions& o) {
+  const nlohmann::json baseline = read_baseline(o);
+  std::vector<nlohmann::json> shards;
+  for (const auto& d : dirs) {
+    const std::string file = (std::filesystem::path(d) / "results.json").string();
+    nlohmann::json j = read_results(file);
+    if (!j.contains("shard") || !j["shard"].is_object() || !j.contains("plan") || !j.contains("points") || !j["points"].is_object())
+      throw InputError(fmt::format("'{}' is not a shard's results (run validate --shard I/N)", file));
+    shards.push_back(std::move(j));
+  }
+  const auto version = [](const nlohmann::json& j) {
+    return fmt::format("{} ({})", j["context"]["liftcheck"].value("version", "?"), j["context"]["liftcheck"].value("commit", "?"));
+  };
+  const std::string mine = fmt::format("{} ({})", LIFTCHECK_VERSION, LIFTCHECK_COMMIT);
+  int total = 0;
+  std::set<int> seen;
+  for (size_t k = 0; k < shards.size(); ++k) {
+    const auto& j = shards[k];
+    if (version(j) != mine) throw InputError(fmt::format("'{}' was made by liftcheck {}, this is liftcheck {}", dirs[k], version(j), mine));
+    if (j["plan"]["selection"] != shards[0]["plan"]["selection"] || j["context"]["set"] != shards[0]["context"]["set"])
+      throw InputError(fmt::format("'{}' ran other settings than '{}': {} against {}", dirs[k], dirs[0], j["plan"]["selection"].dump(), shards[0]["plan"]["selection"].dump()));
+    const int i = j["shard"].value("index", 0), n = j["shard"].value("total", 0);
+    if (k == 0) total = n;
+    if (n != total) throw InputError(fmt::format("'{}' is a share of {}, '{}' of {}", dirs[k], n, dirs[0], total));
+    if (!seen.insert(i).second) throw InputError(fmt::format("'{}' repeats shard {}/{}", dirs[k], i, n));
+  }
+  if (static_cast<int>(seen.size()) != total)
+    throw InputError(fmt::format("{} of {} shards given; every share is needed", seen.size(), total));
+  const nlohmann::json& sel = shards[0]["plan"]["selection"];
+  SuiteDef def;
+  for (const auto& n : sel.at("engines")) def.engines.push_back(&engine_or_throw(n.get<std::string>()));
+  def.globs = sel.at("filter").get<std::vector<std::string>>();
+  for (const auto& a : sel.at("set")) def.set.push_back(split_assignment(a.get<std::string>()));
+  def.sweeps = sel.at("sweeps").get<bool>();
+  const SuitePlan plan = plan_suite(def);
+  nlohmann::json keys = nlohmann::json::array();
+  for (const SuiteItem& it : plan.items) keys.push_back(it.key);
+  if (keys != shards[0]["plan"]["keys"]) throw InputError(fmt::format("'{}' was planned with another catalogue than this liftcheck's", dirs[0]));
+  std::map<std::string, nlohmann::json> by_key;
+  double wall = 0.0, runs_s = 0.0, points_s = 0.0;
+  for (size_t k = 0; k < shards.size(); ++k) {
+    auto& j = shards[k];
+    for (auto& r : j["runs"]) {
+      const std::string key = fmt::format("run/{}/{}", r["scenario"].get<std::string>(), r["engine"].get<std::string>());
+      by_key[key] = std::move(r);
+    }
+    for (auto& [key, r] : j["points"].items()) by_key[key] = std::move(r);
+    wall = std::max(wall, j["context"].value("wall_s", 0.0));
+    runs_s += j["context"].value("runs_s", 0.0);
+    points_s += j["context"].value("points_s", 0.0);
+  }
+  for (const SuiteItem& it : plan.items)
+    if (!by_key.count(it.key)) throw InputError(fmt::format("no shard holds '{}'", it.key));
+  if (by_key.size() != plan.items.size()) throw InputError("the shards hold runs outside their plan");
+  const nlohmann::json assembled = assemble_suite(plan, by_key);
+  nlohmann::json context = context_json(def.engines, wall);
+  context["runs_s"] = runs_s;
+  context["points_s"] = points_s;
+  context["jobs"] = shards[0]["context"].value("jobs", 1);
+  context["set"] = shards[0]["context"]["set"];
+  context["merged_shards"] = total;
+  nlohmann::json results = results_from_records(assembled["runs"], context);
+  results["sweeps"] = assembled["sweeps"];
+  results["maps"] = assembled["maps"];
+  results["scenarios"] = nlohmann::json::array();
+  for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
+  std::cout << fmt::format("merged {} shards: {} runs and points\n", total, by_key.size());
+  return finish_suite(results, o, baseline);
 }
 
 int cmd_diff(const std::string& base_path, const std::string& head_path, double growth, bool json) {
@@ -407,6 +521,20 @@ int main(int argc, char** argv) {
   bool no_sweeps = false, no_report = false;
   validate->add_flag("--no-sweeps", no_sweeps, "skip the parameter sweeps");
   validate->add_flag("--no-report", no_report, "write results.json only (no snapshots, plots or HTML)");
+  const int cores = std::max(1u, std::thread::hardware_concurrency());
+  int jobs = cores;
+  validate->add_option("--jobs,-j", jobs, "runs at once (default: the number of cores)")->capture_default_str();
+  std::string shard;
+  validate->add_option("--shard", shard, "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");
+
+  std::vector<std::string> merge_dirs;
+  std::string merge_out = "build/report", merge_baseline;
+  bool merge_no_report = false;
+  auto* merge = app.add_subcommand("merge", "join the output folders of validate --shard I/N into one suite (results, JUnit, summary, report)");
+  merge->add_option("dirs", merge_dirs, "every shard's output folder")->required();
+  merge->add_option("--out", merge_out, "output folder")->capture_default_str();
+  merge->add_option("--baseline", merge_baseline, "compare the merged runs with this baseline");
+  merge->add_flag("--no-report", merge_no_report, "write results.json only (no snapshots, plots or HTML)");
 
   std::string path_format = "csv";
   auto* path_cmd = app.add_subcommand("path", "write a scenario's commanded path (cars: t,alpha,beta; disks: N's t,cNx,cNy) for a simulator outside liftcheck");
@@ -448,7 +576,8 @@ int main(int argc, char** argv) {
     if (*list) return cmd_list(list_json);
     if (*engines_cmd) return cmd_engines(engines_json);
     if (*run) return cmd_run(scenario, engine, sets, run_json);
-    if (*validate) return cmd_validate(engine_list, filter, out_dir, !no_sweeps, !no_report, trace_dir, validate_sets, baseline_file, update_baseline);
+    if (*validate) return cmd_validate(engine_list, filter, !no_sweeps, trace_dir, validate_sets, {out_dir, !no_report, baseline_file, update_baseline}, jobs, shard);
+    if (*merge) return cmd_merge(merge_dirs, {merge_out, !merge_no_report, merge_baseline, false});
     if (*path_cmd) return cmd_path(scenario, sets, path_format);
     if (*score) return cmd_score(scenario, trace_file, sets, score_name, score_json);
     if (*diff) return cmd_diff(base_path, head_path, growth, diff_json);

@@ -56,18 +56,22 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
 
 nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::json& context) {
   nlohmann::json rs = nlohmann::json::array();
+  for (const auto& r : runs) rs.push_back(r.to_json());
+  return results_from_records(rs, context);
+}
+
+nlohmann::json results_from_records(const nlohmann::json& runs, const nlohmann::json& context) {
   // Counted by verdict: a known failure is not a fail, an unexpected pass is not a pass.
   std::map<std::string, int> counts{{"pass", 0}, {"known failure", 0}, {"unexpected pass", 0}, {"fail", 0}, {"error", 0}, {"skip", 0}};
+  int unexpected = 0;
   for (const auto& r : runs) {
-    rs.push_back(r.to_json());
-    ++counts[r.verdict()];
+    ++counts[r.at("verdict").get<std::string>()];
+    unexpected += r.at("as_expected").get<bool>() ? 0 : 1;
   }
   nlohmann::json summary(counts);
   summary["total"] = runs.size();
-  int unexpected = 0;
-  for (const auto& r : runs) unexpected += r.as_expected() ? 0 : 1;
   summary["unexpected"] = unexpected;
-  return {{"context", context}, {"summary", summary}, {"runs", rs}};
+  return {{"context", context}, {"summary", summary}, {"runs", runs}};
 }
 
 void write_file_atomic(const std::filesystem::path& path, const std::string& text) {

@@ -16,6 +16,8 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
 
 /// {"context", "summary", "runs"}.
 nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::json& context);
+/// The same from run records as results.json stores them (RunRecord::to_json).
+nlohmann::json results_from_records(const nlohmann::json& runs, const nlohmann::json& context);
 
 /// Writes `text` to `path` through a temporary file in the same folder and a rename, so a reader
 /// never sees half a file. Throws std::runtime_error naming the path.

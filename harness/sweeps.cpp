@@ -211,26 +211,61 @@ nlohmann::json value_of(const nlohmann::json& record, const std::string& key) {
 
 }  // namespace
 
-nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, double near_m) {
+namespace {
+
+struct OutcomeCase {
+  double a, b;
+  std::string path;
+  Overrides overrides;
+};
+
+const std::vector<double>& outcome_as() { static const std::vector<double> v{-1.0, 0.0, 0.5, 0.9, 1.5, 2.0, 3.0}; return v; }
+const std::vector<double>& outcome_bs() { static const std::vector<double> v{-1.0, 0.0, 0.5, 1.0}; return v; }
+const std::vector<std::string>& outcome_paths() { static const std::vector<std::string> v{"line", "circle", "figure8"}; return v; }
+
+std::vector<OutcomeCase> outcome_cases() {
+  std::vector<OutcomeCase> cases;
+  for (const auto& path : outcome_paths())
+    for (double a : outcome_as())
+      for (double b : outcome_bs())
+        cases.push_back({a, b, path, {{"a", fmt::format("{}", a)}, {"b", fmt::format("{}", b)}, {"path", path},
+                                      {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}}});
+  return cases;
+}
+
+std::string outcome_key(const EngineInfo& e, const OutcomeCase& c) {
+  return fmt::format("outcomes/{}/{}/a={}/b={}", e.name, c.path, c.a, c.b);
+}
+
+/// A number of a stored record, NaN where it is null (JSON has no infinities or NaN).
+double number_or_nan(const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; }
+
+}  // namespace
+
+std::vector<PointRun> outcome_runs(const std::vector<const EngineInfo*>& engines) {
   const Scenario* sc = find_scenario(outcome_sweep_scenario());
-  const std::vector<double> as{-1.0, 0.0, 0.5, 0.9, 1.5, 2.0, 3.0}, bs{-1.0, 0.0, 0.5, 1.0};
-  const std::vector<std::string> paths{"line", "circle", "figure8"};
   const EngineInfo* reference = &reference_engine();
-  struct Case { double a, b; std::string path; Overrides overrides; bool collision; double t, min_d; nlohmann::json record; };
+  std::vector<PointRun> runs;
+  for (const OutcomeCase& c : outcome_cases()) runs.push_back({outcome_key(*reference, c), sc, reference, c.overrides});
+  for (const EngineInfo* e : engines)
+    if (e->make_disks && e != reference)
+      for (const OutcomeCase& c : outcome_cases()) runs.push_back({outcome_key(*e, c), sc, e, c.overrides});
+  return runs;
+}
+
+nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engines, const RecordLookup& record, double near_m) {
+  const EngineInfo* reference = &reference_engine();
+  struct Case { const OutcomeCase* c; bool collision; double t, min_d; };
+  const std::vector<OutcomeCase> grid = outcome_cases();
   std::vector<Case> cases;
-  for (const auto& path : paths)
-    for (double a : as)
-      for (double b : bs) {
-        const Overrides ov{{"a", fmt::format("{}", a)}, {"b", fmt::format("{}", b)}, {"path", path},
-                           {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}};
-        const nlohmann::json rec = run_scenario(*sc, *reference, ov).to_json();
-        if (rec["status"] == "error") throw std::runtime_error(fmt::format("the reference run failed: {}", rec["message"].get<std::string>()));
-        const auto& d = rec["details"];
-        const bool hit = d["t_contact_measured_s"].is_number();
-        // Closest approach of the lift (21), refined on its dense output (not over samples).
-        const double min_d = d["reference_min_distance"].get<double>();
-        cases.push_back({a, b, path, ov, hit, hit ? d["t_contact_measured_s"].get<double>() : NAN, min_d, rec});
-      }
+  for (const OutcomeCase& c : grid) {
+    const nlohmann::json& rec = record(outcome_key(*reference, c));
+    if (rec["status"] == "error") throw std::runtime_error(fmt::format("the reference run failed: {}", rec["message"].get<std::string>()));
+    const auto& d = rec["details"];
+    const bool hit = d["t_contact_measured_s"].is_number();
+    // Closest approach of the lift (21), refined on its dense output (not over samples).
+    cases.push_back({&c, hit, hit ? d["t_contact_measured_s"].get<double>() : NAN, d["reference_min_distance"].get<double>()});
+  }
   nlohmann::json per_engine = nlohmann::json::array();
   for (const EngineInfo* e : engines) {
     if (!e->make_disks) continue;
@@ -241,12 +276,13 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
     std::vector<std::string> failing_cases;
     double worst_steps = 0.0;
     nlohmann::json rows = nlohmann::json::array();
-    for (const Case& c : cases) {
+    for (const Case& cs : cases) {
+      const OutcomeCase& c = *cs.c;
       // The reference engine's runs are the cases themselves.
-      const nlohmann::json rec = e == reference ? c.record : run_scenario(*sc, *e, c.overrides).to_json();
+      const nlohmann::json& rec = record(outcome_key(*e, c));
       if (rec["status"] == "error") {  // its own column: no outcome to compare
         ++errors;
-        rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"reference", c.collision}, {"engine", nullptr},
+        rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"reference", cs.collision}, {"engine", nullptr},
                         {"status", "error"}, {"message", rec["message"]}});
         continue;
       }
@@ -257,9 +293,11 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
       bool known_fail = false;
       std::vector<std::pair<std::string, double>> failed;
       nlohmann::json failed_errors = nlohmann::json::object();
-      for (const auto& [name, m] : rec["metrics"].items())
+      const nlohmann::json metrics = rec["metrics"];
+      for (const auto& [name, m] : metrics.items())
         if (!m["pass"].get<bool>() && !m.value("informational", false)) {
-          failed.emplace_back(name, m["tolerance_kind"] == "rel" ? m["rel_error"].get<double>() : m["abs_error"].get<double>());
+          const double err = number_or_nan(m["tolerance_kind"] == "rel" ? m["rel_error"] : m["abs_error"]);
+          failed.emplace_back(name, std::isnan(err) ? INFINITY : err);
           failed_errors[name] = failed.back().second;
         }
       if (listed && rec["status"] == "fail") {
@@ -271,19 +309,19 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
         if (failing_cases.size() < 5)
           failing_cases.push_back(fmt::format("a={} b={} {}: {}", c.a, c.b, c.path, rec["message"].get<std::string>()));
       }
-      const bool is_near = std::abs(c.min_d - 2.0) < near_m;
-      (c.collision ? (hit ? tp : fn) : (hit ? fp : tn)) += 1;
+      const bool is_near = std::abs(cs.min_d - 2.0) < near_m;
+      (cs.collision ? (hit ? tp : fn) : (hit ? fp : tn)) += 1;
       near += is_near ? 1 : 0;
-      if (hit != c.collision && !is_near) ++unexplained;
+      if (hit != cs.collision && !is_near) ++unexplained;
       double steps = NAN;
-      if (hit && c.collision) {
-        steps = (d["t_contact_measured_s"].get<double>() - c.t) / 1e-3;
+      if (hit && cs.collision) {
+        steps = (d["t_contact_measured_s"].get<double>() - cs.t) / 1e-3;
         worst_steps = std::max(worst_steps, std::abs(steps));
       }
-      rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"reference", c.collision}, {"engine", hit},
-                      {"reference_t_contact_s", c.collision ? nlohmann::json(c.t) : nlohmann::json()},
+      rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"reference", cs.collision}, {"engine", hit},
+                      {"reference_t_contact_s", cs.collision ? nlohmann::json(cs.t) : nlohmann::json()},
                       {"t_error_steps", std::isfinite(steps) ? nlohmann::json(steps) : nlohmann::json()},
-                      {"reference_min_distance", c.min_d}, {"near_boundary", is_near}, {"status", rec["status"]},
+                      {"reference_min_distance", cs.min_d}, {"near_boundary", is_near}, {"status", rec["status"]},
                       {"errors", failed_errors}, {"known_failure", known_fail}});
     }
     nlohmann::json problems = nlohmann::json::array();
@@ -305,7 +343,7 @@ nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, 
   }
   return {{"name", "disk_outcomes"}, {"kind", "outcomes"},
           {"title", fmt::format("Collision outcomes of {} over (a, b) and N's paths: each configuration against the reference", outcome_sweep_scenario())},
-          {"scenario", outcome_sweep_scenario()}, {"grid", {{"a", as}, {"b", bs}, {"path", paths}}},
+          {"scenario", outcome_sweep_scenario()}, {"grid", {{"a", outcome_as()}, {"b", outcome_bs()}, {"path", outcome_paths()}}},
           {"fixed", {{"cM", "0,0"}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}, {"dt", "0.001"}}},
           {"near_boundary_m", near_m}, {"engines", per_engine}};
 }
@@ -324,35 +362,56 @@ const MapDef& speed_accuracy_map() {
   return m;
 }
 
-nlohmann::json run_map(const MapDef& map, const std::vector<const EngineInfo*>& engines) {
+namespace {
+
+struct MapPoint { std::string knob; double value; Overrides overrides; };
+
+/// One configuration's grid: every dt at its default settings and, for an iterative solver, every
+/// iteration count at the default dt; the exact model has no step and gets one point.
+std::vector<MapPoint> map_grid(const MapDef& map, const EngineInfo& e) {
+  std::vector<MapPoint> grid;
+  if (e.is_reference) return {{"default", 0.0, {}}};
+  for (double dt : map.dt_s) grid.push_back({"dt", dt, {{"dt", fmt::format("{}", dt)}}});
+  if (std::any_of(e.knobs.begin(), e.knobs.end(), [](const SettingSpec& k) { return k.vehicle == "car" && k.key == "iterations"; }))
+    for (int n : map.iterations) grid.push_back({"iterations", static_cast<double>(n), {{"iterations", fmt::format("{}", n)}}});
+  return grid;
+}
+
+std::string map_key(const MapDef& map, const MapDef::Panel& panel, const EngineInfo& e, const MapPoint& g) {
+  return fmt::format("map/{}/{}/{}/{}={}", map.name, panel.scenario, e.name, g.knob, g.value);
+}
+
+}  // namespace
+
+std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const EngineInfo*>& engines) {
+  std::vector<PointRun> runs;
+  for (const MapDef::Panel& panel : map.panels)
+    for (const EngineInfo* e : engines)
+      if (e->make_car)
+        for (const MapPoint& g : map_grid(map, *e)) runs.push_back({map_key(map, panel, *e, g), find_scenario(panel.scenario), e, g.overrides});
+  return runs;
+}
+
+nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines, const RecordLookup& record) {
   nlohmann::json panels = nlohmann::json::array();
   for (const MapDef::Panel& panel : map.panels) {
-    const Scenario* sc = find_scenario(panel.scenario);
     nlohmann::json curves = nlohmann::json::array();
     std::vector<nlohmann::json*> all_points;
     for (const EngineInfo* e : engines) {
       if (!e->make_car) continue;
-      const bool iterative = std::any_of(e->knobs.begin(), e->knobs.end(), [](const SettingSpec& k) { return k.vehicle == "car" && k.key == "iterations"; });
-      struct Point { std::string knob; double value; Overrides ov; };
-      std::vector<Point> grid;
-      if (e->is_reference) {
-        grid.push_back({"default", 0.0, {}});  // the exact model has no step: one point
-      } else {
-        for (double dt : map.dt_s) grid.push_back({"dt", dt, {{"dt", fmt::format("{}", dt)}}});
-        if (iterative)
-          for (int n : map.iterations) grid.push_back({"iterations", static_cast<double>(n), {{"iterations", fmt::format("{}", n)}}});
-      }
       nlohmann::json points = nlohmann::json::array();
-      for (const Point& g : grid) {
-        const RunRecord r = run_scenario(*sc, *e, g.ov);
+      for (const MapPoint& g : map_grid(map, *e)) {
+        const nlohmann::json& r = record(map_key(map, panel, *e, g));
         double err = NAN;
-        for (const Metric& m : r.metrics)
-          if (std::find(panel.error_metrics.begin(), panel.error_metrics.end(), m.name) != panel.error_metrics.end() && std::isfinite(m.rel_error))
-            err = std::isnan(err) ? m.rel_error : std::max(err, m.rel_error);
-        const double cost = r.simulated_s > 0.0 ? r.wall_s / r.simulated_s : NAN;
-        points.push_back({{"knob", g.knob}, {"value", g.value}, {"status", to_string(r.status)}, {"message", r.message},
-                          {"error", r.status == Status::kError || !std::isfinite(err) ? nlohmann::json() : nlohmann::json(err)},
-                          {"wall_s", r.wall_s}, {"simulated_s", r.simulated_s},
+        const nlohmann::json metrics = r["metrics"];
+        for (const auto& [name, m] : metrics.items())
+          if (std::find(panel.error_metrics.begin(), panel.error_metrics.end(), name) != panel.error_metrics.end() && m["rel_error"].is_number())
+            err = std::isnan(err) ? m["rel_error"].get<double>() : std::max(err, m["rel_error"].get<double>());
+        const double wall_s = r["wall_s"], simulated_s = r["simulated_s"];
+        const double cost = simulated_s > 0.0 ? wall_s / simulated_s : NAN;
+        points.push_back({{"knob", g.knob}, {"value", g.value}, {"status", r["status"]}, {"message", r["message"]},
+                          {"error", r["status"] == "error" || !std::isfinite(err) ? nlohmann::json() : nlohmann::json(err)},
+                          {"wall_s", wall_s}, {"simulated_s", simulated_s},
                           {"cost_s_per_s", std::isfinite(cost) ? nlohmann::json(cost) : nlohmann::json()}, {"pareto", false}});
       }
       curves.push_back({{"engine", e->name}, {"points", points}});
@@ -380,22 +439,42 @@ nlohmann::json run_map(const MapDef& map, const std::vector<const EngineInfo*>& 
           {"panels", panels}};
 }
 
-nlohmann::json run_sweep(const SweepDef& s, const std::vector<const EngineInfo*>& engines) {
-  const Scenario* scenario = find_scenario(s.scenario);
+namespace {
+
+std::string sweep_key(const SweepDef& s, const EngineInfo& e, double x) { return fmt::format("sweep/{}/{}/x={}", s.name, e.name, x); }
+
+}  // namespace
+
+nlohmann::json point_record(const RunRecord& r) {
+  nlohmann::json rec = r.to_json();
+  for (const char* big : {"trace", "reference", "contact_log"}) rec["details"].erase(big);
+  return rec;
+}
+
+std::vector<PointRun> sweep_runs(const SweepDef& s, const std::vector<const EngineInfo*>& engines) {
+  std::vector<PointRun> runs;
+  for (const EngineInfo* e : engines)
+    if (e->make_car)
+      for (double x : s.values) runs.push_back({sweep_key(s, *e, x), find_scenario(s.scenario), e, point_overrides(s, x)});
+  return runs;
+}
+
+nlohmann::json assemble_sweep(const SweepDef& s, const std::vector<const EngineInfo*>& engines, const RecordLookup& record) {
   nlohmann::json per_engine = nlohmann::json::array();
   for (const EngineInfo* e : engines) {
     if (!e->make_car) continue;
     nlohmann::json points = nlohmann::json::array();
     std::vector<double> fx, fy;
     for (double x : s.values) {
-      const RunRecord r = run_scenario(*scenario, *e, point_overrides(s, x));
-      const nlohmann::json rec = r.to_json();
-      nlohmann::json pt{{"x", x}, {"status", to_string(r.status)}, {"message", r.message}, {"failed", nlohmann::json::array()}};
+      const nlohmann::json& rec = record(sweep_key(s, *e, x));
+      nlohmann::json pt{{"x", x}, {"status", rec["status"]}, {"message", rec["message"]}, {"failed", nlohmann::json::array()}};
       pt["errors"] = nlohmann::json::object();
-      for (const Metric& m : r.metrics)
-        if (!m.pass && !m.informational) pt["failed"].push_back(m.name), pt["errors"][m.name] = m.compared_error();
+      const nlohmann::json metrics = rec["metrics"];
+      for (const auto& [name, m] : metrics.items())
+        if (!m["pass"].get<bool>() && !m.value("informational", false))
+          pt["failed"].push_back(name), pt["errors"][name] = m["tolerance_kind"] == "rel" ? m["rel_error"] : m["abs_error"];
       for (const auto& key : s.record) pt[key] = value_of(rec, key);
-      if (s.loglog_fit && r.status != Status::kError) {
+      if (s.loglog_fit && rec["status"] != "error") {
         const nlohmann::json y = value_of(rec, s.fit_y), noise = value_of(rec, s.fit_noise);
         // Above the noise floor: the engine's error is under a tenth of what it measures.
         if (y.is_number() && noise.is_number() && y.get<double>() > 10.0 * noise.get<double>()) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
@@ -10,6 +11,7 @@
 #include "engines/engine.hpp"
 #include "harness/expectations.hpp"
 #include "harness/params.hpp"
+#include "harness/runner.hpp"
 
 namespace liftcheck {
 
@@ -72,13 +74,31 @@ const std::vector<SweepDef>& sweep_catalogue();
 /// The scenario the outcome sweep (run_outcome_sweep) runs over its grid.
 const std::string& outcome_sweep_scenario();
 
-/// Runs one sweep on the given engines. Engines that cannot run the scenario are left out.
-nlohmann::json run_sweep(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines);
+/// One run that a sweep, the outcome sweep or the map asks for: the unit validate schedules,
+/// shards and merges. `key` names it uniquely and stably ("sweep/radius_vs_beta/ode/x=0.1").
+struct PointRun {
+  std::string key;
+  const Scenario* scenario = nullptr;
+  const EngineInfo* engine = nullptr;
+  Overrides overrides;
+};
+/// A point run's record as stored (results.json "points"): the run record without its traces,
+/// which is all the sweeps, the outcome sweep and the map read.
+nlohmann::json point_record(const RunRecord& r);
+/// The stored record of a point run by its key (throws std::out_of_range when it is missing).
+using RecordLookup = std::function<const nlohmann::json&(const std::string& key)>;
+
+/// The runs of one sweep on the given engines (engines that cannot run the scenario are left
+/// out), and the sweep assembled from their records: the points, the fit and each engine's gate.
+std::vector<PointRun> sweep_runs(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines);
+nlohmann::json assemble_sweep(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines, const RecordLookup& record);
 
 /// disks.linear over a grid of (a, b) and N's paths: each engine's collision outcome against the
 /// analytic one (a confusion matrix), contact-time errors in steps, and the cases near the boundary
-/// of the collision domain (analytic closest approach within `near_m` of contact) labelled.
-nlohmann::json run_outcome_sweep(const std::vector<const EngineInfo*>& engines, double near_m = 0.01);
+/// of the collision domain (analytic closest approach within `near_m` of contact) labelled. The
+/// runs include the reference's on every case, whether or not the reference is among `engines`.
+std::vector<PointRun> outcome_runs(const std::vector<const EngineInfo*>& engines);
+nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engines, const RecordLookup& record, double near_m = 0.01);
 
 /// The speed-accuracy map: scenarios run on every configuration over the engine step dt and, for
 /// configurations with an iterative solver (a car setting "iterations"), over the iteration count;
@@ -97,6 +117,7 @@ struct MapDef {
   std::vector<int> iterations;      ///< at the scenario's default dt
 };
 const MapDef& speed_accuracy_map();
-nlohmann::json run_map(const MapDef& map, const std::vector<const EngineInfo*>& engines);
+std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const EngineInfo*>& engines);
+nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines, const RecordLookup& record);
 
 }  // namespace liftcheck

@@ -188,10 +188,10 @@ std::string index_html(const json& results) {
   std::string h = head("liftcheck validation report");
   h += "<h1>liftcheck validation report</h1>\n";
   h += fmt::format("<p class=\"meta\">liftcheck {} (commit <code>{}</code>) &middot; {} &middot; {} &middot; {} CPUs &middot; {}<br>"
-                   "runs {:.1f} s, sweeps {:.1f} s, report {:.1f} s</p>\n",
+                   "{:.1f} s wall on {} threads (engine time: runs {:.1f} s, sweep and map points {:.1f} s), report {:.1f} s</p>\n",
                    esc(ctx["liftcheck"]["version"]), esc(ctx["liftcheck"]["commit"]), esc(ctx["date"]), esc(ctx["machine"]["os"]),
-                   ctx["machine"]["cpus"].get<int>(), esc(ctx["machine"]["compiler"]), ctx.value("runs_s", 0.0),
-                   ctx.value("sweeps_s", 0.0), results.value("report", json::object()).value("report_s", 0.0));
+                   ctx["machine"]["cpus"].get<int>(), esc(ctx["machine"]["compiler"]), ctx.value("wall_s", 0.0), ctx.value("jobs", 1), ctx.value("runs_s", 0.0),
+                   ctx.value("points_s", 0.0), results.value("report", json::object()).value("report_s", 0.0));
   h += fmt::format("<p><b>{} runs</b>: {} pass, <span class=\"st xfail\">&nbsp;{} known failures&nbsp;</span> (reviewed, "
                    "<a href=\"#known\">listed below</a> with their reasons), {} unexpected passes, {} fail, {} error, {} skip; "
                    "<b>{} <a href=\"#sweeps\">sweep gates</a></b>, {} failed. {}</p>\n",

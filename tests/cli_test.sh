@@ -246,6 +246,31 @@ grep -q "^REGRESSION car.circle on bullet: pass -> fail" "$tmp/out" && grep -q "
   && grep -q "Against the baseline" "$tmp/bl2/summary.md" && passes=$((passes + 1)) || { echo "FAIL baseline worse"; cat "$tmp/out"; fails=$((fails + 1)); }
 bad_input baseline-malformed "is not JSON" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/broken.json" --out "$tmp/bl3"
 
+# Shards: three shares of a suite (runs and sweep points dealt out), merged, equal one unsharded
+# run in every record, timings aside; the unsharded run uses two threads and the shares one, so
+# this also holds --jobs to its promise. GTEST_SHARD_INDEX/GTEST_TOTAL_SHARDS stand for --shard.
+sub=(validate --engines analytic,ode --filter 'car.circle,disks.linear' --no-report)
+same="$(dirname "$0")/tools/same_records.py"
+check shard-whole 0 "$bin" "${sub[@]}" --jobs 1 --out "$tmp/sh0"
+for i in 1 2 3; do check "shard-$i" 0 "$bin" "${sub[@]}" --jobs 1 --shard "$i/3" --out "$tmp/sh$i"; done
+check merge 0 "$bin" merge "$tmp/sh1" "$tmp/sh2" "$tmp/sh3" --out "$tmp/shm" --no-report
+python3 "$same" "$tmp/sh0/results.json" "$tmp/shm/results.json" && passes=$((passes + 1)) || { echo "FAIL merged shards differ from the unsharded run"; fails=$((fails + 1)); }
+python3 -c 'import json,sys; a,b=(json.load(open(p)) for p in sys.argv[1:]); assert a["summary"]["sweep_gates"] == b["summary"]["sweep_gates"] > 0 and len(b["sweeps"]) == 4 and b["maps"], b["summary"]' \
+  "$tmp/sh0/results.json" "$tmp/shm/results.json" && passes=$((passes + 1)) || { echo "FAIL merge assembled no sweeps"; fails=$((fails + 1)); }
+check shard-gtest-env 0 env GTEST_SHARD_INDEX=1 GTEST_TOTAL_SHARDS=3 "$bin" "${sub[@]}" --jobs 1 --out "$tmp/shg"
+python3 -c 'import json,sys; a,b=(json.load(open(p)) for p in sys.argv[1:]); assert a["shard"] == b["shard"] == {"index": 2, "total": 3, "items": a["shard"]["items"]} and sorted(a["points"]) == sorted(b["points"])' \
+  "$tmp/sh2/results.json" "$tmp/shg/results.json" && passes=$((passes + 1)) || { echo "FAIL GTEST_SHARD_INDEX=1 is not --shard 2/3"; fails=$((fails + 1)); }
+bad_input merge-missing "2 of 3 shards given" merge "$tmp/sh1" "$tmp/sh2" --out "$tmp/shx"
+bad_input merge-repeated "repeats shard 1/3" merge "$tmp/sh1" "$tmp/sh1" "$tmp/sh2" --out "$tmp/shx"
+bad_input merge-not-a-shard "is not a shard's results" merge "$tmp/sh0" --out "$tmp/shx"
+check shard-other-set 0 "$bin" "${sub[@]}" --jobs 1 --shard 3/3 --set dt=0.002 --out "$tmp/sh3b"
+bad_input merge-other-settings "ran other settings than" merge "$tmp/sh1" "$tmp/sh2" "$tmp/sh3b" --out "$tmp/shx"
+mkdir -p "$tmp/sh3c" && python3 -c 'import json,sys; j=json.load(open(sys.argv[1])); j["context"]["liftcheck"]["version"]="0.0.9"; json.dump(j, open(sys.argv[2], "w"))' "$tmp/sh3/results.json" "$tmp/sh3c/results.json"
+bad_input merge-other-version "was made by liftcheck 0.0.9" merge "$tmp/sh1" "$tmp/sh2" "$tmp/sh3c" --out "$tmp/shx"
+[ -e "$tmp/shx" ] && { echo "FAIL a refused merge left an output folder"; fails=$((fails + 1)); }
+bad_input shard-syntax "--shard '4/3' must be I/N with 1 <= I <= N" "${sub[@]}" --shard 4/3 --out "$tmp/shx"
+bad_input jobs-zero "--jobs 0 must be at least 1" "${sub[@]}" --jobs 0 --out "$tmp/shx"
+
 # A failing outside simulator: the failure names its metrics and figures in junit.xml (still
 # valid) and leads summary.md.
 mkdir -p "$tmp/broken"

@@ -1,0 +1,79 @@
+// The validation suite as a plan of independent runs: every scenario x configuration, every sweep
+// point, every outcome-sweep case and every map point is one item with a stable key. Items run in
+// parallel (longest first), a shard runs a deterministic share of them, and the sweeps, the
+// outcome sweep and the map are assembled from the items' records only, so a merge of shards
+// assembles exactly what one unsharded run does.
+#pragma once
+
+#include <functional>
+#include <map>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "engines/engine.hpp"
+#include "harness/external.hpp"
+#include "harness/params.hpp"
+#include "harness/scenario.hpp"
+#include "harness/sweeps.hpp"
+
+namespace liftcheck {
+
+/// What validate runs.
+struct SuiteDef {
+  std::vector<const EngineInfo*> engines;  ///< configurations, in registry order as given
+  std::vector<std::string> globs;          ///< scenario name globs (--filter): any may match
+  Overrides set;                           ///< --set KEY=VALUE, applied where a run takes it
+  bool sweeps = true;                      ///< the sweeps, the outcome sweep and the map
+  std::string external_name;               ///< --trace-dir: the outside simulator's name
+  std::map<std::string, Trace> traces;     ///< its trace per scenario
+};
+
+struct SuiteItem {
+  enum Kind { kRun, kPoint };
+  Kind kind = kRun;
+  std::string key;  ///< "run/SCENARIO/CONFIG" or the point run's key
+  const Scenario* scenario = nullptr;
+  const EngineInfo* engine = nullptr;
+  std::shared_ptr<const EngineInfo> owned;  ///< a replaying configuration (--trace-dir)
+  Overrides overrides;
+  double cost = 1.0;  ///< scheduling estimate (engine steps), longest first
+};
+
+struct SuitePlan {
+  SuiteDef def;
+  std::vector<const Scenario*> scenarios;
+  std::vector<const SweepDef*> sweeps;
+  bool outcome_sweep = false;
+  bool map = false;
+  std::vector<SuiteItem> items;  ///< runs first (scenario-major), then the points
+
+  /// What a shard records so that merge can refuse shards of different suites: configurations,
+  /// filter, --set values and whether the sweeps run.
+  nlohmann::json selection() const;
+};
+
+/// The plan; InputError when the filter matches nothing or a --set key is taken by no run.
+SuitePlan plan_suite(const SuiteDef& def);
+
+/// The items of share `index` (1-based) of `total`: every total-th item in plan order.
+std::vector<size_t> shard_share(const SuitePlan& plan, int index, int total);
+
+/// Runs one item: the full run record for a run, point_record for a point. An engine's or a
+/// scenario's exception becomes an error record; records are normalised through JSON text, so a
+/// record read back from results.json is identical to one just made.
+nlohmann::json run_item(const SuiteItem& item);
+
+/// Runs `which` on `jobs` threads, longest first; `done(i, record)` is called on the calling
+/// thread in plan order, with `progress(done, total)` between (for a terminal's progress line).
+/// Returns the records in the order of `which`.
+std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, int jobs,
+                                      const std::function<void(size_t, const nlohmann::json&)>& done,
+                                      const std::function<void(size_t, size_t)>& progress = {});
+
+/// {"runs", "sweeps", "maps"} assembled from every item's record (by key): std::out_of_range when
+/// one is missing.
+nlohmann::json assemble_suite(const SuitePlan& plan, const std::map<std::string, nlohmann::json>& records);
+
+}  // namespace liftcheck
