@@ -39,9 +39,12 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     } else {
       log.overlap_unreported_m = std::max(log.overlap_unreported_m, touch - d);
     }
+    const Vec2 cM_before = s.cM;
     s = read();
     if (!s.cM.allFinite() || !s.cN.allFinite())
       throw EngineError(fmt::format("disk state is not finite at t = {:.4f} s", t + h));
+    if (const double v = (s.cM - cM_before).norm() / h; !(v <= kRunawaySpeed_mps))
+      throw EngineError(fmt::format("disk M speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {} m/s)", v, t + h, kRunawaySpeed_mps));
     const double d1 = (s.cM - s.cN).norm();
     r.min_distance = std::min(r.min_distance, d1);
     if (r.t_contact_s) log.penetration_max_m = std::max(log.penetration_max_m, touch - d1);

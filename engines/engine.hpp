@@ -136,6 +136,10 @@ class DiskEngine {
   virtual double simulated_s() const = 0;
 };
 
+/// A body faster than this has blown up: every scenario drives at a few m/s. The stepping loops
+/// check it at every step, with NaN and bodies through the ground.
+constexpr double kRunawaySpeed_mps = 50.0;
+
 /// Thrown by an engine whose simulation failed (NaN, explosion, bad setup): reported as an error run.
 struct EngineError : std::runtime_error {
   using std::runtime_error::runtime_error;

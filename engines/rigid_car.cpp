@@ -52,6 +52,12 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
     const bool finite = std::isfinite(s.x_m) && std::isfinite(s.y_m) && std::isfinite(s.z_m) &&
                         std::isfinite(s.phi_rad) && std::isfinite(s.steer_rad) && std::isfinite(alpha);
     if (!finite) throw EngineError(fmt::format("simulation produced NaN at t = {:.4f} s", t_end));
+    static const char* const kWheel[3] = {"front", "rear left", "rear right"};
+    for (int w = 0; w < 3; ++w) {
+      const double v = s.wheels[w].v_hub_W.norm();
+      if (!(v <= kRunawaySpeed_mps))
+        throw EngineError(fmt::format("{} wheel speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {} m/s)", kWheel[w], v, t_end, kRunawaySpeed_mps));
+    }
     for (const auto& [which, z] : {std::pair{"front", s.z_m}, std::pair{"rear", s.rear_z_m}})
       if (std::abs(z - def_.R_m) > def_.R_m)
         throw EngineError(fmt::format("car left the ground ({} wheel centre at z = {:.3f} m, radius {:.3f} m) at t = {:.4f} s",

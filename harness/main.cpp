@@ -10,6 +10,8 @@
 #include <sstream>
 #include <thread>
 #include <unistd.h>
+#include <csignal>
+#include <cstring>
 
 #include "harness/external.hpp"
 #include "harness/results.hpp"
@@ -87,29 +89,74 @@ int cmd_engines(bool json) {
   return 0;
 }
 
-void print_record(const RunRecord& r) {
-  std::cout << fmt::format("{} on {}: {}{}\n", r.scenario, r.engine, r.verdict(),
-                           r.message.empty() ? "" : " (" + r.message + ")");
-  if (r.known)
-    std::cout << fmt::format("  {}: {}\n  measured when reviewed: {}\n",
-                             r.as_expected() ? "known failure" : "listed as a known failure (harness/expectations.json)", r.known->reason, r.known->measured);
-  std::cout << fmt::format("  {:<20} {:>14} {:>14} {:>10} {:>10} {:>10}  {}\n", "metric", "expected", "measured",
-                           "abs_err", "rel_err", "tolerance", "");
-  for (const auto& m : r.metrics)
-    std::cout << fmt::format("  {:<20} {:>14.8g} {:>14.8g} {:>10.3g} {:>10.3g} {:>6.3g} {:<3} {} {}\n", m.name,
-                             m.expected, m.measured, m.abs_error, m.rel_error, m.tolerance,
-                             m.kind == TolKind::kRelative ? "rel" : "abs", m.unit, m.informational ? "info" : m.pass ? "ok" : "FAIL");
+/// SIGINT or SIGTERM: the runner stops at its next event, the outputs are left as they were.
+volatile std::sig_atomic_t g_signal = 0;
+extern "C" void on_signal(int sig) { g_signal = sig; }
+void catch_interrupts() {
+  struct sigaction sa {};
+  sa.sa_handler = on_signal;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+/// Thrown when a signal stopped the work: exit 128 + the signal.
+struct Interrupted : std::runtime_error {
+  int sig;
+  Interrupted(int s, const std::string& where) : std::runtime_error(where), sig(s) {}
+};
+void throw_if_interrupted(const std::string& where) {
+  if (g_signal) throw Interrupted(g_signal, where);
 }
 
-int cmd_run(const std::string& scenario, const std::string& engine, const std::vector<std::string>& sets, bool json) {
+RunnerDef runner_def(int jobs, double timeout_s) {
+  if (jobs < 1) throw InputError(fmt::format("--jobs {} must be at least 1", jobs));
+  if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) throw InputError(fmt::format("--timeout {} must be a positive number of seconds", timeout_s));
+  RunnerDef r;
+  r.jobs = jobs;
+  r.timeout_s = timeout_s;
+  r.stop = [] { return g_signal != 0; };
+  return r;
+}
+
+void print_record(const nlohmann::json& r) {
+  const std::string message = r["message"];
+  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), r["verdict"].get<std::string>(),
+                           message.empty() ? "" : " (" + message + ")");
+  if (r["expectation"].is_object())
+    std::cout << fmt::format("  {}: {}\n  measured when reviewed: {}\n",
+                             r["as_expected"].get<bool>() ? "known failure" : "listed as a known failure (harness/expectations.json)",
+                             r["expectation"]["reason"].get<std::string>(), r["expectation"]["measured"].get<std::string>());
+  std::cout << fmt::format("  {:<20} {:>14} {:>14} {:>10} {:>10} {:>10}  {}\n", "metric", "expected", "measured",
+                           "abs_err", "rel_err", "tolerance", "");
+  const auto num = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  const nlohmann::json metrics = r["metrics"];
+  for (const auto& [name, m] : metrics.items())
+    std::cout << fmt::format("  {:<20} {:>14.8g} {:>14.8g} {:>10.3g} {:>10.3g} {:>6.3g} {:<3} {} {}\n", name,
+                             num(m["expected"]), num(m["measured"]), num(m["abs_error"]), num(m["rel_error"]), num(m["tolerance"]),
+                             m["tolerance_kind"].get<std::string>(), m["unit"].get<std::string>(),
+                             m.value("informational", false) ? "info" : m["pass"].get<bool>() ? "ok" : "FAIL");
+}
+
+int cmd_run(const std::string& scenario, const std::string& engine, const std::vector<std::string>& sets, bool json, double timeout_s) {
   const Scenario& s = scenario_or_throw(scenario);
   const EngineInfo& e = engine_or_throw(engine);
   Overrides ov;
   for (const auto& a : sets) ov.push_back(split_assignment(a));
-  const RunRecord r = run_scenario(s, e, ov);
-  if (json) std::cout << r.to_json().dump() << "\n";
+  // Bad names and values are input errors here, not error records.
+  (void)Params::resolve(s.params, split_settings(s, e, ov).first, s.name);
+  // In a worker process, like every validate run: a hang or a crash of the engine is an error record.
+  SuitePlan plan;
+  SuiteItem item;
+  item.key = "run";
+  item.scenario = &s, item.engine = &e, item.overrides = ov;
+  plan.items.push_back(item);
+  const auto records = run_items(plan, {0}, runner_def(1, timeout_s), [](size_t, const nlohmann::json&) {});
+  throw_if_interrupted("during the run");
+  const nlohmann::json& r = records.at(0);
+  if (r.value("input_error", false)) throw InputError(r["message"].get<std::string>());
+  if (json) std::cout << r.dump() << "\n";
   else print_record(r);
-  return r.as_expected() ? 0 : 1;
+  return r["as_expected"].get<bool>() ? 0 : 1;
 }
 
 nlohmann::json read_results(const std::string& path) {
@@ -150,9 +197,58 @@ int cmd_score(const std::string& scenario, const std::string& trace_file, const 
   const EngineInfo e = replay_engine(name, s, read_trace(trace_file, s.vehicle));
   const RunRecord r = run_scenario(s, e, ov);
   if (json) std::cout << r.to_json().dump() << "\n";
-  else print_record(r);
+  else print_record(nlohmann::json::parse(r.to_json().dump()));
   return r.as_expected() ? 0 : 1;
 }
+
+/// The output folder, written whole or not at all: everything goes into a hidden folder beside it,
+/// which replaces it at the end (an interrupted or failed run leaves the previous one as it was).
+/// An existing folder is replaced only when it is a liftcheck output (it holds results.json) or
+/// empty, never a folder of the user's.
+class StagedOutput {
+ public:
+  explicit StagedOutput(const std::string& out_dir) : out_(out_dir) {
+    if (out_dir.empty()) throw InputError("--out names no folder");
+    out_ = std::filesystem::absolute(out_).lexically_normal();
+    if (!out_.has_filename()) out_ = out_.parent_path();
+    std::error_code ec;
+    if (std::filesystem::exists(out_, ec)) {
+      if (!std::filesystem::is_directory(out_, ec)) throw InputError(fmt::format("--out '{}' is a file, not a folder", out_dir));
+      if (!std::filesystem::exists(out_ / "results.json", ec) && !std::filesystem::is_empty(out_, ec))
+        throw InputError(fmt::format("--out '{}' holds files but no results.json: not a liftcheck output folder, left alone", out_dir));
+    }
+    std::filesystem::create_directories(out_.parent_path(), ec);
+    stage_ = out_.parent_path() / fmt::format(".{}.partial-{}", out_.filename().string(), getpid());
+    std::filesystem::remove_all(stage_, ec);
+    if (!std::filesystem::create_directory(stage_, ec) || ec) throw InputError(fmt::format("cannot create output folder '{}'", out_dir));
+  }
+  ~StagedOutput() {
+    std::error_code ec;
+    if (!published_) std::filesystem::remove_all(stage_, ec);
+  }
+  const std::filesystem::path& stage() const { return stage_; }
+  const std::filesystem::path& final_path() const { return out_; }
+  /// Swaps the staged folder in; the previous output goes only once the new one is in place.
+  void publish() {
+    std::error_code ec;
+    const std::filesystem::path old = out_.parent_path() / fmt::format(".{}.old-{}", out_.filename().string(), getpid());
+    const bool had = std::filesystem::exists(out_, ec);
+    if (had) std::filesystem::rename(out_, old, ec);
+    if (ec) throw InputError(fmt::format("cannot replace '{}': {}", out_.string(), ec.message()));
+    std::filesystem::rename(stage_, out_, ec);
+    if (ec) {
+      std::error_code ec2;
+      if (had) std::filesystem::rename(old, out_, ec2);
+      throw InputError(fmt::format("cannot write '{}': {}", out_.string(), ec.message()));
+    }
+    published_ = true;
+    if (had) std::filesystem::remove_all(old, ec);
+  }
+
+ private:
+  std::filesystem::path out_, stage_;
+  bool published_ = false;
+};
 
 /// Where and what validate and merge write.
 struct OutputOptions {
@@ -168,18 +264,10 @@ nlohmann::json read_baseline(const OutputOptions& o) {
   return !o.baseline_path.empty() && !o.update_baseline ? read_results(o.baseline_path) : nlohmann::json();
 }
 
-std::filesystem::path make_out_dir(const std::string& out_dir) {
-  const std::filesystem::path out(out_dir);
-  std::error_code ec;
-  std::filesystem::create_directories(out, ec);
-  if (ec || !std::filesystem::is_directory(out)) throw InputError(fmt::format("cannot create output folder '{}'", out_dir));
-  return out;
-}
-
 /// The sweeps' gates, the baseline comparison (of the runs made only: a filtered or sharded run
 /// compares its share), then results.json, junit.xml, summary.md and the report; the exit status.
-int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann::json& baseline) {
-  const std::filesystem::path out = make_out_dir(o.out_dir);
+int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann::json& baseline, StagedOutput& staged) {
+  const std::filesystem::path out = staged.stage();
   bool all_pass = results["summary"]["unexpected"].get<int>() == 0;
   // Sweeps are a gate: each engine's entry in each sweep passes or names its problems.
   int gates = 0, gates_failed = 0;
@@ -230,17 +318,29 @@ int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann
       std::cout << "baseline written: " << o.baseline_path << "\n";
     }
     write_file_atomic(out / "results.json", results.dump(1));
+    throw_if_interrupted("while writing the outputs");
+    staged.publish();
+  } catch (const Interrupted&) {
+    throw;
   } catch (const std::runtime_error& err) {
     throw InputError(err.what());
   }
+  // A report that could not be built counts: the suite is not whole without it.
+  int report_problems = 0;
+  if (o.report && results.contains("report"))
+    for (const auto& e : results["report"]["errors"]) {
+      ++report_problems;
+      std::cout << "REPORT " << e.get<std::string>() << "\n";
+    }
   const auto& sum = results["summary"];
   std::cout << fmt::format("{}: {} runs and {} sweep gates, {} unexpected ({} pass, {} known failures, {} unexpected passes, {} fail, "
                            "{} error, {} skip; {} sweep gates failed); {}\n",
                            results.contains("shard") ? fmt::format("shard {}/{}", results["shard"]["index"].get<int>(), results["shard"]["total"].get<int>()) : "validate",
                            sum["total"].get<int>(), gates, sum["unexpected"].get<int>(), sum["pass"].get<int>(), sum["known failure"].get<int>(),
                            sum["unexpected pass"].get<int>(), sum["fail"].get<int>(), sum["error"].get<int>(), sum["skip"].get<int>(), gates_failed,
-                           o.report ? "report: " + (out / "index.html").string() : "results: " + (out / "results.json").string());
-  return all_pass ? 0 : 1;
+                           o.report ? "report: " + (staged.final_path() / "index.html").string() : "results: " + (staged.final_path() / "results.json").string());
+  if (report_problems > 0) std::cout << fmt::format("the report has {} problems (listed above and in index.html)\n", report_problems);
+  return all_pass && report_problems == 0 ? 0 : 1;
 }
 
 /// "I/N" (1 <= I <= N); GTEST_SHARD_INDEX (0-based) and GTEST_TOTAL_SHARDS when it is empty.
@@ -293,10 +393,10 @@ struct Progress {
 };
 
 int cmd_validate(const std::string& engine_list, const std::string& filter, bool sweeps, const std::string& trace_dir,
-                 const std::vector<std::string>& sets, const OutputOptions& o, int jobs, const std::string& shard_text) {
+                 const std::vector<std::string>& sets, const OutputOptions& o, int jobs, const std::string& shard_text, double timeout_s) {
   const nlohmann::json baseline = read_baseline(o);
   const auto [shard_index, shard_total] = parse_shard(shard_text);
-  if (jobs < 1) throw InputError(fmt::format("--jobs {} must be at least 1", jobs));
+  const RunnerDef runner = runner_def(jobs, timeout_s);
   SuiteDef def;
   if (engine_list.empty()) {
     for (const auto& e : engines()) def.engines.push_back(&e);
@@ -334,15 +434,16 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
     external.contact_dynamics = false;
   }
   const SuitePlan plan = plan_suite(def);
-  (void)make_out_dir(o.out_dir);
+  StagedOutput staged(o.out_dir);
 
   std::vector<size_t> which;
-  if (shard_total > 0) which = shard_share(plan, shard_index, shard_total);
-  else for (size_t i = 0; i < plan.items.size(); ++i) which.push_back(i);
+  which = shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
   const auto t0 = std::chrono::steady_clock::now();
   Progress progress;
   double runs_s = 0.0, points_s = 0.0;
-  const auto records = run_items(plan, which, jobs, [&](size_t i, const nlohmann::json& r) {
+  std::vector<nlohmann::json> records;
+  try {
+    records = run_items(plan, which, runner, [&](size_t i, const nlohmann::json& r) {
     const SuiteItem& it = plan.items[i];
     (it.kind == SuiteItem::kRun ? runs_s : points_s) += r["wall_s"].get<double>();
     if (it.kind != SuiteItem::kRun) return;
@@ -351,7 +452,11 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
     std::cout << fmt::format("{:<15} {:<22} {:<16} {:8.3f} s  {}{}\n", r["verdict"].get<std::string>(), it.scenario->name, it.engine->name,
                              r["wall_s"].get<double>(), r["message"].get<std::string>(),
                              known ? fmt::format(" (known: {})", r["expectation"]["reason"].get<std::string>()) : "");
-  }, [&](size_t done, size_t total) { progress.update(done, total); });
+    }, [&](size_t done, size_t total) { progress.update(done, total); });
+  } catch (const RunnerStopped& e) {
+    progress.clear();
+    throw Interrupted(g_signal, e.what());
+  }
   progress.clear();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   std::map<std::string, nlohmann::json> by_key;
@@ -362,7 +467,8 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
   nlohmann::json context = context_json(listed, wall);
   context["runs_s"] = runs_s;
   context["points_s"] = points_s;
-  context["jobs"] = jobs;
+  context["jobs"] = runner.jobs;
+  context["timeout_s"] = runner.timeout_s;
   context["set"] = nlohmann::json::object();
   for (const auto& [key, value] : def.set) context["set"][key] = value;
   nlohmann::json results;
@@ -382,6 +488,7 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
     std::cout << fmt::format("shard {}/{}: {} of {} runs and points ({} sweep, outcome and map points; their gates are judged at merge)\n",
                              shard_index, shard_total, which.size(), plan.items.size(), points.size());
   } else {
+    fill_duplicates(plan, by_key);
     const nlohmann::json assembled = assemble_suite(plan, by_key);
     results = results_from_records(assembled["runs"], context);
     results["sweeps"] = assembled["sweeps"];
@@ -389,7 +496,7 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
   }
   results["scenarios"] = nlohmann::json::array();
   for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
-  return finish_suite(results, o, baseline);
+  return finish_suite(results, o, baseline, staged);
 }
 
 /// Joins shard folders into one suite: refuses shards of another liftcheck or another selection,
@@ -445,9 +552,11 @@ int cmd_merge(const std::vector<std::string>& dirs, const OutputOptions& o) {
     runs_s += j["context"].value("runs_s", 0.0);
     points_s += j["context"].value("points_s", 0.0);
   }
+  size_t ran = 0;
   for (const SuiteItem& it : plan.items)
-    if (!by_key.count(it.key)) throw InputError(fmt::format("no shard holds '{}'", it.key));
-  if (by_key.size() != plan.items.size()) throw InputError("the shards hold runs outside their plan");
+    if (it.same_as < 0 && (++ran, !by_key.count(it.key))) throw InputError(fmt::format("no shard holds '{}'", it.key));
+  if (by_key.size() != ran) throw InputError("the shards hold runs outside their plan");
+  fill_duplicates(plan, by_key);
   const nlohmann::json assembled = assemble_suite(plan, by_key);
   nlohmann::json context = context_json(def.engines, wall);
   context["runs_s"] = runs_s;
@@ -460,8 +569,9 @@ int cmd_merge(const std::vector<std::string>& dirs, const OutputOptions& o) {
   results["maps"] = assembled["maps"];
   results["scenarios"] = nlohmann::json::array();
   for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
-  std::cout << fmt::format("merged {} shards: {} runs and points\n", total, by_key.size());
-  return finish_suite(results, o, baseline);
+  std::cout << fmt::format("merged {} shards: {} runs and points ({} run)\n", total, by_key.size(), ran);
+  StagedOutput staged(o.out_dir);
+  return finish_suite(results, o, baseline, staged);
 }
 
 int cmd_diff(const std::string& base_path, const std::string& head_path, double growth, bool json) {
@@ -504,6 +614,8 @@ int main(int argc, char** argv) {
   run->add_option("--engine", engine, "engine configuration (see 'liftcheck engines')")->capture_default_str();
   run->add_option("--set", sets, "override a parameter, KEY=VALUE (repeatable)")->allow_extra_args(false);
   run->add_flag("--json", run_json, "print the run record as one JSON object");
+  double run_timeout = 120.0;
+  run->add_option("--timeout", run_timeout, "wall-clock limit of the run in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
 
   std::string engine_list, filter = "*", out_dir = "build/report";
   auto* validate = app.add_subcommand("validate", "run every scenario on every engine and write the report");
@@ -524,6 +636,8 @@ int main(int argc, char** argv) {
   const int cores = std::max(1u, std::thread::hardware_concurrency());
   int jobs = cores;
   validate->add_option("--jobs,-j", jobs, "runs at once (default: the number of cores)")->capture_default_str();
+  double validate_timeout = 120.0;
+  validate->add_option("--timeout", validate_timeout, "wall-clock limit of each run or sweep point in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
   std::string shard;
   validate->add_option("--shard", shard, "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");
 
@@ -535,6 +649,9 @@ int main(int argc, char** argv) {
   merge->add_option("--out", merge_out, "output folder")->capture_default_str();
   merge->add_option("--baseline", merge_baseline, "compare the merged runs with this baseline");
   merge->add_flag("--no-report", merge_no_report, "write results.json only (no snapshots, plots or HTML)");
+
+  auto* worker = app.add_subcommand("worker", "");  // hidden: runs validate's items in a process of its own
+  worker->group("");
 
   std::string path_format = "csv";
   auto* path_cmd = app.add_subcommand("path", "write a scenario's commanded path (cars: t,alpha,beta; disks: N's t,cNx,cNy) for a simulator outside liftcheck");
@@ -575,12 +692,17 @@ int main(int argc, char** argv) {
   try {
     if (*list) return cmd_list(list_json);
     if (*engines_cmd) return cmd_engines(engines_json);
-    if (*run) return cmd_run(scenario, engine, sets, run_json);
-    if (*validate) return cmd_validate(engine_list, filter, !no_sweeps, trace_dir, validate_sets, {out_dir, !no_report, baseline_file, update_baseline}, jobs, shard);
+    if (*worker) return worker_main();
+    catch_interrupts();
+    if (*run) return cmd_run(scenario, engine, sets, run_json, run_timeout);
+    if (*validate) return cmd_validate(engine_list, filter, !no_sweeps, trace_dir, validate_sets, {out_dir, !no_report, baseline_file, update_baseline}, jobs, shard, validate_timeout);
     if (*merge) return cmd_merge(merge_dirs, {merge_out, !merge_no_report, merge_baseline, false});
     if (*path_cmd) return cmd_path(scenario, sets, path_format);
     if (*score) return cmd_score(scenario, trace_file, sets, score_name, score_json);
     if (*diff) return cmd_diff(base_path, head_path, growth, diff_json);
+  } catch (const Interrupted& e) {
+    std::cerr << fmt::format("liftcheck: interrupted by {} {}; the previous outputs are left as they were\n", strsignal(e.sig), e.what());
+    return 128 + e.sig;
   } catch (const InputError& e) {
     std::cerr << "liftcheck: error: " << e.what() << "\n";
     return 2;

@@ -1,14 +1,22 @@
 #include "harness/suite.hpp"
 
 #include <algorithm>
-#include <atomic>
 #include <chrono>
-#include <condition_variable>
 #include <fmt/format.h>
 #include <fnmatch.h>
-#include <mutex>
 #include <set>
 #include <thread>
+#include <csignal>
+#include <cstring>
+#include <fcntl.h>
+#include <filesystem>
+#include <iostream>
+#include <poll.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+extern char** environ;
 
 #include "harness/runner.hpp"
 
@@ -90,6 +98,7 @@ SuitePlan plan_suite(const SuiteDef& def) {
     SuiteItem it;
     it.key = fmt::format("run/{}/{}", s->name, def.external_name);
     it.owned = std::make_shared<const EngineInfo>(replay_engine(def.external_name, *s, t->second));
+    it.trace_file = t->second.file;
     it.scenario = s, it.engine = it.owned.get(), it.cost = 1.0;
     plan.items.push_back(std::move(it));
   }
@@ -123,21 +132,51 @@ SuitePlan plan_suite(const SuiteDef& def) {
   std::set<std::string> keys;
   for (const SuiteItem& it : plan.items)
     if (!keys.insert(it.key).second) throw std::logic_error(fmt::format("two suite items share the key '{}'", it.key));
+  // The same run asked for twice (the default run is a sweep's point and a map point too) runs once.
+  std::map<std::string, long> first;
+  for (size_t i = 0; i < plan.items.size(); ++i) {
+    SuiteItem& it = plan.items[i];
+    if (it.owned) continue;
+    std::string identity;
+    try {
+      const auto [params, settings] = split_settings(*it.scenario, *it.engine, it.overrides);
+      identity = nlohmann::json{{"scenario", it.scenario->name}, {"engine", it.engine->name},
+                                {"params", Params::resolve(it.scenario->params, params, it.scenario->name).to_json()}, {"settings", settings}}.dump();
+    } catch (const InputError&) {
+      continue;  // it will be an error record of its own
+    }
+    const auto [where, inserted] = first.emplace(identity, static_cast<long>(i));
+    if (!inserted) it.same_as = where->second;
+  }
   return plan;
 }
 
 std::vector<size_t> shard_share(const SuitePlan& plan, int index, int total) {
   if (total < 1 || index < 1 || index > total) throw InputError(fmt::format("shard {}/{}: the index must be 1 to {} and the count at least 1", index, total, total));
   std::vector<size_t> out;
-  for (size_t i = static_cast<size_t>(index - 1); i < plan.items.size(); i += static_cast<size_t>(total)) out.push_back(i);
+  size_t k = 0;
+  for (size_t i = 0; i < plan.items.size(); ++i)
+    if (plan.items[i].same_as < 0 && k++ % static_cast<size_t>(total) == static_cast<size_t>(index - 1)) out.push_back(i);
   return out;
+}
+
+void fill_duplicates(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records) {
+  for (const SuiteItem& it : plan.items) {
+    if (it.same_as < 0) continue;
+    nlohmann::json rec = records.at(plan.items[static_cast<size_t>(it.same_as)].key);
+    if (it.kind == SuiteItem::kPoint)
+      for (const char* big : {"trace", "reference", "contact_log"}) rec["details"].erase(big);
+    records[it.key] = std::move(rec);
+  }
 }
 
 nlohmann::json run_item(const SuiteItem& item) {
   RunRecord r;
+  bool input_error = false;
   try {
     r = run_scenario(*item.scenario, *item.engine, item.overrides);
   } catch (const std::exception& err) {  // values rejected by the scenario (a defect at the defaults): reported per run
+    input_error = dynamic_cast<const InputError*>(&err) != nullptr;
     r = RunRecord{};
     r.scenario = item.scenario->name;
     r.engine = item.engine->name;
@@ -145,13 +184,163 @@ nlohmann::json run_item(const SuiteItem& item) {
     r.status = Status::kError;
     r.message = err.what();
   }
-  const nlohmann::json j = item.kind == SuiteItem::kRun ? r.to_json() : point_record(r);
+  nlohmann::json j = item.kind == SuiteItem::kRun ? r.to_json() : point_record(r);
+  if (input_error) j["input_error"] = true;  // `run` turns it into a usage error (exit 2)
   return nlohmann::json::parse(j.dump());  // as results.json stores it: no infinities, no NaN
 }
 
-std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, int jobs,
+namespace {
+
+nlohmann::json error_record(const SuiteItem& item, const std::string& message) {
+  RunRecord r;
+  r.scenario = item.scenario->name;
+  r.engine = item.engine->name;
+  r.vehicle = item.scenario->vehicle;
+  r.status = Status::kError;
+  r.message = message;
+  const nlohmann::json j = item.kind == SuiteItem::kRun ? r.to_json() : point_record(r);
+  return nlohmann::json::parse(j.dump());
+}
+
+/// The last non-empty line of a worker's stderr, for the error record of a run that ended it.
+std::string last_line(const std::string& text) {
+  size_t end = text.find_last_not_of("\r\n");
+  if (end == std::string::npos) return "";
+  const size_t start = text.find_last_of('\n', end);
+  return text.substr(start == std::string::npos ? 0 : start + 1, end - (start == std::string::npos ? 0 : start + 1) + 1);
+}
+
+struct Worker {
+  pid_t pid = -1;
+  int in_fd = -1, out_fd = -1, err_fd = -1;
+  std::string out, err;  ///< what it wrote since its current item began
+  long slot = -1;        ///< the item it runs (-1: idle)
+  std::chrono::steady_clock::time_point started;
+};
+
+void close_fd(int& fd) {
+  if (fd >= 0) ::close(fd);
+  fd = -1;
+}
+
+Worker spawn_worker(const std::string& exe) {
+  int in[2], out[2], err[2];
+  if (pipe2(in, O_CLOEXEC) != 0 || pipe2(out, O_CLOEXEC) != 0 || pipe2(err, O_CLOEXEC) != 0)
+    throw std::runtime_error("cannot create pipes for a worker process");
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_adddup2(&fa, in[0], 0);
+  posix_spawn_file_actions_adddup2(&fa, out[1], 1);
+  posix_spawn_file_actions_adddup2(&fa, err[1], 2);
+  std::string arg0 = exe, arg1 = "worker";
+  char* argv[] = {arg0.data(), arg1.data(), nullptr};
+  // Its own process group: a terminal's Ctrl-C reaches liftcheck, which stops its workers itself.
+  posix_spawnattr_t attr;
+  posix_spawnattr_init(&attr);
+  posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attr, 0);
+  Worker w;
+  const int rc = posix_spawn(&w.pid, exe.c_str(), &fa, &attr, argv, environ);
+  posix_spawn_file_actions_destroy(&fa);
+  posix_spawnattr_destroy(&attr);
+  ::close(in[0]), ::close(out[1]), ::close(err[1]);
+  if (rc != 0) {
+    ::close(in[1]), ::close(out[0]), ::close(err[0]);
+    throw std::runtime_error(fmt::format("cannot start a worker process '{}': {}", exe, std::strerror(rc)));
+  }
+  w.in_fd = in[1], w.out_fd = out[0], w.err_fd = err[0];
+  fcntl(w.out_fd, F_SETFL, O_NONBLOCK);
+  fcntl(w.err_fd, F_SETFL, O_NONBLOCK);
+  return w;
+}
+
+/// Ends a worker (killed when `kill_it`, else by closing its input) and says how it ended.
+std::string end_worker(Worker& w, bool kill_it) {
+  close_fd(w.in_fd);
+  if (kill_it) ::kill(w.pid, SIGKILL);
+  int status = 0;
+  while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  close_fd(w.out_fd), close_fd(w.err_fd);
+  w.pid = -1;
+  if (WIFSIGNALED(status)) return fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)));
+  return fmt::format("exited with status {}", WEXITSTATUS(status));
+}
+
+/// Reads what is there; false at end of file.
+bool drain(int fd, std::string& into) {
+  char buf[65536];
+  for (;;) {
+    const ssize_t got = ::read(fd, buf, sizeof buf);
+    if (got > 0) {
+      into.append(buf, static_cast<size_t>(got));
+      continue;
+    }
+    if (got == 0) return false;
+    if (errno == EINTR) continue;
+    return true;  // EAGAIN: nothing more for now
+  }
+}
+
+bool write_all(int fd, const std::string& text) {
+  size_t done = 0;
+  while (done < text.size()) {
+    const ssize_t put = ::write(fd, text.data() + done, text.size() - done);
+    if (put < 0 && errno == EINTR) continue;
+    if (put <= 0) return false;
+    done += static_cast<size_t>(put);
+  }
+  return true;
+}
+
+}  // namespace
+
+nlohmann::json item_request(const SuiteItem& item) {
+  nlohmann::json ov = nlohmann::json::array();
+  for (const auto& [k, v] : item.overrides) ov.push_back({k, v});
+  nlohmann::json j{{"kind", item.kind == SuiteItem::kRun ? "run" : "point"}, {"scenario", item.scenario->name},
+                   {"engine", item.engine->name}, {"overrides", ov}};
+  if (item.owned) j["trace_file"] = item.trace_file;
+  return j;
+}
+
+SuiteItem item_from_request(const nlohmann::json& j) {
+  SuiteItem it;
+  it.kind = j.at("kind") == "run" ? SuiteItem::kRun : SuiteItem::kPoint;
+  it.scenario = find_scenario(j.at("scenario").get<std::string>());
+  if (!it.scenario) throw InputError(fmt::format("worker: unknown scenario '{}'", j.at("scenario").get<std::string>()));
+  const std::string engine = j.at("engine");
+  if (j.contains("trace_file")) {
+    it.trace_file = j.at("trace_file");
+    it.owned = std::make_shared<const EngineInfo>(replay_engine(engine, *it.scenario, read_trace(it.trace_file, it.scenario->vehicle)));
+    it.engine = it.owned.get();
+  } else {
+    it.engine = find_engine(engine);
+    if (!it.engine) throw InputError(fmt::format("worker: unknown configuration '{}'", engine));
+  }
+  for (const auto& kv : j.at("overrides")) it.overrides.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<std::string>());
+  it.key = j.value("key", "");
+  return it;
+}
+
+int worker_main() {
+  // Records go to the original stdout; anything an engine prints there goes to stderr instead.
+  const int records_fd = ::dup(STDOUT_FILENO);
+  ::dup2(STDERR_FILENO, STDOUT_FILENO);
+  std::string line;
+  while (std::getline(std::cin, line)) {
+    if (line.empty()) continue;
+    const SuiteItem it = item_from_request(nlohmann::json::parse(line));
+    const std::string text = run_item(it).dump() + "\n";
+    if (!write_all(records_fd, text)) return 3;
+  }
+  return 0;
+}
+
+std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
                                       const std::function<void(size_t, const nlohmann::json&)>& done,
                                       const std::function<void(size_t, size_t)>& progress) {
+  using clock = std::chrono::steady_clock;
   const size_t n = which.size();
   std::vector<nlohmann::json> records(n);
   std::vector<char> ready(n, 0);
@@ -163,36 +352,89 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
     const SuiteItem &x = plan.items[which[a]], &y = plan.items[which[b]];
     return x.kind != y.kind ? x.kind == SuiteItem::kRun : x.cost > y.cost;
   });
-  std::atomic<size_t> next{0};
-  std::mutex mu;
-  std::condition_variable cv;
-  size_t finished = 0;
-  const auto worker = [&] {
-    for (size_t k; (k = next.fetch_add(1)) < n;) {
-      const size_t slot = order[k];
-      nlohmann::json rec = run_item(plan.items[which[slot]]);
-      std::lock_guard<std::mutex> lock(mu);
-      records[slot] = std::move(rec);
-      ready[slot] = 1;
-      ++finished;
-      cv.notify_one();
-    }
+  const std::string exe = runner.exe.empty() ? std::filesystem::read_symlink("/proc/self/exe").string() : runner.exe;
+  std::signal(SIGPIPE, SIG_IGN);  // a worker that died is seen at its pipe's end, not by a signal
+  std::vector<Worker> workers(static_cast<size_t>(std::max(1, std::min<int>(runner.jobs, static_cast<int>(std::max<size_t>(n, 1))))));
+  size_t next = 0, finished = 0, printed = 0;
+  const auto finish = [&](Worker& w, nlohmann::json record) {
+    records[static_cast<size_t>(w.slot)] = std::move(record);
+    ready[static_cast<size_t>(w.slot)] = 1;
+    ++finished;
+    w.slot = -1;
+    w.out.clear(), w.err.clear();
   };
-  const int threads = std::max(1, std::min<int>(jobs, static_cast<int>(n)));
-  std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
-  size_t printed = 0;
-  while (printed < n) {
-    std::unique_lock<std::mutex> lock(mu);
-    cv.wait_for(lock, std::chrono::milliseconds(250), [&] { return ready[printed] != 0; });
-    const size_t count = finished;
-    std::vector<size_t> now;
-    while (printed < n && ready[printed]) now.push_back(printed++);
-    lock.unlock();
-    for (size_t k : now) done(which[k], records[k]);
-    if (progress) progress(count, n);
+  const auto stop_all = [&] {
+    for (Worker& w : workers)
+      if (w.pid > 0) end_worker(w, true);
+  };
+  try {
+    while (printed < n) {
+      if (runner.stop && runner.stop()) throw RunnerStopped(fmt::format("stopped after {} of {} items", finished, n));
+      // Hand out work.
+      for (Worker& w : workers) {
+        if (w.slot >= 0 || next >= n) continue;
+        if (w.pid < 0) w = spawn_worker(exe);
+        w.slot = static_cast<long>(order[next++]);
+        w.started = clock::now();
+        if (!write_all(w.in_fd, item_request(plan.items[which[static_cast<size_t>(w.slot)]]).dump() + "\n")) {
+          const std::string how = end_worker(w, true);
+          finish(w, error_record(plan.items[which[static_cast<size_t>(w.slot)]], fmt::format("the worker process {} before the run", how)));
+        }
+      }
+      // Wait for output, an end or the nearest time limit.
+      std::vector<pollfd> fds;
+      std::vector<std::pair<size_t, bool>> whose;  // worker, stdout?
+      double wait_s = 0.25;
+      for (size_t k = 0; k < workers.size(); ++k) {
+        Worker& w = workers[k];
+        if (w.slot < 0) continue;
+        fds.push_back({w.out_fd, POLLIN, 0}), whose.emplace_back(k, true);
+        fds.push_back({w.err_fd, POLLIN, 0}), whose.emplace_back(k, false);
+        wait_s = std::min(wait_s, runner.timeout_s - std::chrono::duration<double>(clock::now() - w.started).count());
+      }
+      if (!fds.empty() && poll(fds.data(), fds.size(), static_cast<int>(std::max(0.0, wait_s) * 1000.0) + 1) < 0 && errno != EINTR)
+        throw std::runtime_error(fmt::format("poll: {}", std::strerror(errno)));
+      for (size_t f = 0; f < fds.size(); ++f) {
+        Worker& w = workers[whose[f].first];
+        if (w.slot < 0 || !(fds[f].revents & (POLLIN | POLLHUP | POLLERR))) continue;
+        const SuiteItem& item = plan.items[which[static_cast<size_t>(w.slot)]];
+        if (!whose[f].second) {  // the engine's warnings: passed on, the end kept for an error record
+          const size_t before = w.err.size();
+          drain(w.err_fd, w.err);
+          if (w.err.size() > before) std::cerr.write(w.err.data() + before, static_cast<std::streamsize>(w.err.size() - before)).flush();
+          if (w.err.size() > 8192) w.err.erase(0, w.err.size() - 8192);
+          continue;
+        }
+        const bool open = drain(w.out_fd, w.out);
+        const size_t nl = w.out.find('\n');
+        if (nl != std::string::npos) {
+          nlohmann::json rec = nlohmann::json::parse(w.out.substr(0, nl), nullptr, false);
+          if (rec.is_discarded()) rec = error_record(item, "the worker process wrote a malformed record");
+          finish(w, std::move(rec));
+        } else if (!open) {
+          drain(w.err_fd, w.err);
+          const std::string how = end_worker(w, false);
+          const std::string said = last_line(w.err);
+          finish(w, error_record(item, fmt::format("the engine ended its process ({}){}", how, said.empty() ? "" : ": " + said)));
+        }
+      }
+      for (Worker& w : workers)
+        if (w.slot >= 0 && std::chrono::duration<double>(clock::now() - w.started).count() > runner.timeout_s) {
+          const SuiteItem& item = plan.items[which[static_cast<size_t>(w.slot)]];
+          end_worker(w, true);
+          finish(w, error_record(item, fmt::format("timed out: still running after {:g} s (--timeout), stopped", runner.timeout_s)));
+        }
+      std::vector<size_t> now;
+      while (printed < n && ready[printed]) now.push_back(printed++);
+      for (size_t k : now) done(which[k], records[k]);
+      if (progress) progress(finished, n);
+    }
+  } catch (...) {
+    stop_all();
+    throw;
   }
-  for (auto& t : pool) t.join();
+  for (Worker& w : workers)
+    if (w.pid > 0) end_worker(w, false);
   return records;
 }
 

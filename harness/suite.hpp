@@ -37,8 +37,12 @@ struct SuiteItem {
   const Scenario* scenario = nullptr;
   const EngineInfo* engine = nullptr;
   std::shared_ptr<const EngineInfo> owned;  ///< a replaying configuration (--trace-dir)
+  std::string trace_file;                    ///< its trace, read again by the worker process
   Overrides overrides;
   double cost = 1.0;  ///< scheduling estimate (engine steps), longest first
+  /// The earlier item with the same scenario, configuration, parameters and settings (-1: none):
+  /// its record is this item's too (same inputs, same numbers), so it runs once.
+  long same_as = -1;
 };
 
 struct SuitePlan {
@@ -57,7 +61,8 @@ struct SuitePlan {
 /// The plan; InputError when the filter matches nothing or a --set key is taken by no run.
 SuitePlan plan_suite(const SuiteDef& def);
 
-/// The items of share `index` (1-based) of `total`: every total-th item in plan order.
+/// The items of share `index` (1-based) of `total`: every total-th item in plan order among those
+/// that run (an item the same as an earlier one is not run; see fill_duplicates).
 std::vector<size_t> shard_share(const SuitePlan& plan, int index, int total);
 
 /// Runs one item: the full run record for a run, point_record for a point. An engine's or a
@@ -65,12 +70,36 @@ std::vector<size_t> shard_share(const SuitePlan& plan, int index, int total);
 /// record read back from results.json is identical to one just made.
 nlohmann::json run_item(const SuiteItem& item);
 
-/// Runs `which` on `jobs` threads, longest first; `done(i, record)` is called on the calling
-/// thread in plan order, with `progress(done, total)` between (for a terminal's progress line).
-/// Returns the records in the order of `which`.
-std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, int jobs,
+/// How items are run: each in a worker process (`liftcheck worker`), `jobs` at once, so an engine
+/// that hangs, crashes or ends the process is an error record and never takes the suite with it.
+struct RunnerDef {
+  int jobs = 1;
+  double timeout_s = 120.0;  ///< wall-clock limit of one item; the worker is killed beyond it
+  std::string exe;           ///< the liftcheck executable (empty: /proc/self/exe)
+  /// Polled between events; true stops the runner (killing its workers) with RunnerStopped.
+  std::function<bool()> stop = {};
+};
+struct RunnerStopped : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Runs `which` in worker processes, the runs first and each group longest first; `done(i,
+/// record)` is called in plan order, `progress(done, total)` between. Returns the records in the
+/// order of `which`. An item past its time limit, or whose worker dies, gets an error record
+/// saying so (with the end of the worker's stderr).
+std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
                                       const std::function<void(size_t, const nlohmann::json&)>& done,
                                       const std::function<void(size_t, size_t)>& progress = {});
+
+/// The request a worker reads for an item (one JSON line), and the item it describes.
+nlohmann::json item_request(const SuiteItem& item);
+SuiteItem item_from_request(const nlohmann::json& request);
+/// `liftcheck worker`: reads requests from stdin, writes one record per line; stray output of the
+/// engines goes to stderr.
+int worker_main();
+
+/// Gives each item that is the same as an earlier one that item's record (a point's without traces).
+void fill_duplicates(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records);
 
 /// {"runs", "sweeps", "maps"} assembled from every item's record (by key): std::out_of_range when
 /// one is missing.

@@ -251,7 +251,7 @@ bad_input baseline-malformed "is not JSON" validate --filter car.circle --engine
 # this also holds --jobs to its promise. GTEST_SHARD_INDEX/GTEST_TOTAL_SHARDS stand for --shard.
 sub=(validate --engines analytic,ode --filter 'car.circle,disks.linear' --no-report)
 same="$(dirname "$0")/tools/same_records.py"
-check shard-whole 0 "$bin" "${sub[@]}" --jobs 1 --out "$tmp/sh0"
+check shard-whole 0 "$bin" "${sub[@]}" --jobs 2 --out "$tmp/sh0"
 for i in 1 2 3; do check "shard-$i" 0 "$bin" "${sub[@]}" --jobs 1 --shard "$i/3" --out "$tmp/sh$i"; done
 check merge 0 "$bin" merge "$tmp/sh1" "$tmp/sh2" "$tmp/sh3" --out "$tmp/shm" --no-report
 python3 "$same" "$tmp/sh0/results.json" "$tmp/shm/results.json" && passes=$((passes + 1)) || { echo "FAIL merged shards differ from the unsharded run"; fails=$((fails + 1)); }
@@ -270,6 +270,41 @@ bad_input merge-other-version "was made by liftcheck 0.0.9" merge "$tmp/sh1" "$t
 [ -e "$tmp/shx" ] && { echo "FAIL a refused merge left an output folder"; fails=$((fails + 1)); }
 bad_input shard-syntax "--shard '4/3' must be I/N with 1 <= I <= N" "${sub[@]}" --shard 4/3 --out "$tmp/shx"
 bad_input jobs-zero "--jobs 0 must be at least 1" "${sub[@]}" --jobs 0 --out "$tmp/shx"
+
+# Runs that go wrong. A run past its time limit is stopped (its engine knows nothing of
+# cancellation: the worker process is killed) and is an error; the suite goes on.
+check timeout 1 "$bin" validate --filter 'car.covariance,disks.copy' --engines bullet --no-sweeps --no-report --timeout 0.5 --out "$tmp/to"
+python3 -c 'import json,sys; d={r["scenario"]: r for r in json.load(open(sys.argv[1]))["runs"]}; assert d["car.covariance"]["status"] == "error" and "timed out: still running after 0.5 s" in d["car.covariance"]["message"] and d["disks.copy"]["status"] == "pass", d' \
+  "$tmp/to/results.json" && passes=$((passes + 1)) || { echo "FAIL timeout"; fails=$((fails + 1)); }
+check run-timeout 1 "$bin" run car.covariance --engine bullet --timeout 0.5
+grep -q "error (timed out" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL run --timeout"; cat "$tmp/out"; fails=$((fails + 1)); }
+bad_input timeout-zero "--timeout 0 must be a positive number of seconds" run car.circle --timeout 0
+# A run made to blow up (the raycast vehicle's explicit suspension at 5 ms) ends as an error that
+# says what and when, and the other configuration's run still runs.
+check blow-up 1 "$bin" validate --filter car.circle --engines bullet-raycast,ode --no-sweeps --no-report --set dt=0.005 --out "$tmp/bu"
+python3 -c 'import json,sys; d={r["engine"]: r for r in json.load(open(sys.argv[1]))["runs"]}; assert d["bullet-raycast"]["status"] == "error" and " at t = " in d["bullet-raycast"]["message"] and d["ode"]["status"] in ("pass", "fail"), d' \
+  "$tmp/bu/results.json" && passes=$((passes + 1)) || { echo "FAIL blow-up"; fails=$((fails + 1)); }
+
+# Outputs are written whole or not at all: an interrupted validate leaves the previous report as
+# it was, no half-written folder beside it, and says where it stopped (exit 128 + SIGTERM).
+check before-interrupt 0 "$bin" validate --filter disks.copy --engines analytic --no-sweeps --out "$tmp/int"
+cp "$tmp/int/results.json" "$tmp/int-before.json"
+"$bin" validate --filter 'car.*' --engines bullet,dart --no-sweeps --out "$tmp/int" >"$tmp/int.out" 2>"$tmp/int.err" &
+vpid=$!
+sleep 3
+kill -TERM "$vpid"
+wait "$vpid"
+st=$?
+if [ "$st" -eq 143 ] && cmp -s "$tmp/int/results.json" "$tmp/int-before.json" && [ -f "$tmp/int/index.html" ] \
+   && [ -z "$(find "$tmp" -maxdepth 1 -name '.int.*')" ] && grep -q "interrupted by Terminated stopped after [0-9]* of [0-9]* items" "$tmp/int.err"; then
+  passes=$((passes + 1))
+else
+  echo "FAIL interrupted validate: exit $st"; cat "$tmp/int.err"; ls -a "$tmp"; fails=$((fails + 1))
+fi
+# A folder that is not a liftcheck output is never replaced.
+mkdir -p "$tmp/mine" && echo keep >"$tmp/mine/notes.txt"
+bad_input out-not-ours "holds files but no results.json" validate --filter disks.copy --engines analytic --no-sweeps --no-report --out "$tmp/mine"
+[ "$(cat "$tmp/mine/notes.txt")" = keep ] || { echo "FAIL a user's folder was touched"; fails=$((fails + 1)); }
 
 # A failing outside simulator: the failure names its metrics and figures in junit.xml (still
 # valid) and leads summary.md.

@@ -139,6 +139,8 @@ class OdeCar : public RigidCar {
   /// Last word on a wheel-ground contact before its joint is made (the fault-injection suite
   /// changes the friction model here); liftcheck's model leaves it as built.
   virtual void contact_surface(dContact&, dBodyID /*wheel*/) const {}
+  /// The chassis body (the fault-injection suite pushes it).
+  dBodyID chassis() const { return chassis_; }
 
  private:
   static void near_callback(void* data, dGeomID o1, dGeomID o2) {

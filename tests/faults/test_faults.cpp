@@ -153,6 +153,31 @@ class LaggingCar final : public OdeCar {
   mutable bool has_previous_ = false;
 };
 
+/// A car pushed forward by 20 kN from t = 1 s: a blow-up, which the stepping loop must stop as an
+/// error saying what and when, not score as a bad circle.
+class RunawayCar final : public OdeCar {
+ public:
+  RunawayCar() : OdeCar(ode_defaults()) {}
+
+ protected:
+  void step(double dt_s) override {
+    if ((t_s_ += dt_s) > 1.5) dBodyAddRelForce(chassis(), 2e4, 0, 0);  // settling takes 0.5 s
+    OdeCar::step(dt_s);
+  }
+
+ private:
+  double t_s_ = 0.0;
+};
+
+/// ODE whose contact depth is a million times too deep: M is shot away at the first touch.
+class ExplodingContactDisks final : public OdeDisks {
+ protected:
+  bool keep_contact(dContact& c) override {
+    c.geom.depth *= 1e6;
+    return true;
+  }
+};
+
 /// A broken engine that claims contact dynamics, like the rigid-body engines it imitates.
 EngineInfo fault(const std::string& name) {
   EngineInfo e;
@@ -269,6 +294,17 @@ TEST(Faults, FrictionFixedToWorldAxes) {
 
 TEST(Faults, HeadingLagsHalfAStep) {
   expect_flagged(car_fault("heading-lag", [] { return std::make_unique<LaggingCar>(); }), "car.circle", "heading_residual");
+}
+
+// A blow-up is caught while stepping and ends the run as an error naming what and when.
+TEST(Faults, ABlowUpIsAnErrorSayingWhatAndWhen) {
+  const RunRecord car = run_scenario(*find_scenario("car.circle"), car_fault("runaway", [] { return std::make_unique<RunawayCar>(); }));
+  EXPECT_EQ(car.status, Status::kError) << car.message;
+  EXPECT_NE(car.message.find("wheel speed"), std::string::npos) << car.message;
+  EXPECT_NE(car.message.find("m/s at t = 1."), std::string::npos) << car.message;
+  const RunRecord disks = run_scenario(*find_scenario("disks.repel"), disk_fault("exploding", [] { return std::make_unique<ExplodingContactDisks>(); }));
+  EXPECT_EQ(disks.status, Status::kError) << disks.message;
+  EXPECT_NE(disks.message.find("disk M speed"), std::string::npos) << disks.message;
 }
 
 // The unbroken engine passes the same judgement: the faults, not the suite, are what fail.
