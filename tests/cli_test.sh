@@ -285,6 +285,18 @@ check blow-up 1 "$bin" validate --filter car.circle --engines bullet-raycast,ode
 python3 -c 'import json,sys; d={r["engine"]: r for r in json.load(open(sys.argv[1]))["runs"]}; assert d["bullet-raycast"]["status"] == "error" and " at t = " in d["bullet-raycast"]["message"] and d["ode"]["status"] in ("pass", "fail"), d' \
   "$tmp/bu/results.json" && passes=$((passes + 1)) || { echo "FAIL blow-up"; fails=$((fails + 1)); }
 
+# An engine that ends its process (a crash, an abort, MuJoCo's shipped error handler) takes only
+# its run with it: here the worker running DART's car.covariance is killed from outside.
+"$bin" validate --filter 'car.covariance,disks.copy' --engines dart --no-sweeps --no-report --jobs 1 --out "$tmp/kw" >"$tmp/kw.out" 2>"$tmp/kw.err" &
+vpid=$!
+for _ in $(seq 50); do wpid=$(pgrep -P "$vpid" -f 'liftcheck worker' | head -1); [ -n "$wpid" ] && break; sleep 0.1; done
+sleep 1
+kill -KILL "$wpid"
+wait "$vpid"
+st=$?
+python3 -c 'import json,sys; d={r["scenario"]: r for r in json.load(open(sys.argv[1]))["runs"]}; assert d["car.covariance"]["status"] == "error" and "the engine ended its process (killed by signal 9" in d["car.covariance"]["message"] and d["disks.copy"]["status"] == "pass", d' \
+  "$tmp/kw/results.json" && [ "$st" -eq 1 ] && passes=$((passes + 1)) || { echo "FAIL a killed worker: exit $st"; cat "$tmp/kw.err"; fails=$((fails + 1)); }
+
 # Outputs are written whole or not at all: an interrupted validate leaves the previous report as
 # it was, no half-written folder beside it, and says where it stopped (exit 128 + SIGTERM).
 check before-interrupt 0 "$bin" validate --filter disks.copy --engines analytic --no-sweeps --out "$tmp/int"
