@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 
 #include "engines/ode/ode_car.hpp"
 #include "engines/rigid_car.hpp"
@@ -19,13 +20,11 @@ class OdeCar : public RigidCar {
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    init_ode();
     destroy();
-    world_ = dWorldCreate();
+    sim_ = std::make_unique<OdeWorld>(stepper_, -setup.gravity_mps2);
+    world_ = sim_->id();
     space_ = dSimpleSpaceCreate(nullptr);
     contacts_ = dJointGroupCreate(0);
-    dWorldSetGravity(world_, 0, 0, -setup.gravity_mps2);
-    stepper_.configure(world_);
     ground_ = dCreatePlane(space_, 0, 0, 1, 0);
 
     const double c = std::cos(q0.phi_rad), s = std::sin(q0.phi_rad);
@@ -108,7 +107,7 @@ class OdeCar : public RigidCar {
 
   void step(double dt_s) override {
     dSpaceCollide(space_, this, &OdeCar::near_callback);
-    stepper_.step(world_, dt_s);
+    sim_->step(dt_s);
     dJointGroupEmpty(contacts_);
   }
 
@@ -175,13 +174,14 @@ class OdeCar : public RigidCar {
   void destroy() {
     if (contacts_) dJointGroupDestroy(contacts_);
     if (space_) dSpaceDestroy(space_);  // destroys its geoms
-    if (world_) dWorldDestroy(world_);  // destroys bodies and joints
+    sim_.reset();  // destroys the world, its bodies and joints
     contacts_ = nullptr;
     space_ = nullptr;
     world_ = nullptr;
   }
 
-  dWorldID world_ = nullptr;
+  std::unique_ptr<OdeWorld> sim_;
+  dWorldID world_ = nullptr;  ///< sim_'s world
   dSpaceID space_ = nullptr;
   dJointGroupID contacts_ = nullptr;
   dGeomID ground_ = nullptr;
