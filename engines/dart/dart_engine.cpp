@@ -20,6 +20,13 @@
 // integrates the commanded velocity that lands it on its path, and contact impulses do not move
 // it). Contact comes from the collision result of the step (World::step runs collision on the
 // state at the start of the step, after the velocity update and before the position update).
+//
+// Threads: every run has its own World, whose constraint solver owns its collision detector (FCL's
+// or DART's) and LCP solvers, so runs step in parallel. What DART 6.12 keeps per process is read
+// only while stepping: the world frame Frame::World() (a static that deliberately records no
+// children, Entity::changeParentFrame), the detector factory, and FCL's collision function tables
+// (function-local statics). The one process-wide generator it links, dRandInt in DART's copy of
+// ODE's LCP code, is used by the PGS fallback only with mRandomizeConstraintOrder, off by default.
 #include "engines/dart/dart_engine.hpp"
 
 #include <dart/collision/CollisionObject.hpp>

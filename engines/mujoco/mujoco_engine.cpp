@@ -25,6 +25,11 @@
 // Disks: M a sphere on two slide joints (x, y) with velocity actuators whose gain is M's mass / dt,
 // so MuJoCo's Euler step realises the commanded velocity in one step when nothing pushes back;
 // N a mocap sphere placed on its path each step. Both frictionless (condim 1), no gravity.
+//
+// Threads: each run owns its mjModel and mjData, so runs step in parallel. MuJoCo's process-wide
+// state: mj_loadXML keeps the last compiled model for mj_saveLastXML behind its own mutex
+// (xml_api.cc), and the warning handler mju_user_warning is one pointer, set under call_once before
+// the first model in any thread and only read afterwards.
 #include "engines/mujoco/mujoco_engine.hpp"
 
 #include <mujoco/mujoco.h>
