@@ -76,7 +76,11 @@ class LockedRaycastVehicle final : public btRaycastVehicle {
   }
 };
 
+class RawRaycastCar;
+
 class BulletRaycastCar final : public RigidCar {
+  friend class RawRaycastCar;  // the benchmarks' raw loop on this vehicle
+
  public:
   using RigidCar::RigidCar;
   ~BulletRaycastCar() override { teardown(); }
@@ -287,7 +291,52 @@ class BulletRaycastCar final : public RigidCar {
   long steps_ = 0;
 };
 
+/// The benchmarks' raw loop (engines/raw_car.hpp): BulletRaycastCar's world and vehicle, the steering
+/// left at the start beta, stepSimulation directly. Held: every wheel braked. Driven: the engine
+/// force of a game's speed loop on Bullet's own vehicle speed (getCurrentSpeedKmHour, the chassis
+/// velocity along its forward axis), M x 160/s x (target - speed), capped like the adapter's.
+class RawRaycastCar final : public RawCar {
+ public:
+  RawRaycastCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) { car_.reset(setup, q0); }
+
+  void run(long steps, double spin_radps) override {
+    const ServoDef servo;
+    btRaycastVehicle& v = *car_.vehicle_;
+    btDiscreteDynamicsWorld& world = *car_.world_;
+    if (spin_radps == 0.0) {
+      const double brake = car_.mu_ * car_.mass_ * world.getGravity().length() * dt_s_;
+      for (int i = 0; i < 3; ++i) {
+        v.setBrake(brake, i);
+        v.applyEngineForce(0, i);
+      }
+      for (long k = 0; k < steps; ++k) world.stepSimulation(dt_s_, 1, dt_s_);
+      return;
+    }
+    for (int i = 0; i < 3; ++i) v.setBrake(0, i);
+    const double target_mps = spin_radps * car_.R_, f_max = servo.spin_torque_max_Nm / car_.R_;
+    for (long k = 0; k < steps; ++k) {
+      const double f = car_.mass_ * kSpeedGain * (target_mps - v.getCurrentSpeedKmHour() / 3.6);
+      v.applyEngineForce(std::clamp(f, -f_max, f_max), kFront);
+      world.stepSimulation(dt_s_, 1, dt_s_);
+    }
+  }
+
+  Eigen::Vector2d front_xy_m() const override {
+    car_.vehicle_->updateWheelTransform(kFront, false);
+    const btVector3 p = car_.vehicle_->getWheelTransformWS(kFront).getOrigin();
+    return {p.x(), p.y()};
+  }
+
+ private:
+  BulletRaycastCar car_;
+  double dt_s_;
+};
+
 }  // namespace
+
+std::unique_ptr<RawCar> make_raw_bullet_raycast_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawRaycastCar>(s, setup, q0);
+}
 
 EngineInfo bullet_raycast_engine() {
   return {.name = "bullet-raycast",

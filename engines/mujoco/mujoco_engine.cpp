@@ -152,7 +152,11 @@ class Sim {
 
 std::string num(double x) { return fmt::format("{:.17g}", x); }
 
+class RawMujocoCar;
+
 class MujocoCar final : public RigidCar {
+  friend class RawMujocoCar;  // the benchmarks' raw loop on this model
+
  public:
   MujocoCar(const Settings& s, Variant v) : RigidCar(s), v_(v) {}
 
@@ -364,7 +368,40 @@ std::vector<std::pair<std::string, std::string>> common_settings(const std::stri
           {"disks", kDisks}};
 }
 
+/// The benchmarks' raw loop (engines/raw_car.hpp): MujocoCar's compiled model and data, the
+/// controls set once, mj_step directly.
+class RawMujocoCar final : public RawCar {
+ public:
+  RawMujocoCar(const Settings& s, Variant v, const CarSetup& setup, const car::Config& q0) : car_(s, v) { car_.reset(setup, q0); }
+
+  void run(long steps, double spin_radps) override {
+    const mjModel* m = car_.sim_->m();
+    mjData* d = car_.sim_->d();
+    d->ctrl[car_.spin_act_] = spin_radps;
+    d->ctrl[car_.steer_act_] = 0.0;
+    for (long k = 0; k < steps; ++k) mj_step(m, d);
+  }
+
+  Eigen::Vector2d front_xy_m() const override {
+    const mjtNum* p = car_.sim_->d()->xpos + 3 * car_.wheel_[0];
+    return {p[0], p[1]};
+  }
+
+ private:
+  MujocoCar car_;
+};
+
 }  // namespace
+
+std::unique_ptr<RawCar> make_raw_mujoco_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawMujocoCar>(s, Variant{}, setup, q0);
+}
+std::unique_ptr<RawCar> make_raw_mujoco_noslip_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawMujocoCar>(s, Variant{.noslip_iterations = kDefaultNoslip}, setup, q0);
+}
+std::unique_ptr<RawCar> make_raw_mujoco_stiff_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawMujocoCar>(s, Variant{.stiff = true, .impratio = kDefaultImpratio}, setup, q0);
+}
 
 EngineInfo mujoco_engine() {
   auto settings = common_settings("MuJoCo's defaults: solref 0.02 1, solimp 0.9 0.95 0.001, margin 0", "pyramidal (MuJoCo's default), impratio 1");

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "engines/engine.hpp"
+#include "engines/raw_car.hpp"
 namespace liftcheck {
 
 /// How an ODE world is stepped: the direct solver (dWorldStep) with liftcheck's constraint
@@ -58,6 +59,10 @@ EngineInfo ode_engine();
 /// The same bodies and contacts stepped by dWorldQuickStep with Gazebo's defaults.
 EngineInfo ode_quick_engine();
 std::unique_ptr<DiskEngine> make_ode_disks(const OdeStepper& stepper = {});
+/// The car built by OdeCar, stepped by dSpaceCollide / dWorldStep (dWorldQuickStep for the quick
+/// stepper of `s`) / dJointGroupEmpty directly (ode_raw.cpp; benchmarks only).
+std::unique_ptr<RawCar> make_raw_ode_car(const Settings& s, const CarSetup& setup, const car::Config& q0);
+std::unique_ptr<RawCar> make_raw_ode_quick_car(const Settings& s, const CarSetup& setup, const car::Config& q0);
 /// dInitODE2 once per process, dAllocateODEDataForThread once in each calling thread.
 void init_ode();
 }  // namespace liftcheck

@@ -14,6 +14,8 @@
 namespace liftcheck {
 
 class OdeCar : public RigidCar {
+  friend class OdeRawCar;  // the benchmarks' raw loop on these bodies (ode_raw.cpp)
+
  public:
   explicit OdeCar(Settings settings, const OdeStepper& stepper = {}) : RigidCar(std::move(settings)), stepper_(stepper) {}
   ~OdeCar() override { destroy(); }
