@@ -52,8 +52,10 @@ report-check:
 	@test -f $(REPORT_DIR)/index.html || $(MAKE) --no-print-directory validate
 	python3 tests/screenshot_check.py $(REPORT_DIR) $(REPORT_DIR)/screenshot.png
 
+# Every benchmark (analytic models, car steps per engine against its raw loop, rendering); the
+# results also go to $(BUILD_DIR)/bench.json.
 bench: build
-	./$(BUILD_DIR)/bench_render
+	./$(BUILD_DIR)/liftcheck_bench --benchmark_out=$(BUILD_DIR)/bench.json --benchmark_out_format=json
 
 clean:
 	rm -rf $(BUILD_DIR)

@@ -57,7 +57,11 @@ class WheelFrictionWorld final : public btDiscreteDynamicsWorld {
   }
 };
 
+class RawBulletCar;
+
 class BulletCar final : public RigidCar {
+  friend class RawBulletCar;  // the benchmarks' raw loop on these bodies
+
  public:
   using RigidCar::RigidCar;
 
@@ -210,7 +214,36 @@ class BulletCar final : public RigidCar {
   double beta0_ = 0.0;
 };
 
+/// The benchmarks' raw loop (engines/raw_car.hpp): BulletCar's world, bodies and hinges, the motors
+/// set once, stepSimulation directly.
+class RawBulletCar final : public RawCar {
+ public:
+  RawBulletCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) { car_.reset(setup, q0); }
+
+  void run(long steps, double spin_radps) override {
+    const ServoDef servo;
+    car_.hinge2_->setTargetVelocity(3, -spin_radps);  // negated as in BulletCar::actuate
+    car_.hinge2_->setMaxMotorForce(3, servo.spin_torque_max_Nm);
+    car_.hinge2_->setTargetVelocity(5, 0.0);
+    car_.hinge2_->setMaxMotorForce(5, servo.steer_torque_max_Nm);
+    for (long k = 0; k < steps; ++k) car_.world_->stepSimulation(dt_s_, 1, dt_s_);
+  }
+
+  Eigen::Vector2d front_xy_m() const override {
+    const btVector3 p = car_.front_->getWorldTransform().getOrigin();
+    return {p.x(), p.y()};
+  }
+
+ private:
+  BulletCar car_;
+  double dt_s_;
+};
+
 }  // namespace
+
+std::unique_ptr<RawCar> make_raw_bullet_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawBulletCar>(s, setup, q0);
+}
 
 EngineInfo bullet_engine() {
   return {.name = "bullet",

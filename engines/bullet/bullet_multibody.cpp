@@ -137,7 +137,11 @@ constexpr int kDefaultIterations = 10;    // btContactSolverInfo's default
 
 Eigen::Vector3d eig(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
 
+class RawMultiBodyCar;
+
 class MultiBodyCar final : public RigidCar {
+  friend class RawMultiBodyCar;  // the benchmarks' raw loop on this multibody
+
  public:
   using RigidCar::RigidCar;
 
@@ -298,7 +302,37 @@ class MultiBodyDisks final : public DrivenDisks {
   btRigidBody* n_ = nullptr;
 };
 
+/// The benchmarks' raw loop (engines/raw_car.hpp): MultiBodyCar's world and multibody, the joint
+/// motors set once, stepSimulation directly.
+class RawMultiBodyCar final : public RawCar {
+ public:
+  RawMultiBodyCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) { car_.reset(setup, q0); }
+
+  void run(long steps, double spin_radps) override {
+    const ServoDef servo;
+    car_.spin_motor_->setVelocityTarget(spin_radps);
+    car_.spin_motor_->setMaxAppliedImpulse(servo.spin_torque_max_Nm * dt_s_);
+    car_.steer_motor_->setVelocityTarget(0.0);
+    car_.steer_motor_->setMaxAppliedImpulse(servo.steer_torque_max_Nm * dt_s_);
+    btMultiBodyDynamicsWorld& world = car_.scene_->world();
+    for (long k = 0; k < steps; ++k) world.stepSimulation(dt_s_, 1, dt_s_);
+  }
+
+  Eigen::Vector2d front_xy_m() const override {
+    const btVector3 p = car_.mb_->localPosToWorld(kFront, btVector3(0, 0, 0));
+    return {p.x(), p.y()};
+  }
+
+ private:
+  MultiBodyCar car_;
+  double dt_s_;
+};
+
 }  // namespace
+
+std::unique_ptr<RawCar> make_raw_bullet_multibody_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawMultiBodyCar>(s, setup, q0);
+}
 
 EngineInfo bullet_multibody_engine() {
   return {.name = "bullet-multibody",

@@ -25,6 +25,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <memory>
+#include <mutex>
 
 #include "engines/rigid_car.hpp"
 
@@ -40,7 +41,46 @@ constexpr double kSpeedGain = 160.0;
 
 Eigen::Vector3d to_eigen(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
 
+// Every wheel of every vehicle that hits the ground points its m_groundObject at one process-wide
+// body, btActionInterface::getFixedBody(): a function-static btRigidBody that each call (each ray
+// cast, btRaycastVehicle.cpp) rewrites with the same constants (setMassProps(0, 0): inverse mass and
+// inertia 0, CF_STATIC_OBJECT), and that updateFriction then reads (its inverse mass, velocity and
+// inertia: all zero) and "pushes" with applyImpulse, which writes nothing at inverse mass 0. The
+// values never change, so the unsynchronised stores are benign on any real machine, but concurrent
+// stores are still a data race by the C++ memory model. So the static is made once before any
+// vehicle exists, and everything of a vehicle that calls it (updateAction, which runs the ray casts
+// and the friction, and the ray casts of build) holds one process-wide lock.
+
+/// Access to the protected static.
+struct FixedBodyAccess : btActionInterface {
+  static btRigidBody& get() { return getFixedBody(); }
+};
+
+std::mutex& fixed_body_mutex() {
+  static std::mutex m;
+  return m;
+}
+
+void make_fixed_body_once() {
+  static std::once_flag once;
+  std::call_once(once, [] { FixedBodyAccess::get(); });
+}
+
+/// btRaycastVehicle whose action (ray casts, suspension, friction) holds the fixed body's lock.
+class LockedRaycastVehicle final : public btRaycastVehicle {
+ public:
+  using btRaycastVehicle::btRaycastVehicle;
+  void updateAction(btCollisionWorld* world, btScalar dt_s) override {
+    std::lock_guard<std::mutex> lock(fixed_body_mutex());
+    btRaycastVehicle::updateAction(world, dt_s);
+  }
+};
+
+class RawRaycastCar;
+
 class BulletRaycastCar final : public RigidCar {
+  friend class RawRaycastCar;  // the benchmarks' raw loop on this vehicle
+
  public:
   using RigidCar::RigidCar;
   ~BulletRaycastCar() override { teardown(); }
@@ -96,7 +136,8 @@ class BulletRaycastCar final : public RigidCar {
     tuning.m_maxSuspensionForce = 1e6;
     const double conn = d.R_m / 3.0;
     raycaster_ = std::make_unique<btDefaultVehicleRaycaster>(world_.get());
-    vehicle_ = std::make_unique<btRaycastVehicle>(tuning, chassis_.get(), raycaster_.get());
+    make_fixed_body_once();
+    vehicle_ = std::make_unique<LockedRaycastVehicle>(tuning, chassis_.get(), raycaster_.get());
     vehicle_->setCoordinateSystem(1, 2, 0);
     const btVector3 down(0, 0, -1), axle(0, -1, 0);
     const struct {
@@ -118,7 +159,10 @@ class BulletRaycastCar final : public RigidCar {
       btWheelInfo& w = vehicle_->getWheelInfo(i);
       w.m_wheelsSuspensionForce = 0;
       w.m_skidInfo = 1;
-      vehicle_->rayCast(w);
+      {
+        std::lock_guard<std::mutex> lock(fixed_body_mutex());
+        vehicle_->rayCast(w);
+      }
       vehicle_->updateWheelTransform(i, false);
       rotation_[i] = prev_rotation_[i] = 0.0;
     }
@@ -247,7 +291,52 @@ class BulletRaycastCar final : public RigidCar {
   long steps_ = 0;
 };
 
+/// The benchmarks' raw loop (engines/raw_car.hpp): BulletRaycastCar's world and vehicle, the steering
+/// left at the start beta, stepSimulation directly. Held: every wheel braked. Driven: the engine
+/// force of a game's speed loop on Bullet's own vehicle speed (getCurrentSpeedKmHour, the chassis
+/// velocity along its forward axis), M x 160/s x (target - speed), capped like the adapter's.
+class RawRaycastCar final : public RawCar {
+ public:
+  RawRaycastCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) { car_.reset(setup, q0); }
+
+  void run(long steps, double spin_radps) override {
+    const ServoDef servo;
+    btRaycastVehicle& v = *car_.vehicle_;
+    btDiscreteDynamicsWorld& world = *car_.world_;
+    if (spin_radps == 0.0) {
+      const double brake = car_.mu_ * car_.mass_ * world.getGravity().length() * dt_s_;
+      for (int i = 0; i < 3; ++i) {
+        v.setBrake(brake, i);
+        v.applyEngineForce(0, i);
+      }
+      for (long k = 0; k < steps; ++k) world.stepSimulation(dt_s_, 1, dt_s_);
+      return;
+    }
+    for (int i = 0; i < 3; ++i) v.setBrake(0, i);
+    const double target_mps = spin_radps * car_.R_, f_max = servo.spin_torque_max_Nm / car_.R_;
+    for (long k = 0; k < steps; ++k) {
+      const double f = car_.mass_ * kSpeedGain * (target_mps - v.getCurrentSpeedKmHour() / 3.6);
+      v.applyEngineForce(std::clamp(f, -f_max, f_max), kFront);
+      world.stepSimulation(dt_s_, 1, dt_s_);
+    }
+  }
+
+  Eigen::Vector2d front_xy_m() const override {
+    car_.vehicle_->updateWheelTransform(kFront, false);
+    const btVector3 p = car_.vehicle_->getWheelTransformWS(kFront).getOrigin();
+    return {p.x(), p.y()};
+  }
+
+ private:
+  BulletRaycastCar car_;
+  double dt_s_;
+};
+
 }  // namespace
+
+std::unique_ptr<RawCar> make_raw_bullet_raycast_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawRaycastCar>(s, setup, q0);
+}
 
 EngineInfo bullet_raycast_engine() {
   return {.name = "bullet-raycast",
@@ -270,7 +359,7 @@ EngineInfo bullet_raycast_engine() {
                {"hold", "for the first settle_s (0.5 s) after build all three wheels are braked (setBrake, impulse cap mu M g dt per wheel) with engine force 0; afterwards no brakes"},
                {"wheel angle", "no spin state (along-slip not measured): heading = the front wheel's travel along its own heading / R, integrated like Bullet's m_rotation; m_rotation = Bullet's own value, which projects the velocity on the chassis axis, so the steered wheel turns cos(beta) too slowly; the spin reported for the slip metrics is the angle's change per step (m_deltaRotation before Bullet's 0.99 decay)"},
                {"stability", "the suspension is explicit: at k = 1e4 the run diverges for dt >= 2 ms (a period-2 oscillation from about 1.8 ms); smaller k allows larger steps"},
-               {"threads", "Bullet writes the same constants into one function-static btRigidBody (btActionInterface::getFixedBody, the vehicle's ground object) from every vehicle on every ray cast"}},
+               {"threads", "Bullet writes the same constants into one function-static btRigidBody (btActionInterface::getFixedBody, the vehicle's ground object) from every vehicle on every ray cast and reads it in the friction pass: the body is made once before the first vehicle, and each vehicle's action (ray casts, suspension, friction) holds a process-wide lock, so concurrent runs take turns at it; the numbers do not depend on what else runs"}},
           .knobs = {SettingSpec{"suspension_stiffness", "car", "10000", "suspension stiffness per unit chassis mass, 1/s^2 (btVehicleTuning::m_suspensionStiffness); damping follows as sqrt(3k)", SettingSpec::kReal, 0, 1e6, {}, true},
                     SettingSpec{"wheel_angle", "car", "heading", "the realized wheel angle: the front wheel's travel along its heading / R, or Bullet's m_rotation (travel along the chassis axis / R)", SettingSpec::kChoice, 0, 0, {"heading", "m_rotation"}}}};
 }

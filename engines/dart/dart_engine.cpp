@@ -20,6 +20,13 @@
 // integrates the commanded velocity that lands it on its path, and contact impulses do not move
 // it). Contact comes from the collision result of the step (World::step runs collision on the
 // state at the start of the step, after the velocity update and before the position update).
+//
+// Threads: every run has its own World, whose constraint solver owns its collision detector (FCL's
+// or DART's) and LCP solvers, so runs step in parallel. What DART 6.12 keeps per process is read
+// only while stepping: the world frame Frame::World() (a static that deliberately records no
+// children, Entity::changeParentFrame), the detector factory, and FCL's collision function tables
+// (function-local statics). The one process-wide generator it links, dRandInt in DART's copy of
+// ODE's LCP code, is used by the PGS fallback only with mRandomizeConstraintOrder, off by default.
 #include "engines/dart/dart_engine.hpp"
 
 #include <dart/collision/CollisionObject.hpp>
@@ -95,7 +102,11 @@ Eigen::Matrix3d box_inertia(double m, double a, double b, double c) {
   return Eigen::Vector3d(m * (b * b + c * c) / 12.0, m * (a * a + c * c) / 12.0, m * (a * a + b * b) / 12.0).asDiagonal();
 }
 
+class RawDartCar;
+
 class DartCar final : public RigidCar {
+  friend class RawDartCar;  // the benchmarks' raw loop on this world
+
  public:
   DartCar(Settings settings, Detector det) : RigidCar(std::move(settings)), det_(det) {}
 
@@ -305,6 +316,32 @@ std::vector<std::pair<std::string, std::string>> settings_for(Detector det) {
   };
 }
 
+/// The benchmarks' raw loop (engines/raw_car.hpp): DartCar's world and skeletons, the servo
+/// commands set once, World::step directly.
+class RawDartCar final : public RawCar {
+ public:
+  RawDartCar(const Settings& s, Detector det, const CarSetup& setup, const car::Config& q0) : car_(s, det) { car_.reset(setup, q0); }
+
+  void run(long steps, double spin_radps) override {
+    const ServoDef servo;
+    car_.spin_->setForceLowerLimit(0, -servo.spin_torque_max_Nm);
+    car_.spin_->setForceUpperLimit(0, servo.spin_torque_max_Nm);
+    car_.steer_->setForceLowerLimit(0, -servo.steer_torque_max_Nm);
+    car_.steer_->setForceUpperLimit(0, servo.steer_torque_max_Nm);
+    for (long k = 0; k < steps; ++k) {
+      // SERVO commands are consumed by each step: set them before every step, as DartCar::actuate is.
+      car_.spin_->setCommand(0, spin_radps);
+      car_.steer_->setCommand(0, 0.0);
+      car_.world_->step();
+    }
+  }
+
+  Eigen::Vector2d front_xy_m() const override { return car_.wheels_[0]->getWorldTransform().translation().head<2>(); }
+
+ private:
+  DartCar car_;
+};
+
 EngineInfo make_info(Detector det) {
   const bool prim = det == Detector::kDart;
   return {.name = prim ? "dart-primitive" : "dart",
@@ -322,6 +359,13 @@ EngineInfo make_info(Detector det) {
 }
 
 }  // namespace
+
+std::unique_ptr<RawCar> make_raw_dart_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawDartCar>(s, Detector::kShipped, setup, q0);
+}
+std::unique_ptr<RawCar> make_raw_dart_primitive_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawDartCar>(s, Detector::kDart, setup, q0);
+}
 
 EngineInfo dart_engine() { return make_info(Detector::kShipped); }
 EngineInfo dart_primitive_engine() { return make_info(Detector::kDart); }

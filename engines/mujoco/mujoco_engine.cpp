@@ -25,6 +25,11 @@
 // Disks: M a sphere on two slide joints (x, y) with velocity actuators whose gain is M's mass / dt,
 // so MuJoCo's Euler step realises the commanded velocity in one step when nothing pushes back;
 // N a mocap sphere placed on its path each step. Both frictionless (condim 1), no gravity.
+//
+// Threads: each run owns its mjModel and mjData, so runs step in parallel. MuJoCo's process-wide
+// state: mj_loadXML keeps the last compiled model for mj_saveLastXML behind its own mutex
+// (xml_api.cc), and the warning handler mju_user_warning is one pointer, set under call_once before
+// the first model in any thread and only read afterwards.
 #include "engines/mujoco/mujoco_engine.hpp"
 
 #include <mujoco/mujoco.h>
@@ -147,7 +152,11 @@ class Sim {
 
 std::string num(double x) { return fmt::format("{:.17g}", x); }
 
+class RawMujocoCar;
+
 class MujocoCar final : public RigidCar {
+  friend class RawMujocoCar;  // the benchmarks' raw loop on this model
+
  public:
   MujocoCar(const Settings& s, Variant v) : RigidCar(s), v_(v) {}
 
@@ -359,7 +368,40 @@ std::vector<std::pair<std::string, std::string>> common_settings(const std::stri
           {"disks", kDisks}};
 }
 
+/// The benchmarks' raw loop (engines/raw_car.hpp): MujocoCar's compiled model and data, the
+/// controls set once, mj_step directly.
+class RawMujocoCar final : public RawCar {
+ public:
+  RawMujocoCar(const Settings& s, Variant v, const CarSetup& setup, const car::Config& q0) : car_(s, v) { car_.reset(setup, q0); }
+
+  void run(long steps, double spin_radps) override {
+    const mjModel* m = car_.sim_->m();
+    mjData* d = car_.sim_->d();
+    d->ctrl[car_.spin_act_] = spin_radps;
+    d->ctrl[car_.steer_act_] = 0.0;
+    for (long k = 0; k < steps; ++k) mj_step(m, d);
+  }
+
+  Eigen::Vector2d front_xy_m() const override {
+    const mjtNum* p = car_.sim_->d()->xpos + 3 * car_.wheel_[0];
+    return {p[0], p[1]};
+  }
+
+ private:
+  MujocoCar car_;
+};
+
 }  // namespace
+
+std::unique_ptr<RawCar> make_raw_mujoco_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawMujocoCar>(s, Variant{}, setup, q0);
+}
+std::unique_ptr<RawCar> make_raw_mujoco_noslip_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawMujocoCar>(s, Variant{.noslip_iterations = kDefaultNoslip}, setup, q0);
+}
+std::unique_ptr<RawCar> make_raw_mujoco_stiff_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
+  return std::make_unique<RawMujocoCar>(s, Variant{.stiff = true, .impratio = kDefaultImpratio}, setup, q0);
+}
 
 EngineInfo mujoco_engine() {
   auto settings = common_settings("MuJoCo's defaults: solref 0.02 1, solimp 0.9 0.95 0.001, margin 0", "pyramidal (MuJoCo's default), impratio 1");

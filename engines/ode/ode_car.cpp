@@ -20,7 +20,12 @@ namespace liftcheck {
 
 void init_ode() {
   static std::once_flag once;
-  std::call_once(once, [] { dInitODE2(0); });
+  std::call_once(once, [] {
+    if (!dInitODE2(0)) throw EngineError("ODE could not be initialised (dInitODE2)");
+  });
+  // ODE's per-thread data (collision caches where ODE keeps them per thread), once per thread.
+  thread_local const bool allocated = dAllocateODEDataForThread(dAllocateMaskAll) != 0;
+  if (!allocated) throw EngineError("ODE could not allocate its data for this thread (dAllocateODEDataForThread)");
 }
 
 OdeStepper OdeStepper::quick_from(const Settings& s) {
@@ -40,17 +45,45 @@ void OdeStepper::configure(dWorldID world) const {
   dWorldSetContactSurfaceLayer(world, surface_layer_m);
   dWorldSetContactMaxCorrectingVel(world, max_correcting_vel_mps);
   if (quick) {
-    // QuickStep reorders its constraints at random from ODE's process-wide generator: every world
-    // starts it from the same seed, so the same inputs give the same numbers (as in a fresh process).
-    dRandSetSeed(0);
     dWorldSetQuickStepNumIterations(world, iterations);
     dWorldSetQuickStepW(world, w);
   }
 }
 
-void OdeStepper::step(dWorldID world, double dt_s) const {
-  if (quick) dWorldQuickStep(world, dt_s);
-  else dWorldStep(world, dt_s);
+namespace {
+/// Held by every quick step: ODE's random generator (dRand, misc.cpp) is one per process.
+std::mutex& quick_step_rand_mutex() {
+  static std::mutex m;
+  return m;
+}
+}  // namespace
+
+OdeWorld::OdeWorld(const OdeStepper& stepper, double gravity_z_mps2) : stepper_(stepper) {
+  init_ode();
+  threading_ = dThreadingAllocateSelfThreadedImplementation();
+  if (!threading_) throw EngineError("ODE could not allocate a threading implementation");
+  world_ = dWorldCreate();
+  dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_), threading_);
+  dWorldSetGravity(world_, 0, 0, gravity_z_mps2);
+  stepper_.configure(world_);
+}
+
+OdeWorld::~OdeWorld() {
+  // The world frees its call-wait object through its threading implementation: world first.
+  if (world_) dWorldDestroy(world_);
+  if (threading_) dThreadingFreeImplementation(threading_);
+}
+
+void OdeWorld::step(double dt_s) {
+  init_ode();  // a world may be stepped in a thread other than the one that made it
+  if (!stepper_.quick) {
+    dWorldStep(world_, dt_s);
+    return;
+  }
+  std::lock_guard<std::mutex> lock(quick_step_rand_mutex());
+  dRandSetSeed(rand_seed_);
+  dWorldQuickStep(world_, dt_s);
+  rand_seed_ = dRandGetSeed();
 }
 
 namespace {
@@ -88,7 +121,8 @@ EngineInfo ode_quick_engine() {
            {"contact", "dContactApprox1 | SoftERP 0.2 | SoftCFM 1e-9, up to 4 points per wheel"},
            {"friction directions", "world (Gazebo's default, no fdir1): ODE's axes from the normal; wheel: dContactFDir1 along the rolling direction"},
            {"servo", kServo},
-           {"disks", kDisks}},
+           {"disks", kDisks},
+           {"threads", "each world has its own ODE threading implementation; dWorldQuickStep draws its random constraint order (dRandInt) from ODE's one process-wide generator, so concurrent runs take turns at it (a process-wide lock around each quick step), each world continuing its own sequence from seed 0: the numbers do not depend on what else runs"}},
           .knobs = knobs};
 }
 
@@ -108,7 +142,8 @@ EngineInfo ode_engine() {
            {"friction directions", "wheel: dContactFDir1 along the rolling direction (axle x up); world: ODE's default axes from the normal"},
            {"servo", kServo},
            {"iterations", "none: dWorldStep is a direct solver (a setting 'iterations' is rejected)"},
-           {"disks", kDisks}},
+           {"disks", kDisks},
+           {"threads", "each world has its own ODE threading implementation (ODE's default one is shared by every world and not synchronised); every thread that steps a world calls dAllocateODEDataForThread first: runs step in parallel"}},
           .knobs = {wheel_knob(), friction_dirs_knob("wheel")}};
 }
 

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 
 #include "engines/ode/ode_car.hpp"
 #include "engines/rigid_car.hpp"
@@ -13,19 +14,19 @@
 namespace liftcheck {
 
 class OdeCar : public RigidCar {
+  friend class OdeRawCar;  // the benchmarks' raw loop on these bodies (ode_raw.cpp)
+
  public:
   explicit OdeCar(Settings settings, const OdeStepper& stepper = {}) : RigidCar(std::move(settings)), stepper_(stepper) {}
   ~OdeCar() override { destroy(); }
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    init_ode();
     destroy();
-    world_ = dWorldCreate();
+    sim_ = std::make_unique<OdeWorld>(stepper_, -setup.gravity_mps2);
+    world_ = sim_->id();
     space_ = dSimpleSpaceCreate(nullptr);
     contacts_ = dJointGroupCreate(0);
-    dWorldSetGravity(world_, 0, 0, -setup.gravity_mps2);
-    stepper_.configure(world_);
     ground_ = dCreatePlane(space_, 0, 0, 1, 0);
 
     const double c = std::cos(q0.phi_rad), s = std::sin(q0.phi_rad);
@@ -108,7 +109,7 @@ class OdeCar : public RigidCar {
 
   void step(double dt_s) override {
     dSpaceCollide(space_, this, &OdeCar::near_callback);
-    stepper_.step(world_, dt_s);
+    sim_->step(dt_s);
     dJointGroupEmpty(contacts_);
   }
 
@@ -177,13 +178,14 @@ class OdeCar : public RigidCar {
   void destroy() {
     if (contacts_) dJointGroupDestroy(contacts_);
     if (space_) dSpaceDestroy(space_);  // destroys its geoms
-    if (world_) dWorldDestroy(world_);  // destroys bodies and joints
+    sim_.reset();  // destroys the world, its bodies and joints
     contacts_ = nullptr;
     space_ = nullptr;
     world_ = nullptr;
   }
 
-  dWorldID world_ = nullptr;
+  std::unique_ptr<OdeWorld> sim_;
+  dWorldID world_ = nullptr;  ///< sim_'s world
   dSpaceID space_ = nullptr;
   dJointGroupID contacts_ = nullptr;
   dGeomID ground_ = nullptr;

@@ -14,13 +14,11 @@ constexpr double kMotorForceMax_N = 1e5;  // enough to reach any commanded veloc
 OdeDisks::~OdeDisks() { destroy(); }
 
 void OdeDisks::build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) {
-  init_ode();
   destroy();
-  world_ = dWorldCreate();
+  sim_ = std::make_unique<OdeWorld>(stepper_, 0.0);
+  world_ = sim_->id();
   space_ = dSimpleSpaceCreate(nullptr);
   contacts_ = dJointGroupCreate(0);
-  dWorldSetGravity(world_, 0, 0, 0);
-  stepper_.configure(world_);
   const disks::Vec2 at[2] = {cM0, cN0};
   dBodyID* body[2] = {&M_, &N_};
   for (int i = 0; i < 2; ++i) {
@@ -67,7 +65,7 @@ DrivenDisks::StepContacts OdeDisks::step(const disks::Vec2& vM_cmd, const disks:
   dBodySetLinearVel(N_, (cN_next.x() - p[0]) / dt_s, (cN_next.y() - p[1]) / dt_s, 0.0);
   seen_ = {};
   dSpaceCollide(space_, this, &OdeDisks::near_callback);
-  stepper_.step(world_, dt_s);
+  sim_->step(dt_s);
   dJointGroupEmpty(contacts_);
   return seen_;
 }
@@ -81,7 +79,7 @@ DrivenDisks::State OdeDisks::read() const {
 void OdeDisks::destroy() {
   if (contacts_) dJointGroupDestroy(contacts_);
   if (space_) dSpaceDestroy(space_);
-  if (world_) dWorldDestroy(world_);
+  sim_.reset();
   contacts_ = nullptr;
   space_ = nullptr;
   world_ = nullptr;

@@ -5,6 +5,8 @@
 
 #include <ode/ode.h>
 
+#include <memory>
+
 #include "engines/driven_disks.hpp"
 #include "engines/ode/ode_car.hpp"
 
@@ -27,7 +29,8 @@ class OdeDisks : public DrivenDisks {
  private:
   static void near_callback(void* data, dGeomID o1, dGeomID o2);
   void destroy();
-  dWorldID world_ = nullptr;
+  std::unique_ptr<OdeWorld> sim_;
+  dWorldID world_ = nullptr;  ///< sim_'s world
   dSpaceID space_ = nullptr;
   dJointGroupID contacts_ = nullptr;
   dBodyID M_ = nullptr, N_ = nullptr;
