@@ -48,7 +48,20 @@ struct CarSetup {
   double dt_s = 1e-3;           ///< engine time step
   double sample_dt_s = 0.01;    ///< spacing of the reported trace
   double mu = 1.0;              ///< Coulomb friction coefficient, wheel against ground
-  double gravity_mps2 = 9.81;   ///< magnitude of gravity (down -Z)
+  double gravity_mps2 = 9.81;   ///< magnitude of gravity
+  /// Unit direction of gravity in the world frame: down -Z, or tilted (car.slope tilts gravity
+  /// instead of the ground, which stays the plane z = 0). Every engine adapter applies it.
+  Eigen::Vector3d gravity_dir_W = -Eigen::Vector3d::UnitZ();
+  /// 3: the paper's tricycle (one steered, driven front wheel at the front-axle centre); 4: two
+  /// steered, driven front wheels at +-track/2 (Ackermann angles, electronic differential;
+  /// models/ackermann.hpp). The analytic reference is the same for both.
+  int wheels = 3;
+  double track_m = 0.8;         ///< distance between the rear wheels (and between the front wheels of a four-wheel car)
+  /// Four wheels only: both front wheels at the virtual angle beta instead of their Ackermann
+  /// angles (they fight and scrub: a negative control).
+  bool parallel_steering = false;
+
+  Eigen::Vector3d gravity_W() const { return gravity_mps2 * gravity_dir_W; }  ///< m/s^2
 };
 
 /// How much one wheel's contact point slid over a drive, measured every engine step from the
@@ -165,6 +178,9 @@ struct EngineInfo {
   std::vector<std::pair<std::string, std::string>> settings;
   /// Settings a user may change, each used by this engine (a test checks that each changes a result).
   std::vector<SettingSpec> knobs = {};
+  /// Builds four-wheel cars (CarSetup::wheels = 4); a configuration without them rejects
+  /// wheels=4 as bad input rather than run a tricycle.
+  bool four_wheels = false;
 
   /// Every knob of `vehicle` at its default.
   Settings defaults(const std::string& vehicle) const;

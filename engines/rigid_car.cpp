@@ -3,6 +3,7 @@
 #include <cmath>
 #include <fmt/format.h>
 
+#include "models/ackermann.hpp"
 #include "models/e2.hpp"
 
 namespace liftcheck {
@@ -11,7 +12,9 @@ TricycleDef TricycleDef::from(const CarSetup& setup) {
   TricycleDef d;
   d.R_m = setup.car.R_m;
   d.l_m = setup.car.l_m;
-  d.track_m = 0.8 * setup.car.l_m;
+  d.track_m = setup.track_m;
+  d.wheels = setup.wheels;
+  d.parallel_steering = setup.parallel_steering;
   d.wheel_width_m = 0.3 * setup.car.R_m;
   d.chassis_height_m = std::min(0.1, 0.5 * setup.car.R_m);
   return d;
@@ -20,6 +23,7 @@ TricycleDef TricycleDef::from(const CarSetup& setup) {
 void RigidCar::reset(const CarSetup& setup, const car::Config& q0) {
   setup_ = setup;
   def_ = TricycleDef::from(setup);
+  if (def_.wheels == 4 && !four_wheels()) throw EngineError("this configuration builds only the tricycle (wheels=3)");
   q0_ = q0;
   build(setup_, def_, q0_);
 }
@@ -30,33 +34,67 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   const long settle_steps = std::lround(servo_.settle_s / dt);
   const long steps = static_cast<long>(std::ceil((T + servo_.hold_s) / dt - 1e-9));
   const long sample_every = std::max(1L, std::lround(setup_.sample_dt_s / dt));
+  const bool four = def_.wheels == 4;
+  const int n_front = four ? 2 : 1, n_wheels = four ? 4 : 3;
+  static const char* const kTricycle[3] = {"front", "rear left", "rear right"};
+  static const char* const kFour[4] = {"front left", "front right", "rear left", "rear right"};
+  const char* const* names = four ? kFour : kTricycle;
+  const car::Side kSides[2] = {car::Side::kLeft, car::Side::kRight};
 
   RigidCarState s = read();
-  double alpha = 0.0;  // unwrapped wheel angle
-  double prev_joint = s.spin_joint_rad;
+  // The realized virtual steering angle: the tricycle's one wheel, or for four wheels the mean of
+  // the front wheels' cotangents (models/ackermann.hpp), exact for Ackermann and parallel wheels.
+  const auto virtual_beta = [&](const RigidCarState& st) {
+    return four ? car::virtual_steering_angle(st.steer_rad[0], st.steer_rad[1]) : st.steer_rad[0];
+  };
+  // Front wheel k rolls at rho_k times the front-axle centre (its turning radius over the
+  // centre's; 1 for the tricycle): the electronic differential drives it so, and the tricycle's
+  // wheel angle alpha of (3.3) advances by the mean of the wheels' increments over their rho_k.
+  // (The plain average of the two wheel angles, Fecko's introduction, runs faster by
+  // (rho_left + rho_right)/2 - 1, 6.2e-4 at beta = 0.3, w/l = 0.8.)
+  const auto rho = [&](int k, double beta) { return four ? car::ackermann_drive_ratio(beta, def_.l_m, def_.track_m, kSides[k]) : 1.0; };
+  double beta = virtual_beta(s);
+  double alpha = 0.0;  // unwrapped wheel angle of the tricycle equivalent
+  double prev_joint[2] = {s.spin_joint_rad[0], s.spin_joint_rad[1]};
   double prev_phi = s.phi_rad;
   double phi = q0_.phi_rad + e2::wrap_angle(s.phi_rad - q0_.phi_rad);  // unwrapped from the start heading
   std::vector<car::TimedConfig> trace;
 
   // One step: servo towards (target_alpha, target_beta) with feed-forward rates, then read and check.
   const auto advance = [&](double t_end, double target_alpha, double target_beta, double alpha_rate, double beta_rate) {
-    actuate(alpha_rate + servo_.spin_gain_per_s * (target_alpha - alpha),
-            beta_rate + servo_.steer_gain_per_s * (target_beta - s.steer_rad), servo_);
+    FrontRates rates;
+    const double roll_radps = alpha_rate + servo_.spin_gain_per_s * (target_alpha - alpha);
+    for (int k = 0; k < n_front; ++k) {
+      // Four wheels: each front wheel's own steering target (its Ackermann angle, or beta itself
+      // when steered in parallel), its feed-forward rate d(beta_k)/d(beta) x beta_rate.
+      double target_k = target_beta, rate_k = beta_rate;
+      if (four && !def_.parallel_steering) {
+        target_k = car::ackermann_wheel_angle(target_beta, def_.l_m, def_.track_m, kSides[k]);
+        rate_k = car::ackermann_steer_rate_factor(target_beta, def_.l_m, def_.track_m, kSides[k]) * beta_rate;
+      }
+      rates.steer_radps[k] = rate_k + servo_.steer_gain_per_s * (target_k - s.steer_rad[k]);
+      rates.spin_radps[k] = rho(k, beta) * roll_radps;
+    }
+    actuate(rates, servo_);
     step(dt);
     stepped_s_ += dt;
     s = read();
-    alpha += e2::wrap_angle(s.spin_joint_rad - prev_joint);
-    prev_joint = s.spin_joint_rad;
+    beta = virtual_beta(s);
+    double d_alpha = 0.0;
+    for (int k = 0; k < n_front; ++k) {
+      d_alpha += e2::wrap_angle(s.spin_joint_rad[k] - prev_joint[k]) / rho(k, beta);
+      prev_joint[k] = s.spin_joint_rad[k];
+    }
+    alpha += d_alpha / n_front;
     phi += e2::wrap_angle(s.phi_rad - prev_phi);
     prev_phi = s.phi_rad;
     const bool finite = std::isfinite(s.x_m) && std::isfinite(s.y_m) && std::isfinite(s.z_m) &&
-                        std::isfinite(s.phi_rad) && std::isfinite(s.steer_rad) && std::isfinite(alpha);
+                        std::isfinite(s.phi_rad) && std::isfinite(beta) && std::isfinite(alpha);
     if (!finite) throw EngineError(fmt::format("simulation produced NaN at t = {:.4f} s", t_end));
-    static const char* const kWheel[3] = {"front", "rear left", "rear right"};
-    for (int w = 0; w < 3; ++w) {
+    for (int w = 0; w < n_wheels; ++w) {
       const double v = s.wheels[w].v_hub_W.norm();
       if (!(v <= kRunawaySpeed_mps))
-        throw EngineError(fmt::format("{} wheel speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {} m/s)", kWheel[w], v, t_end, kRunawaySpeed_mps));
+        throw EngineError(fmt::format("{} wheel speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {} m/s)", names[w], v, t_end, kRunawaySpeed_mps));
     }
     for (const auto& [which, z] : {std::pair{"front", s.z_m}, std::pair{"rear", s.rear_z_m}})
       if (std::abs(z - def_.R_m) > def_.R_m)
@@ -70,11 +108,10 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
 
   // Contact-point slip of each wheel, every step of the drive: the contact point of a sphere (or an
   // upright cylinder) on the ground z = 0 lies straight below the hub.
-  static const char* const kWheelNames[3] = {"front", "rear left", "rear right"};
-  slip_.assign(3, WheelSlip{});
-  double sum_sq[3] = {0.0, 0.0, 0.0};
+  slip_.assign(n_wheels, WheelSlip{});
+  double sum_sq[4] = {0.0, 0.0, 0.0, 0.0};
   const auto book_slip = [&] {
-    for (int w = 0; w < 3; ++w) {
+    for (int w = 0; w < n_wheels; ++w) {
       const WheelState& ws = s.wheels[w];
       const Eigen::Vector3d v = ws.v_hub_W + ws.omega_W.cross(Eigen::Vector3d(0.0, 0.0, -ws.hub_z_m));
       Eigen::Vector3d axle(ws.axle_W.x(), ws.axle_W.y(), 0.0);
@@ -86,7 +123,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
     }
   };
 
-  const auto sample = [&](double t) { trace.push_back({t, car::Config{alpha, s.steer_rad, s.x_m, s.y_m, phi}}); };
+  const auto sample = [&](double t) { trace.push_back({t, car::Config{alpha, beta, s.x_m, s.y_m, phi}}); };
   sample(0.0);
   for (long k = 0; k < steps; ++k) {
     const double t1 = (k + 1) * dt;
@@ -95,8 +132,8 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
     book_slip();
     if ((k + 1) % sample_every == 0 || k + 1 == steps) sample(t1);
   }
-  for (int w = 0; w < 3; ++w) {
-    slip_[w].wheel = kWheelNames[w];
+  for (int w = 0; w < n_wheels; ++w) {
+    slip_[w].wheel = names[w];
     slip_[w].rms_mps = steps > 0 ? std::sqrt(sum_sq[w] / steps) : 0.0;
     slip_[w].along_measured = wheels_spin();
   }

@@ -12,12 +12,15 @@
 
 namespace liftcheck {
 
-/// The tricycle of the paper as rigid bodies (all lengths in m, masses in kg). Chassis frame:
-/// x forward along the tie rod, y left, z up; origin at the front-axle centre.
+/// The tricycle of the paper as rigid bodies (all lengths in m, masses in kg), or the four-wheel
+/// car behind it. Chassis frame: x forward along the tie rod, y left, z up; origin at the
+/// front-axle centre.
 struct TricycleDef {
   double R_m = 0.3;              ///< front and rear wheel radius
   double l_m = 1.0;              ///< tie rod: rear-axle centre to front-axle centre
-  double track_m = 0.8;          ///< distance between the two rear wheels
+  double track_m = 0.8;          ///< distance between the two rear wheels (and the two front wheels of a four-wheel car)
+  int wheels = 3;                ///< 3: one front wheel at the front-axle centre; 4: front wheels at (0, +-track/2)
+  bool parallel_steering = false; ///< four wheels: both front wheels at beta instead of their Ackermann angles
   double wheel_width_m = 0.09;   ///< cylinder wheels only
   double chassis_mass_kg = 40.0;
   double wheel_mass_kg = 2.0;
@@ -38,6 +41,13 @@ struct ServoDef {
   double steer_torque_max_Nm = 500.0;
 };
 
+/// Rates for the steered and driven front wheels: index 0 is the tricycle's one front wheel or the
+/// four-wheel car's left one, index 1 its right one.
+struct FrontRates {
+  double spin_radps[2] = {0.0, 0.0};   ///< about the axle, positive rolls forward
+  double steer_radps[2] = {0.0, 0.0};  ///< steering, left positive
+};
+
 /// One wheel's body state in world coordinates.
 struct WheelState {
   Eigen::Vector3d v_hub_W;      ///< linear velocity of the wheel centre, m/s
@@ -46,15 +56,17 @@ struct WheelState {
   double hub_z_m = 0.0;         ///< height of the wheel centre above the ground
 };
 
-/// The realized state an engine reads off its bodies and joints.
+/// The realized state an engine reads off its bodies and joints. Front wheel k is the tricycle's
+/// one front wheel (k = 0) or the four-wheel car's left (0) and right (1) front wheels.
 struct RigidCarState {
-  double spin_joint_rad;  ///< wheel angle about the axle relative to the steering knuckle, wrapped
-  double steer_rad;       ///< steering angle, left positive (offset to the start beta applied)
-  double x_m, y_m;        ///< front wheel centre
-  double z_m;             ///< front wheel centre height (for blow-up detection)
-  double phi_rad;         ///< chassis heading
-  double rear_z_m;        ///< lowest rear wheel centre height
-  WheelState wheels[3];   ///< front, rear left, rear right
+  double spin_joint_rad[2];  ///< front wheel k's angle about its axle relative to its steering knuckle, wrapped
+  double steer_rad[2];       ///< front wheel k's steering angle against the tie rod, left positive (start offset applied)
+  double x_m, y_m;           ///< front-axle centre (the front wheel centre; the midpoint of the two for four wheels)
+  double z_m;                ///< lowest front wheel centre height (for blow-up detection)
+  double phi_rad;            ///< chassis heading
+  double rear_z_m;           ///< lowest rear wheel centre height
+  /// Tricycle: front, rear left, rear right; four wheels: front left, front right, rear left, rear right.
+  WheelState wheels[4];
 };
 
 class RigidCar : public CarEngine {
@@ -68,9 +80,11 @@ class RigidCar : public CarEngine {
  protected:
   /// Builds the world with the car at q0 (steering at q0.beta), at rest on the ground.
   virtual void build(const CarSetup& setup, const TricycleDef& car, const car::Config& q0) = 0;
-  /// Sets the wheel's spin rate about its axle (positive rolls forward) and the steering rate.
-  virtual void actuate(double spin_radps, double steer_radps, const ServoDef& servo) = 0;
+  /// Sets each front wheel's spin rate about its axle (positive rolls forward) and steering rate.
+  virtual void actuate(const FrontRates& rates, const ServoDef& servo) = 0;
   virtual void step(double dt_s) = 0;
+  /// True where build() makes the four-wheel car (TricycleDef::wheels = 4).
+  virtual bool four_wheels() const { return false; }
   virtual RigidCarState read() const = 0;
   /// False where a wheel has no spin state of its own (WheelSlip::along_measured).
   virtual bool wheels_spin() const { return true; }

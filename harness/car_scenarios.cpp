@@ -40,6 +40,9 @@ std::vector<ParamSpec> car_params(const std::string& beta_default) {
       number("sample_dt", "0.01", "s", "spacing of the recorded trace", 0.0, true, 10.0),
       number("mu", "1.0", "1", "Coulomb friction coefficient, wheel against ground", 0.0, true, 10.0),
       number("gravity", "9.81", "m/s^2", "gravity magnitude (down)", 0.0, true, 100.0),
+      {"wheels", ParamKind::kChoice, "3", "", "3: the paper's tricycle; 4: two Ackermann-steered front wheels driven by an electronic differential (the reference is the same tricycle: average wheel angle, virtual steering angle)", -INFINITY, false, INFINITY, {"3", "4"}},
+      number("track", "0.8", "m", "distance between the rear wheels (and between the front wheels of a four-wheel car)", 0.0, true, 100.0),
+      {"steering", ParamKind::kChoice, "ackermann", "", "four wheels: each front wheel at its Ackermann angle, or both at beta (parallel: they fight and scrub)", -INFINITY, false, INFINITY, {"ackermann", "parallel"}},
   };
 }
 
@@ -56,6 +59,11 @@ CarSetup setup_from(const Params& p) {
   s.sample_dt_s = p.num("sample_dt");
   s.mu = p.num("mu");
   s.gravity_mps2 = p.num("gravity");
+  s.wheels = p.str("wheels") == "4" ? 4 : 3;
+  s.track_m = p.num("track");
+  s.parallel_steering = p.str("steering") == "parallel";
+  if (s.parallel_steering && s.wheels != 4)
+    throw InputError("steering=parallel needs wheels=4: the tricycle has one steered wheel");
   return s;
 }
 

@@ -39,7 +39,13 @@ const std::vector<KnownFailure>& known_run_failures() {
     for (const auto& e : j.value("runs", nlohmann::json::array()))
       for (const auto& engine : e.at("engines")) {
         const std::string where = fmt::format("{} on {}", e.at("scenario").get<std::string>(), engine.get<std::string>());
-        v.push_back({e.at("scenario"), engine, parse_ceilings(e.at("metrics"), where), e.at("reason"), e.at("measured")});
+        std::vector<std::pair<std::string, std::string>> params;
+        for (const auto& [key, value] : e.value("params", nlohmann::json::object()).items()) {
+          if (!value.is_string())
+            throw std::logic_error(fmt::format("harness/expectations.json: {}: \"params\" values are text, as given to --set ('{}')", where, key));
+          params.emplace_back(key, value.get<std::string>());
+        }
+        v.push_back({e.at("scenario"), engine, params, parse_ceilings(e.at("metrics"), where), e.at("reason"), e.at("measured")});
       }
     return v;
   }();
@@ -48,8 +54,15 @@ const std::vector<KnownFailure>& known_run_failures() {
 
 const KnownFailure* find_known_failure(const std::string& scenario, const std::string& engine) {
   for (const KnownFailure& k : known_run_failures())
-    if (k.scenario == scenario && k.engine == engine) return &k;
+    if (k.scenario == scenario && k.engine == engine && k.params.empty()) return &k;
   return nullptr;
+}
+
+std::vector<const KnownFailure*> known_failures_of(const std::string& scenario, const std::string& engine) {
+  std::vector<const KnownFailure*> v;
+  for (const KnownFailure& k : known_run_failures())
+    if (k.scenario == scenario && k.engine == engine) v.push_back(&k);
+  return v;
 }
 
 }  // namespace liftcheck

@@ -27,13 +27,18 @@ std::vector<std::string> beyond_ceilings(const Ceilings& ceilings, const std::ve
 
 struct KnownFailure {
   std::string scenario, engine;
+  /// The parameters the run changes from the scenario's defaults ("params": {"wheels": "4"}),
+  /// as KEY=VALUE text; empty for the default run. Settings are always the defaults.
+  std::vector<std::pair<std::string, std::string>> params;
   Ceilings metrics;  ///< the metrics that may fail (at least one must), each with its ceiling
   std::string reason, measured;
 };
 
 /// The "runs" entries, one per scenario x configuration.
 const std::vector<KnownFailure>& known_run_failures();
-/// The entry for a default run of `scenario` on `engine`, or null.
+/// The entry for a default run of `scenario` on `engine` (no "params"), or null.
 const KnownFailure* find_known_failure(const std::string& scenario, const std::string& engine);
+/// Every entry for `scenario` on `engine`, default run or not (the runner matches their params).
+std::vector<const KnownFailure*> known_failures_of(const std::string& scenario, const std::string& engine);
 
 }  // namespace liftcheck

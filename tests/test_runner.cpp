@@ -259,7 +259,15 @@ TEST(Expectations, EveryEntryNamesWhatExists) {
     // The configuration runs the scenario (an entry for a skipped run could never be checked).
     EXPECT_TRUE(s->vehicle == "car" ? bool(e->make_car) : bool(e->make_disks)) << k.engine << " does not run " << k.scenario;
     EXPECT_TRUE(!s->needs_contact_dynamics || e->contact_dynamics) << k.engine << " does not run " << k.scenario;
-    EXPECT_TRUE(seen.insert({k.scenario, k.engine}).second) << k.scenario << " on " << k.engine << " listed twice";
+    // "params": each names a parameter of the scenario with a valid value, and the run they make is
+    // one the configuration can run (a four-wheel car only where one is built).
+    std::string with;
+    for (const auto& [key, value] : k.params) with += fmt::format(" {}={}", key, value);
+    nlohmann::json resolved;
+    EXPECT_NO_THROW(resolved = Params::resolve(s->params, k.params, s->name).to_json()) << k.scenario << " on " << k.engine << with;
+    if (s->vehicle == "car" && resolved.is_object())
+      EXPECT_TRUE(resolved.value("wheels", "3") != "4" || e->four_wheels) << k.engine << " has no four-wheel car";
+    EXPECT_TRUE(seen.insert({k.scenario, k.engine + with}).second) << k.scenario << " on " << k.engine << with << " listed twice";
     for (const auto& [metric, ceiling] : k.metrics) {
       EXPECT_NE(s->metric(metric), nullptr) << k.scenario << " has no metric " << metric;
       EXPECT_GT(ceiling, 0.0);

@@ -54,7 +54,9 @@ EngineInfo analytic_engine() {
           .make_disks = [](const Settings&) { return std::make_unique<AnalyticDisks>(); },
           .contact_dynamics = false,
           .settings = {{"car integrator", "Boost.Odeint runge_kutta_dopri5, dense output, abs and rel tolerance 1e-13"},
-                       {"disk integrator", "Boost.Odeint runge_kutta_dopri5 at 1e-12; first contact by TOMS 748 on the dense output"}}};
+                       {"disk integrator", "Boost.Odeint runge_kutta_dopri5 at 1e-12; first contact by TOMS 748 on the dense output"},
+                       {"wheels", "3 or 4: the lift of the commanded (alpha, beta) is the reference for both (a four-wheel car's alpha is its front-axle centre's rolling angle, beta its virtual steering angle); gravity and its tilt do not enter the kinematics"}},
+          .four_wheels = true};
 }
 
 }  // namespace liftcheck

@@ -16,6 +16,7 @@
 #include <memory>
 
 #include "engines/rigid_car.hpp"
+#include "models/ackermann.hpp"
 
 namespace liftcheck {
 
@@ -70,13 +71,13 @@ class BulletCar final : public RigidCar {
     teardown();
     rear_hinge_[0].reset();
     rear_hinge_[1].reset();
-    hinge2_.reset();
+    for (auto& h : hinge2_) h.reset();
     bodies_.clear();
     shapes_.clear();
     world_.reset();
     core_ = std::make_unique<BulletCore>();
     world_ = core_->make_world<WheelFrictionWorld>();
-    world_->setGravity(btVector3(0, 0, -setup.gravity_mps2));
+    world_->setGravity(btVector3(setup.gravity_W().x(), setup.gravity_W().y(), setup.gravity_W().z()));
     world_->align = setting("friction_dirs") == "wheel";
     btContactSolverInfo& info = world_->getSolverInfo();
     info.m_numIterations = std::stoi(setting("iterations"));
@@ -107,28 +108,40 @@ class BulletCar final : public RigidCar {
     else
       wheel_shape = add_shape(std::make_unique<btSphereShape>(d.R_m));
     // Wheel local frames: y along the axle (left), so cylinder and sphere wheels share the joints.
-    const double steer_yaw = q0.phi_rad + q0.beta_rad;
-    front_ = add_body(d.wheel_mass_kg, wheel_shape,
-                      btTransform(btQuaternion(btVector3(0, 0, 1), steer_yaw), to_world(0, 0, d.R_m)), kGroupWheel, kGroupGround);
+    // Front wheels: the tricycle's one at the front-axle centre, or a four-wheel car's two at
+    // (0, +-track/2), each at its Ackermann angle for beta0 (or at beta0, steered in parallel).
+    n_front_ = d.wheels == 4 ? 2 : 1;
+    front_[1] = nullptr;
+    for (int k = 0; k < n_front_; ++k) {
+      beta0_[k] = q0.beta_rad;
+      if (n_front_ == 2 && !d.parallel_steering)
+        beta0_[k] = car::ackermann_wheel_angle(q0.beta_rad, d.l_m, d.track_m, k == 0 ? car::Side::kLeft : car::Side::kRight);
+      const double y_k = n_front_ == 1 ? 0.0 : (k == 0 ? 0.5 : -0.5) * d.track_m;
+      front_[k] = add_body(d.wheel_mass_kg, wheel_shape,
+                           btTransform(btQuaternion(btVector3(0, 0, 1), q0.phi_rad + beta0_[k]), to_world(0, y_k, d.R_m)), kGroupWheel, kGroupGround);
+    }
     rear_[0] = add_body(d.wheel_mass_kg, wheel_shape, btTransform(yaw_chassis, to_world(-d.l_m, 0.5 * d.track_m, d.R_m)), kGroupWheel, kGroupGround);
     rear_[1] = add_body(d.wheel_mass_kg, wheel_shape, btTransform(yaw_chassis, to_world(-d.l_m, -0.5 * d.track_m, d.R_m)), kGroupWheel, kGroupGround);
-    for (btRigidBody* w : {front_, rear_[0], rear_[1]}) {
+    for (btRigidBody* w : {front_[0], front_[1], rear_[0], rear_[1]}) {
+      if (!w) continue;
       w->setFriction(1.0);
       w->setUserIndex(kWheelTag);
     }
 
-    // Front: hinge-2 at the front-axle centre; axis 1 up (steering), axis 2 the axle.
-    btVector3 anchor = to_world(0, 0, d.R_m), up(0, 0, 1), axle(-std::sin(steer_yaw), std::cos(steer_yaw), 0);
-    hinge2_ = std::make_unique<btHinge2Constraint>(*chassis_, *front_, anchor, up, axle);
-    hinge2_->setLinearLowerLimit(btVector3(0, 0, 0));  // suspension locked
-    hinge2_->setLinearUpperLimit(btVector3(0, 0, 0));
-    hinge2_->enableSpring(2, false);
-    hinge2_->setAngularLowerLimit(btVector3(1, 0, 1));  // lower > upper: spin (x) and steering (z) free
-    hinge2_->setAngularUpperLimit(btVector3(-1, 0, -1));
-    hinge2_->enableMotor(3, true);  // angular x: spin
-    hinge2_->enableMotor(5, true);  // angular z: steering
-    world_->addConstraint(hinge2_.get(), true);
-    beta0_ = q0.beta_rad;
+    // Front: a hinge-2 at each front wheel centre; axis 1 up (steering), axis 2 the axle.
+    for (int k = 0; k < n_front_; ++k) {
+      const double steer_yaw = q0.phi_rad + beta0_[k];
+      btVector3 anchor = front_[k]->getWorldTransform().getOrigin(), up(0, 0, 1), axle(-std::sin(steer_yaw), std::cos(steer_yaw), 0);
+      hinge2_[k] = std::make_unique<btHinge2Constraint>(*chassis_, *front_[k], anchor, up, axle);
+      hinge2_[k]->setLinearLowerLimit(btVector3(0, 0, 0));  // suspension locked
+      hinge2_[k]->setLinearUpperLimit(btVector3(0, 0, 0));
+      hinge2_[k]->enableSpring(2, false);
+      hinge2_[k]->setAngularLowerLimit(btVector3(1, 0, 1));  // lower > upper: spin (x) and steering (z) free
+      hinge2_[k]->setAngularUpperLimit(btVector3(-1, 0, -1));
+      hinge2_[k]->enableMotor(3, true);  // angular x: spin
+      hinge2_[k]->enableMotor(5, true);  // angular z: steering
+      world_->addConstraint(hinge2_[k].get(), true);
+    }
 
     for (int i = 0; i < 2; ++i) {
       const btVector3 pivot_in_chassis(-0.5 * d.l_m, (i == 0 ? 0.5 : -0.5) * d.track_m, 0);
@@ -138,31 +151,39 @@ class BulletCar final : public RigidCar {
     }
   }
 
-  void actuate(double spin_radps, double steer_radps, const ServoDef& servo) override {
-    hinge2_->setTargetVelocity(3, -spin_radps);
-    hinge2_->setMaxMotorForce(3, servo.spin_torque_max_Nm);
-    hinge2_->setTargetVelocity(5, -steer_radps);
-    hinge2_->setMaxMotorForce(5, servo.steer_torque_max_Nm);
+  void actuate(const FrontRates& rates, const ServoDef& servo) override {
+    for (int k = 0; k < n_front_; ++k) {
+      hinge2_[k]->setTargetVelocity(3, -rates.spin_radps[k]);
+      hinge2_[k]->setMaxMotorForce(3, servo.spin_torque_max_Nm);
+      hinge2_[k]->setTargetVelocity(5, -rates.steer_radps[k]);
+      hinge2_[k]->setMaxMotorForce(5, servo.steer_torque_max_Nm);
+    }
   }
+
+  bool four_wheels() const override { return true; }
 
   void step(double dt_s) override {
     world_->stepSimulation(dt_s, 1, dt_s);
   }
 
   RigidCarState read() const override {
-    hinge2_->calculateTransforms();
-    const btVector3 p = front_->getWorldTransform().getOrigin();
     const btMatrix3x3& Rc = chassis_->getWorldTransform().getBasis();
     RigidCarState s{};
-    s.spin_joint_rad = -hinge2_->getAngle2();
-    s.steer_rad = beta0_ - hinge2_->getAngle1();
-    s.x_m = p.x();
-    s.y_m = p.y();
-    s.z_m = p.z();
+    s.x_m = s.y_m = 0.0;
+    s.z_m = INFINITY;
+    for (int k = 0; k < n_front_; ++k) {
+      hinge2_[k]->calculateTransforms();
+      const btVector3 p = front_[k]->getWorldTransform().getOrigin();
+      s.spin_joint_rad[k] = -hinge2_[k]->getAngle2();
+      s.steer_rad[k] = beta0_[k] - hinge2_[k]->getAngle1();
+      s.x_m += p.x() / n_front_;  // the front-axle centre: the midpoint of the front wheel centres
+      s.y_m += p.y() / n_front_;
+      s.z_m = std::min<double>(s.z_m, p.z());
+    }
     s.phi_rad = std::atan2(Rc[1][0], Rc[0][0]);
     s.rear_z_m = std::min(rear_[0]->getWorldTransform().getOrigin().z(), rear_[1]->getWorldTransform().getOrigin().z());
-    const btRigidBody* bodies[3] = {front_, rear_[0], rear_[1]};
-    for (int w = 0; w < 3; ++w) {
+    const btRigidBody* bodies[4] = {front_[0], n_front_ == 2 ? front_[1] : rear_[0], n_front_ == 2 ? rear_[0] : rear_[1], rear_[1]};
+    for (int w = 0; w < n_front_ + 2; ++w) {
       const btVector3 v = bodies[w]->getLinearVelocity(), o = bodies[w]->getAngularVelocity();
       const btVector3 axle = bodies[w]->getWorldTransform().getBasis().getColumn(1);  // every wheel's local y
       s.wheels[w] = {{v.x(), v.y(), v.z()}, {o.x(), o.y(), o.z()}, {axle.x(), axle.y(), axle.z()},
@@ -199,7 +220,8 @@ class BulletCar final : public RigidCar {
     if (!world_) return;
     for (auto& h : rear_hinge_)
       if (h) world_->removeConstraint(h.get());
-    if (hinge2_) world_->removeConstraint(hinge2_.get());
+    for (auto& h : hinge2_)
+      if (h) world_->removeConstraint(h.get());
     for (auto& b : bodies_) world_->removeRigidBody(b.get());
     world_.reset();
   }
@@ -208,10 +230,11 @@ class BulletCar final : public RigidCar {
   std::unique_ptr<WheelFrictionWorld> world_;
   std::vector<std::unique_ptr<btCollisionShape>> shapes_;
   std::vector<std::unique_ptr<btRigidBody>> bodies_;
-  std::unique_ptr<btHinge2Constraint> hinge2_;
+  std::unique_ptr<btHinge2Constraint> hinge2_[2];  ///< one per front wheel
   std::unique_ptr<btHingeConstraint> rear_hinge_[2];
-  btRigidBody *ground_ = nullptr, *chassis_ = nullptr, *front_ = nullptr, *rear_[2] = {nullptr, nullptr};
-  double beta0_ = 0.0;
+  btRigidBody *ground_ = nullptr, *chassis_ = nullptr, *front_[2] = {nullptr, nullptr}, *rear_[2] = {nullptr, nullptr};
+  int n_front_ = 1;                 ///< front wheels: 1 (tricycle) or 2 (left, right)
+  double beta0_[2] = {0.0, 0.0};    ///< each front wheel's start steering angle
 };
 
 /// The benchmarks' raw loop (engines/raw_car.hpp): BulletCar's world, bodies and hinges, the motors
@@ -222,15 +245,15 @@ class RawBulletCar final : public RawCar {
 
   void run(long steps, double spin_radps) override {
     const ServoDef servo;
-    car_.hinge2_->setTargetVelocity(3, -spin_radps);  // negated as in BulletCar::actuate
-    car_.hinge2_->setMaxMotorForce(3, servo.spin_torque_max_Nm);
-    car_.hinge2_->setTargetVelocity(5, 0.0);
-    car_.hinge2_->setMaxMotorForce(5, servo.steer_torque_max_Nm);
+    car_.hinge2_[0]->setTargetVelocity(3, -spin_radps);  // negated as in BulletCar::actuate
+    car_.hinge2_[0]->setMaxMotorForce(3, servo.spin_torque_max_Nm);
+    car_.hinge2_[0]->setTargetVelocity(5, 0.0);
+    car_.hinge2_[0]->setMaxMotorForce(5, servo.steer_torque_max_Nm);
     for (long k = 0; k < steps; ++k) car_.world_->stepSimulation(dt_s_, 1, dt_s_);
   }
 
   Eigen::Vector2d front_xy_m() const override {
-    const btVector3 p = car_.front_->getWorldTransform().getOrigin();
+    const btVector3 p = car_.front_[0]->getWorldTransform().getOrigin();
     return {p.x(), p.y()};
   }
 
@@ -262,7 +285,8 @@ EngineInfo bullet_engine() {
            {"friction directions", "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
            {"disks", "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), sequential-impulse response"}},
-          .knobs = {SettingSpec{"iterations", "car", "100", "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", SettingSpec::kInteger, 1, 10000, {}}, SettingSpec{"wheel", "car", "sphere", "wheel collision shape", SettingSpec::kChoice, 0, 0, {"sphere", "cylinder"}}, SettingSpec{"friction_dirs", "car", "wheel", "first friction direction: along the wheel's rolling direction, or the engine's default axes", SettingSpec::kChoice, 0, 0, {"wheel", "world"}}}};
+          .knobs = {SettingSpec{"iterations", "car", "100", "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", SettingSpec::kInteger, 1, 10000, {}}, SettingSpec{"wheel", "car", "sphere", "wheel collision shape", SettingSpec::kChoice, 0, 0, {"sphere", "cylinder"}}, SettingSpec{"friction_dirs", "car", "wheel", "first friction direction: along the wheel's rolling direction, or the engine's default axes", SettingSpec::kChoice, 0, 0, {"wheel", "world"}}},
+          .four_wheels = true};
 }
 
 }  // namespace liftcheck

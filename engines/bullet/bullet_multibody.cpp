@@ -41,8 +41,8 @@ namespace {
 /// world before the parts it was built on.
 class MultiBodyScene {
  public:
-  explicit MultiBodyScene(double gravity_mps2, int iterations) {
-    world_->setGravity(btVector3(0, 0, -gravity_mps2));
+  explicit MultiBodyScene(const Eigen::Vector3d& gravity_W_mps2, int iterations) {
+    world_->setGravity(btVector3(gravity_W_mps2.x(), gravity_W_mps2.y(), gravity_W_mps2.z()));
     world_->getSolverInfo().m_numIterations = iterations;
   }
   MultiBodyScene(const MultiBodyScene&) = delete;
@@ -148,7 +148,7 @@ class MultiBodyCar final : public RigidCar {
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
     scene_.reset();
-    scene_ = std::make_unique<MultiBodyScene>(setup.gravity_mps2, std::stoi(setting("iterations")));
+    scene_ = std::make_unique<MultiBodyScene>(setup.gravity_W(), std::stoi(setting("iterations")));
     dt_s_ = setup.dt_s;
 
     // Ground plane z = 0; Bullet multiplies both bodies' friction coefficients: mu x 1.
@@ -194,7 +194,8 @@ class MultiBodyCar final : public RigidCar {
     spin_motor_ = scene_->motor(mb_, kFront, 0.0);
   }
 
-  void actuate(double spin_radps, double steer_radps, const ServoDef& servo) override {
+  void actuate(const FrontRates& rates, const ServoDef& servo) override {
+    const double spin_radps = rates.spin_radps[0], steer_radps = rates.steer_radps[0];
     // A btMultiBodyJointMotor limits the impulse per step, not the torque.
     spin_motor_->setVelocityTarget(spin_radps);
     spin_motor_->setMaxAppliedImpulse(servo.spin_torque_max_Nm * dt_s_);
@@ -214,8 +215,8 @@ class MultiBodyCar final : public RigidCar {
     const btVector3 front = mb_->localPosToWorld(kFront, btVector3(0, 0, 0));
     const btMatrix3x3 base_rot(mb_->getWorldToBaseRot().inverse());
     RigidCarState st{};
-    st.spin_joint_rad = e2::wrap_angle(mb_->getJointPos(kFront));
-    st.steer_rad = mb_->getJointPos(kKnuckle);
+    st.spin_joint_rad[0] = e2::wrap_angle(mb_->getJointPos(kFront));
+    st.steer_rad[0] = mb_->getJointPos(kKnuckle);
     st.x_m = front.x();
     st.y_m = front.y();
     st.z_m = front.z();
@@ -247,7 +248,7 @@ class MultiBodyDisks final : public DrivenDisks {
  protected:
   void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
     scene_.reset();
-    scene_ = std::make_unique<MultiBodyScene>(0.0, iterations_);
+    scene_ = std::make_unique<MultiBodyScene>(Eigen::Vector3d::Zero(), iterations_);
     auto* sphere = scene_->shape<btSphereShape>(setup.radius_m);
     btVector3 inertia(0, 0, 0);
     sphere->calculateLocalInertia(1.0, inertia);

@@ -98,8 +98,8 @@ class BulletRaycastCar final : public RigidCar {
     world_.reset();
     core_ = std::make_unique<BulletCore>();
     world_ = core_->make_world<btDiscreteDynamicsWorld>();
-    const double g = setup.gravity_mps2;
-    world_->setGravity(btVector3(0, 0, -g));
+    world_->setGravity(btVector3(setup.gravity_W().x(), setup.gravity_W().y(), setup.gravity_W().z()));
+    const double g = -setup.gravity_W().z();  // the component along the ground's normal loads the suspension
     heading_angle_ = setting("wheel_angle") == "heading";
     const double k = std::stod(setting("suspension_stiffness"));
     R_ = d.R_m;
@@ -174,7 +174,8 @@ class BulletRaycastCar final : public RigidCar {
     steps_ = 0;
   }
 
-  void actuate(double spin_radps, double steer_radps, const ServoDef& servo) override {
+  void actuate(const FrontRates& rates, const ServoDef& servo) override {
+    const double spin_radps = rates.spin_radps[0], steer_radps = rates.steer_radps[0];
     spin_cmd_ = spin_radps;
     steer_rate_ = steer_radps;
     servo_now_ = servo;
@@ -225,8 +226,8 @@ class BulletRaycastCar final : public RigidCar {
     const btMatrix3x3& Rc = chassis_->getWorldTransform().getBasis();
     const btVector3 omega = chassis_->getAngularVelocity();
     RigidCarState s{};
-    s.spin_joint_rad = std::remainder(rotation_[kFront], 2 * M_PI);
-    s.steer_rad = vehicle_->getSteeringValue(kFront);
+    s.spin_joint_rad[0] = std::remainder(rotation_[kFront], 2 * M_PI);
+    s.steer_rad[0] = vehicle_->getSteeringValue(kFront);
     const btVector3 p = vehicle_->getWheelTransformWS(kFront).getOrigin();
     s.x_m = p.x();
     s.y_m = p.y();

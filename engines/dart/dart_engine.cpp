@@ -79,9 +79,9 @@ constexpr double kGroundSize_m = 200.0, kGroundThickness_m = 1.0;
 constexpr double kDiskMass_kg = 1.0;
 constexpr double kDiskServoForceMax_N = 1e5;  // enough to reach any commanded velocity within one step
 
-std::shared_ptr<dart::simulation::World> make_world(Detector det, double gravity_mps2, double dt_s) {
+std::shared_ptr<dart::simulation::World> make_world(Detector det, const Eigen::Vector3d& gravity_W_mps2, double dt_s) {
   auto world = dart::simulation::World::create("liftcheck");
-  world->setGravity(Eigen::Vector3d(0.0, 0.0, -gravity_mps2));
+  world->setGravity(gravity_W_mps2);
   world->setTimeStep(dt_s);
   if (det == Detector::kDart) world->getConstraintSolver()->setCollisionDetector(dart::collision::DARTCollisionDetector::create());
   return world;
@@ -112,7 +112,7 @@ class DartCar final : public RigidCar {
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    world_ = make_world(det_, setup.gravity_mps2, setup.dt_s);
+    world_ = make_world(det_, setup.gravity_W(), setup.dt_s);
 
     // Ground: a static skeleton with a box whose top face is z = 0.
     SkeletonPtr ground = Skeleton::create("ground");
@@ -185,7 +185,8 @@ class DartCar final : public RigidCar {
     world_->addSkeleton(car_);
   }
 
-  void actuate(double spin_radps, double steer_radps, const ServoDef& servo) override {
+  void actuate(const FrontRates& rates, const ServoDef& servo) override {
+    const double spin_radps = rates.spin_radps[0], steer_radps = rates.steer_radps[0];
     spin_->setForceLowerLimit(0, -servo.spin_torque_max_Nm);
     spin_->setForceUpperLimit(0, servo.spin_torque_max_Nm);
     steer_->setForceLowerLimit(0, -servo.steer_torque_max_Nm);
@@ -200,8 +201,8 @@ class DartCar final : public RigidCar {
     const Eigen::Isometry3d Tc = chassis_->getWorldTransform();
     const Eigen::Vector3d front = wheels_[0]->getWorldTransform().translation();
     RigidCarState st{};
-    st.spin_joint_rad = e2::wrap_angle(spin_->getPosition(0));
-    st.steer_rad = steer_->getPosition(0);
+    st.spin_joint_rad[0] = e2::wrap_angle(spin_->getPosition(0));
+    st.steer_rad[0] = steer_->getPosition(0);
     st.x_m = front.x();
     st.y_m = front.y();
     st.z_m = front.z();
@@ -234,7 +235,7 @@ class DartDisks final : public DrivenDisks {
 
  protected:
   void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
-    world_ = make_world(det_, 0.0, setup.dt_s);
+    world_ = make_world(det_, Eigen::Vector3d::Zero(), setup.dt_s);
     const auto disk = [&](const char* name, const disks::Vec2& c, Joint::ActuatorType type, ShapeNode** shape) {
       SkeletonPtr sk = Skeleton::create(name);
       auto [j, b] = sk->createJointAndBodyNodePair<dart::dynamics::TranslationalJoint>(nullptr, {}, named(name));

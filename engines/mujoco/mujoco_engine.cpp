@@ -70,8 +70,8 @@ constexpr int kDefaultNoslip = 10;
 constexpr double kDefaultImpratio = 10.0;
 
 /// The <option> element and the geom defaults of a variant at time step dt.
-std::string option_xml(const Variant& v, double dt, double gravity) {
-  std::string opt = fmt::format(R"(<option timestep="{:.17g}" gravity="0 0 {:.17g}")", dt, -gravity);
+std::string option_xml(const Variant& v, double dt, const Eigen::Vector3d& gravity_W_mps2) {
+  std::string opt = fmt::format(R"(<option timestep="{:.17g}" gravity="{:.17g} {:.17g} {:.17g}")", dt, gravity_W_mps2.x(), gravity_W_mps2.y(), gravity_W_mps2.z());
   if (v.noslip_iterations > 0) opt += fmt::format(R"( noslip_iterations="{}")", v.noslip_iterations);
   if (v.stiff) opt += fmt::format(R"( cone="elliptic" impratio="{:.17g}")", v.impratio);
   opt += "/>\n";
@@ -200,7 +200,7 @@ class MujocoCar final : public RigidCar {
 </actuator>
 </mujoco>
 )",
-        fmt::arg("option", option_xml(v, setup.dt_s, setup.gravity_mps2)), fmt::arg("mu", num(setup.mu)),
+        fmt::arg("option", option_xml(v, setup.dt_s, setup.gravity_W())), fmt::arg("mu", num(setup.mu)),
         fmt::arg("x", num(q0.x_m)), fmt::arg("y", num(q0.y_m)), fmt::arg("R", num(d.R_m)),
         fmt::arg("qw", num(std::cos(0.5 * q0.phi_rad))), fmt::arg("qz", num(std::sin(0.5 * q0.phi_rad))),
         fmt::arg("half_l_neg", num(-0.5 * d.l_m)), fmt::arg("half_l", num(0.5 * d.l_m)),
@@ -225,7 +225,8 @@ class MujocoCar final : public RigidCar {
     sim_->start();
   }
 
-  void actuate(double spin_radps, double steer_radps, const ServoDef&) override {
+  void actuate(const FrontRates& rates, const ServoDef&) override {
+    const double spin_radps = rates.spin_radps[0], steer_radps = rates.steer_radps[0];
     sim_->d()->ctrl[spin_act_] = spin_radps;
     sim_->d()->ctrl[steer_act_] = steer_radps;
   }
@@ -241,8 +242,8 @@ class MujocoCar final : public RigidCar {
     const mjtNum* front = d->xpos + 3 * wheel_[0];
     const mjtNum* rot = d->xmat + 9 * chassis_;  // row-major: world = rot * body
     RigidCarState st{};
-    st.spin_joint_rad = e2::wrap_angle(d->qpos[spin_qpos_]);
-    st.steer_rad = beta0_ + d->qpos[steer_qpos_];
+    st.spin_joint_rad[0] = e2::wrap_angle(d->qpos[spin_qpos_]);
+    st.steer_rad[0] = beta0_ + d->qpos[steer_qpos_];
     st.x_m = front[0];
     st.y_m = front[1];
     st.z_m = front[2];
@@ -293,7 +294,7 @@ class MujocoDisks final : public DrivenDisks {
 </actuator>
 </mujoco>
 )",
-        fmt::arg("option", option_xml(v_, setup.dt_s, 0.0)), fmt::arg("mx", num(cM0.x())), fmt::arg("my", num(cM0.y())),
+        fmt::arg("option", option_xml(v_, setup.dt_s, Eigen::Vector3d::Zero())), fmt::arg("mx", num(cM0.x())), fmt::arg("my", num(cM0.y())),
         fmt::arg("nx", num(cN0.x())), fmt::arg("ny", num(cN0.y())), fmt::arg("r", num(setup.radius_m)),
         fmt::arg("mass", num(kDiskMass_kg)), fmt::arg("kv", num(kv)));
     sim_.reset();

@@ -58,13 +58,13 @@ std::mutex& quick_step_rand_mutex() {
 }
 }  // namespace
 
-OdeWorld::OdeWorld(const OdeStepper& stepper, double gravity_z_mps2) : stepper_(stepper) {
+OdeWorld::OdeWorld(const OdeStepper& stepper, const Eigen::Vector3d& gravity_W_mps2) : stepper_(stepper) {
   init_ode();
   threading_ = dThreadingAllocateSelfThreadedImplementation();
   if (!threading_) throw EngineError("ODE could not allocate a threading implementation");
   world_ = dWorldCreate();
   dWorldSetStepThreadingImplementation(world_, dThreadingImplementationGetFunctions(threading_), threading_);
-  dWorldSetGravity(world_, 0, 0, gravity_z_mps2);
+  dWorldSetGravity(world_, gravity_W_mps2.x(), gravity_W_mps2.y(), gravity_W_mps2.z());
   stepper_.configure(world_);
 }
 
@@ -123,7 +123,8 @@ EngineInfo ode_quick_engine() {
            {"servo", kServo},
            {"disks", kDisks},
            {"threads", "each world has its own ODE threading implementation; dWorldQuickStep draws its random constraint order (dRandInt) from ODE's one process-wide generator, so concurrent runs take turns at it (a process-wide lock around each quick step), each world continuing its own sequence from seed 0: the numbers do not depend on what else runs"}},
-          .knobs = knobs};
+          .knobs = knobs,
+          .four_wheels = true};
 }
 
 EngineInfo ode_engine() {
@@ -144,7 +145,8 @@ EngineInfo ode_engine() {
            {"iterations", "none: dWorldStep is a direct solver (a setting 'iterations' is rejected)"},
            {"disks", kDisks},
            {"threads", "each world has its own ODE threading implementation (ODE's default one is shared by every world and not synchronised); every thread that steps a world calls dAllocateODEDataForThread first: runs step in parallel"}},
-          .knobs = {wheel_knob(), friction_dirs_knob("wheel")}};
+          .knobs = {wheel_knob(), friction_dirs_knob("wheel")},
+          .four_wheels = true};
 }
 
 }  // namespace liftcheck

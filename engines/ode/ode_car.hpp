@@ -37,7 +37,7 @@ struct OdeStepper {
 ///   A world starts from seed 0, so its numbers are those of a fresh process whatever else runs.
 class OdeWorld {
  public:
-  OdeWorld(const OdeStepper& stepper, double gravity_z_mps2);
+  OdeWorld(const OdeStepper& stepper, const Eigen::Vector3d& gravity_W_mps2);
   ~OdeWorld();
   OdeWorld(const OdeWorld&) = delete;
   OdeWorld& operator=(const OdeWorld&) = delete;

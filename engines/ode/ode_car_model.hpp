@@ -10,6 +10,7 @@
 
 #include "engines/ode/ode_car.hpp"
 #include "engines/rigid_car.hpp"
+#include "models/ackermann.hpp"
 
 namespace liftcheck {
 
@@ -23,7 +24,7 @@ class OdeCar : public RigidCar {
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
     destroy();
-    sim_ = std::make_unique<OdeWorld>(stepper_, -setup.gravity_mps2);
+    sim_ = std::make_unique<OdeWorld>(stepper_, setup.gravity_W());
     world_ = sim_->id();
     space_ = dSimpleSpaceCreate(nullptr);
     contacts_ = dJointGroupCreate(0);
@@ -70,22 +71,32 @@ class OdeCar : public RigidCar {
       dGeomSetBody(g, b);
       return b;
     };
-    const double steer_yaw = q0.phi_rad + q0.beta_rad;
-    front_ = make_wheel(to_world(0.0, 0.0, d.R_m), steer_yaw);
+    // Front wheels: the tricycle's one at the front-axle centre, or a four-wheel car's two at
+    // (0, +-track/2), each at its Ackermann angle for beta0 (or at beta0 itself, steered in parallel).
+    n_front_ = d.wheels == 4 ? 2 : 1;
+    front_[1] = nullptr;
+    steer_joint_[1] = nullptr;
+    for (int k = 0; k < n_front_; ++k) {
+      const double y_k = n_front_ == 1 ? 0.0 : (k == 0 ? 0.5 : -0.5) * d.track_m;
+      beta0_[k] = q0.beta_rad;
+      if (n_front_ == 2 && !d.parallel_steering)
+        beta0_[k] = car::ackermann_wheel_angle(q0.beta_rad, d.l_m, d.track_m, k == 0 ? car::Side::kLeft : car::Side::kRight);
+      const double steer_yaw = q0.phi_rad + beta0_[k];
+      const auto p = to_world(0.0, y_k, d.R_m);
+      front_[k] = make_wheel(p, steer_yaw);
+      // Hinge-2: axis 1 vertical (steering), axis 2 the axle (left of the wheel).
+      steer_joint_[k] = dJointCreateHinge2(world_, nullptr);
+      dJointAttach(steer_joint_[k], chassis_, front_[k]);
+      dJointSetHinge2Anchor(steer_joint_[k], p[0], p[1], p[2]);
+      const dReal z_axis[3] = {0, 0, 1};
+      const dReal axle[3] = {-std::sin(steer_yaw), std::cos(steer_yaw), 0};
+      dJointSetHinge2Axes(steer_joint_[k], z_axis, axle);
+      dJointSetHinge2Param(steer_joint_[k], dParamSuspensionERP, 0.2);
+      dJointSetHinge2Param(steer_joint_[k], dParamSuspensionCFM, 1e-10);  // rigid: no suspension
+    }
     rear_[0] = make_wheel(to_world(-d.l_m, 0.5 * d.track_m, d.R_m), q0.phi_rad);
     rear_[1] = make_wheel(to_world(-d.l_m, -0.5 * d.track_m, d.R_m), q0.phi_rad);
 
-    // Front: hinge-2, axis 1 vertical (steering), axis 2 the axle (left of the wheel).
-    steer_joint_ = dJointCreateHinge2(world_, nullptr);
-    dJointAttach(steer_joint_, chassis_, front_);
-    const auto fa = to_world(0.0, 0.0, d.R_m);
-    dJointSetHinge2Anchor(steer_joint_, fa[0], fa[1], fa[2]);
-    const dReal z_axis[3] = {0, 0, 1};
-    const dReal axle[3] = {-std::sin(steer_yaw), std::cos(steer_yaw), 0};
-    dJointSetHinge2Axes(steer_joint_, z_axis, axle);
-    dJointSetHinge2Param(steer_joint_, dParamSuspensionERP, 0.2);
-    dJointSetHinge2Param(steer_joint_, dParamSuspensionCFM, 1e-10);  // rigid: no suspension
-    beta0_ = q0.beta_rad;
 
     // Rear: plain hinges about the rear axle.
     for (int i = 0; i < 2; ++i) {
@@ -99,12 +110,16 @@ class OdeCar : public RigidCar {
     wheel_dirs_ = setting("friction_dirs") == "wheel";
   }
 
-  void actuate(double spin_radps, double steer_radps, const ServoDef& servo) override {
-    // Body 1 relative to body 2: both rates are negated.
-    dJointSetHinge2Param(steer_joint_, dParamVel, -steer_radps);
-    dJointSetHinge2Param(steer_joint_, dParamFMax, servo.steer_torque_max_Nm);
-    dJointSetHinge2Param(steer_joint_, dParamVel2, -spin_radps);
-    dJointSetHinge2Param(steer_joint_, dParamFMax2, servo.spin_torque_max_Nm);
+  bool four_wheels() const override { return true; }
+
+  void actuate(const FrontRates& rates, const ServoDef& servo) override {
+    for (int k = 0; k < n_front_; ++k) {
+      // Body 1 relative to body 2: both rates are negated.
+      dJointSetHinge2Param(steer_joint_[k], dParamVel, -rates.steer_radps[k]);
+      dJointSetHinge2Param(steer_joint_[k], dParamFMax, servo.steer_torque_max_Nm);
+      dJointSetHinge2Param(steer_joint_[k], dParamVel2, -rates.spin_radps[k]);
+      dJointSetHinge2Param(steer_joint_[k], dParamFMax2, servo.spin_torque_max_Nm);
+    }
   }
 
   void step(double dt_s) override {
@@ -114,23 +129,27 @@ class OdeCar : public RigidCar {
   }
 
   RigidCarState read() const override {
-    const dReal* p = dBodyGetPosition(front_);
     const dReal* Rc = dBodyGetRotation(chassis_);  // row-major 3x4
     RigidCarState s{};
-    s.spin_joint_rad = dJointGetHinge2Angle2(steer_joint_);
-    s.steer_rad = beta0_ - dJointGetHinge2Angle1(steer_joint_);
-    s.x_m = p[0];
-    s.y_m = p[1];
-    s.z_m = p[2];
+    s.x_m = s.y_m = 0.0;
+    s.z_m = INFINITY;
+    for (int k = 0; k < n_front_; ++k) {
+      const dReal* p = dBodyGetPosition(front_[k]);
+      s.spin_joint_rad[k] = dJointGetHinge2Angle2(steer_joint_[k]);
+      s.steer_rad[k] = beta0_[k] - dJointGetHinge2Angle1(steer_joint_[k]);
+      s.x_m += p[0] / n_front_;  // the front-axle centre: the midpoint of the front wheel centres
+      s.y_m += p[1] / n_front_;
+      s.z_m = std::min<double>(s.z_m, p[2]);
+    }
     s.phi_rad = std::atan2(Rc[4], Rc[0]);  // chassis x axis in the world: (R00, R10)
     s.rear_z_m = std::min(dBodyGetPosition(rear_[0])[2], dBodyGetPosition(rear_[1])[2]);
-    const dBodyID bodies[3] = {front_, rear_[0], rear_[1]};
-    for (int w = 0; w < 3; ++w) {
+    const dBodyID bodies[4] = {front_[0], n_front_ == 2 ? front_[1] : rear_[0], n_front_ == 2 ? rear_[0] : rear_[1], rear_[1]};
+    for (int w = 0; w < n_front_ + 2; ++w) {
       const dReal* v = dBodyGetLinearVel(bodies[w]);
       const dReal* o = dBodyGetAngularVel(bodies[w]);
       dVector3 axle;
-      if (w == 0) dJointGetHinge2Axis2(steer_joint_, axle);
-      else dJointGetHingeAxis(rear_joint_[w - 1], axle);
+      if (w < n_front_) dJointGetHinge2Axis2(steer_joint_[w], axle);
+      else dJointGetHingeAxis(rear_joint_[w - n_front_], axle);
       s.wheels[w] = {{v[0], v[1], v[2]}, {o[0], o[1], o[2]}, {axle[0], axle[1], axle[2]}, dBodyGetPosition(bodies[w])[2]};
     }
     return s;
@@ -151,7 +170,8 @@ class OdeCar : public RigidCar {
     dBodyID body = dGeomGetBody(wheel);
     // Rolling direction: the axle (the hinge axis) turned a quarter about the up axis.
     dVector3 axle;
-    if (body == self->front_) dJointGetHinge2Axis2(self->steer_joint_, axle);
+    if (body == self->front_[0]) dJointGetHinge2Axis2(self->steer_joint_[0], axle);
+    else if (body == self->front_[1]) dJointGetHinge2Axis2(self->steer_joint_[1], axle);
     else dJointGetHingeAxis(self->rear_joint_[body == self->rear_[0] ? 0 : 1], axle);
     dContact contact[4];
     const int n = dCollide(o1, o2, 4, &contact[0].geom, sizeof(dContact));
@@ -189,9 +209,10 @@ class OdeCar : public RigidCar {
   dSpaceID space_ = nullptr;
   dJointGroupID contacts_ = nullptr;
   dGeomID ground_ = nullptr;
-  dBodyID chassis_ = nullptr, front_ = nullptr, rear_[2] = {nullptr, nullptr};
-  dJointID steer_joint_ = nullptr, rear_joint_[2] = {nullptr, nullptr};
-  double beta0_ = 0.0, mu_ = 1.0;
+  dBodyID chassis_ = nullptr, front_[2] = {nullptr, nullptr}, rear_[2] = {nullptr, nullptr};
+  dJointID steer_joint_[2] = {nullptr, nullptr}, rear_joint_[2] = {nullptr, nullptr};
+  int n_front_ = 1;  ///< front wheels: 1 (tricycle) or 2 (left, right)
+  double beta0_[2] = {0.0, 0.0}, mu_ = 1.0;  ///< each front wheel's start steering angle
   bool wheel_dirs_ = true;
   OdeStepper stepper_;
 };

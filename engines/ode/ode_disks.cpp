@@ -15,7 +15,7 @@ OdeDisks::~OdeDisks() { destroy(); }
 
 void OdeDisks::build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) {
   destroy();
-  sim_ = std::make_unique<OdeWorld>(stepper_, 0.0);
+  sim_ = std::make_unique<OdeWorld>(stepper_, Eigen::Vector3d::Zero());
   world_ = sim_->id();
   space_ = dSimpleSpaceCreate(nullptr);
   contacts_ = dJointGroupCreate(0);

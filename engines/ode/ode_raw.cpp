@@ -17,10 +17,10 @@ class OdeRawCar final : public RawCar {
   void run(long steps, double spin_radps) override {
     const ServoDef servo;
     // Body 1 (chassis) relative to body 2 (wheel): rates negated, as OdeCar::actuate does.
-    dJointSetHinge2Param(car_.steer_joint_, dParamVel, 0.0);
-    dJointSetHinge2Param(car_.steer_joint_, dParamFMax, servo.steer_torque_max_Nm);
-    dJointSetHinge2Param(car_.steer_joint_, dParamVel2, -spin_radps);
-    dJointSetHinge2Param(car_.steer_joint_, dParamFMax2, servo.spin_torque_max_Nm);
+    dJointSetHinge2Param(car_.steer_joint_[0], dParamVel, 0.0);
+    dJointSetHinge2Param(car_.steer_joint_[0], dParamFMax, servo.steer_torque_max_Nm);
+    dJointSetHinge2Param(car_.steer_joint_[0], dParamVel2, -spin_radps);
+    dJointSetHinge2Param(car_.steer_joint_[0], dParamFMax2, servo.spin_torque_max_Nm);
     const bool quick = car_.stepper_.quick;
     for (long k = 0; k < steps; ++k) {
       dSpaceCollide(car_.space_, &car_, &OdeCar::near_callback);
@@ -31,7 +31,7 @@ class OdeRawCar final : public RawCar {
   }
 
   Eigen::Vector2d front_xy_m() const override {
-    const dReal* p = dBodyGetPosition(car_.front_);
+    const dReal* p = dBodyGetPosition(car_.front_[0]);
     return {p[0], p[1]};
   }
 
