@@ -40,7 +40,8 @@ const std::vector<KnownFailure>& known_run_failures() {
       for (const auto& engine : e.at("engines")) {
         const std::string where = fmt::format("{} on {}", e.at("scenario").get<std::string>(), engine.get<std::string>());
         std::vector<std::pair<std::string, std::string>> params;
-        for (const auto& [key, value] : e.value("params", nlohmann::json::object()).items()) {
+        const nlohmann::json changed = e.value("params", nlohmann::json::object());
+        for (const auto& [key, value] : changed.items()) {
           if (!value.is_string())
             throw std::logic_error(fmt::format("harness/expectations.json: {}: \"params\" values are text, as given to --set ('{}')", where, key));
           params.emplace_back(key, value.get<std::string>());

@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "models/ackermann.hpp"
+
 namespace liftcheck::render {
 
 namespace {
@@ -71,11 +73,16 @@ void add_legend(Scene& s, const std::string& title, const std::string& engine, c
 
 struct CarGeom {
   double R, l, track, width;
+  bool four = false;      ///< two front wheels at +-track/2 (params wheels = 4)
+  bool parallel = false;  ///< four wheels steered in parallel (params steering = parallel)
 };
 
 CarGeom geom_of(const json& run) {
-  const double R = run["params"]["R"].get<double>(), l = run["params"]["l"].get<double>();
-  return {R, l, 0.8 * l, 0.3 * R};
+  const json& p = run["params"];
+  const double R = p["R"].get<double>(), l = p["l"].get<double>();
+  // Records from before the parameters existed: the tricycle with its track of 0.8 l.
+  const double track = p.contains("track") ? p["track"].get<double>() : 0.8 * l;
+  return {R, l, track, 0.3 * R, p.value("wheels", "3") == "4", p.value("steering", "ackermann") == "parallel"};
 }
 
 Vec2 front_of(const json& row) { return {row[3].get<double>(), row[4].get<double>()}; }
@@ -97,12 +104,23 @@ double rear_spin(const json& trace, std::size_t k, const CarGeom& g) {
 
 void add_car(Scene& s, const json& row, double rear_spin_rad, const CarGeom& g, float alpha = 1.0f) {
   const double a = row[1].get<double>(), beta = row[2].get<double>(), phi = row[5].get<double>();
-  const Vec2 front = front_of(row), rear = rear_of(row, g.l), side(-std::sin(phi), std::cos(phi));
+  const Vec2 front = front_of(row), rear = rear_of(row, g.l), side(-std::sin(phi), std::cos(phi)), side_dir = side;
   const Color tyre{0.18f, 0.18f, 0.2f, alpha}, spokes{0.1f, 0.1f, 0.1f, alpha}, frame_c{0.35f, 0.37f, 0.42f, alpha};
   s.boxes.push_back({0.5 * (front + rear), phi, g.l, 0.05 * g.l, g.R * 0.9, 0.05 * g.l, frame_c});            // tie rod
   s.boxes.push_back({rear, phi + kPi / 2, g.track, 0.04 * g.l, g.R * 0.95, 0.04 * g.l, frame_c});             // rear axle
-  s.boxes.push_back({front, phi + beta + kPi / 2, 1.6 * g.width, 0.04 * g.l, g.R * 0.95, 0.04 * g.l, frame_c});  // front axle stub
-  s.wheels.push_back({front, g.R, g.width, phi + beta, a, tyre, spokes});
+  if (g.four) {
+    // Two front wheels at +-track/2, each at its Ackermann angle for the virtual beta (or at beta,
+    // steered in parallel), on a front axle across the car.
+    s.boxes.push_back({front, phi + kPi / 2, g.track, 0.04 * g.l, g.R * 0.95, 0.04 * g.l, frame_c});  // front axle
+    for (const car::Side side : {car::Side::kLeft, car::Side::kRight}) {
+      const double k = side == car::Side::kLeft ? 0.5 : -0.5;
+      const double b = g.parallel ? beta : car::ackermann_wheel_angle(beta, g.l, g.track, side);
+      s.wheels.push_back({front + k * g.track * side_dir, g.R, g.width, phi + b, a, tyre, spokes});
+    }
+  } else {
+    s.boxes.push_back({front, phi + beta + kPi / 2, 1.6 * g.width, 0.04 * g.l, g.R * 0.95, 0.04 * g.l, frame_c});  // front axle stub
+    s.wheels.push_back({front, g.R, g.width, phi + beta, a, tyre, spokes});
+  }
   for (double k : {-0.5, 0.5}) s.wheels.push_back({rear + k * g.track * side, g.R, g.width, phi, rear_spin_rad, tyre, spokes});
   // Steering angle: an arc at the front axle from the tie rod's heading to the wheel's.
   if (std::abs(beta) > 1e-3) {

@@ -3,6 +3,7 @@
 // Parametrised over the registry, so a new configuration is tested without touching this file.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <fmt/format.h>
 #include <iostream>
@@ -128,6 +129,62 @@ TEST_P(PerEngine, EveryDeclaredSettingChangesAResult) {
   }
 }
 
+// The four-wheel car (wheels=4: Ackermann front wheels, electronic differential) against the same
+// exact lift as the tricycle: on every configuration that builds one, car.circle, car.cycle and
+// car.iterated are as the expectations say, so a configuration whose tricycle passes passes with
+// four wheels unless the expectations list why (with "params": {"wheels": "4"}). A configuration
+// without a four-wheel car refuses wheels=4 as bad input rather than run a tricycle.
+class FourWheels : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {};
+
+TEST_P(FourWheels, AsExpectedAndNoWorseThanTheTricycleUnlessListed) {
+  const auto& [engine, scenario] = GetParam();
+  const EngineInfo* e = find_engine(engine);
+  const Scenario* s = find_scenario(scenario);
+  ASSERT_NE(e, nullptr);
+  ASSERT_NE(s, nullptr);
+  if (!e->make_car) GTEST_SKIP() << engine << " has no car";
+  if (!e->four_wheels) GTEST_SKIP() << engine << " has no four-wheel car (PerEngine.FourWheelsRefusedWhereNotBuilt)";
+  const Overrides four{{"wheels", "4"}};
+  const RunRecord r4 = run_scenario(*s, *e, four);
+  for (const auto& m : r4.metrics)
+    std::cout << "  " << m.name << ": expected " << m.expected << " measured " << m.measured << " err " << m.compared_error() << " tol " << m.tolerance << "\n";
+  EXPECT_EQ(r4.params["wheels"], "4");
+  EXPECT_TRUE(r4.as_expected()) << r4.verdict() << ": " << r4.message;
+  const RunRecord r3 = run_scenario(*s, *e);
+  EXPECT_TRUE(r3.status != Status::kPass || r4.status == Status::kPass || r4.known != nullptr)
+      << "the tricycle passes, the four-wheel car does not (" << r4.message << "), and the expectations do not say why";
+  // Four wheels report the slip of four contacts (the analytic lift has none).
+  const std::size_t slipping = r4.details.contains("wheel_slip") ? r4.details["wheel_slip"].size() : 0u;
+  EXPECT_EQ(slipping, e->contact_dynamics ? 4u : 0u);
+}
+
+// A configuration without a four-wheel car refuses wheels=4 as bad input, never running a tricycle.
+TEST_P(PerEngine, FourWheelsRefusedWhereNotBuilt) {
+  const EngineInfo* e = find_engine(GetParam());
+  ASSERT_NE(e, nullptr);
+  if (!e->make_car || e->four_wheels) GTEST_SKIP() << GetParam() << " builds four-wheel cars or none";
+  EXPECT_THROW(run_scenario(*find_scenario("car.circle"), *e, {{"wheels", "4"}}), InputError);
+}
+
+// Parallel steering is the four-wheel car's negative control: the front wheels scrub, and the
+// contact-slip residual measures it (tolerance 0.1 mm/s; both engines measure 17 to 19 mm/s).
+TEST_P(PerEngine, ParallelSteeringScrubs) {
+  const EngineInfo* e = find_engine(GetParam());
+  ASSERT_NE(e, nullptr);
+  if (!e->make_car || !e->four_wheels || !e->contact_dynamics) GTEST_SKIP() << GetParam() << " has no four-wheel car with contacts";
+  const RunRecord r = run_scenario(*find_scenario("car.circle"), *e, {{"wheels", "4"}, {"steering", "parallel"}});
+  ASSERT_EQ(r.status, Status::kFail) << r.message;
+  ASSERT_NE(r.known, nullptr) << "parallel steering on " << GetParam() << " is not listed in the expectations";
+  EXPECT_TRUE(r.as_expected()) << r.message;
+  const auto scrub = std::find_if(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return m.name == "slip_across_max"; });
+  ASSERT_NE(scrub, r.metrics.end());
+  EXPECT_FALSE(scrub->pass);
+  EXPECT_GT(scrub->measured, 1e-3) << "scrub below 1 mm/s";
+}
+
+INSTANTIATE_TEST_SUITE_P(Registry, FourWheels,
+                         ::testing::Combine(::testing::ValuesIn(engine_names()), ::testing::Values("car.circle", "car.cycle", "car.iterated")),
+                         [](const auto& info) { return test_name(std::get<0>(info.param) + "__" + std::get<1>(info.param)); });
 INSTANTIATE_TEST_SUITE_P(Registry, Conformance, ::testing::Combine(::testing::ValuesIn(engine_names()), ::testing::ValuesIn(scenario_names())),
                          [](const auto& info) { return test_name(std::get<0>(info.param) + "__" + std::get<1>(info.param)); });
 INSTANTIATE_TEST_SUITE_P(Registry, PerEngine, ::testing::ValuesIn(engine_names()),

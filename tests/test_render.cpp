@@ -6,6 +6,9 @@
 #include <fstream>
 
 #include "reports/gl_render.hpp"
+#include "reports/scene_build.hpp"
+
+#include <cmath>
 
 using namespace liftcheck::render;
 
@@ -86,4 +89,25 @@ TEST(Render, WritesAPng) {
   EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
   std::filesystem::remove(path);
   EXPECT_THROW(write_png("/nonexistent-dir/x.png", r.render(known_scene())), std::runtime_error);
+}
+
+// A four-wheel run draws four wheels: the front pair at +-track/2 at their Ackermann angles for
+// the recorded virtual beta (tan = l / (l cot beta -+ track/2)), the rear pair along the rod; the
+// tricycle draws three.
+TEST(Render, FourWheelRunDrawsFourWheels) {
+  const double beta = 0.3, l = 1.0, track = 0.8;
+  nlohmann::json run = {{"scenario", "car.circle"}, {"engine", "ode"}, {"vehicle", "car"},
+                        {"params", {{"R", 0.3}, {"l", l}, {"track", track}, {"wheels", "4"}, {"steering", "ackermann"}}},
+                        {"details", {{"trace", {{0.0, 0.0, beta, 0.0, 0.0, 0.0}, {1.0, 1.0, beta, 0.3, 0.05, 0.1}}}}}};
+  const auto four = snapshots_for(run, Color{0, 0, 1, 1});
+  ASSERT_FALSE(four.empty());
+  const auto& wheels = four.front().scene.wheels;
+  ASSERT_EQ(wheels.size(), 4u);
+  const double c = 1.0 / std::tan(beta);
+  EXPECT_NEAR(wheels[0].heading_rad, std::atan(l / (c - 0.5 * track / l)), 1e-12);  // left: inner
+  EXPECT_NEAR(wheels[1].heading_rad, std::atan(l / (c + 0.5 * track / l)), 1e-12);  // right: outer
+  EXPECT_NEAR((wheels[0].centre - wheels[1].centre).norm(), track, 1e-12);
+  EXPECT_NEAR(wheels[0].centre.y(), 0.5 * track, 1e-12);
+  run["params"]["wheels"] = "3";
+  EXPECT_EQ(snapshots_for(run, Color{0, 0, 1, 1}).front().scene.wheels.size(), 3u);
 }
