@@ -433,6 +433,81 @@ Outcome run_reparam(const Params& p, CarEngine& engine) {
   return o;
 }
 
+// ---- car.slope -----------------------------------------------------------------------------
+
+/// Gravity tilted by `slope` about the horizontal axis at angle `slope_dir` in the ground plane
+/// (the ground stays z = 0): Rodrigues' rotation of (0, 0, -1) about a = (cos d, sin d, 0),
+/// g_dir = (-sin d sin s, cos d sin s, -cos s). Its horizontal part points downhill.
+Eigen::Vector3d tilted_gravity_dir(double slope_rad, double slope_dir_rad) {
+  return {-std::sin(slope_dir_rad) * std::sin(slope_rad), std::cos(slope_dir_rad) * std::sin(slope_rad), -std::cos(slope_rad)};
+}
+
+/// The trace's sample nearest to time t.
+const car::TimedConfig& sample_at(const std::vector<car::TimedConfig>& trace, double t_s) {
+  auto it = std::lower_bound(trace.begin(), trace.end(), t_s - 1e-9, [](const car::TimedConfig& a, double t) { return a.t_s < t; });
+  if (it == trace.end()) return trace.back();
+  if (it != trace.begin() && std::abs(std::prev(it)->t_s - t_s) < std::abs(it->t_s - t_s)) return *std::prev(it);
+  return *it;
+}
+
+Outcome run_slope(const Params& p, CarEngine& engine) {
+  CarSetup setup = setup_from(p);
+  const Config q0 = start_from(p);
+  const double slope = p.num("slope"), slope_dir = p.num("slope_dir"), park = p.num("park"), laps = p.num("laps");
+  if (!(std::tan(slope) < setup.mu))
+    throw InputError(fmt::format("car.slope needs tan(slope) < mu for the car to hold: tan({:g}) = {:.3g} >= mu = {:g}", slope, std::tan(slope), setup.mu));
+  if (std::abs(q0.beta_rad) < 1e-3) throw InputError("car.slope needs |beta| >= 0.001 rad: beta = 0 drives a straight line");
+  setup.gravity_dir_W = tilted_gravity_dir(slope, slope_dir);
+  const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
+  // Phase 1: parked for `park` seconds, wheels held by their servos (alpha and beta fixed); phase
+  // 2: whole laps of the fixed-steering circle (appendix D, radius l/sin(beta0)). The no-slip
+  // connection (3.3) does not involve gravity: the exact lift stands still, then closes each lap.
+  const car::Circle fe = car::front_circle(setup.car, q0), re = car::rear_circle(setup.car, q0);
+  const double d_alpha = laps * 2.0 * std::numbers::pi * fe.radius_m / setup.car.R_m;
+  const car::BasePath path({{0.0, 0.0, park}, {d_alpha, 0.0}}, 0.0, q0.beta_rad, setup.drive);
+  const auto trace = drive_checked(engine, setup, q0, path);
+  Outcome traced;
+  add_trace_check(traced, engine, setup, path, q0, trace);
+
+  // Creep: the front-axle centre's mean speed over the last two thirds of the park (the first
+  // third lets the settle's transient die away), from the engine's own body state.
+  const car::TimedConfig &c0 = sample_at(trace, park / 3.0), &c1 = sample_at(trace, park);
+  const double creep_mps = c1.t_s > c0.t_s ? std::hypot(c1.q.x_m - c0.q.x_m, c1.q.y_m - c0.q.y_m) / (c1.t_s - c0.t_s) : 0.0;
+  // Circle: fitted to the drive after the park, against the exact radii; drift: the downhill
+  // displacement of the front-axle centre from the start of the laps to their end, per lap.
+  std::vector<Eigen::Vector2d> front, rear;
+  for (const auto& s : trace)
+    if (s.t_s >= park) {
+      front.emplace_back(s.q.x_m, s.q.y_m);
+      rear.push_back(car::rear_axle_W(setup.car, s.q));
+    }
+  const CircleFit ff = fit_circle(front), rf = fit_circle(rear);
+  const Config& end = trace.back().q;
+  const Eigen::Vector2d lap_shift(end.x_m - c1.q.x_m, end.y_m - c1.q.y_m);
+  const Config end_exact = car::flow_alpha(setup.car, q0, d_alpha);
+
+  Outcome o = traced;
+  o.values["creep_speed"] = {0.0, creep_mps};
+  o.values["front_radius"] = {fe.radius_m, ff.radius_m};
+  o.values["rear_radius"] = {re.radius_m, rf.radius_m};
+  o.values["drift_per_lap"] = {0.0, lap_shift.dot(downhill) / laps};
+  o.values["final_offset"] = {0.0, std::hypot(end.x_m - end_exact.x_m, end.y_m - end_exact.y_m)};
+  const Eigen::Vector3d g = setup.gravity_W();
+  o.details = {{"trace", trace_json(trace)},
+               {"reference", reference_json(setup, path, q0)},
+               {"gravity_W_mps2", {g.x(), g.y(), g.z()}},
+               {"downhill_W", {downhill.x(), downhill.y()}},
+               {"creep_window_s", {c0.t_s, c1.t_s}},
+               {"creep_um_per_s", creep_mps * 1e6},
+               {"lap_shift_m", {lap_shift.x(), lap_shift.y()}},
+               {"front_fit_rms_m", ff.rms_residual_m},
+               {"grip_use", (setup.drive.speed_mps * setup.drive.speed_mps / fe.radius_m + setup.gravity_mps2 * std::sin(slope)) /
+                                (setup.gravity_mps2 * std::cos(slope)) / setup.mu},
+               {"errors", error_split(setup.car, trace, end_exact)}};
+  add_slip(o, engine);
+  return o;
+}
+
 MetricDef rel(std::string name, std::string unit, double analytic, double engines, std::string help) {
   return {std::move(name), std::move(unit), TolKind::kRelative, {{"reference", analytic}, {"default", engines}},
           std::move(help)};
@@ -546,6 +621,30 @@ std::vector<Scenario> car_scenarios() {
                  {abs_("spread_xy", "m", 1e-9, 1e-3, "largest distance between end positions in the start frames"),
                   abs_("spread_phi", "rad", 1e-9, 1e-3, "largest difference between end headings in the start frames")},
                  run_covariance});
+  }
+  {
+    // Default geometry: the slope falls towards +y (slope_dir 0), the car heads along +x (phi 0),
+    // across the slope. One lap at 1 m/s on the 2.09 m circle of beta0 = 0.5 is 13 s: with the
+    // 3 s park and the ramps the run steps about as long as car.circle.
+    auto params = with(car_params("0.5"), {number("slope", "0.3", "rad", "tilt of gravity against the ground's normal (tan(slope) < mu)", 0.0, false, 1.4),
+                                           number("slope_dir", "0", "rad", "direction of the tilt axis in the ground plane (downhill is this turned by +90 degrees)"),
+                                           number("park", "3", "s", "parked with the wheels held before driving (creep measured over its last two thirds)", 0.5, false, 1e3),
+                                           number("laps", "1", "1", "laps of the circle after the park", 0.0, true, 100.0)});
+    for (auto& ps : params)
+      if (ps.key == "speed") ps.default_text = "1.0";
+    v.push_back({"car.slope", "car",
+                 "On ground inclined by `slope` (gravity tilted; tan(slope) < mu) the no-slip constraint (3.3) does not see "
+                 "gravity: the car parked across the slope with its wheels held must not move (creep), then its fixed-steering "
+                 "circle must keep the radius l/sin(beta0) and close every lap without drifting downhill.",
+                 "(3.3), (4.1), appendix D",
+                 params,
+                 {abs_("creep_speed", "m/s", 1e-12, 1e-6, "parked across the slope, wheels held: mean speed of the front-axle centre over the last two thirds of the park (regularised friction creeps)"),
+                  rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path on the slope"),
+                  rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path on the slope"),
+                  abs_("drift_per_lap", "m", 1e-9, 1e-3, "downhill displacement of the front-axle centre from the start of the laps to their end, per lap"),
+                  abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact lift (no creep, whole laps)"),
+                  SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
+                 run_slope});
   }
   {
     auto params = with(car_params("0.3"), {number("drive", "10", "m", "front-wheel path length", 0.0, true, 1e4)});

@@ -29,7 +29,18 @@ Profile::Profile(double distance, double cruise_rate, double peak_accel)
   }
 }
 
+Profile Profile::pause(double T_s) {
+  if (!(T_s >= 0.0)) throw std::invalid_argument("a pause needs a duration >= 0");
+  Profile p;
+  p.T_ = T_s;
+  p.D_ = 0.0;
+  p.ramp_ = 0.0;
+  p.pause_ = true;
+  return p;
+}
+
 double Profile::position(double t) const {
+  if (pause_) return 0.0;
   if (T_ == 0.0) return 0.0;
   t = std::clamp(t, 0.0, T_);
   if (bell_) return 0.5 * V_ * (t - T_ / (2.0 * kPi) * std::sin(2.0 * kPi * t / T_));
@@ -40,6 +51,7 @@ double Profile::position(double t) const {
 }
 
 double Profile::rate(double t) const {
+  if (pause_) return 0.0;
   if (T_ == 0.0 || t <= 0.0 || t >= T_) return 0.0;
   if (bell_) return 0.5 * V_ * (1.0 - std::cos(2.0 * kPi * t / T_));
   if (t <= ramp_) return 0.5 * V_ * (1.0 - std::cos(kPi * t / ramp_));
@@ -65,7 +77,7 @@ BasePath::BasePath(std::vector<Segment> segments, double alpha0_rad, double beta
     const double dist = a_slow ? std::abs(s.d_alpha_rad * drive.R_m) : std::abs(s.d_beta_rad);
     const double rate = a_slow ? drive.speed_mps : drive.steer_rate_radps;
     const double accel = a_slow ? drive.accel_mps2 : drive.steer_accel_radps2;
-    profile_.push_back(dist > 0.0 ? Profile(1.0, rate / dist, accel / dist) : Profile());
+    profile_.push_back(dist > 0.0 ? Profile(1.0, rate / dist, accel / dist) : Profile::pause(s.hold_s));
     t += profile_.back().duration();
     a += s.d_alpha_rad;
     b += s.d_beta_rad;

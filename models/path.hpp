@@ -10,6 +10,9 @@ namespace liftcheck::car {
 struct Segment {
   double d_alpha_rad = 0.0;
   double d_beta_rad = 0.0;
+  /// A segment with no change in alpha or beta lasts this long (a pause: the car parked with its
+  /// wheel angle and steering held); ignored when the segment moves.
+  double hold_s = 0.0;
 };
 
 /// How fast the driver moves through the base. The accelerations bound every segment, long or
@@ -29,6 +32,8 @@ class Profile {
  public:
   Profile() = default;
   Profile(double distance, double cruise_rate, double peak_accel);
+  /// Standing still for T seconds (position 0, rate 0).
+  static Profile pause(double T_s);
   double duration() const { return T_; }
   double position(double t) const;  ///< in [0, D]
   double rate(double t) const;
@@ -36,6 +41,7 @@ class Profile {
  private:
   double D_ = 0.0, V_ = 1.0, ramp_ = 0.0, T_ = 0.0;
   bool bell_ = false;
+  bool pause_ = false;
 };
 
 /// Commanded base point and its rate at one time.
