@@ -474,23 +474,26 @@ Outcome run_slope(const Params& p, CarEngine& engine) {
   const car::TimedConfig &c0 = sample_at(trace, park / 3.0), &c1 = sample_at(trace, park);
   const double creep_mps = c1.t_s > c0.t_s ? std::hypot(c1.q.x_m - c0.q.x_m, c1.q.y_m - c0.q.y_m) / (c1.t_s - c0.t_s) : 0.0;
   // Circle: fitted to the drive after the park, against the exact radii; drift: the downhill
-  // displacement of the front-axle centre from the start of the laps to their end, per lap.
+  // part of the front-axle centre's displacement from the start of the laps to their end, less
+  // the exact lift's (zero over whole laps), per lap.
   std::vector<Eigen::Vector2d> front, rear;
   for (const auto& s : trace)
-    if (s.t_s >= park) {
+    if (s.t_s >= park - 1e-9) {
       front.emplace_back(s.q.x_m, s.q.y_m);
       rear.push_back(car::rear_axle_W(setup.car, s.q));
     }
+  if (front.size() < 8)
+    throw InputError(fmt::format("car.slope needs at least 8 samples of the laps to fit their circle: sample_dt = {:g} s is too coarse", setup.sample_dt_s));
   const CircleFit ff = fit_circle(front), rf = fit_circle(rear);
   const Config& end = trace.back().q;
-  const Eigen::Vector2d lap_shift(end.x_m - c1.q.x_m, end.y_m - c1.q.y_m);
   const Config end_exact = car::flow_alpha(setup.car, q0, d_alpha);
+  const Eigen::Vector2d lap_shift(end.x_m - c1.q.x_m, end.y_m - c1.q.y_m), exact_shift(end_exact.x_m - q0.x_m, end_exact.y_m - q0.y_m);
 
   Outcome o = traced;
   o.values["creep_speed"] = {0.0, creep_mps};
   o.values["front_radius"] = {fe.radius_m, ff.radius_m};
   o.values["rear_radius"] = {re.radius_m, rf.radius_m};
-  o.values["drift_per_lap"] = {0.0, lap_shift.dot(downhill) / laps};
+  o.values["drift_per_lap"] = {0.0, (lap_shift - exact_shift).dot(downhill) / laps};
   o.values["final_offset"] = {0.0, std::hypot(end.x_m - end_exact.x_m, end.y_m - end_exact.y_m)};
   const Eigen::Vector3d g = setup.gravity_W();
   o.details = {{"trace", trace_json(trace)},
@@ -629,7 +632,7 @@ std::vector<Scenario> car_scenarios() {
     auto params = with(car_params("0.5"), {number("slope", "0.3", "rad", "tilt of gravity against the ground's normal (tan(slope) < mu)", 0.0, false, 1.4),
                                            number("slope_dir", "0", "rad", "direction of the tilt axis in the ground plane (downhill is this turned by +90 degrees)"),
                                            number("park", "3", "s", "parked with the wheels held before driving (creep measured over its last two thirds)", 0.5, false, 1e3),
-                                           number("laps", "1", "1", "laps of the circle after the park", 0.0, true, 100.0)});
+                                           number("laps", "1", "1", "laps of the circle after the park", 0.5, false, 100.0)});
     for (auto& ps : params)
       if (ps.key == "speed") ps.default_text = "1.0";
     v.push_back({"car.slope", "car",
@@ -641,7 +644,7 @@ std::vector<Scenario> car_scenarios() {
                  {abs_("creep_speed", "m/s", 1e-12, 1e-6, "parked across the slope, wheels held: mean speed of the front-axle centre over the last two thirds of the park (regularised friction creeps)"),
                   rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path on the slope"),
                   rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path on the slope"),
-                  abs_("drift_per_lap", "m", 1e-9, 1e-3, "downhill displacement of the front-axle centre from the start of the laps to their end, per lap"),
+                  abs_("drift_per_lap", "m", 1e-9, 1e-3, "downhill displacement of the front-axle centre from the start of the laps to their end, less the exact lift's (none over whole laps), per lap"),
                   abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact lift (no creep, whole laps)"),
                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
                  run_slope});

@@ -33,6 +33,9 @@ bad_input unknown-engine "unknown engine configuration 'warp'" run car.circle --
 bad_input unknown-param "unknown parameter 'speeed'" run car.circle --set speeed=1
 bad_input non-number "parameter 'R' needs a finite number, got 'abc'" run car.circle --set R=abc
 bad_input zero-l "parameter 'l' must be > 0" run car.circle --set l=0
+bad_input four-wheels-mujoco "configuration 'mujoco' has no four-wheel car (wheels=4)" run car.circle --engine mujoco --set wheels=4
+bad_input parallel-tricycle "steering=parallel needs wheels=4" run car.circle --engine ode --set steering=parallel
+bad_input steep-slope "car.slope needs tan(slope) < mu" run car.slope --engine ode --set slope=0.8
 bad_input negative-R "parameter 'R' must be > 0" run car.cycle --set R=-0.3
 bad_input no-equals "--set needs KEY=VALUE" run car.circle --set R
 bad_input straight-circle "needs |beta| >= 0.001" run car.circle --set beta=0
@@ -69,8 +72,8 @@ check validate 0 "$bin" validate --engines analytic --filter 'car.*' --out "$tmp
 python3 -c '
 import json,sys
 d=json.load(open(sys.argv[1]))
-assert d["summary"]["total"] == 8 and d["summary"]["unexpected"] == 0, d["summary"]
-assert d["summary"]["pass"] == 7 and d["summary"]["skip"] == 1, d["summary"]
+assert d["summary"]["total"] == 9 and d["summary"]["unexpected"] == 0, d["summary"]
+assert d["summary"]["pass"] == 8 and d["summary"]["skip"] == 1, d["summary"]
 assert d["context"]["engines"][0]["name"] == "analytic"
 ' "$tmp/report/results.json" && [ -s "$tmp/report/index.html" ] && passes=$((passes + 1)) \
   || { echo "FAIL validate outputs"; fails=$((fails + 1)); }
@@ -81,9 +84,9 @@ ls "$tmp/report" | grep -q '\.tmp$' && { echo "FAIL temporary files left"; fails
 python3 - "$tmp/report/junit.xml" <<'PY' && passes=$((passes + 1)) || { echo "FAIL junit.xml"; fails=$((fails + 1)); }
 import sys, xml.etree.ElementTree as ET
 root = ET.parse(sys.argv[1]).getroot()
-# 8 runs, and the 5 car sweeps' gates on the one engine
-assert root.tag == "testsuites" and root.get("tests") == "13" and root.get("failures") == "0", root.attrib
-assert len(root.findall("testsuite")) == 13
+# 9 runs, and the 5 car sweeps' gates on the one engine
+assert root.tag == "testsuites" and root.get("tests") == "14" and root.get("failures") == "0", root.attrib
+assert len(root.findall("testsuite")) == 14
 assert len([s for s in root.findall("testsuite") if s.get("name").startswith("sweep.")]) == 5
 # every run's metrics ride on its suite as properties
 props = [p.get("name") for p in root.iter("property")]
