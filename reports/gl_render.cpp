@@ -276,7 +276,11 @@ struct Renderer::Impl {
   OSMesaContext ctx = nullptr;
   std::vector<std::uint8_t> buffer;
   ~Impl() {
-    if (ctx) OSMesaDestroyContext(ctx);
+    if (!ctx) return;
+    // Release the context before destroying it: Mesa frees a context still current on its thread
+    // only partly (its per-thread state stays referenced and leaks).
+    if (OSMesaGetCurrentContext() == ctx) OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
+    OSMesaDestroyContext(ctx);
   }
 };
 
