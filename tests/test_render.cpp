@@ -5,7 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include <GL/osmesa.h>
+
 #include "reports/gl_render.hpp"
+#include "reports/plots.hpp"
 
 using namespace liftcheck::render;
 
@@ -86,4 +89,23 @@ TEST(Render, WritesAPng) {
   EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
   std::filesystem::remove(path);
   EXPECT_THROW(write_png("/nonexistent-dir/x.png", r.render(known_scene())), std::runtime_error);
+}
+
+// A renderer leaves no destroyed context current on its thread.
+TEST(Render, ReleasesItsContext) {
+  {
+    Renderer r;
+    r.render(known_scene());
+    ASSERT_NE(OSMesaGetCurrentContext(), nullptr);
+  }
+  EXPECT_EQ(OSMesaGetCurrentContext(), nullptr);
+}
+
+// Names reach gnuplot's script as single-quoted data: a quote doubled, a line break a space.
+TEST(Plots, QuotesNamesAsData) {
+  EXPECT_EQ(liftcheck::gnuplot_quote("ode"), "'ode'");
+  EXPECT_EQ(liftcheck::gnuplot_quote("it's"), "'it''s'");
+  EXPECT_EQ(liftcheck::gnuplot_quote("x', system('touch F'), '"), "'x'', system(''touch F''), '''");
+  EXPECT_EQ(liftcheck::gnuplot_quote("a\nb\r`c`"), "'a b `c`'");
+  EXPECT_EQ(liftcheck::gnuplot_quote(""), "''");
 }
