@@ -101,14 +101,7 @@ void check_results(const json& j, const std::string& name) {
 }
 
 json parse_results(const std::string& text, const std::string& name) {
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::exception& e) {
-    std::string what = e.what();
-    if (const auto k = what.find("] "); what.rfind("[json.exception", 0) == 0 && k != std::string::npos) what = what.substr(k + 2);
-    throw InputError(fmt::format("{}: is not JSON ({})", name, printable(what, 200)));
-  }
+  json j = parse_json_text(text, name);
   check_results(j, name);
   return j;
 }

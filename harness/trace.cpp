@@ -48,6 +48,20 @@ std::string printable(const std::string& s, std::size_t max) {
   return o;
 }
 
+json parse_json_text(const std::string& text, const std::string& file, int max_depth) {
+  const json::parser_callback_t limit = [&](int depth, json::parse_event_t, json&) {
+    if (depth > max_depth) throw InputError(fmt::format("{}: JSON nested deeper than {} levels", file, max_depth));
+    return true;
+  };
+  try {
+    return json::parse(text, limit);
+  } catch (const json::exception& e) {
+    std::string what = e.what();
+    if (const auto k = what.find("] "); what.rfind("[json.exception", 0) == 0 && k != std::string::npos) what = what.substr(k + 2);
+    throw InputError(fmt::format("{}: is not JSON ({})", file, printable(what, 200)));
+  }
+}
+
 const std::vector<std::string>& trace_columns(const std::string& vehicle) {
   static const std::vector<std::string> car{"t", "alpha", "beta", "x", "y", "phi"}, disks{"t", "cMx", "cMy", "cNx", "cNy"};
   return vehicle == "car" ? car : disks;
@@ -68,15 +82,10 @@ Trace parse_trace(const std::string& text, const std::string& file, const std::s
   const std::vector<std::string>& want = trace_columns(vehicle);
   const std::size_t first = text.find_first_not_of(" \t\r\n");
   if (first != std::string::npos && (text[first] == '[' || text[first] == '{')) {
-    json j;
-    try {
-      j = json::parse(text);
-    } catch (const json::exception& e) {
-      std::string what = e.what();
-      if (const auto k = what.find("] "); what.rfind("[json.exception", 0) == 0 && k != std::string::npos) what = what.substr(k + 2);
-      throw InputError(fmt::format("{}: not valid JSON ({})", tr.file, printable(what, 200)));
-    }
-    const json rows = j.is_object() ? (j.contains("rows") ? j["rows"] : json()) : j;
+    const json j = parse_json_text(text, tr.file);
+    static const json kNone;
+    const auto it = j.is_object() ? j.find("rows") : j.end();
+    const json& rows = !j.is_object() ? j : it != j.end() ? *it : kNone;  // a reference: no copy of the document
     if (!rows.is_array()) throw InputError(fmt::format("{}: JSON trace needs an array of rows (or {{\"rows\": [...]}})", tr.file));
     int i = 0;
     for (const auto& r : rows) {

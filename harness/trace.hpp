@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -26,6 +27,10 @@ Trace read_trace(const std::filesystem::path& file, const std::string& vehicle);
 
 /// The same on text already read; `file` names it in errors.
 Trace parse_trace(const std::string& text, const std::string& file, const std::string& vehicle);
+
+/// Parses a JSON document that liftcheck reads back; InputError "FILE: is not JSON (...)", or for a
+/// document nested deeper than `max_depth` levels (copying or printing one recurses that deep).
+nlohmann::json parse_json_text(const std::string& text, const std::string& file, int max_depth = 64);
 
 /// `s` for a one-line message: control characters as '?', at most `max` characters.
 std::string printable(const std::string& s, std::size_t max = 80);

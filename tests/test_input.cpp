@@ -133,5 +133,16 @@ TEST(Trace, JsonNamesRowColumnAndProblem) {
   EXPECT_EQ(trace_error(R"({"rows": [{"t": 0}]})", "disks"), "trace.csv: row 1 has no column 'cMx'");
   EXPECT_EQ(trace_error(R"({"rows": 5})", "disks"), "trace.csv: JSON trace needs an array of rows (or {\"rows\": [...]})");
   EXPECT_EQ(trace_error(R"([1, 2])", "disks"), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
-  EXPECT_EQ(trace_error("[", "disks").rfind("trace.csv: not valid JSON (parse error at line 1, column 2", 0), 0u) << trace_error("[", "disks");
+  EXPECT_EQ(trace_error("[", "disks").rfind("trace.csv: is not JSON (parse error at line 1, column 2", 0), 0u) << trace_error("[", "disks");
+}
+
+// Found by hand beyond the fuzzers' 4 kB inputs: a JSON trace nested 300000 deep overflowed the
+// stack (the document was copied, recursively). Documents nested deeper than 64 levels are refused,
+// and the trace's rows are read in place.
+TEST(Trace, DeepJsonIsRefusedNotACrash) {
+  const std::string deep = std::string(300000, '[') + std::string(300000, ']');
+  EXPECT_EQ(trace_error(deep, "disks"), "trace.csv: JSON nested deeper than 64 levels");
+  EXPECT_EQ(results_error("{\"runs\": " + deep + "}"), "base.json: JSON nested deeper than 64 levels");
+  const std::string ok = std::string(60, '[') + std::string(60, ']');
+  EXPECT_EQ(trace_error(ok, "disks"), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
 }
