@@ -64,9 +64,9 @@ report-check:
 	python3 tests/screenshot_check.py $(REPORT_DIR) $(REPORT_DIR)/screenshot.png
 
 # The unit tests and a short validate under ASan and UBSan (the slow conformance and fault suites
-# are left to `make test`).
+# are left to `make test`). -O1 -g1: line numbers in reports at half the compile time of -O2 -g.
 sanitize: deps
-	@cmake -S . -B $(SANITIZE_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLIFTCHECK_SANITIZE=ON >/dev/null
+	@cmake -S . -B $(SANITIZE_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DLIFTCHECK_SANITIZE=ON >/dev/null
 	@cmake --build $(SANITIZE_DIR) -j $(JOBS) --target liftcheck test_input test_harness test_report test_models
 	$(SANITIZE_ENV) ctest --test-dir $(SANITIZE_DIR) --output-on-failure -j $(JOBS) -LE 'validate|faults' -E 'NOT_BUILT|^report$$'
 	rm -rf $(SANITIZE_DIR)/report
