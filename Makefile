@@ -1,6 +1,8 @@
 # liftcheck: two commands on a fresh Debian machine.
 #   make validate   install missing packages, build, run every scenario on every engine, write the report
 #   make test       install missing packages, build, run the test suite (ctest)
+#   make sanitize   AddressSanitizer + UndefinedBehaviorSanitizer build (build-sanitize): unit tests and a short validate
+#   make fuzz       libFuzzer targets (clang, build-fuzz) over --set, results files and traces, FUZZ_TIME seconds each
 
 PACKAGES := cmake g++ make pkg-config git python3 \
             libeigen3-dev libboost-dev nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev \
@@ -9,8 +11,17 @@ PACKAGES := cmake g++ make pkg-config git python3 \
 BUILD_DIR ?= build
 REPORT_DIR ?= $(BUILD_DIR)/report
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
+SANITIZE_DIR ?= build-sanitize
+FUZZ_DIR ?= build-fuzz
+FUZZ_TIME ?= 60
+FUZZ_PACKAGES := clang libclang-rt-14-dev
+# Sanitizers stop at the first finding; third-party leaks are suppressed, each with its reason, in
+# tests/sanitize/*.supp.
+SANITIZE_ENV := ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:abort_on_error=1 \
+                UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1:suppressions=$(CURDIR)/tests/sanitize/ubsan.supp \
+                LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitize/lsan.supp:print_suppressions=0
 
-.PHONY: all deps install-packages configure build validate test report-check bench clean
+.PHONY: all deps install-packages configure build validate test report-check bench clean sanitize fuzz
 
 all: build
 
@@ -52,10 +63,34 @@ report-check:
 	@test -f $(REPORT_DIR)/index.html || $(MAKE) --no-print-directory validate
 	python3 tests/screenshot_check.py $(REPORT_DIR) $(REPORT_DIR)/screenshot.png
 
+# The unit tests and a short validate under ASan and UBSan (the slow conformance and fault suites
+# are left to `make test`). -O1 -g1: line numbers in reports at half the compile time of -O2 -g.
+sanitize: deps
+	@cmake -S . -B $(SANITIZE_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo "-DCMAKE_CXX_FLAGS_RELWITHDEBINFO=-O1 -g1 -DNDEBUG" -DLIFTCHECK_SANITIZE=ON >/dev/null
+	@cmake --build $(SANITIZE_DIR) -j $(JOBS) --target liftcheck test_input test_harness test_report test_models
+	$(SANITIZE_ENV) ctest --test-dir $(SANITIZE_DIR) --output-on-failure -j $(JOBS) -LE 'validate|faults' -E 'NOT_BUILT|^report$$'
+	rm -rf $(SANITIZE_DIR)/report
+	$(SANITIZE_ENV) ./$(SANITIZE_DIR)/liftcheck validate --filter 'car.circle,disks.linear' --engines analytic,ode,bullet --no-sweeps --out $(SANITIZE_DIR)/report
+
+# libFuzzer over the input code (no engine linked), FUZZ_TIME seconds per target, from the seed
+# corpus in tests/fuzz/corpus/ (new inputs go to $(FUZZ_DIR)/corpus/, crashes to $(FUZZ_DIR)/).
+fuzz: deps
+	@$(MAKE) --no-print-directory install-packages PKGS="$(FUZZ_PACKAGES)"
+	@cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DLIFTCHECK_FUZZ=ON -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ >/dev/null
+	@cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzz_set fuzz_results fuzz_trace
+	@for t in set results trace; do \
+	  mkdir -p $(FUZZ_DIR)/corpus/$$t; \
+	  echo "fuzz_$$t: $(FUZZ_TIME) s"; \
+	  ./$(FUZZ_DIR)/tests/fuzz/fuzz_$$t -max_total_time=$(FUZZ_TIME) -max_len=4096 -timeout=10 -rss_limit_mb=2048 -print_final_stats=1 \
+	    -artifact_prefix=$(FUZZ_DIR)/fuzz_$$t- $(FUZZ_DIR)/corpus/$$t tests/fuzz/corpus/$$t 2>$(FUZZ_DIR)/fuzz_$$t.log \
+	    || { tail -40 $(FUZZ_DIR)/fuzz_$$t.log; exit 1; }; \
+	  grep -E '^stat::number_of_executed_units|^Done' $(FUZZ_DIR)/fuzz_$$t.log; \
+	done
+
 # Every benchmark (analytic models, car steps per engine against its raw loop, rendering); the
 # results also go to $(BUILD_DIR)/bench.json.
 bench: build
 	./$(BUILD_DIR)/liftcheck_bench --benchmark_out=$(BUILD_DIR)/bench.json --benchmark_out_format=json
 
 clean:
-	rm -rf $(BUILD_DIR)
+	rm -rf $(BUILD_DIR) $(SANITIZE_DIR) $(FUZZ_DIR)

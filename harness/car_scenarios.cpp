@@ -29,9 +29,9 @@ std::vector<ParamSpec> car_params(const std::string& beta_default) {
       number("R", "0.3", "m", "front wheel radius", 0.0, true),
       number("l", "1.0", "m", "tie-rod length (rear-axle centre to front-axle centre)", 0.0, true),
       number("beta", beta_default, "rad", "start steering angle, left positive", -1.4, false, 1.4),
-      number("x", "0", "m", "start front-axle centre, world x"),
-      number("y", "0", "m", "start front-axle centre, world y"),
-      number("phi", "0", "rad", "start heading of the tie rod"),
+      number("x", "0", "m", "start front-axle centre, world x", -1e3, false, 1e3),
+      number("y", "0", "m", "start front-axle centre, world y", -1e3, false, 1e3),
+      number("phi", "0", "rad", "start heading of the tie rod", -100.0, false, 100.0),
       number("speed", "0.5", "m/s", "cruise speed of the front wheel", 0.0, true, 50.0),
       number("steer_rate", "0.5", "rad/s", "cruise steering rate", 0.0, true, 50.0),
       number("accel", "1.0", "m/s^2", "peak acceleration of the front wheel", 0.0, true, 100.0),
@@ -609,7 +609,7 @@ std::vector<Scenario> car_scenarios() {
   {
     auto params = with(car_params("0.3"), {number("drive", "2", "m", "arc length before the cycle", 0.0, true, 1e3),
                                            {"headings", ParamKind::kInteger, "8", "1", "start headings over the full turn", 2.0, false, 64.0, {}},
-                                           {"shift", ParamKind::kVec2, "3,-2", "m", "translation of every other start", -INFINITY, false, INFINITY, {}}});
+                                           {"shift", ParamKind::kVec2, "3,-2", "m", "translation of every other start", -1e4, false, 1e4, {}}});
     for (auto& ps : params) {
       if (ps.key == "mu") ps.default_text = "0.1";
       if (ps.key == "speed") ps.default_text = "2.0";

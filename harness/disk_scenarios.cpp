@@ -18,8 +18,9 @@ ParamSpec number(std::string key, std::string def, std::string unit, std::string
                  bool min_exclusive = false, double max = INFINITY) {
   return {std::move(key), ParamKind::kNumber, std::move(def), std::move(unit), std::move(help), min, min_exclusive, max, {}};
 }
-ParamSpec vec2(std::string key, std::string def, std::string unit, std::string help) {
-  return {std::move(key), ParamKind::kVec2, std::move(def), std::move(unit), std::move(help), -INFINITY, false, INFINITY, {}};
+/// A point or velocity; each coordinate within [-bound, bound].
+ParamSpec vec2(std::string key, std::string def, std::string unit, std::string help, double bound = 1e4) {
+  return {std::move(key), ParamKind::kVec2, std::move(def), std::move(unit), std::move(help), -bound, false, bound, {}};
 }
 
 /// Parameters every disk scenario shares; `path` is left out where the scenario fixes N's motion.
@@ -28,7 +29,7 @@ std::vector<ParamSpec> disk_params(const std::string& cM, const std::string& cN,
   std::vector<ParamSpec> v{
       vec2("cM", cM, "m", "initial centre of the ego disk M"),
       vec2("cN", cN, "m", "initial centre of the other disk N"),
-      vec2("vN", vN, "m/s", "N's velocity (line path) or speed as |vN| (toward path)"),
+      vec2("vN", vN, "m/s", "N's velocity (line path) or speed as |vN| (toward path)", 1e3),
   };
   if (with_path)
     v.push_back({"path", ParamKind::kChoice, path, "", "N's path", -INFINITY, false, INFINITY, {"line", "circle", "figure8"}});
@@ -60,12 +61,16 @@ disks::NPath path_from(const Params& p) {
 /// The trace is sampled every whole number of engine steps closest to sample_dt (at least one).
 DiskSetup setup_from(const Params& p) {
   const double dt = p.num("dt");
+  if (!(dt < p.num("T")))
+    throw InputError(fmt::format("parameter 'dt' must be < T = {:g} s (the duration), got '{:g}'", p.num("T"), dt));
+  if (!(p.num("sample_dt") <= p.num("T")))
+    throw InputError(fmt::format("parameter 'sample_dt' must be <= T = {:g} s (the duration), got '{:g}'", p.num("T"), p.num("sample_dt")));
   return {1.0, dt, dt * std::max(1L, std::lround(p.num("sample_dt") / dt))};
 }
 
 void check_start(const Vec2& cM, const Vec2& cN) {
   if ((cM - cN).norm() < disks::kContactDistance)
-    throw InputError(fmt::format("cM and cN overlap: |cM - cN| = {:.6g} < 2 (unit disks)", (cM - cN).norm()));
+    throw InputError(fmt::format("the initial centres cM and cN overlap: |cM - cN| = {:.6g}, must be >= 2 (unit disks)", (cM - cN).norm()));
 }
 
 /// The plans (14), (17) must be continuous in t for M to follow them; where two paths around N

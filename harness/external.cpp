@@ -190,34 +190,7 @@ class ReplayDisks final : public DiskEngine {
   double simulated_s_ = 0.0;
 };
 
-/// One CSV or JSON cell as a finite number, or an InputError naming where.
-double number_at(const std::string& text, const std::string& file, int line, const std::string& column) {
-  std::size_t used = 0;
-  double v = NAN;
-  try {
-    v = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  std::string rest = text.substr(std::min(used, text.size()));
-  rest.erase(0, rest.find_first_not_of(" \t\r"));
-  if (used == 0 || !rest.empty()) throw InputError(fmt::format("{}:{}: column '{}' is not a number: '{}'", file, line, column, text));
-  if (!std::isfinite(v)) throw InputError(fmt::format("{}:{}: column '{}' is not finite: '{}'", file, line, column, text));
-  return v;
-}
-
-std::string trim(std::string s) {
-  s.erase(0, s.find_first_not_of(" \t\r"));
-  s.erase(s.find_last_not_of(" \t\r") + 1);
-  return s;
-}
-
 }  // namespace
-
-const std::vector<std::string>& trace_columns(const std::string& vehicle) {
-  static const std::vector<std::string> car{"t", "alpha", "beta", "x", "y", "phi"}, disks{"t", "cMx", "cMy", "cNx", "cNy"};
-  return vehicle == "car" ? car : disks;
-}
 
 const std::vector<std::string>& path_columns(const std::string& vehicle) {
   static const std::vector<std::string> car{"t", "alpha", "beta"}, disks{"t", "cNx", "cNy"};
@@ -257,79 +230,6 @@ std::string path_csv(const json& path) {
     s += line + "\n";
   }
   return s;
-}
-
-Trace read_trace(const std::filesystem::path& file, const std::string& vehicle) {
-  Trace tr;
-  tr.file = file.string();
-  std::ifstream in(file);
-  if (!in) throw InputError(fmt::format("cannot read trace '{}'", tr.file));
-  const std::vector<std::string>& want = trace_columns(vehicle);
-  std::stringstream buf;
-  buf << in.rdbuf();
-  const std::string text = buf.str();
-  const std::size_t first = text.find_first_not_of(" \t\r\n");
-  if (first != std::string::npos && (text[first] == '[' || text[first] == '{')) {
-    json j;
-    try {
-      j = json::parse(text);
-    } catch (const json::exception& e) {
-      throw InputError(fmt::format("{}: not valid JSON ({})", tr.file, e.what()));
-    }
-    const json rows = j.is_object() ? j.value("rows", json()) : j;
-    if (!rows.is_array()) throw InputError(fmt::format("{}: JSON trace needs an array of rows (or {{\"rows\": [...]}})", tr.file));
-    int i = 0;
-    for (const auto& r : rows) {
-      ++i;
-      if (!r.is_object()) throw InputError(fmt::format("{}: row {} is not an object with the columns {}", tr.file, i, fmt::join(want, ", ")));
-      std::vector<double> row;
-      for (const auto& c : want) {
-        if (!r.contains(c)) throw InputError(fmt::format("{}: row {} has no column '{}'", tr.file, i, c));
-        if (!r[c].is_number() || !std::isfinite(r[c].get<double>()))
-          throw InputError(fmt::format("{}: row {}: column '{}' is not a finite number", tr.file, i, c));
-        row.push_back(r[c].get<double>());
-      }
-      tr.rows.push_back(row);
-    }
-  } else {
-    std::istringstream lines(text);
-    std::string line;
-    int n = 0;
-    std::vector<int> index;  // for each wanted column, its position in the header
-    std::size_t width = 0;
-    while (std::getline(lines, line)) {
-      ++n;
-      const std::string t = trim(line);
-      if (t.empty() || t[0] == '#') continue;
-      std::vector<std::string> cells;
-      std::stringstream ss(t);
-      std::string cell;
-      while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
-      if (index.empty()) {
-        for (const auto& c : want) {
-          const auto it = std::find(cells.begin(), cells.end(), c);
-          if (it == cells.end())
-            throw InputError(fmt::format("{}:{}: the header has no column '{}' (needs {})", tr.file, n, c, fmt::join(want, ",")));
-          index.push_back(static_cast<int>(it - cells.begin()));
-        }
-        width = cells.size();
-        continue;
-      }
-      if (cells.size() != width)
-        throw InputError(fmt::format("{}:{}: {} columns, the header has {}", tr.file, n, cells.size(), width));
-      std::vector<double> row;
-      for (std::size_t k = 0; k < want.size(); ++k) row.push_back(number_at(cells[index[k]], tr.file, n, want[k]));
-      if (!tr.rows.empty() && !(row[0] > tr.rows.back()[0]))
-        throw InputError(fmt::format("{}:{}: time goes from {:g} to {:g} s: it must increase", tr.file, n, tr.rows.back()[0], row[0]));
-      tr.rows.push_back(row);
-    }
-    if (index.empty()) throw InputError(fmt::format("{}: no header line (needs {})", tr.file, fmt::join(want, ",")));
-  }
-  for (std::size_t i = 1; i < tr.rows.size(); ++i)
-    if (!(tr.rows[i][0] > tr.rows[i - 1][0]))
-      throw InputError(fmt::format("{}: row {}: time goes from {:g} to {:g} s: it must increase", tr.file, i + 1, tr.rows[i - 1][0], tr.rows[i][0]));
-  if (tr.rows.size() < 2) throw InputError(fmt::format("{}: {} rows; a trace needs at least 2", tr.file, tr.rows.size()));
-  return tr;
 }
 
 EngineInfo replay_engine(const std::string& name, const Scenario& scenario, const Trace& trace) {

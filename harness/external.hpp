@@ -12,11 +12,11 @@
 #include "engines/engine.hpp"
 #include "harness/params.hpp"
 #include "harness/scenario.hpp"
+#include "harness/trace.hpp"
 
 namespace liftcheck {
 
-/// Columns of a car trace and of a disk trace, and of the commanded paths.
-const std::vector<std::string>& trace_columns(const std::string& vehicle);
+/// Columns of the commanded paths (the trace columns: harness/trace.hpp).
 const std::vector<std::string>& path_columns(const std::string& vehicle);
 
 /// The commanded path of one scenario run: {"scenario", "vehicle", "params", "settings", "start",
@@ -26,16 +26,6 @@ const std::vector<std::string>& path_columns(const std::string& vehicle);
 nlohmann::json scenario_path(const Scenario& scenario, const Overrides& overrides);
 /// The same as CSV: '#' comment lines (scenario, every parameter, the start), a header, rows.
 std::string path_csv(const nlohmann::json& path);
-
-/// A simulator's trace: rows of the vehicle's trace columns, time strictly increasing.
-struct Trace {
-  std::string file;
-  std::vector<std::vector<double>> rows;  ///< in trace_columns(vehicle) order
-};
-/// Reads CSV (a header naming the columns, '#' comments) or JSON (an array of objects with the
-/// columns as keys, or {"rows": [...]}); InputError naming the file, the line and the problem for
-/// a missing column, a non-number or non-finite value, time not increasing, fewer than 2 rows.
-Trace read_trace(const std::filesystem::path& file, const std::string& vehicle);
 
 /// A configuration that replays `trace` for `scenario` (and no other): scored with the "default"
 /// tolerances like every engine. Its car reports the trace's (alpha, beta, x, y, phi) and no

@@ -15,6 +15,7 @@
 
 #include "harness/external.hpp"
 #include "harness/results.hpp"
+#include "harness/suggest.hpp"
 #include "liftcheck_version.hpp"
 #include "harness/runner.hpp"
 #include "harness/suite.hpp"
@@ -37,14 +38,36 @@ std::vector<std::string> split_list(const std::string& s) {
 
 const Scenario& scenario_or_throw(const std::string& name) {
   if (const Scenario* s = find_scenario(name)) return *s;
-  throw InputError(fmt::format("unknown scenario '{}' (see 'liftcheck list')", name));
+  std::vector<std::string> names;
+  for (const auto& s : scenarios()) names.push_back(s.name);
+  throw InputError(fmt::format("unknown scenario '{}' (see 'liftcheck list'){}", printable(name), did_you_mean(name, names)));
 }
 
 const EngineInfo& engine_or_throw(const std::string& name) {
   if (const EngineInfo* e = find_engine(name)) return *e;
   std::vector<std::string> names;
   for (const auto& e : engines()) names.push_back(e.name);
-  throw InputError(fmt::format("unknown engine configuration '{}' (available: {})", name, fmt::join(names, ", ")));
+  throw InputError(fmt::format("unknown engine configuration '{}' (available: {}){}", printable(name), fmt::join(names, ", "), did_you_mean(name, names)));
+}
+
+/// --set KEY=VALUE arguments for `s` (run on `e`, if given): a key that is no parameter of the
+/// scenario and no setting of any configuration is refused with the nearest of the scenario's
+/// parameters and the configuration's settings (the runner words a setting of another engine).
+Overrides overrides_or_throw(const std::vector<std::string>& sets, const Scenario& s, const EngineInfo* e) {
+  Overrides ov;
+  for (const auto& a : sets) ov.push_back(split_assignment(a));
+  std::vector<std::string> own, all;
+  for (const auto& p : s.params) own.push_back(p.key), all.push_back(p.key);
+  for (const auto& engine : engines())
+    for (const SettingSpec& k : engine.knobs)
+      if (k.vehicle == s.vehicle) {
+        all.push_back(k.key);
+        if (!e || e == &engine) own.push_back(k.key);
+      }
+  for (const auto& [key, value] : ov)
+    if (std::find(all.begin(), all.end(), key) == all.end())
+      throw InputError(fmt::format("unknown parameter '{}' for scenario '{}'{}", printable(key), s.name, did_you_mean(key, own)));
+  return ov;
 }
 
 int cmd_list(bool json) {
@@ -140,8 +163,7 @@ void print_record(const nlohmann::json& r) {
 int cmd_run(const std::string& scenario, const std::string& engine, const std::vector<std::string>& sets, bool json, double timeout_s) {
   const Scenario& s = scenario_or_throw(scenario);
   const EngineInfo& e = engine_or_throw(engine);
-  Overrides ov;
-  for (const auto& a : sets) ov.push_back(split_assignment(a));
+  const Overrides ov = overrides_or_throw(sets, s, &e);
   // Bad names and values are input errors here, not error records.
   (void)Params::resolve(s.params, split_settings(s, e, ov).first, s.name);
   // In a worker process, like every validate run: a hang or a crash of the engine is an error record.
@@ -159,29 +181,9 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   return r["as_expected"].get<bool>() ? 0 : 1;
 }
 
-nlohmann::json read_results(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(fmt::format("cannot read '{}'", path));
-  nlohmann::json j;
-  try {
-    in >> j;
-  } catch (const nlohmann::json::exception&) {
-    throw InputError(fmt::format("'{}' is not JSON", path));
-  }
-  if (!j.is_object() || !j.contains("runs") || !j["runs"].is_array())
-    throw InputError(fmt::format("'{}' is not a liftcheck results file (no \"runs\")", path));
-  try {
-    for (const auto& r : j["runs"]) (void)r.at("scenario").get<std::string>(), (void)r.at("engine").get<std::string>(), (void)r.at("status").get<std::string>();
-  } catch (const nlohmann::json::exception&) {
-    throw InputError(fmt::format("'{}' has a run without scenario, engine and status", path));
-  }
-  return j;
-}
-
 int cmd_path(const std::string& scenario, const std::vector<std::string>& sets, const std::string& format) {
   const Scenario& s = scenario_or_throw(scenario);
-  Overrides ov;
-  for (const auto& a : sets) ov.push_back(split_assignment(a));
+  const Overrides ov = overrides_or_throw(sets, s, nullptr);
   const nlohmann::json path = scenario_path(s, ov);
   if (format == "json") std::cout << path.dump() << "\n";
   else std::cout << path_csv(path);
@@ -192,8 +194,7 @@ int cmd_score(const std::string& scenario, const std::string& trace_file, const 
               bool json) {
   const Scenario& s = scenario_or_throw(scenario);
   if (name.empty() || find_engine(name)) throw InputError(fmt::format("--name '{}' must be new (not a built-in configuration)", name));
-  Overrides ov;
-  for (const auto& a : sets) ov.push_back(split_assignment(a));
+  const Overrides ov = overrides_or_throw(sets, s, nullptr);
   const EngineInfo e = replay_engine(name, s, read_trace(trace_file, s.vehicle));
   const RunRecord r = run_scenario(s, e, ov);
   if (json) std::cout << r.to_json().dump() << "\n";

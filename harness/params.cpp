@@ -3,6 +3,9 @@
 #include <charconv>
 #include <cmath>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
+
+#include "harness/suggest.hpp"
 
 namespace liftcheck {
 
@@ -14,50 +17,76 @@ std::string trim(const std::string& s) {
   return b == std::string::npos ? std::string() : s.substr(b, e - b + 1);
 }
 
-double parse_number(const std::string& key, const std::string& text) {
+/// A bound as a user reads it: 1e+04 rather than 10000.000000.
+std::string bound(double v) { return fmt::format("{:g}", v); }
+
+/// "> 0 and <= 10", ">= 1", "<= 5": the valid range of a number.
+std::string range_text(const ParamSpec& s) {
+  std::string lo, hi;
+  if (std::isfinite(s.min)) lo = fmt::format("{} {}", s.min_exclusive ? ">" : ">=", bound(s.min));
+  if (std::isfinite(s.max)) hi = fmt::format("<= {}", bound(s.max));
+  if (lo.empty()) return hi.empty() ? "finite" : hi;
+  return hi.empty() ? lo : lo + " and " + hi;
+}
+
+/// Text as one finite double: the whole text (spaces around it aside) must be the number.
+double parse_number(const std::string& key, const std::string& text, const std::string& what = "") {
   const std::string t = trim(text);
   double v = 0.0;
   const char* first = t.data();
   const char* last = t.data() + t.size();
   if (!t.empty() && *first == '+') ++first;
   const auto [ptr, ec] = std::from_chars(first, last, v);
-  if (t.empty() || ec != std::errc() || ptr != last || !std::isfinite(v))
-    throw InputError(fmt::format("parameter '{}' needs a finite number, got '{}'", key, text));
+  const std::string where = what.empty() ? fmt::format("parameter '{}'", key) : fmt::format("parameter '{}' ({})", key, what);
+  if (!t.empty() && ec == std::errc::result_out_of_range && ptr == last)
+    throw InputError(fmt::format("{} needs a finite number, got '{}': too large or too small in magnitude for a double", where, text));
+  if (t.empty() || ec != std::errc() || ptr != last) throw InputError(fmt::format("{} needs a finite number, got '{}'", where, text));
+  if (!std::isfinite(v)) throw InputError(fmt::format("{} needs a finite number, got '{}' (not finite)", where, text));
   return v;
 }
 
-void check_range(const ParamSpec& s, double v) {
+bool in_range(const ParamSpec& s, double v) {
   const bool low = s.min_exclusive ? !(v > s.min) : !(v >= s.min);
-  if (low)
-    throw InputError(fmt::format("parameter '{}' must be {} {} (got {})", s.key,
-                                 s.min_exclusive ? ">" : ">=", s.min, v));
-  if (!(v <= s.max)) throw InputError(fmt::format("parameter '{}' must be <= {} (got {})", s.key, s.max, v));
+  return !low && v <= s.max;
+}
+
+void check_range(const ParamSpec& s, double v, const std::string& text) {
+  if (!in_range(s, v)) throw InputError(fmt::format("parameter '{}' must be {}{}, got '{}'", s.key, range_text(s), s.unit.empty() || s.unit == "1" ? "" : " " + s.unit, trim(text)));
 }
 
 ParamValue parse_value(const ParamSpec& s, const std::string& text) {
   switch (s.kind) {
     case ParamKind::kNumber: {
       const double v = parse_number(s.key, text);
-      check_range(s, v);
+      check_range(s, v, text);
       return v;
     }
     case ParamKind::kInteger: {
       const double v = parse_number(s.key, text);
       if (v != std::floor(v)) throw InputError(fmt::format("parameter '{}' needs a whole number, got '{}'", s.key, text));
-      check_range(s, v);
+      check_range(s, v, text);
       return v;
     }
     case ParamKind::kVec2: {
-      const auto comma = text.find(',');
-      if (comma == std::string::npos || text.find(',', comma + 1) != std::string::npos)
-        throw InputError(fmt::format("parameter '{}' needs two numbers 'x,y', got '{}'", s.key, text));
-      return Eigen::Vector2d(parse_number(s.key, text.substr(0, comma)), parse_number(s.key, text.substr(comma + 1)));
+      std::vector<std::string> parts;
+      std::size_t from = 0;
+      for (std::size_t comma; (comma = text.find(',', from)) != std::string::npos; from = comma + 1) parts.push_back(text.substr(from, comma - from));
+      parts.push_back(text.substr(from));
+      if (parts.size() != 2)
+        throw InputError(fmt::format("parameter '{}' needs a 2-D point 'x,y' (two numbers), got '{}' ({} {})", s.key, text, parts.size(),
+                                     parts.size() == 1 ? "value" : "values"));
+      const double x = parse_number(s.key, parts[0], "x");  // x first: its error is the one reported
+      const Eigen::Vector2d v(x, parse_number(s.key, parts[1], "y"));
+      for (int i = 0; i < 2; ++i)
+        if (!in_range(s, v[i]))
+          throw InputError(fmt::format("parameter '{}' needs coordinates {}{}, got '{}'", s.key, range_text(s), s.unit.empty() ? "" : " " + s.unit, text));
+      return v;
     }
     case ParamKind::kChoice: {
       const std::string t = trim(text);
       for (const auto& c : s.choices)
         if (c == t) return t;
-      throw InputError(fmt::format("parameter '{}' must be one of {}, got '{}'", s.key, fmt::join(s.choices, "|"), text));
+      throw InputError(fmt::format("parameter '{}' must be one of {}, got '{}'{}", s.key, fmt::join(s.choices, "|"), text, did_you_mean(t, s.choices)));
     }
   }
   throw InputError("unreachable parameter kind");
@@ -84,7 +113,11 @@ Params Params::resolve(const std::vector<ParamSpec>& specs,
     const ParamSpec* spec = nullptr;
     for (const auto& s : specs)
       if (s.key == key) spec = &s;
-    if (!spec) throw InputError(fmt::format("unknown parameter '{}' for scenario '{}'", key, scenario));
+    if (!spec) {
+      std::vector<std::string> keys;
+      for (const auto& s : specs) keys.push_back(s.key);
+      throw InputError(fmt::format("unknown parameter '{}' for scenario '{}'{}", key, scenario, did_you_mean(key, keys)));
+    }
     p.values_[key] = parse_value(*spec, text);
   }
   return p;
@@ -106,7 +139,7 @@ nlohmann::json Params::to_json() const {
 
 std::pair<std::string, std::string> split_assignment(const std::string& arg) {
   const auto eq = arg.find('=');
-  if (eq == std::string::npos || eq == 0)
+  if (eq == std::string::npos || trim(arg.substr(0, eq)).empty())
     throw InputError(fmt::format("--set needs KEY=VALUE, got '{}'", arg));
   return {trim(arg.substr(0, eq)), arg.substr(eq + 1)};
 }

@@ -43,8 +43,9 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
   utsname u{};
   uname(&u);
   const std::time_t now = std::time(nullptr);
-  char date[32];
-  std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&now));
+  char date[32] = "unknown";
+  std::tm utc{};
+  if (gmtime_r(&now, &utc)) std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", &utc);
   return {{"liftcheck", {{"version", LIFTCHECK_VERSION}, {"commit", LIFTCHECK_COMMIT}}},
           {"date", date},
           {"machine", {{"host", host}, {"os", fmt::format("{} {} {}", u.sysname, u.release, u.machine)},

@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "harness/results_file.hpp"  // read_results: results and baselines read back, checked
 #include "harness/runner.hpp"
 
 namespace liftcheck {

@@ -19,6 +19,7 @@
 extern char** environ;
 
 #include "harness/runner.hpp"
+#include "harness/suggest.hpp"
 
 namespace liftcheck {
 
@@ -82,7 +83,14 @@ SuitePlan plan_suite(const SuiteDef& def) {
     for (const Scenario* s : plan.scenarios)
       for (const EngineInfo* e : def.engines)
         for (const auto& kv : overrides_for(def.set, *s, *e)) taken = taken || kv.first == key;
-    if (!taken) throw InputError(fmt::format("--set {}: no scenario run here has a parameter or setting '{}'", key, key));
+    if (!taken) {
+      std::vector<std::string> names;
+      for (const Scenario* s : plan.scenarios)
+        for (const ParamSpec& p : s->params) names.push_back(p.key);
+      for (const EngineInfo* e : def.engines)
+        for (const SettingSpec& k : e->knobs) names.push_back(k.key);
+      throw InputError(fmt::format("--set {}: no scenario run here has a parameter or setting '{}'{}", printable(key), printable(key), did_you_mean(key, names)));
+    }
   }
   for (const Scenario* s : plan.scenarios)
     for (const EngineInfo* e : def.engines) {

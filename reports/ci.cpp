@@ -34,12 +34,19 @@ json merged(json a, const json& b) {
 /// A record's verdict ("known failure", ...), or its status in files written before verdicts.
 std::string verdict_of(const json& r) { return r.value("verdict", r["status"].get<std::string>()); }
 
-/// Error of a metric as a fraction of its tolerance.
+/// A number of a record; null (how a NaN or infinite value is written) or absent reads as infinite.
+double number_of(const json& m, const char* key) {
+  const auto it = m.find(key);
+  return it != m.end() && it->is_number() ? it->get<double>() : INFINITY;
+}
+
+/// Error of a metric as a fraction of its tolerance (harness/results_file.cpp checks these fields
+/// of a file read back).
 double ratio(const json& m) {
-  const double err = m["tolerance_kind"] == "rel" ? m["rel_error"].get<double>() : m["abs_error"].get<double>();
-  const double tol = m["tolerance"].get<double>();
+  const double err = number_of(m, m.value("tolerance_kind", "abs") == "rel" ? "rel_error" : "abs_error");
+  const double tol = number_of(m, "tolerance");
   double r = tol > 0 ? err / tol : (err > 0 ? INFINITY : 0.0);
-  if (m.value("floor", 0.0) > 0.0) r = std::min(r, m["abs_error"].get<double>() / m["floor"].get<double>());
+  if (m.value("floor", 0.0) > 0.0) r = std::min(r, number_of(m, "abs_error") / m["floor"].get<double>());
   return r;
 }
 
@@ -227,16 +234,16 @@ json diff_results(const json& base, const json& head, const DiffDef& def) {
     }
     const json& br = *it->second;
     if (as_expected(br) && !as_expected(*hr))
-      d["regressions"].push_back(merged(id, {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}, {"message", (*hr)["message"]}}));
+      d["regressions"].push_back(merged(id, {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}, {"message", hr->value("message", "")}}));
     else if (!as_expected(br) && as_expected(*hr))
       d["fixed"].push_back(merged(id, {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}}));
-    if (!br["metrics"].is_object() || !(*hr)["metrics"].is_object()) continue;
+    if (!br.contains("metrics") || !hr->contains("metrics") || !br["metrics"].is_object() || !(*hr)["metrics"].is_object()) continue;
     for (const auto& [name, hm] : (*hr)["metrics"].items()) {
       if (!br["metrics"].contains(name) || hm.value("informational", false)) continue;
       const json& bm = br["metrics"][name];
       const double rb = ratio(bm), rh = ratio(hm);
       const json entry = merged(id, {{"metric", name}, {"base_ratio", rb}, {"head_ratio", rh},
-                                     {"base_measured", bm["measured"]}, {"head_measured", hm["measured"]}});
+                                     {"base_measured", bm.value("measured", json())}, {"head_measured", hm.value("measured", json())}});
       if (rh > def.floor && rh > def.growth * rb) d["worse"].push_back(entry);
       else if (rb > def.floor && rb > def.growth * rh) d["better"].push_back(entry);
     }

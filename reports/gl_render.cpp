@@ -276,7 +276,13 @@ struct Renderer::Impl {
   OSMesaContext ctx = nullptr;
   std::vector<std::uint8_t> buffer;
   ~Impl() {
-    if (ctx) OSMesaDestroyContext(ctx);
+    if (!ctx) return;
+    // Release the context before destroying it, so that the thread is not left with a destroyed
+    // context current (OSMesaDestroyContext does not unbind it). What valgrind still reports lost
+    // after this (16 bytes once per process, about 160 per context made current) is Mesa 22.3's own:
+    // OSMesa keeps its framebuffers in a list no API frees (tests/sanitize/lsan.supp).
+    if (OSMesaGetCurrentContext() == ctx) OSMesaMakeCurrent(nullptr, nullptr, 0, 0, 0);
+    OSMesaDestroyContext(ctx);
   }
 };
 

@@ -1,13 +1,18 @@
 #include "reports/plots.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
-#include <cstdlib>
+#include <cstring>
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <fstream>
 #include <map>
 #include <set>
+#include <spawn.h>
 #include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace liftcheck {
 
@@ -29,6 +34,22 @@ std::string safe(const std::string& s) {
   return o;
 }
 
+}  // namespace
+
+/// A string as gnuplot data: single-quoted (no backslash escapes, no backquote command substitution,
+/// no macros inside), a quote doubled, control characters (which would end the command) as spaces.
+std::string gnuplot_quote(const std::string& s) {
+  std::string o = "'";
+  for (char c : s) {
+    if (c == '\'') o += "''";
+    else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) o += ' ';
+    else o += c;
+  }
+  return o + "'";
+}
+
+namespace {
+
 struct Script {
   std::ostringstream gp;
   int blocks = 0;
@@ -42,12 +63,45 @@ struct Script {
     gp << "EOD\n";
     return name;
   }
-  void begin(const std::filesystem::path& svg, const std::string& title, int w = 760, int h = 440) {
+  /// `svg` is a file name inside the plots folder, where gnuplot runs.
+  void begin(const std::string& svg, const std::string& title, int w = 760, int h = 440) {
     gp << fmt::format("reset\nset terminal svg size {},{} dynamic font 'DejaVu Sans,12' background '#ffffff'\n", w, h)
-       << fmt::format("set output '{}'\nset title \"{}\"\nset grid lc rgb '#dddddd'\nset key outside right top\n",
-                      svg.string(), title);
+       << fmt::format("set output {}\nset title {}\nset grid lc rgb '#dddddd'\nset key outside right top\n",
+                      gnuplot_quote(svg), gnuplot_quote(title));
   }
 };
+
+/// "plots/x.svg" -> "x.svg": gnuplot runs in the plots folder, so no path of the user's is in the script.
+std::string file_name(const std::string& rel) { return std::filesystem::path(rel).filename().string(); }
+
+/// Runs gnuplot on `dir`/plots.gp with `dir` as its working folder, its output in `dir`/gnuplot.log:
+/// no shell, the argument vector fixed ("gnuplot plots.gp"), the folder handed over as data.
+void run_gnuplot(const std::filesystem::path& dir) {
+  const std::string log = (dir / "gnuplot.log").string();
+  const int out_fd = ::open(log.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+  if (out_fd < 0) throw std::runtime_error(fmt::format("cannot write '{}': {}", log, std::strerror(errno)));
+  const int null_fd = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+  posix_spawn_file_actions_t fa;
+  posix_spawn_file_actions_init(&fa);
+  posix_spawn_file_actions_addchdir_np(&fa, dir.c_str());
+  if (null_fd >= 0) posix_spawn_file_actions_adddup2(&fa, null_fd, STDIN_FILENO);
+  posix_spawn_file_actions_adddup2(&fa, out_fd, STDOUT_FILENO);
+  posix_spawn_file_actions_adddup2(&fa, out_fd, STDERR_FILENO);
+  char arg0[] = "gnuplot", arg1[] = "plots.gp";
+  char* argv[] = {arg0, arg1, nullptr};
+  pid_t pid = -1;
+  const int rc = posix_spawnp(&pid, "gnuplot", &fa, nullptr, argv, environ);
+  posix_spawn_file_actions_destroy(&fa);
+  ::close(out_fd);
+  if (null_fd >= 0) ::close(null_fd);
+  if (rc != 0) throw std::runtime_error(fmt::format("cannot run gnuplot: {}", std::strerror(rc)));
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0)
+    if (errno != EINTR) throw std::runtime_error(fmt::format("waiting for gnuplot: {}", std::strerror(errno)));
+  if (WIFSIGNALED(status)) throw std::runtime_error(fmt::format("gnuplot killed by signal {}; see {}", WTERMSIG(status), log));
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    throw std::runtime_error(fmt::format("gnuplot exited with status {}; see {}", WEXITSTATUS(status), log));
+}
 
 }  // namespace
 
@@ -88,15 +142,15 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
       };
       if (!reference_done && d.contains("reference")) {
         const std::string b = S.block(rows_of(d["reference"]));
-        cmd += fmt::format("{} u 1:2 w l lw 7 lc rgb '#b0b0b0' t '{}', ", b, disks ? "exact lift (21)" : "exact lift (front axle)");
+        cmd += fmt::format("{} u 1:2 w l lw 7 lc rgb '#b0b0b0' t {}, ", b, gnuplot_quote(disks ? "exact lift (21)" : "exact lift (front axle)"));
         reference_done = true;
       }
       const std::string b = S.block(rows_of(d["trace"]));
-      cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb '{}' t '{}', ", b, color_of(eng), eng);
+      cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb {} t {} noenhanced, ", b, gnuplot_quote(color_of(eng)), gnuplot_quote(eng));
       any = true;
     }
     if (!any) continue;
-    S.begin(out / file, disks ? sc + ": distance between the centres" : sc + ": front-axle paths");
+    S.begin(file_name(file), disks ? sc + ": distance between the centres" : sc + ": front-axle paths");
     if (disks) S.gp << "set xlabel 'time [s]'\nset ylabel '|c_M - c_N| [m]'\nset arrow from graph 0, first 2 to graph 1, first 2 nohead lc rgb '#cc0000' dt 2\n";
     else S.gp << "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n";
     S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
@@ -110,9 +164,9 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
     if (sw.value("kind", "") == "outcomes") {
       const auto& grid = sw["grid"];
       const auto& paths = grid["path"];
-      S.begin(out / file, "", 1100, 420);
-      S.gp << fmt::format("set multiplot layout 1,{} title \"{}\"\nset xlabel 'a'\nset ylabel 'b'\nset xrange [-1.5:3.5]\nset yrange [-1.5:1.5]\nset key bottom right font ',9'\n",
-                          paths.size(), sw["title"].get<std::string>());
+      S.begin(file_name(file), "", 1100, 420);
+      S.gp << fmt::format("set multiplot layout 1,{} title {}\nset xlabel 'a'\nset ylabel 'b'\nset xrange [-1.5:3.5]\nset yrange [-1.5:1.5]\nset key bottom right font ',9'\n",
+                          paths.size(), gnuplot_quote(sw["title"].get<std::string>()));
       const json* first = sw["engines"].empty() ? nullptr : &sw["engines"][0];
       for (const auto& path : paths) {
         std::vector<std::vector<double>> hit, miss, nearb, dis;
@@ -127,11 +181,11 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
             if (c["path"] == path && c["reference"] != c["engine"]) dis.push_back({c["a"].get<double>(), c["b"].get<double>()});
         hit.push_back({NAN, NAN}), miss.push_back({NAN, NAN}), nearb.push_back({NAN, NAN}), dis.push_back({NAN, NAN});
         const std::string bh = S.block(hit), bm = S.block(miss), bn = S.block(nearb), bd = S.block(dis);
-        S.gp << fmt::format("set title 'N on a {}'\nplot {} u 1:2 w p pt 7 ps 1.3 lc rgb '#d62728' t 'collision', "
+        S.gp << fmt::format("set title {}\nplot {} u 1:2 w p pt 7 ps 1.3 lc rgb '#d62728' t 'collision', "
                             "{} u 1:2 w p pt 7 ps 1.3 lc rgb '#2ca02c' t 'no collision', "
                             "{} u 1:2 w p pt 6 ps 2.6 lc rgb '#000000' t 'near boundary', "
                             "{} u 1:2 w p pt 2 ps 2.2 lw 2 lc rgb '#9467bd' t 'an engine disagrees'\n",
-                            path.get<std::string>(), bh, bm, bn, bd);
+                            gnuplot_quote("N on a " + path.get<std::string>()), bh, bm, bn, bd);
       }
       S.gp << "unset multiplot\n";
       files.push_back({"sweeps", file, sw["title"]});
@@ -139,25 +193,25 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
     }
     const std::string param = sw["param"];
     const auto& rec = sw["record"];
-    S.begin(out / file, sw["title"]);
+    S.begin(file_name(file), sw["title"]);
     std::string cmd;
     // The sweep says how it is plotted (its catalogue entry): measured values over exact curves,
     // measured against exact sizes, or relative errors.
     const json plot = sw.value("plot", json::object());
     const std::string kind = plot.value("kind", "errors");
     const bool values = kind == "values", holonomy = kind == "sizes";
-    S.gp << fmt::format("set xlabel '{}'\nset ylabel '{}'\n", plot.value("x_label", param), plot.value("y_label", ""));
+    S.gp << fmt::format("set xlabel {}\nset ylabel {}\n", gnuplot_quote(plot.value("x_label", param)), gnuplot_quote(plot.value("y_label", "")));
     if (values) S.gp << "set logscale y\n";
     else if (holonomy) S.gp << "set logscale xy\nset format y '10^{%T}'\n";
     else S.gp << "set logscale y\nset format y '10^{%T}'\n";
     if (plot.value("log_x", false)) S.gp << "set logscale x\n";
     int shade = 0;
     for (const auto& c : plot.value("curves", json::array()))
-      cmd += fmt::format("{} w l lw 6 lc rgb '{}' t '{}', ", c["expr"].get<std::string>(), shade++ == 0 ? "#c8c8c8" : "#e0e0e0",
-                         c["title"].get<std::string>());
+      cmd += fmt::format("{} w l lw 6 lc rgb '{}' t {}, ", c["expr"].get<std::string>(), shade++ == 0 ? "#c8c8c8" : "#e0e0e0",
+                         gnuplot_quote(c["title"].get<std::string>()));
     if (sw.contains("marker")) {
-      S.gp << fmt::format("set arrow from {0}, graph 0 to {0}, graph 1 nohead lc rgb '#cc0000' dt 2\nset label \"{1}\" at {0}, graph 0.95 offset 0.5,0 tc rgb '#cc0000'\n",
-                          sw["marker"]["x"].get<double>(), sw["marker"]["label"].get<std::string>());
+      S.gp << fmt::format("set arrow from {0}, graph 0 to {0}, graph 1 nohead lc rgb '#cc0000' dt 2\nset label {1} at {0}, graph 0.95 offset 0.5,0 tc rgb '#cc0000'\n",
+                          sw["marker"]["x"].get<double>(), gnuplot_quote(sw["marker"]["label"].get<std::string>()));
     }
     bool exact_done = false;
     for (const auto& e : sw["engines"]) {
@@ -190,9 +244,10 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
       std::string title = eng;
       if (holonomy && e.contains("fit") && e["fit"]["slope"].is_number())
         title += fmt::format(" (slope {:.2f})", e["fit"]["slope"].get<double>());
-      cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb '{}' t '{}{}', ", S.block(a), color_of(eng), title,
-                         values ? " front" : "");
-      if (!b2.empty()) cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb '{}' t '{} rear', ", S.block(b2), color_of(eng), eng);
+      cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb {} t {} noenhanced, ", S.block(a), gnuplot_quote(color_of(eng)),
+                         gnuplot_quote(title + (values ? " front" : "")));
+      if (!b2.empty())
+        cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb {} t {} noenhanced, ", S.block(b2), gnuplot_quote(color_of(eng)), gnuplot_quote(eng + " rear"));
     }
     if (cmd.empty()) continue;
     S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
@@ -204,10 +259,10 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
   for (const auto& map : results.value("maps", json::array())) {
     const std::string file = fmt::format("plots/map-{}.svg", safe(map["name"]));
     const auto& panels = map["panels"];
-    S.begin(out / file, "", 1200, 520);
-    S.gp << fmt::format("set multiplot layout 1,{} title \"{}\" font ',11'\nset logscale xy\nset format x '10^{{%T}}'\nset format y '10^{{%T}}'\n"
+    S.begin(file_name(file), "", 1200, 520);
+    S.gp << fmt::format("set multiplot layout 1,{} title {} font ',11'\nset logscale xy\nset format x '10^{{%T}}'\nset format y '10^{{%T}}'\n"
                         "set xlabel 'wall-clock cost [s per simulated s]'\nset key inside top right font ',8'\n",
-                        panels.size(), map["title"].get<std::string>());
+                        panels.size(), gnuplot_quote(map["title"].get<std::string>()));
     for (const auto& panel : panels) {
       std::string cmd;
       std::vector<std::vector<double>> front;
@@ -222,15 +277,15 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
             }
           if (rows.empty()) continue;
           const std::string style = std::string(knob) == "iterations" ? "w lp pt 6 dt 2" : std::string(knob) == "dt" ? "w lp pt 7" : "w p pt 9 ps 1.6";
-          cmd += fmt::format("{} u 1:2 {} lw 1.5 lc rgb '{}' t '{}{}', ", S.block(rows), style, color_of(eng), eng,
-                             std::string(knob) == "default" ? "" : fmt::format(" ({})", knob));
+          cmd += fmt::format("{} u 1:2 {} lw 1.5 lc rgb {} t {} noenhanced, ", S.block(rows), style, gnuplot_quote(color_of(eng)),
+                             gnuplot_quote(eng + (std::string(knob) == "default" ? "" : fmt::format(" ({})", knob))));
         }
       }
       std::sort(front.begin(), front.end());
       if (!front.empty()) cmd += fmt::format("{} u 1:2 w lp pt 6 ps 2.4 lw 1 dt 3 lc rgb '#000000' t 'Pareto front', ", S.block(front));
       if (cmd.empty()) continue;
-      S.gp << fmt::format("set title '{}'\nset ylabel '{}'\nplot {}\n", panel["scenario"].get<std::string>(),
-                          panel["error_label"].get<std::string>(), cmd.substr(0, cmd.size() - 2));
+      S.gp << fmt::format("set title {}\nset ylabel {}\nplot {}\n", gnuplot_quote(panel["scenario"].get<std::string>()),
+                          gnuplot_quote(panel["error_label"].get<std::string>()), cmd.substr(0, cmd.size() - 2));
     }
     S.gp << "unset multiplot\n";
     files.push_back({"sweeps", file, map["title"]});
@@ -240,11 +295,10 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
   {
     std::ofstream f(script);
     f << S.gp.str();
+    f.close();
     if (!f) throw std::runtime_error(fmt::format("cannot write '{}'", script.string()));
   }
-  const std::string command = fmt::format("gnuplot '{}' > '{}' 2>&1", script.string(), (out / "plots" / "gnuplot.log").string());
-  if (std::system(command.c_str()) != 0)
-    throw std::runtime_error(fmt::format("gnuplot failed; see {}", (out / "plots" / "gnuplot.log").string()));
+  run_gnuplot(out / "plots");
   return files;
 }
 

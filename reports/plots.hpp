@@ -14,7 +14,13 @@ struct PlotFile {
   std::string caption;
 };
 
-/// Writes plots/plots.gp and runs gnuplot on it. Throws std::runtime_error if gnuplot fails.
+/// Writes plots/plots.gp and runs gnuplot on it (no shell: gnuplot is spawned with a fixed argument
+/// vector in the plots folder, and every name in the script is quoted as gnuplot data). Throws
+/// std::runtime_error if gnuplot cannot be started or fails.
 std::vector<PlotFile> write_plots(const nlohmann::json& results, const std::filesystem::path& out_dir);
+
+/// `s` as a gnuplot single-quoted string: ' doubled, control characters as spaces (no escapes,
+/// backquotes or macros are interpreted inside it).
+std::string gnuplot_quote(const std::string& s);
 
 }  // namespace liftcheck

@@ -47,9 +47,10 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
       const auto it = ink.find(r["engine"].get<std::string>());
       return it == ink.end() ? render::colors::kUnknown : it->second;
     };
+    const int threads = std::max(1, def.threads);  // 0 or fewer: one thread (a stride of 0 never ends)
     const auto worker = [&](int id) {
       render::Renderer renderer;
-      for (std::size_t i = id; i < runs.size(); i += def.threads) {
+      for (std::size_t i = id; i < runs.size(); i += static_cast<std::size_t>(threads)) {
         const json& r = runs[i];
         const std::string base = fmt::format("snapshots/{}__{}", file_safe(r["scenario"]), file_safe(r["engine"]));
         try {
@@ -75,7 +76,7 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
       if (gl_version.empty()) gl_version = renderer.gl_version();
     };
     std::vector<std::thread> pool;
-    for (int id = 0; id < std::max(1, def.threads); ++id) pool.emplace_back(worker, id);
+    for (int id = 0; id < threads; ++id) pool.emplace_back(worker, id);
     for (auto& t : pool) t.join();
     for (std::size_t i = 0; i < runs.size(); ++i) {
       for (auto& s : shots[i]) report["snapshots"].push_back(s);

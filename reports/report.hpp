@@ -10,7 +10,7 @@ namespace liftcheck {
 struct ReportDef {
   bool snapshots = true;
   bool plots = true;
-  int threads = 2;  ///< rendering threads, one OSMesa context each
+  int threads = 2;  ///< rendering threads, one OSMesa context each (below 1: one)
 };
 
 /// Never throws for a failed picture or plot: the failure is listed in results["report"]["errors"]

@@ -331,5 +331,92 @@ xmllint --noout --schema "$(dirname "$0")/junit-10.xsd" "$tmp/tb/junit.xml" 2>"$
 grep -q "^### Not as expected" "$tmp/tb/summary.md" && grep -q "^- \*\*car.circle\*\* on \`broken\`: fail" "$tmp/tb/summary.md" && passes=$((passes + 1)) \
   || { echo "FAIL summary.md failures first"; cat "$tmp/tb/summary.md"; fails=$((fails + 1)); }
 
+# Reliability. No shell sees a user's string: an output folder named like a shell command gets
+# the report in the folder of that literal name, plots included, and runs no command.
+mkdir -p "$tmp/inj"
+evil="DIR'; touch FILE; echo '"
+(cd "$tmp/inj" && "$bin" validate --filter car.circle --engines analytic,ode --no-sweeps --out "$evil" >"$tmp/out" 2>"$tmp/err")
+status=$?
+if [ "$status" -eq 0 ] && [ ! -e "$tmp/inj/FILE" ] && [ ! -e "$tmp/inj/DIR" ] && [ -s "$tmp/inj/$evil/plots/car_circle-paths.svg" ] \
+  && python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["report"]["errors"] == [] and len(d["report"]["plots"]) == 1, d["report"]' "$tmp/inj/$evil/results.json"; then
+  passes=$((passes + 1))
+else
+  echo "FAIL shell-free plots: exit $status"; ls -la "$tmp/inj"; cat "$tmp/err"; fails=$((fails + 1))
+fi
+# A configuration name (the --trace-dir folder's) reaches gnuplot's script as quoted data only.
+tname="x', system('touch GNUPLOT'), '"
+mkdir -p "$tmp/inj/$tname"
+cp "$tmp/trace.csv" "$tmp/inj/$tname/car.circle.csv"
+(cd "$tmp/inj" && "$bin" validate --filter car.circle --engines analytic --no-sweeps --trace-dir "$tname" --out td >"$tmp/out" 2>"$tmp/err")
+[ $? -eq 0 ] && [ -z "$(find "$tmp/inj" -name GNUPLOT)" ] && [ -s "$tmp/inj/td/plots/car_circle-paths.svg" ] && grep -qF "<text>x', system('touch GNUPLOT'), '</text>" "$tmp/inj/td/plots/car_circle-paths.svg" \
+  && passes=$((passes + 1)) || { echo "FAIL configuration name ran in gnuplot"; cat "$tmp/inj/td/plots/gnuplot.log"; fails=$((fails + 1)); }
+# gnuplot missing: the report says so in its errors (and on the console), the rest is written.
+PATH=/nonexistent "$bin" validate --filter car.circle --engines analytic --no-sweeps --out "$tmp/nognuplot" >"$tmp/out" 2>"$tmp/err"
+python3 -c 'import json,sys; e=json.load(open(sys.argv[1]))["report"]["errors"]; assert len(e) == 1 and e[0].startswith("plots: cannot run gnuplot"), e' "$tmp/nognuplot/results.json" \
+  && [ -s "$tmp/nognuplot/index.html" ] && passes=$((passes + 1)) || { echo "FAIL missing gnuplot not reported"; cat "$tmp/out" "$tmp/err"; fails=$((fails + 1)); }
+
+# Every value is checked for type, range and sense; a misspelt name gets the nearest valid one.
+bad_input suggest-scenario "unknown scenario 'car.circel' (see 'liftcheck list'); did you mean 'car.circle'?" run car.circel
+bad_input suggest-engine "did you mean 'ode-quick'?" run car.circle --engine ode-quik
+bad_input suggest-param "unknown parameter 'speeed' for scenario 'car.circle'; did you mean 'speed'?" run car.circle --set speeed=1
+bad_input suggest-setting "did you mean 'iterations'?" run car.circle --engine ode-quick --set iteratons=5
+bad_input suggest-path-param "did you mean 'lambda'?" path disks.repel --set lamda=1
+bad_input suggest-choice "parameter 'path' must be one of line|circle|figure8, got 'circel'; did you mean 'circle'?" run disks.copy --set path=circel
+bad_input no-suggestion-far-off "unknown parameter 'zzzzzz' for scenario 'car.circle'" run car.circle --set zzzzzz=1
+grep -q "did you mean" "$tmp/err" && { echo "FAIL a far-off name got a suggestion"; fails=$((fails + 1)); }
+bad_input mu-zero "parameter 'mu' must be > 0 and <= 10, got '0'" run car.circle --set mu=0
+bad_input overflow "parameter 'mu' needs a finite number, got '1e400': too large or too small" run car.circle --set mu=1e400
+bad_input nan-text "parameter 'l' needs a finite number, got 'nan'" run car.circle --set l=nan
+bad_input inf-text "parameter 'dt' needs a finite number, got '-inf'" run car.circle --set dt=-inf
+bad_input dt-zero "parameter 'dt' must be > 0 and <= 0.1 s, got '0'" run car.circle --set dt=0
+bad_input dt-beyond-T "parameter 'dt' must be < T = 0.05 s (the duration), got '0.1'" run disks.repel --set T=0.05 --set dt=0.1
+bad_input T-zero "parameter 'T' must be > 0" run disks.copy --set T=0
+bad_input angle-range "parameter 'beta' must be >= -1.4 and <= 1.4 rad, got '2'" run car.circle --set beta=2
+bad_input heading-range "parameter 'phi' must be >= -100 and <= 100 rad" run car.circle --set phi=1e9
+bad_input point-3-coords "parameter 'cM' needs a 2-D point 'x,y' (two numbers), got '1,2,3' (3 values)" run disks.repel --set cM=1,2,3
+bad_input point-1-coord "parameter 'cN' needs a 2-D point 'x,y' (two numbers), got '5' (1 value)" run disks.repel --set cN=5
+bad_input point-bad-y "parameter 'cM' (y) needs a finite number, got 'abc'" run disks.repel --set cM=1,abc
+bad_input point-range "parameter 'vN' needs coordinates >= -1000 and <= 1000 m/s, got '1e5,0'" run disks.repel --set vN=1e5,0
+bad_input disks-overlap "the initial centres cM and cN overlap: |cM - cN| = 1, must be >= 2" run disks.repel --set cM=4,0
+bad_input whole-number "parameter 'headings' needs a whole number, got '2.5'" run car.covariance --set headings=2.5
+bad_input empty-key "--set needs KEY=VALUE, got ' =3'" run car.circle --set ' =3'
+
+# Files read back: one line naming the file, the field or line, and the problem; never a crash.
+python3 - "$tmp/report/results.json" "$tmp" <<'PY'
+import json, sys, copy
+d = json.load(open(sys.argv[1]))
+out = sys.argv[2]
+def write(name, f):
+    e = copy.deepcopy(d); f(e); json.dump(e, open(f"{out}/{name}.json", "w"))
+def first_metric(e):
+    assert e["runs"][0]["scenario"] == "car.circle"
+    return e["runs"][0]["metrics"]["front_radius"]   # relative, no floor, counted
+write("no-rel", lambda e: first_metric(e).pop("rel_error"))
+write("str-tol", lambda e: first_metric(e).update(tolerance="big"))
+write("no-engine", lambda e: e["runs"][1].pop("engine"))
+write("bad-status", lambda e: e["runs"][0].update(status="great"))
+write("metrics-list", lambda e: e["runs"][2].update(metrics=[1, 2]))
+write("runs-object", lambda e: e.update(runs={}))
+write("run-number", lambda e: e["runs"].insert(0, 7))
+write("null-error", lambda e: first_metric(e).update(rel_error=None))
+PY
+bad_input diff-missing-field "$tmp/no-rel.json: runs[0].metrics.front_radius: missing 'rel_error'" diff "$tmp/no-rel.json" "$tmp/report/results.json"
+bad_input diff-wrong-type "$tmp/str-tol.json: runs[0].metrics.front_radius: 'tolerance' is a string, not a number or null" diff "$tmp/report/results.json" "$tmp/str-tol.json"
+bad_input diff-no-engine "$tmp/no-engine.json: runs[1]: missing 'engine'" diff "$tmp/no-engine.json" "$tmp/report/results.json"
+bad_input diff-bad-status "$tmp/bad-status.json: runs[0]: 'status' is 'great', not one of pass|fail|error|skip" diff "$tmp/bad-status.json" "$tmp/report/results.json"
+bad_input diff-metrics-list "$tmp/metrics-list.json: runs[2]: 'metrics' is an array, not an object" diff "$tmp/metrics-list.json" "$tmp/report/results.json"
+bad_input diff-runs-object "$tmp/runs-object.json: 'runs' is an object, not an array" diff "$tmp/runs-object.json" "$tmp/report/results.json"
+bad_input diff-run-number "$tmp/run-number.json: runs[0]: is a number, not an object" diff "$tmp/run-number.json" "$tmp/report/results.json"
+bad_input baseline-missing-field "$tmp/no-rel.json: runs[0].metrics.front_radius: missing 'rel_error'" validate --filter car.circle --engines analytic --no-sweeps --no-report --baseline "$tmp/no-rel.json" --out "$tmp/bl4"
+# A non-finite error is written as null: such a file is read and compared, not refused.
+check diff-null-error 1 "$bin" diff "$tmp/report/results.json" "$tmp/null-error.json"
+grep -q "^worse      car.circle on analytic: front_radius " "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL null error not compared"; cat "$tmp/out"; fails=$((fails + 1)); }
+printf 't,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.01,0,0,1e400,0,0\n' >"$tmp/huge.csv"
+bad_input score-overflow "huge.csv:3: column 'x' is out of the range of a double: '1e400'" score car.circle --trace "$tmp/huge.csv"
+printf '[{"t": 0, "cMx": 0, "cMy": 0, "cNx": 3, "cNy": 0}, {"t": 0, "cMx": 0, "cMy": 0, "cNx": 3, "cNy": 0}]' >"$tmp/same-t.json"
+bad_input score-json-time "same-t.json: row 2: time goes from 0 to 0 s: it must increase" score disks.copy --trace "$tmp/same-t.json"
+printf '{"rows": [{"t": 0, "cMx": "0"}]}' >"$tmp/str-cell.json"
+bad_input score-json-string-cell "str-cell.json: row 1: column 'cMx' is not a finite number" score disks.copy --trace "$tmp/str-cell.json"
+
 echo "$passes passed, $fails failed"
 [ "$fails" -eq 0 ]

@@ -28,12 +28,20 @@ TEST(Params, DefaultsAndOverrides) {
 
 TEST(Params, BadInputNamesTheProblem) {
   EXPECT_EQ(error_of({{"bogus", "1"}}), "unknown parameter 'bogus' for scenario 'car.circle'");
+  EXPECT_EQ(error_of({{"sped", "1"}}), "unknown parameter 'sped' for scenario 'car.circle'; did you mean 'speed'?");
+  EXPECT_EQ(error_of({{"MU", "1"}}), "unknown parameter 'MU' for scenario 'car.circle'; did you mean 'mu'?");
+  EXPECT_EQ(error_of({{"mu", "1e400"}}), "parameter 'mu' needs a finite number, got '1e400': too large or too small in magnitude for a double");
+  EXPECT_EQ(error_of({{"mu", "-inf"}}), "parameter 'mu' needs a finite number, got '-inf' (not finite)");
+  EXPECT_EQ(error_of({{"mu", "0"}}), "parameter 'mu' must be > 0 and <= 10, got '0'");
+  EXPECT_EQ(error_of({{"beta", "1.5"}}), "parameter 'beta' must be >= -1.4 and <= 1.4 rad, got '1.5'");
+  EXPECT_EQ(error_of({{"dt", " 0.002 "}}), "");
+  EXPECT_EQ(error_of({{"dt", "0x10"}}), "parameter 'dt' needs a finite number, got '0x10'");
   EXPECT_EQ(error_of({{"R", "abc"}}), "parameter 'R' needs a finite number, got 'abc'");
   EXPECT_EQ(error_of({{"R", "0.3m"}}), "parameter 'R' needs a finite number, got '0.3m'");
-  EXPECT_EQ(error_of({{"R", "nan"}}), "parameter 'R' needs a finite number, got 'nan'");
+  EXPECT_EQ(error_of({{"R", "nan"}}), "parameter 'R' needs a finite number, got 'nan' (not finite)");
   EXPECT_EQ(error_of({{"R", ""}}), "parameter 'R' needs a finite number, got ''");
-  EXPECT_EQ(error_of({{"l", "0"}}), "parameter 'l' must be > 0 (got 0)");
-  EXPECT_EQ(error_of({{"R", "-1"}}), "parameter 'R' must be > 0 (got -1)");
+  EXPECT_EQ(error_of({{"l", "0"}}), "parameter 'l' must be > 0 m, got '0'");
+  EXPECT_EQ(error_of({{"R", "-1"}}), "parameter 'R' must be > 0 m, got '-1'");
   EXPECT_EQ(error_of({{"R", "1e3"}}), "");
 }
 
@@ -66,7 +74,7 @@ TEST(Params, EngineSettings) {
   EXPECT_EQ(split_settings(circle, quick, {{"w", "1.0"}}).second.at("w"), "1");
   EXPECT_EQ(split_settings(circle, quick, {}).second.at("w"), "1.3");
   EXPECT_EQ(split_settings(circle, quick, {}).second.at("iterations"), "50");
-  EXPECT_EQ(setting_error(quick, {{"w", "0"}}), "parameter 'w' must be > 0 (got 0)");
+  EXPECT_EQ(setting_error(quick, {{"w", "0"}}), "parameter 'w' must be > 0 and <= 2, got '0'");
   EXPECT_NE(setting_error(quick, {{"w", "2.5"}}), "");
   EXPECT_NE(setting_error(quick, {{"w", "fast"}}), "");
   EXPECT_EQ(setting_error(*find_engine("ode"), {{"w", "1.0"}}).rfind("engine 'ode' has no setting 'w' for cars", 0), 0u);
@@ -76,8 +84,36 @@ TEST(Params, SplitAssignment) {
   EXPECT_EQ(split_assignment("R=0.3"), (std::pair<std::string, std::string>{"R", "0.3"}));
   EXPECT_THROW(split_assignment("R0.3"), InputError);
   EXPECT_THROW(split_assignment("=1"), InputError);
+  EXPECT_THROW(split_assignment("  =1"), InputError);
+  EXPECT_EQ(split_assignment(" R =0.3=4"), (std::pair<std::string, std::string>{"R", "0.3=4"}));
 }
 
 TEST(Params, EveryScenarioDefaultParses) {
   for (const auto& s : scenarios()) EXPECT_NO_THROW(Params::resolve(s.params, {}, s.name)) << s.name;
+}
+
+// A 2-D point takes exactly two finite coordinates within its range; a choice names the nearest.
+TEST(Params, PointsAndChoices) {
+  const auto& specs = find_scenario("disks.copy")->params;
+  const auto error = [&](const Overrides& ov) -> std::string {
+    try {
+      Params::resolve(specs, ov, "disks.copy");
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  EXPECT_EQ(error({{"cM", "1,2,3"}}), "parameter 'cM' needs a 2-D point 'x,y' (two numbers), got '1,2,3' (3 values)");
+  EXPECT_EQ(error({{"cM", "1"}}), "parameter 'cM' needs a 2-D point 'x,y' (two numbers), got '1' (1 value)");
+  EXPECT_EQ(error({{"cM", ","}}), "parameter 'cM' (x) needs a finite number, got ''");
+  EXPECT_EQ(error({{"cM", "1,nan"}}), "parameter 'cM' (y) needs a finite number, got 'nan' (not finite)");
+  EXPECT_EQ(error({{"vN", "2000,0"}}), "parameter 'vN' needs coordinates >= -1000 and <= 1000 m/s, got '2000,0'");
+  EXPECT_EQ(error({{"cM", " -1 , 2.5 "}}), "");
+  EXPECT_EQ(error({{"path", "figure-8"}}), "parameter 'path' must be one of line|circle|figure8, got 'figure-8'; did you mean 'figure8'?");
+  EXPECT_EQ(error({{"path", "spiral"}}), "parameter 'path' must be one of line|circle|figure8, got 'spiral'");
+}
+
+// Every default of every scenario is inside its own range (the defaults are parsed like input).
+TEST(Params, DefaultsAreValid) {
+  for (const Scenario& s : scenarios()) EXPECT_NO_THROW(Params::resolve(s.params, {}, s.name)) << s.name;
 }

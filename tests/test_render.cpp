@@ -5,7 +5,10 @@
 #include <filesystem>
 #include <fstream>
 
+#include <GL/osmesa.h>
+
 #include "reports/gl_render.hpp"
+#include "reports/plots.hpp"
 #include "reports/scene_build.hpp"
 
 #include <cmath>
@@ -110,4 +113,23 @@ TEST(Render, FourWheelRunDrawsFourWheels) {
   EXPECT_NEAR(wheels[0].centre.y(), 0.5 * track, 1e-12);
   run["params"]["wheels"] = "3";
   EXPECT_EQ(snapshots_for(run, Color{0, 0, 1, 1}).front().scene.wheels.size(), 3u);
+}
+
+// A renderer leaves no destroyed context current on its thread.
+TEST(Render, ReleasesItsContext) {
+  {
+    Renderer r;
+    r.render(known_scene());
+    ASSERT_NE(OSMesaGetCurrentContext(), nullptr);
+  }
+  EXPECT_EQ(OSMesaGetCurrentContext(), nullptr);
+}
+
+// Names reach gnuplot's script as single-quoted data: a quote doubled, a line break a space.
+TEST(Plots, QuotesNamesAsData) {
+  EXPECT_EQ(liftcheck::gnuplot_quote("ode"), "'ode'");
+  EXPECT_EQ(liftcheck::gnuplot_quote("it's"), "'it''s'");
+  EXPECT_EQ(liftcheck::gnuplot_quote("x', system('touch F'), '"), "'x'', system(''touch F''), '''");
+  EXPECT_EQ(liftcheck::gnuplot_quote("a\nb\r`c`"), "'a b `c`'");
+  EXPECT_EQ(liftcheck::gnuplot_quote(""), "''");
 }

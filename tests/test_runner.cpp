@@ -6,9 +6,17 @@
 #include <set>
 #include <fmt/format.h>
 
+#include <chrono>
+#include <filesystem>
+#include <future>
+#include <thread>
+#include <unistd.h>
+
+#include "harness/results.hpp"
 #include "harness/runner.hpp"
 #include "harness/sweeps.hpp"
 #include "models/holonomy.hpp"
+#include "reports/report.hpp"
 
 using namespace liftcheck;
 
@@ -322,4 +330,32 @@ TEST(Runner, InformationalMetricsAreNotCounted) {
   with_real = false;
   r = run_scenario(s, e);
   EXPECT_EQ(r.status, Status::kError);
+}
+
+// A report asked for zero (or fewer) rendering threads renders on one and finishes: every run's
+// snapshots are written. (A stride of zero once looped forever: the wait below would time out.)
+TEST(Report, ZeroThreadsRenderOnOne) {
+  const EngineInfo& analytic = *find_engine("analytic");
+  for (int threads : {0, -3}) {
+    std::vector<RunRecord> runs{run_scenario(*find_scenario("car.circle"), analytic), run_scenario(*find_scenario("disks.copy"), analytic)};
+    // Shared with the writer: if it never finishes, the test fails without leaving it a dangling reference.
+    const auto shared = std::make_shared<nlohmann::json>(results_json(runs, context_json({&analytic}, 0.0)));
+    const nlohmann::json& results = *shared;
+    const auto dir = std::filesystem::temp_directory_path() / fmt::format("liftcheck-report-threads-{}-{}", threads, ::getpid());
+    std::filesystem::remove_all(dir);
+    ReportDef def;
+    def.plots = false;
+    def.threads = threads;
+    std::promise<void> done;
+    std::future<void> finished = done.get_future();
+    std::thread([shared, dir, def, p = std::move(done)]() mutable {
+      write_report(*shared, dir, def);
+      p.set_value();
+    }).detach();
+    ASSERT_EQ(finished.wait_for(std::chrono::seconds(60)), std::future_status::ready) << "threads = " << threads;
+    EXPECT_EQ(results["report"]["errors"].size(), 0u) << results["report"]["errors"].dump();
+    EXPECT_GE(results["report"]["snapshots"].size(), 4u);
+    for (const auto& s : results["report"]["snapshots"]) EXPECT_TRUE(std::filesystem::exists(dir / s["file"].get<std::string>())) << s;
+    std::filesystem::remove_all(dir);
+  }
 }

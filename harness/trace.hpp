@@ -1,0 +1,38 @@
+// A simulator's trace read back (`liftcheck score`, `validate --trace-dir`): CSV or JSON, checked
+// cell by cell. No engine is needed to read one (the fuzz target links this alone).
+#pragma once
+
+#include <filesystem>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "harness/params.hpp"
+
+namespace liftcheck {
+
+/// Columns of a car trace and of a disk trace.
+const std::vector<std::string>& trace_columns(const std::string& vehicle);
+
+/// A simulator's trace: rows of the vehicle's trace columns, time strictly increasing.
+struct Trace {
+  std::string file;
+  std::vector<std::vector<double>> rows;  ///< in trace_columns(vehicle) order
+};
+
+/// Reads CSV (a header naming the columns, '#' comments) or JSON (an array of objects with the
+/// columns as keys, or {"rows": [...]}); InputError naming the file, the line and the problem for
+/// a missing column, a non-number or non-finite value, time not increasing, fewer than 2 rows.
+Trace read_trace(const std::filesystem::path& file, const std::string& vehicle);
+
+/// The same on text already read; `file` names it in errors.
+Trace parse_trace(const std::string& text, const std::string& file, const std::string& vehicle);
+
+/// Parses a JSON document that liftcheck reads back; InputError "FILE: is not JSON (...)", or for a
+/// document nested deeper than `max_depth` levels (copying or printing one recurses that deep).
+nlohmann::json parse_json_text(const std::string& text, const std::string& file, int max_depth = 64);
+
+/// `s` for a one-line message: control characters as '?', at most `max` characters.
+std::string printable(const std::string& s, std::size_t max = 80);
+
+}  // namespace liftcheck

@@ -1,0 +1,30 @@
+// Fuzzes the results/baseline loader: a document it accepts must go through diff_results and
+// diff_text (against itself and against an empty file) without any exception; a document it
+// refuses must be refused with an InputError.
+#include <cstdint>
+#include <string>
+#include <utility>
+
+#include "harness/params.hpp"
+#include "harness/results_file.hpp"
+#include "reports/ci.hpp"
+
+using namespace liftcheck;
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string text(reinterpret_cast<const char*>(data), size);
+  nlohmann::json j;
+  try {
+    j = parse_results(text, "fuzz.json");
+  } catch (const InputError&) {
+    return 0;
+  }
+  const nlohmann::json empty{{"runs", nlohmann::json::array()}};
+  const nlohmann::json& doc = j;
+  using Pair = std::pair<const nlohmann::json*, const nlohmann::json*>;
+  for (const auto& [base, head] : {Pair{&doc, &doc}, Pair{&empty, &doc}, Pair{&doc, &empty}}) {
+    const nlohmann::json d = diff_results(*base, *head);
+    (void)diff_text(d);
+  }
+  return 0;
+}

@@ -1,0 +1,148 @@
+// What liftcheck reads from users without an engine: names suggested for typos, traces and
+// results files checked field by field (harness/suggest, harness/trace, harness/results_file).
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include "harness/results_file.hpp"
+#include "harness/suggest.hpp"
+#include "harness/trace.hpp"
+#include "reports/ci.hpp"
+
+using namespace liftcheck;
+
+namespace {
+
+template <class F>
+std::string error_of(F&& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+std::string results_error(const std::string& text) { return error_of([&] { parse_results(text, "base.json"); }); }
+std::string trace_error(const std::string& text, const std::string& vehicle = "car") {
+  return error_of([&] { parse_trace(text, "trace.csv", vehicle); });
+}
+
+const char* kMetric = R"({"expected": 1, "measured": 1.1, "abs_error": 0.1, "rel_error": 0.1, "tolerance": 0.01, "tolerance_kind": "rel", "pass": false})";
+
+std::string results_with(const std::string& metric, const std::string& run_extra = "") {
+  return fmt::format(R"({{"runs": [{{"scenario": "car.circle", "engine": "ode", "status": "fail", "message": "m"{}, "metrics": {{"front_radius": {}}}}}]}})",
+                     run_extra, metric);
+}
+
+}  // namespace
+
+TEST(Suggest, EditDistance) {
+  EXPECT_EQ(edit_distance("", ""), 0u);
+  EXPECT_EQ(edit_distance("abc", ""), 3u);
+  EXPECT_EQ(edit_distance("circel", "circle"), 1u);  // a transposition
+  EXPECT_EQ(edit_distance("speeed", "speed"), 1u);
+  EXPECT_EQ(edit_distance("kitten", "sitting"), 3u);
+  // Long inputs stay cheap: compared over their first 256 characters, the rest counted as edits.
+  EXPECT_GE(edit_distance(std::string(100000, 'a'), std::string(100000, 'b')), 100000u);
+}
+
+TEST(Suggest, NearestOnlyWhenNear) {
+  const std::vector<std::string> names{"car.circle", "car.cycle", "disks.copy"};
+  EXPECT_EQ(nearest_name("car.circel", names), "car.circle");
+  EXPECT_EQ(nearest_name("car.cylce", names), "car.cycle");
+  EXPECT_EQ(nearest_name("CAR.CIRCLE", names), "car.circle");
+  EXPECT_EQ(nearest_name("zzz", names), "");
+  EXPECT_EQ(nearest_name("", names), "");
+  EXPECT_EQ(did_you_mean("disk.copy", names), "; did you mean 'disks.copy'?");
+  EXPECT_EQ(did_you_mean("x", {}), "");
+}
+
+TEST(ResultsFile, AcceptsWhatDiffReads) {
+  const nlohmann::json j = parse_results(results_with(kMetric), "base.json");
+  EXPECT_EQ(j["runs"].size(), 1u);
+  // liftcheck writes a non-finite error as null: read, and compared as an infinite error.
+  const nlohmann::json head = parse_results(results_with(R"({"measured": null, "abs_error": null, "rel_error": null, "tolerance": 0.01, "tolerance_kind": "rel"})"), "head.json");
+  const nlohmann::json d = diff_results(j, head);
+  ASSERT_EQ(d["worse"].size(), 1u) << d.dump();
+  EXPECT_EQ(d["worse"][0]["metric"], "front_radius");
+  EXPECT_NO_THROW(diff_text(d));
+  EXPECT_EQ(results_error(R"({"runs": []})"), "");
+}
+
+TEST(ResultsFile, NamesFileFieldAndProblem) {
+  EXPECT_EQ(results_error("{").find('\n'), std::string::npos);  // one line
+  EXPECT_EQ(results_error("{").rfind("base.json: is not JSON (parse error at line 1, column 2", 0), 0u) << results_error("{");
+  EXPECT_EQ(results_error("[]"), "base.json: is not a liftcheck results file (the top level is an array, not an object)");
+  EXPECT_EQ(results_error("{}"), "base.json: is not a liftcheck results file (no \"runs\")");
+  EXPECT_EQ(results_error(R"({"runs": 3})"), "base.json: 'runs' is a number, not an array");
+  EXPECT_EQ(results_error(R"({"runs": [null]})"), "base.json: runs[0]: is null, not an object");
+  EXPECT_EQ(results_error(R"({"runs": [{"engine": "ode", "status": "pass"}]})"), "base.json: runs[0]: missing 'scenario'");
+  EXPECT_EQ(results_error(R"({"runs": [{"scenario": 1, "engine": "ode", "status": "pass"}]})"), "base.json: runs[0]: 'scenario' is a number, not a string");
+  EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "ode", "status": "ok"}]})"),
+            "base.json: runs[0]: 'status' is 'ok', not one of pass|fail|error|skip");
+  EXPECT_EQ(results_error(results_with(kMetric, R"(, "as_expected": "yes")")), "base.json: runs[0]: 'as_expected' is a string, not a boolean");
+  EXPECT_EQ(results_error(results_with(kMetric, R"(, "verdict": 0)")), "base.json: runs[0]: 'verdict' is a number, not a string");
+  std::string m = kMetric;
+  const auto without = [&](const std::string& key) {
+    nlohmann::json j = nlohmann::json::parse(m);
+    j.erase(key);
+    return j.dump();
+  };
+  const auto with = [&](const std::string& key, const nlohmann::json& v) {
+    nlohmann::json j = nlohmann::json::parse(m);
+    j[key] = v;
+    return j.dump();
+  };
+  EXPECT_EQ(results_error(results_with(without("rel_error"))), "base.json: runs[0].metrics.front_radius: missing 'rel_error'");
+  EXPECT_EQ(results_error(results_with(without("tolerance_kind"))), "base.json: runs[0].metrics.front_radius: missing 'tolerance_kind'");
+  EXPECT_EQ(results_error(results_with(with("tolerance_kind", "relative"))),
+            "base.json: runs[0].metrics.front_radius: 'tolerance_kind' is 'relative', not one of rel|abs");
+  EXPECT_EQ(results_error(results_with(with("tolerance", "0.1"))), "base.json: runs[0].metrics.front_radius: 'tolerance' is a string, not a number or null");
+  EXPECT_EQ(results_error(results_with(with("floor", nullptr))), "base.json: runs[0].metrics.front_radius: 'floor' is null, not a number");
+  EXPECT_EQ(results_error(results_with(with("informational", 1))), "base.json: runs[0].metrics.front_radius: 'informational' is a number, not a boolean");
+  EXPECT_EQ(results_error(results_with("[]")), "base.json: runs[0].metrics.front_radius: is an array, not an object");
+  // An absolute metric needs no relative error.
+  m = with("tolerance_kind", "abs");
+  EXPECT_EQ(results_error(results_with(without("rel_error"))), "");
+  // A name with a line break is shown on one line.
+  EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "metrics": {"a\nb": 1}}]})"),
+            "base.json: runs[0].metrics.a?b: is a number, not an object");
+}
+
+TEST(Trace, CsvNamesLineColumnAndProblem) {
+  const std::string head = "# a comment\nt,alpha,beta,x,y,phi\n";
+  EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,abc,0,0\n"), "trace.csv:4: column 'x' is not a number: 'abc'");
+  EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,1e400,0,0\n"), "trace.csv:4: column 'x' is out of the range of a double: '1e400'");
+  EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,inf,0,0\n"), "trace.csv:4: column 'x' is not finite: 'inf'");
+  EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,0,0\n"), "trace.csv:4: 5 columns, the header has 6");
+  EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0,0,0,0,0,0\n"), "trace.csv:4: time goes from 0 to 0 s: it must increase");
+  EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n"), "trace.csv: 1 rows; a trace needs at least 2");
+  EXPECT_EQ(trace_error("t,alpha,beta,x,y\n"), "trace.csv:1: the header has no column 'phi' (needs t,alpha,beta,x,y,phi)");
+  EXPECT_EQ(trace_error(""), "trace.csv: no header line (needs t,alpha,beta,x,y,phi)");
+  EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,\x01\n"), "trace.csv:4: 4 columns, the header has 6");
+  EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,a\x01,0,0\n"), "trace.csv:4: column 'x' is not a number: 'a?'");
+  const Trace tr = parse_trace(head + "0,0,0,0,0,0\r\n+0.01, 1,2,3,4,5\n", "trace.csv", "car");
+  ASSERT_EQ(tr.rows.size(), 2u);
+  EXPECT_EQ(tr.rows[1], (std::vector<double>{0.01, 1, 2, 3, 4, 5}));
+}
+
+TEST(Trace, JsonNamesRowColumnAndProblem) {
+  EXPECT_EQ(trace_error(R"([{"t": 0, "cMx": 0, "cMy": 0, "cNx": 3, "cNy": 0}, {"t": 1, "cMx": "0", "cMy": 0, "cNx": 3, "cNy": 0}])", "disks"),
+            "trace.csv: row 2: column 'cMx' is not a finite number");
+  EXPECT_EQ(trace_error(R"({"rows": [{"t": 0}]})", "disks"), "trace.csv: row 1 has no column 'cMx'");
+  EXPECT_EQ(trace_error(R"({"rows": 5})", "disks"), "trace.csv: JSON trace needs an array of rows (or {\"rows\": [...]})");
+  EXPECT_EQ(trace_error(R"([1, 2])", "disks"), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
+  EXPECT_EQ(trace_error("[", "disks").rfind("trace.csv: is not JSON (parse error at line 1, column 2", 0), 0u) << trace_error("[", "disks");
+}
+
+// Found by hand beyond the fuzzers' 4 kB inputs: a JSON trace nested 300000 deep overflowed the
+// stack (the document was copied, recursively). Documents nested deeper than 64 levels are refused,
+// and the trace's rows are read in place.
+TEST(Trace, DeepJsonIsRefusedNotACrash) {
+  const std::string deep = std::string(300000, '[') + std::string(300000, ']');
+  EXPECT_EQ(trace_error(deep, "disks"), "trace.csv: JSON nested deeper than 64 levels");
+  EXPECT_EQ(results_error("{\"runs\": " + deep + "}"), "base.json: JSON nested deeper than 64 levels");
+  const std::string ok = std::string(60, '[') + std::string(60, ']');
+  EXPECT_EQ(trace_error(ok, "disks"), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
+}
