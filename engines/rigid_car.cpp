@@ -98,7 +98,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
     }
     for (const auto& [which, z] : {std::pair{"front", s.z_m}, std::pair{"rear", s.rear_z_m}})
       if (std::abs(z - def_.R_m) > def_.R_m)
-        throw EngineError(fmt::format("car left the ground ({} wheel centre at z = {:.3f} m, radius {:.3f} m) at t = {:.4f} s",
+        throw EngineError(fmt::format("car left the ground ({} wheel centre at z = {:.3f} m, radius {:.3f} m) at t = {:.4f} s (a blow-up)",
                                       which, z, def_.R_m, t_end));
   };
 
