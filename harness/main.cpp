@@ -442,11 +442,16 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
   const auto t0 = std::chrono::steady_clock::now();
   Progress progress;
   double runs_s = 0.0, points_s = 0.0;
+  std::map<std::string, double> cost_by_part, cost_by_config;
   std::vector<nlohmann::json> records;
   try {
     records = run_items(plan, which, runner, [&](size_t i, const nlohmann::json& r) {
     const SuiteItem& it = plan.items[i];
     (it.kind == SuiteItem::kRun ? runs_s : points_s) += r["wall_s"].get<double>();
+    // Where the time goes: engine seconds by part of the suite and by configuration.
+    const std::string part = it.kind == SuiteItem::kRun ? "runs" : it.key.substr(0, it.key.find('/', it.key.find('/') + 1));
+    cost_by_part[part.rfind("outcomes/", 0) == 0 ? "outcomes" : part] += r["wall_s"].get<double>();
+    cost_by_config[it.engine->name] += r["wall_s"].get<double>();
     if (it.kind != SuiteItem::kRun) return;
     progress.clear();
     const bool known = r["expectation"].is_object() && r["as_expected"].get<bool>();
@@ -468,6 +473,8 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
   nlohmann::json context = context_json(listed, wall);
   context["runs_s"] = runs_s;
   context["points_s"] = points_s;
+  context["engine_s_by_part"] = cost_by_part;
+  context["engine_s_by_configuration"] = cost_by_config;
   context["jobs"] = runner.jobs;
   context["timeout_s"] = runner.timeout_s;
   context["set"] = nlohmann::json::object();
