@@ -149,9 +149,11 @@ class DiskEngine {
   virtual double simulated_s() const = 0;
 };
 
-/// A body faster than this has blown up: every scenario drives at a few m/s. The stepping loops
-/// check it at every step, with NaN and bodies through the ground.
+/// A body has blown up when it is faster than kRunawayFactor times the fastest speed the run
+/// commands, or than kRunawaySpeed_mps where that is more. The stepping loops check it at every
+/// step, with NaN and bodies through the ground.
 constexpr double kRunawaySpeed_mps = 50.0;
+constexpr double kRunawayFactor = 10.0;
 
 /// Thrown by an engine whose simulation failed (NaN, explosion, bad setup): reported as an error run.
 struct EngineError : std::runtime_error {

@@ -60,6 +60,8 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   double phi = q0_.phi_rad + e2::wrap_angle(s.phi_rad - q0_.phi_rad);  // unwrapped from the start heading
   std::vector<car::TimedConfig> trace;
 
+  // A wheel hub faster than ten times the cruise speed (or 50 m/s) has blown up.
+  const double runaway_mps = std::max(kRunawaySpeed_mps, kRunawayFactor * setup_.drive.speed_mps);
   // One step: servo towards (target_alpha, target_beta) with feed-forward rates, then read and check.
   const auto advance = [&](double t_end, double target_alpha, double target_beta, double alpha_rate, double beta_rate) {
     FrontRates rates;
@@ -93,12 +95,12 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
     if (!finite) throw EngineError(fmt::format("simulation produced NaN at t = {:.4f} s", t_end));
     for (int w = 0; w < n_wheels; ++w) {
       const double v = s.wheels[w].v_hub_W.norm();
-      if (!(v <= kRunawaySpeed_mps))
-        throw EngineError(fmt::format("{} wheel speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {} m/s)", names[w], v, t_end, kRunawaySpeed_mps));
+      if (!(v <= runaway_mps))
+        throw EngineError(fmt::format("{} wheel speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {:g} m/s)", names[w], v, t_end, runaway_mps));
     }
     for (const auto& [which, z] : {std::pair{"front", s.z_m}, std::pair{"rear", s.rear_z_m}})
       if (std::abs(z - def_.R_m) > def_.R_m)
-        throw EngineError(fmt::format("car left the ground ({} wheel centre at z = {:.3f} m, radius {:.3f} m) at t = {:.4f} s (a blow-up)",
+        throw EngineError(fmt::format("car left the ground ({} wheel centre at z = {:.3f} m, radius {:.3f} m) at t = {:.4f} s",
                                       which, z, def_.R_m, t_end));
   };
 

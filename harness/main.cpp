@@ -172,7 +172,12 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   item.key = "run";
   item.scenario = &s, item.engine = &e, item.overrides = ov;
   plan.items.push_back(item);
-  const auto records = run_items(plan, {0}, runner_def(1, timeout_s), [](size_t, const nlohmann::json&) {});
+  std::vector<nlohmann::json> records;
+  try {
+    records = run_items(plan, {0}, runner_def(1, timeout_s), [](size_t, const nlohmann::json&) {});
+  } catch (const RunnerStopped& e) {
+    throw Interrupted(g_signal, e.what());
+  }
   throw_if_interrupted("during the run");
   const nlohmann::json& r = records.at(0);
   if (r.value("input_error", false)) throw InputError(r["message"].get<std::string>());
@@ -208,20 +213,28 @@ int cmd_score(const std::string& scenario, const std::string& trace_file, const 
 /// empty, never a folder of the user's.
 class StagedOutput {
  public:
+  /// The file that marks a folder as liftcheck's output (written into every output folder).
+  static constexpr const char* kMarker = ".liftcheck-output";
+
   explicit StagedOutput(const std::string& out_dir) : out_(out_dir) {
     if (out_dir.empty()) throw InputError("--out names no folder");
-    out_ = std::filesystem::absolute(out_).lexically_normal();
+    out_ = std::filesystem::weakly_canonical(std::filesystem::absolute(out_));
     if (!out_.has_filename()) out_ = out_.parent_path();
     std::error_code ec;
+    // The working folder or one above it would be swapped away under the user's feet.
+    const std::filesystem::path cwd = std::filesystem::weakly_canonical(std::filesystem::current_path(ec));
+    const auto [o_end, c_it] = std::mismatch(out_.begin(), out_.end(), cwd.begin(), cwd.end());
+    if (o_end == out_.end()) throw InputError(fmt::format("--out '{}' is the working folder or one above it: give a folder of its own", out_dir));
     if (std::filesystem::exists(out_, ec)) {
       if (!std::filesystem::is_directory(out_, ec)) throw InputError(fmt::format("--out '{}' is a file, not a folder", out_dir));
-      if (!std::filesystem::exists(out_ / "results.json", ec) && !std::filesystem::is_empty(out_, ec))
-        throw InputError(fmt::format("--out '{}' holds files but no results.json: not a liftcheck output folder, left alone", out_dir));
+      if (!ours(out_))
+        throw InputError(fmt::format("--out '{}' holds files that liftcheck did not write: not a liftcheck output folder, left alone", out_dir));
     }
     std::filesystem::create_directories(out_.parent_path(), ec);
     stage_ = out_.parent_path() / fmt::format(".{}.partial-{}", out_.filename().string(), getpid());
     std::filesystem::remove_all(stage_, ec);
     if (!std::filesystem::create_directory(stage_, ec) || ec) throw InputError(fmt::format("cannot create output folder '{}'", out_dir));
+    std::ofstream(stage_ / kMarker) << "written by liftcheck: replaced whole by its next run into this folder\n";
   }
   ~StagedOutput() {
     std::error_code ec;
@@ -229,24 +242,63 @@ class StagedOutput {
   }
   const std::filesystem::path& stage() const { return stage_; }
   const std::filesystem::path& final_path() const { return out_; }
-  /// Swaps the staged folder in; the previous output goes only once the new one is in place.
+  /// A file of the user's (a baseline) inside the folder would be swapped away with it.
+  void refuse_inside(const std::string& file, const std::string& what) const {
+    if (file.empty()) return;
+    const std::filesystem::path f = std::filesystem::weakly_canonical(std::filesystem::absolute(file));
+    if (std::mismatch(out_.begin(), out_.end(), f.begin(), f.end()).first == out_.end())
+      throw InputError(fmt::format("{} '{}' must not be inside --out '{}': that folder is replaced whole", what, file, out_.string()));
+  }
+  /// Swaps the staged folder in; the previous output goes only once the new one is in place. A
+  /// folder that cannot be renamed (a mount point) has its entries replaced instead.
   void publish() {
     std::error_code ec;
     const std::filesystem::path old = out_.parent_path() / fmt::format(".{}.old-{}", out_.filename().string(), getpid());
     const bool had = std::filesystem::exists(out_, ec);
     if (had) std::filesystem::rename(out_, old, ec);
-    if (ec) throw InputError(fmt::format("cannot replace '{}': {}", out_.string(), ec.message()));
+    if (ec) {
+      replace_entries();
+      return;
+    }
     std::filesystem::rename(stage_, out_, ec);
     if (ec) {
       std::error_code ec2;
       if (had) std::filesystem::rename(old, out_, ec2);
-      throw InputError(fmt::format("cannot write '{}': {}", out_.string(), ec.message()));
+      throw InputError(fmt::format("cannot write '{}': {} (the results are kept in '{}')", out_.string(), ec.message(), stage_.string()));
     }
     published_ = true;
     if (had) std::filesystem::remove_all(old, ec);
   }
 
  private:
+  /// Empty, or marked as liftcheck's, or (written before the marker existed) nothing but the files
+  /// liftcheck writes with a results.json that says it is liftcheck's.
+  static bool ours(const std::filesystem::path& dir) {
+    std::error_code ec;
+    if (std::filesystem::is_empty(dir, ec) || std::filesystem::exists(dir / kMarker, ec)) return true;
+    for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
+      const std::string name = entry.path().filename().string(), ext = entry.path().extension().string();
+      const bool known = name == "results.json" || name == "junit.xml" || name == "summary.md" || name == "screenshot.png" ||
+                         name == "snapshots" || name == "plots" || ext == ".html";
+      if (!known) return false;
+    }
+    try {
+      std::ifstream in(dir / "results.json");
+      return nlohmann::json::parse(in).at("context").contains("liftcheck");
+    } catch (const std::exception&) {
+      return false;
+    }
+  }
+  /// The folder stays (it is a mount point): its entries are removed and the staged ones copied in.
+  void replace_entries() {
+    std::error_code ec;
+    for (const auto& entry : std::filesystem::directory_iterator(out_, ec)) std::filesystem::remove_all(entry.path(), ec);
+    std::filesystem::copy(stage_, out_, std::filesystem::copy_options::recursive | std::filesystem::copy_options::overwrite_existing, ec);
+    if (ec) throw InputError(fmt::format("cannot write '{}': {} (the results are kept in '{}')", out_.string(), ec.message(), stage_.string()));
+    published_ = true;
+    std::filesystem::remove_all(stage_, ec);
+  }
+
   std::filesystem::path out_, stage_;
   bool published_ = false;
 };
@@ -314,13 +366,14 @@ int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann
     }
     write_file_atomic(out / "junit.xml", junit_xml(results));
     write_file_atomic(out / "summary.md", summary_markdown(results, o.report ? "index.html" : ""));
+    write_file_atomic(out / "results.json", results.dump(1));
+    throw_if_interrupted("while writing the outputs");
+    staged.publish();
+    // After the output folder is in place: a baseline inside it would go with the old folder.
     if (o.update_baseline) {
       write_file_atomic(o.baseline_path, baseline_json(results).dump(1) + "\n");
       std::cout << "baseline written: " << o.baseline_path << "\n";
     }
-    write_file_atomic(out / "results.json", results.dump(1));
-    throw_if_interrupted("while writing the outputs");
-    staged.publish();
   } catch (const Interrupted&) {
     throw;
   } catch (const std::runtime_error& err) {
@@ -406,6 +459,7 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
   }
   def.globs = split_list(filter);
   def.sweeps = sweeps;
+  def.timeout_s = runner.timeout_s;
   for (const auto& a : sets) def.set.push_back(split_assignment(a));
 
   // An outside simulator: the folder's name is its configuration, each SCENARIO.csv (or .json) in
@@ -436,6 +490,7 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
   }
   const SuitePlan plan = plan_suite(def);
   StagedOutput staged(o.out_dir);
+  staged.refuse_inside(o.baseline_path, "--baseline");
 
   std::vector<size_t> which;
   which = shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
@@ -543,6 +598,7 @@ int cmd_merge(const std::vector<std::string>& dirs, const OutputOptions& o) {
   def.globs = sel.at("filter").get<std::vector<std::string>>();
   for (const auto& a : sel.at("set")) def.set.push_back(split_assignment(a.get<std::string>()));
   def.sweeps = sel.at("sweeps").get<bool>();
+  def.timeout_s = sel.value("timeout_s", 120.0);
   const SuitePlan plan = plan_suite(def);
   nlohmann::json keys = nlohmann::json::array();
   for (const SuiteItem& it : plan.items) keys.push_back(it.key);
@@ -572,6 +628,7 @@ int cmd_merge(const std::vector<std::string>& dirs, const OutputOptions& o) {
   context["jobs"] = shards[0]["context"].value("jobs", 1);
   context["set"] = shards[0]["context"]["set"];
   context["merged_shards"] = total;
+  context["timeout_s"] = def.timeout_s;
   nlohmann::json results = results_from_records(assembled["runs"], context);
   results["sweeps"] = assembled["sweeps"];
   results["maps"] = assembled["maps"];
@@ -579,6 +636,7 @@ int cmd_merge(const std::vector<std::string>& dirs, const OutputOptions& o) {
   for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
   std::cout << fmt::format("merged {} shards: {} runs and points ({} run)\n", total, by_key.size(), ran);
   StagedOutput staged(o.out_dir);
+  staged.refuse_inside(o.baseline_path, "--baseline");
   return finish_suite(results, o, baseline, staged);
 }
 

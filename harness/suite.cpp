@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <iostream>
 #include <poll.h>
+#include <sys/prctl.h>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -68,6 +69,7 @@ nlohmann::json SuitePlan::selection() const {
   for (const auto& [k, v] : def.set) j["set"].push_back(k + "=" + v);
   j["sweeps"] = def.sweeps;
   j["external"] = def.external_name;
+  j["timeout_s"] = def.timeout_s;
   return j;
 }
 
@@ -262,19 +264,6 @@ Worker spawn_worker(const std::string& exe) {
   return w;
 }
 
-/// Ends a worker (killed when `kill_it`, else by closing its input) and says how it ended.
-std::string end_worker(Worker& w, bool kill_it) {
-  close_fd(w.in_fd);
-  if (kill_it) ::kill(w.pid, SIGKILL);
-  int status = 0;
-  while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
-  }
-  close_fd(w.out_fd), close_fd(w.err_fd);
-  w.pid = -1;
-  if (WIFSIGNALED(status)) return fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)));
-  return fmt::format("exited with status {}", WEXITSTATUS(status));
-}
-
 /// Reads what is there; false at end of file.
 bool drain(int fd, std::string& into) {
   char buf[65536];
@@ -288,6 +277,29 @@ bool drain(int fd, std::string& into) {
     if (errno == EINTR) continue;
     return true;  // EAGAIN: nothing more for now
   }
+}
+
+/// The engine's warnings: passed on, the end kept for an error record.
+void pass_on_stderr(Worker& w) {
+  if (w.err_fd < 0) return;
+  const size_t before = w.err.size();
+  drain(w.err_fd, w.err);
+  if (w.err.size() > before) std::cerr.write(w.err.data() + before, static_cast<std::streamsize>(w.err.size() - before)).flush();
+  if (w.err.size() > 8192) w.err.erase(0, w.err.size() - 8192);
+}
+
+/// Ends a worker (killed when `kill_it`, else by closing its input) and says how it ended.
+std::string end_worker(Worker& w, bool kill_it) {
+  close_fd(w.in_fd);
+  if (kill_it) ::kill(w.pid, SIGKILL);
+  int status = 0;
+  while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  pass_on_stderr(w);  // its last words, all in the pipe now
+  close_fd(w.out_fd), close_fd(w.err_fd);
+  w.pid = -1;
+  if (WIFSIGNALED(status)) return fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)));
+  return fmt::format("exited with status {}", WEXITSTATUS(status));
 }
 
 bool write_all(int fd, const std::string& text) {
@@ -332,6 +344,9 @@ SuiteItem item_from_request(const nlohmann::json& j) {
 }
 
 int worker_main() {
+  // Ends with liftcheck: a worker whose parent was killed must not run on (a hung engine never would stop).
+  prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (getppid() == 1) return 3;
   // Records go to the original stdout; anything an engine prints there goes to stderr instead.
   const int records_fd = ::dup(STDOUT_FILENO);
   ::dup2(STDERR_FILENO, STDOUT_FILENO);
@@ -406,21 +421,18 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
         Worker& w = workers[whose[f].first];
         if (w.slot < 0 || !(fds[f].revents & (POLLIN | POLLHUP | POLLERR))) continue;
         const SuiteItem& item = plan.items[which[static_cast<size_t>(w.slot)]];
-        if (!whose[f].second) {  // the engine's warnings: passed on, the end kept for an error record
-          const size_t before = w.err.size();
-          drain(w.err_fd, w.err);
-          if (w.err.size() > before) std::cerr.write(w.err.data() + before, static_cast<std::streamsize>(w.err.size() - before)).flush();
-          if (w.err.size() > 8192) w.err.erase(0, w.err.size() - 8192);
+        if (!whose[f].second) {
+          pass_on_stderr(w);
           continue;
         }
         const bool open = drain(w.out_fd, w.out);
         const size_t nl = w.out.find('\n');
+        pass_on_stderr(w);  // what the item wrote on stderr belongs to it, before the next one starts
         if (nl != std::string::npos) {
           nlohmann::json rec = nlohmann::json::parse(w.out.substr(0, nl), nullptr, false);
           if (rec.is_discarded()) rec = error_record(item, "the worker process wrote a malformed record");
           finish(w, std::move(rec));
         } else if (!open) {
-          drain(w.err_fd, w.err);
           const std::string how = end_worker(w, false);
           const std::string said = last_line(w.err);
           finish(w, error_record(item, fmt::format("the engine ended its process ({}){}", how, said.empty() ? "" : ": " + said)));

@@ -26,6 +26,7 @@ struct SuiteDef {
   std::vector<std::string> globs;          ///< scenario name globs (--filter): any may match
   Overrides set;                           ///< --set KEY=VALUE, applied where a run takes it
   bool sweeps = true;                      ///< the sweeps, the outcome sweep and the map
+  double timeout_s = 120.0;                ///< each item's wall-clock limit (a timed-out item is an error record)
   std::string external_name;               ///< --trace-dir: the outside simulator's name
   std::map<std::string, Trace> traces;     ///< its trace per scenario
 };

@@ -318,8 +318,14 @@ else
 fi
 # A folder that is not a liftcheck output is never replaced.
 mkdir -p "$tmp/mine" && echo keep >"$tmp/mine/notes.txt"
-bad_input out-not-ours "holds files but no results.json" validate --filter disks.copy --engines analytic --no-sweeps --no-report --out "$tmp/mine"
-[ "$(cat "$tmp/mine/notes.txt")" = keep ] || { echo "FAIL a user's folder was touched"; fails=$((fails + 1)); }
+bad_input out-not-ours "holds files that liftcheck did not write" validate --filter disks.copy --engines analytic --no-sweeps --no-report --out "$tmp/mine"
+# Not even with a results.json of the user's in it, nor as the working folder.
+echo '{"my": "data"}' >"$tmp/mine/results.json"
+bad_input out-not-ours-json "holds files that liftcheck did not write" validate --filter disks.copy --engines analytic --no-sweeps --no-report --out "$tmp/mine"
+(cd "$tmp/int" && bad_input out-cwd "is the working folder or one above it" validate --filter disks.copy --engines analytic --no-sweeps --no-report --out .)
+[ "$(cat "$tmp/mine/notes.txt")" = keep ] && [ -f "$tmp/int/index.html" ] || { echo "FAIL a user's folder was touched"; fails=$((fails + 1)); }
+# A baseline inside the output folder would go with it: refused.
+bad_input baseline-in-out "must not be inside --out" validate --filter disks.copy --engines analytic --no-sweeps --no-report --out "$tmp/bo" --baseline "$tmp/bo/base.json" --update-baseline
 
 # A failing outside simulator: the failure names its metrics and figures in junit.xml (still
 # valid) and leads summary.md.

@@ -104,6 +104,29 @@ TEST_P(PerEngine, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
   EXPECT_NEAR(trace.back().q.beta_rad, 0.4, 1e-3);
 }
 
+// car.slope's exact reference does not see gravity, so it cannot tell an engine that ignored the
+// tilt: here the same tilted gravity (0.3 rad) with mu = 0.2 < tan(0.3) must make the parked car,
+// wheels held, slide downhill as a Coulomb block would, about (1/2) g (sin 0.3 - 0.2 cos 0.3) t^2
+// = 2.0 m in 2 s. An engine that dropped the tilt would stand still.
+TEST_P(PerEngine, TiltedGravityIsFelt) {
+  const EngineInfo* e = find_engine(GetParam());
+  ASSERT_NE(e, nullptr);
+  if (!e->make_car || !e->contact_dynamics) GTEST_SKIP() << GetParam() << " has no car with contact forces";
+  const double slope = 0.3, slope_dir = 0.4, hold_s = 2.0;
+  CarSetup setup;
+  setup.mu = 0.2;
+  setup.gravity_dir_W = {-std::sin(slope_dir) * std::sin(slope), std::cos(slope_dir) * std::sin(slope), -std::cos(slope)};
+  const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
+  auto car = e->make_car(e->defaults("car"));
+  const car::Config q0{0.0, 0.3, 0.0, 0.0, slope_dir};  // across the slope
+  car->reset(setup, q0);
+  const auto trace = car->drive(car::BasePath({{0.0, 0.0, hold_s}}, 0.0, q0.beta_rad, setup.drive));
+  const Eigen::Vector2d moved(trace.back().q.x_m - q0.x_m, trace.back().q.y_m - q0.y_m);
+  const double coulomb_m = 0.5 * setup.gravity_mps2 * (std::sin(slope) - setup.mu * std::cos(slope)) * hold_s * hold_s;
+  EXPECT_GT(moved.dot(downhill), 0.25 * coulomb_m) << GetParam() << " did not slide down a slope steeper than its friction";
+  EXPECT_GT(moved.dot(downhill), 0.9 * moved.norm()) << GetParam() << " moved, but not downhill";
+}
+
 // Honest settings: every setting the engine declares changes some result when changed (a setting
 // the engine ignores must not be declared).
 TEST_P(PerEngine, EveryDeclaredSettingChangesAResult) {
