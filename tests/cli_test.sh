@@ -289,8 +289,8 @@ python3 -c 'import json,sys; d={r["engine"]: r for r in json.load(open(sys.argv[
   "$tmp/bu/results.json" && passes=$((passes + 1)) || { echo "FAIL blow-up"; fails=$((fails + 1)); }
 
 # An engine that ends its process (a crash, an abort, MuJoCo's shipped error handler) takes only
-# its run with it: here the worker running DART's car.covariance is killed from outside.
-"$bin" validate --filter 'car.covariance,disks.copy' --engines dart --no-sweeps --no-report --jobs 1 --out "$tmp/kw" >"$tmp/kw.out" 2>"$tmp/kw.err" &
+# its run with it: here the worker running Bullet's car.covariance is killed from outside.
+"$bin" validate --filter 'car.covariance,disks.copy' --engines bullet --no-sweeps --no-report --jobs 1 --out "$tmp/kw" >"$tmp/kw.out" 2>"$tmp/kw.err" &
 vpid=$!
 for _ in $(seq 50); do wpid=$(pgrep -P "$vpid" -f 'liftcheck worker' | head -1); [ -n "$wpid" ] && break; sleep 0.1; done
 sleep 1
@@ -304,7 +304,7 @@ python3 -c 'import json,sys; d={r["scenario"]: r for r in json.load(open(sys.arg
 # it was, no half-written folder beside it, and says where it stopped (exit 128 + SIGTERM).
 check before-interrupt 0 "$bin" validate --filter disks.copy --engines analytic --no-sweeps --out "$tmp/int"
 cp "$tmp/int/results.json" "$tmp/int-before.json"
-"$bin" validate --filter 'car.*' --engines bullet,dart --no-sweeps --out "$tmp/int" >"$tmp/int.out" 2>"$tmp/int.err" &
+"$bin" validate --filter 'car.*' --engines bullet --no-sweeps --out "$tmp/int" >"$tmp/int.out" 2>"$tmp/int.err" &
 vpid=$!
 sleep 3
 kill -TERM "$vpid"
