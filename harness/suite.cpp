@@ -173,10 +173,8 @@ std::vector<size_t> shard_share(const SuitePlan& plan, int index, int total) {
 void fill_duplicates(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records) {
   for (const SuiteItem& it : plan.items) {
     if (it.same_as < 0) continue;
-    nlohmann::json rec = records.at(plan.items[static_cast<size_t>(it.same_as)].key);
-    if (it.kind == SuiteItem::kPoint)
-      for (const char* big : {"trace", "reference", "contact_log"}) rec["details"].erase(big);
-    records[it.key] = std::move(rec);
+    const nlohmann::json& rec = records.at(plan.items[static_cast<size_t>(it.same_as)].key);
+    records[it.key] = it.kind == SuiteItem::kPoint ? point_record(rec) : rec;
   }
 }
 

@@ -445,10 +445,11 @@ std::string sweep_key(const SweepDef& s, const EngineInfo& e, double x) { return
 
 }  // namespace
 
-nlohmann::json point_record(const RunRecord& r) {
-  nlohmann::json rec = r.to_json();
-  for (const char* big : {"trace", "reference", "contact_log"}) rec["details"].erase(big);
-  return rec;
+nlohmann::json point_record(const RunRecord& r) { return point_record(r.to_json()); }
+
+nlohmann::json point_record(nlohmann::json record) {
+  for (const char* big : {"trace", "reference", "contact_log"}) record["details"].erase(big);
+  return record;
 }
 
 std::vector<PointRun> sweep_runs(const SweepDef& s, const std::vector<const EngineInfo*>& engines) {

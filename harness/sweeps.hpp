@@ -85,6 +85,8 @@ struct PointRun {
 /// A point run's record as stored (results.json "points"): the run record without its traces,
 /// which is all the sweeps, the outcome sweep and the map read.
 nlohmann::json point_record(const RunRecord& r);
+/// The same from a stored run record: its traces left out.
+nlohmann::json point_record(nlohmann::json record);
 /// The stored record of a point run by its key (throws std::out_of_range when it is missing).
 using RecordLookup = std::function<const nlohmann::json&(const std::string& key)>;
 
