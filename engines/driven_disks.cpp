@@ -33,6 +33,7 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     if (c.count > 0) {
       if (first) {
         r.t_contact_s = t;
+        r.contact_state = disks::Sample{t, s.cM, s.cN};
         log.distance_at_first_m = d;
       }
       ++log.steps_in_contact;
@@ -53,6 +54,12 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
       throw EngineError(fmt::format("disk M speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {:g} m/s)", v, t + h, runaway_mps));
     const double d1 = (s.cM - s.cN).norm();
     r.min_distance = std::min(r.min_distance, d1);
+    if (!r.t_contact_s) {  // free: the engine's actuation and integrator alone moved M
+      if (const double e = ((s.cM - cM_before) - vM_cmd * h).norm(); e > log.step_displacement_error_max_m)
+        log.step_displacement_error_max_m = e, log.step_displacement_error_at_s = t;
+    } else if (!r.t_release_s && d1 - touch > kSeparation_m) {
+      r.t_release_s = t + h;
+    }
     if (r.t_contact_s) log.penetration_max_m = std::max(log.penetration_max_m, touch - d1);
     if (first) log.overlap_growth_first_m = (touch - d1) - (touch - d);
     // N is moved by the engine along its known path: where the engine put it is checked too.

@@ -129,13 +129,29 @@ struct DiskContactLog {
   long steps_in_contact = 0;         ///< steps whose collision pass reported contact
   double n_path_error_max_m = 0.0;   ///< largest distance of N from its path, every step
   bool apart_at_end = false;         ///< after contact, |c_M - c_N| > 2 at T (the disks separated)
+  /// Largest |(c_M after - c_M before) - v_cmd h| over the steps before the first reported contact:
+  /// an engine that realises its command moves M by exactly the commanded velocity times the step.
+  double step_displacement_error_max_m = 0.0;
+  double step_displacement_error_at_s = 0.0;  ///< the start of the step where it was largest
   /// Contact was reported by the engine's own collision pipeline. False for a trace from outside,
   /// whose "contact" is read off its positions: comparing those with themselves measures nothing.
   bool reported_by_engine = true;
 };
 
+/// Disks apart by no more than this are touching (the round-off of |c_M - c_N| = 2 at these scales).
+constexpr double kTouchRoundoff_m = 1e-9;
+/// A contact has ended when the disks are apart by more than this: a micrometre, above the gaps of
+/// 0.2 um that Bullet's penetration recovery opens for a step while its contact holds, and far
+/// below the separation of a bounce (a fraction of a step of travel, 0.1 mm and more at 1 ms).
+constexpr double kSeparation_m = 1e-6;
+
 struct DiskRun {
   std::optional<double> t_contact_s;  ///< analytic: root; engines: the state on which contact was first reported
+  /// M and N at t_contact_s (engines: the state their collision pass first reported contact on).
+  std::optional<disks::Sample> contact_state;
+  /// The end of the first contact: the first state after it with the disks apart by more than
+  /// kSeparation_m (analytic: the root of the release); none while they touch to T.
+  std::optional<double> t_release_s;
   double min_distance = 0.0;          ///< smallest |c_M - c_N| (analytic: refined on the dense output; engines: over their steps)
   std::vector<disks::Sample> trace;   ///< at t = i * sample_dt from 0 to T (and T)
   std::optional<DiskContactLog> contact_log;  ///< stepping engines only

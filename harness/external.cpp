@@ -103,7 +103,11 @@ class RecordingDisks final : public DiskEngine {
     disks::LiftDef def;
     def.sample_dt_s = setup.sample_dt_s;
     const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);
-    return {r.t_contact_s, r.min_distance, r.trace, std::nullopt};
+    DiskRun out;
+    out.t_contact_s = r.t_contact_s;
+    out.min_distance = r.min_distance;
+    out.trace = r.trace;
+    return out;
   }
   double simulated_s() const override { return 0.0; }
 
@@ -162,8 +166,12 @@ class ReplayDisks final : public DiskEngine {
       const double d = (cM - cN).norm();
       r.min_distance = std::min(r.min_distance, d);
       log.n_path_error_max_m = std::max(log.n_path_error_max_m, (cN - pb.path.position(row[0])).norm());
-      if (!r.t_contact_s && d <= touch) {
+      // Touching to round-off is contact (an exact response holds |c_M - c_N| = 2 to round-off).
+      const bool touching = d <= touch + kTouchRoundoff_m;
+      if (r.t_contact_s && !r.t_release_s && d - touch > kSeparation_m) r.t_release_s = row[0];
+      if (!r.t_contact_s && touching) {
         r.t_contact_s = row[0];
+        r.contact_state = disks::Sample{row[0], cM, cN};
         log.distance_at_first_m = d;
         if (k + 1 < trace_.rows.size()) {
           const auto& nx = trace_.rows[k + 1];
@@ -172,7 +180,7 @@ class ReplayDisks final : public DiskEngine {
       }
       if (r.t_contact_s) {
         log.penetration_max_m = std::max(log.penetration_max_m, touch - d);
-        log.steps_in_contact += d <= touch ? 1 : 0;
+        log.steps_in_contact += touching ? 1 : 0;
       }
       if (k % sample_every == 0 || k + 1 == trace_.rows.size()) r.trace.push_back({row[0], cM, cN});
     }

@@ -25,6 +25,8 @@ struct Phase {
   std::function<double(double, const State&)> event;
   std::function<Vec2(double, const State&)> cM;
   bool armed_at_zero = false;  ///< a start value of exactly 0 arms the event (contact), or not (free)
+  /// Optional: the first time the event's value is <= 0 (at rest against N) is booked here.
+  std::optional<double>* first_nonpositive = nullptr;
 };
 
 /// Books the trace at t0, at every multiple of the sample spacing after it, and at T.
@@ -65,6 +67,14 @@ std::pair<double, State> run_phase(Stepper st, const Phase& ph, double t0, const
     double ta = a, ea = value(a);
     for (int k = 1; k <= kProbe; ++k) {
       const double tb = a + (hi - a) * k / kProbe, eb = value(tb);
+      if (ph.first_nonpositive && !*ph.first_nonpositive && eb <= 0.0) {  // bisection: the value may jump to 0
+        double lo = ta, up = tb;
+        for (int i = 0; i < 60 && up - lo > 1e-15 * std::max(1.0, std::abs(up)); ++i) {
+          const double mid = 0.5 * (lo + up);
+          (value(mid) <= 0.0 ? up : lo) = mid;
+        }
+        *ph.first_nonpositive = ea <= 0.0 ? ta : up;
+      }
       if (armed && eb < 0.0) {
         double root = tb;
         if (ea > 0.0) {
@@ -107,7 +117,7 @@ ResponseResult respond_with(const std::function<Stepper()>& make, const Rule& ru
     const Vec2 n(std::cos(theta), std::sin(theta)), vN = path.velocity(t);
     return -n.dot(rule(t, on_circle(t, theta), path.position(t), vN) - vN);
   };
-  const Phase contact{[&](const State& x, State& dx, double t) {
+  Phase contact{[&](const State& x, State& dx, double t) {
                         const Vec2 n(std::cos(x[0]), std::sin(x[0])), vN = path.velocity(t);
                         const Vec2 v = rule(t, on_circle(t, x[0]), path.position(t), vN);
                         dx = {perp(n).dot(v - vN) / kContactDistance, 0.0};
@@ -135,7 +145,13 @@ ResponseResult respond_with(const std::function<Stepper()>& make, const Rule& ru
     if (!r.t_contact_s) r.t_contact_s = t, r.cM_contact = on_circle(t, theta);
     double t1 = t;
     State x{theta, 0.0};
-    if (pushing(t, theta) >= 0.0) std::tie(t1, x) = run_phase(make(), contact, t, x, T, smp, steps, def.max_steps);
+    std::optional<double> press_end;
+    contact.first_nonpositive = &press_end;
+    const double press0 = pushing(t, theta);
+    if (press0 <= 0.0) press_end = t;
+    if (press0 >= 0.0) std::tie(t1, x) = run_phase(make(), contact, t, x, T, smp, steps, def.max_steps);
+    if (!press_end && t1 < T) press_end = t1;
+    if (!r.t_release_s && !r.t_press_end_s) r.t_press_end_s = press_end;  // the first contact's
     r.contact_s += t1 - t;
     if (t1 < T && !r.t_release_s) r.t_release_s = t1;
     t = t1;

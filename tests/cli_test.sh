@@ -201,9 +201,10 @@ python3 "$(dirname "$0")/../examples/kinematic_car.py" "$tmp/pc.csv" "$tmp/tc.cs
 shift_middle "$tmp/tc.csv" "$tmp/turned.csv" 5 1.0
 check score-cycle-passes 0 "$bin" score car.cycle --trace "$tmp/tc.csv"
 check score-wrong-heading-fails 1 "$bin" score car.cycle --trace "$tmp/turned.csv"
-# A disk trace every engine step: the reference's own contact-free trace passes. With contact the
-# exact lift (a kinematic model, no contact response) overlaps after contact, so a simulator's
-# trace must stop there: M held at its first contact state passes, M driving on through N fails.
+# A disk trace every engine step: the reference's own traces pass, without contact and with it
+# (after contact the exact lift goes on with the frictionless, inelastic response: under (38) M is
+# carried along with N). M held at its first contact state (stopped dead while N drives away)
+# fails the response after contact; M driving on through N fails the penetration.
 "$bin" run disks.copy --set dt=0.01 --set sample_dt=0.01 --json >"$tmp/dc.json"
 python3 -c '
 import json, sys
@@ -214,16 +215,19 @@ check score-disks-reference-passes 0 "$bin" score disks.copy --trace "$tmp/dc.cs
 python3 -c '
 import json, math, sys
 rows = [list(r) for r in json.load(open(sys.argv[1]))["details"]["trace"]]
-k = next(i for i, r in enumerate(rows) if math.hypot(r[1] - r[3], r[2] - r[4]) <= 2)
+k = next(i for i, r in enumerate(rows) if math.hypot(r[1] - r[3], r[2] - r[4]) <= 2 + 1e-9)
 write = lambda name, rr: open(name, "w").write("t,cMx,cMy,cNx,cNy\n" + "".join(",".join("%.17g" % v for v in r) + "\n" for r in rr))
+write(sys.argv[4], rows)
 stop = [list(r) for r in rows]
 for i in range(k + 1, len(rows)):
     stop[i][1], stop[i][2] = stop[k][1], stop[k][2]
     rows[i][1] = rows[i - 1][1] + rows[k][1] - rows[k - 1][1]
     rows[i][2] = rows[i - 1][2] + rows[k][2] - rows[k - 1][2]
 write(sys.argv[2], rows)
-write(sys.argv[3], stop)' "$tmp/dr.json" "$tmp/through.csv" "$tmp/stop.csv"
-check score-disks-stop-at-contact-passes 0 "$bin" score disks.repel --trace "$tmp/stop.csv" --set dt=0.01 --set sample_dt=0.01
+write(sys.argv[3], stop)' "$tmp/dr.json" "$tmp/through.csv" "$tmp/stop.csv" "$tmp/dr.csv"
+check score-disks-reference-with-contact-passes 0 "$bin" score disks.repel --trace "$tmp/dr.csv" --set dt=0.01 --set sample_dt=0.01
+check score-disks-stop-at-contact-fails 1 "$bin" score disks.repel --trace "$tmp/stop.csv" --set dt=0.01 --set sample_dt=0.01
+grep -q "contact_path_error.*FAIL" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL a disk stopped dead at contact not caught"; fails=$((fails + 1)); }
 check score-disks-through-fails 1 "$bin" score disks.repel --trace "$tmp/through.csv" --set dt=0.01 --set sample_dt=0.01
 grep -q "penetration_max.*FAIL" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL penetration not caught"; fails=$((fails + 1)); }
 # A folder of traces is one more configuration in validate.

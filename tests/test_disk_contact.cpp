@@ -78,6 +78,8 @@ TEST(DiskContact, ObliqueContactMatchesTheClosedForm) {
     ASSERT_TRUE(r.t_contact_s && r.t_release_s);
     EXPECT_NEAR(*r.t_contact_s, tc, 1e-10);
     EXPECT_NEAR(*r.t_release_s, tr, 1e-8);
+    ASSERT_TRUE(r.t_press_end_s);
+    EXPECT_NEAR(*r.t_press_end_s, tr, 1e-8);
     EXPECT_NEAR(r.contact_s, tr - tc, 1e-8);
     int in_contact = 0;
     for (const Sample& s : r.trace) {
@@ -110,6 +112,25 @@ TEST(DiskContact, HeadOnContactNeverReleases) {
       EXPECT_LT((s.cM - s.cN - Vec2(-2.0, 0.0)).norm(), 1e-12) << s.t_s;
     }
   }
+}
+
+// Corollary 6.3's forced contact: N drives at the centre of D and stops there; M's command is then
+// zero, so it presses no more and rests against N (no release: it never points away).
+TEST(DiskContact, ACommandAtRestStopsPressingButDoesNotRelease) {
+  const Mechanism m = linear(0.5, 0.5);
+  const Vec2 cM0(0.0, 0.0), cN0(6.0, -2.0);
+  NPath path;
+  path.kind = NPath::Kind::kToward;
+  path.c0 = cN0;
+  path.v = Vec2(1.5, 0.0);
+  path.goal = collision_centre(0.5, 0.5, cM0, cN0);
+  const double t_goal = (path.goal - cN0).norm() / 1.5;
+  const ResponseResult r = lift_with_response(rule_of(m), path, cM0, 0.0, 10.0, sampled(LiftMethod::kBulirschStoer));
+  ASSERT_TRUE(r.t_contact_s && r.t_press_end_s);
+  EXPECT_NEAR(*r.t_contact_s, forced_contact_time(0.5, 0.5, cM0, cN0, 1.5), 1e-9);
+  EXPECT_NEAR(*r.t_press_end_s, t_goal, 1e-9);
+  EXPECT_FALSE(r.t_release_s);
+  EXPECT_NEAR((r.trace.back().cM - r.trace.back().cN).norm(), 2.0, 1e-12);
 }
 
 // Lemma 5.1 after contact: under (38) with lambda < 0 the relative command lambda c is radial, so

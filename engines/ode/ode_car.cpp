@@ -89,7 +89,7 @@ void OdeWorld::step(double dt_s) {
 namespace {
 
 const char* const kServo = "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s";
-const char* const kDisks = "M: dynamic sphere (radius 1, 1 kg) driven by a dJointLMotor (force limit 1e5 N) to the commanded velocity; N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless";
+const char* const kDisks = "M: dynamic sphere (radius 1, 1 kg) whose linear velocity is set to the command before each step (dBodySetLinearVel); N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless";
 
 SettingSpec wheel_knob() { return {"wheel", "car", "sphere", "wheel collision shape", SettingSpec::kChoice, 0, 0, {"sphere", "cylinder"}}; }
 SettingSpec friction_dirs_knob(const char* default_text) {

@@ -79,6 +79,55 @@ class DeepContactDisks final : public OdeDisks {
   }
 };
 
+// ---- disk faults after contact and before it (issue 21, classes 5 and 6) ---------------------
+
+/// A contact that sticks: ODE's M-N contacts get unbounded Coulomb friction (mu = infinity, where
+/// the disks are frictionless) and M cannot spin (an angular motor holds its rotation, as a
+/// vehicle's body would): M is glued to N where it touched instead of sliding over it.
+class StickingContactDisks final : public OdeDisks {
+ protected:
+  void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
+    OdeDisks::build(setup, cM0, cN0);
+    dJointID hold = dJointCreateAMotor(world(), nullptr);
+    dJointAttach(hold, body_M(), nullptr);
+    dJointSetAMotorMode(hold, dAMotorUser);
+    dJointSetAMotorNumAxes(hold, 3);
+    dJointSetAMotorAxis(hold, 0, 0, 1, 0, 0);
+    dJointSetAMotorAxis(hold, 1, 0, 0, 1, 0);
+    dJointSetAMotorAxis(hold, 2, 0, 0, 0, 1);
+    for (int p : {dParamFMax1, dParamFMax2, dParamFMax3}) dJointSetAMotorParam(hold, p, 1e9);
+  }
+  bool keep_contact(dContact& c) override {
+    c.surface.mu = dInfinity;
+    return true;
+  }
+};
+
+/// An elastic contact: ODE's restitution at 1 (dContactBounce), where the response is inelastic.
+class BouncingContactDisks final : public OdeDisks {
+ protected:
+  bool keep_contact(dContact& c) override {
+    c.surface.mode |= dContactBounce;
+    c.surface.bounce = 1.0;
+    c.surface.bounce_vel = 0.0;
+    return true;
+  }
+};
+
+/// A velocity motor one step late: each step ODE's motor gets the previous step's command (M
+/// starts at rest, so the first step's is zero).
+class LateMotorDisks final : public OdeDisks {
+ protected:
+  StepContacts step(const disks::Vec2& vM, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt) override {
+    const disks::Vec2 late = previous_;
+    previous_ = vM;
+    return OdeDisks::step(late, cN_next, vN, dt);
+  }
+
+ private:
+  disks::Vec2 previous_ = disks::Vec2::Zero();
+};
+
 // ---- car faults ----------------------------------------------------------------------------
 
 Settings ode_defaults() { return find_engine("ode")->defaults("car"); }
@@ -265,6 +314,20 @@ TEST(Faults, DiskContactResponseOneStepLate) {
 
 TEST(Faults, DiskContactDepthHundredfold) {
   expect_flagged(disk_fault("deep-contact", [] { return std::make_unique<DeepContactDisks>(); }), "disks.repel", "contact_depth_error");
+}
+
+TEST(Faults, DiskContactSticks) {
+  expect_flagged(disk_fault("sticking-contact", [] { return std::make_unique<StickingContactDisks>(); }), "disks.oblique",
+                 "contact_path_error");
+}
+
+TEST(Faults, DiskContactBounces) {
+  expect_flagged(disk_fault("bouncing-contact", [] { return std::make_unique<BouncingContactDisks>(); }), "disks.oblique",
+                 "contact_duration");
+}
+
+TEST(Faults, DiskVelocityMotorOneStepLate) {
+  expect_flagged(disk_fault("late-motor", [] { return std::make_unique<LateMotorDisks>(); }), "disks.repel", "step_displacement");
 }
 
 TEST(Faults, WheelsSlipOnePercentAlongTheRollingDirection) {
