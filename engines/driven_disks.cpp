@@ -1,5 +1,7 @@
 #include "engines/driven_disks.hpp"
 
+#include "models/disk_contact.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -17,7 +19,7 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
   DiskRun r;
   DiskContactLog log;
   State s = read();
-  double fastest_commanded_mps = 0.0;
+  double fastest_commanded_mps = 0.0, separation_m = kSeparation_m;
   r.min_distance = (s.cM - s.cN).norm();
   r.trace.push_back({0.0, s.cM, s.cN});
   for (long k = 0; k < steps; ++k) {
@@ -34,6 +36,7 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
       if (first) {
         r.t_contact_s = t;
         r.contact_state = disks::Sample{t, s.cM, s.cN};
+        separation_m = std::max(kSeparation_m, disks::kSeparationSteps * (vM_cmd - vN).norm() * dt);
         log.distance_at_first_m = d;
       }
       ++log.steps_in_contact;
@@ -57,7 +60,7 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     if (!r.t_contact_s) {  // free: the engine's actuation and integrator alone moved M
       if (const double e = ((s.cM - cM_before) - vM_cmd * h).norm(); e > log.step_displacement_error_max_m)
         log.step_displacement_error_max_m = e, log.step_displacement_error_at_s = t;
-    } else if (!r.t_release_s && d1 - touch > kSeparation_m) {
+    } else if (!r.t_release_s && d1 - touch > separation_m) {
       r.t_release_s = t + h;
     }
     if (r.t_contact_s) log.penetration_max_m = std::max(log.penetration_max_m, touch - d1);

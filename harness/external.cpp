@@ -1,5 +1,7 @@
 #include "harness/external.hpp"
 
+#include "models/disk_contact.hpp"
+
 #include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -160,6 +162,7 @@ class ReplayDisks final : public DiskEngine {
     DiskContactLog log;
     log.reported_by_engine = false;
     r.min_distance = INFINITY;
+    double separation_m = kSeparation_m;
     for (std::size_t k = 0; k < trace_.rows.size(); ++k) {
       const auto& row = trace_.rows[k];
       const disks::Vec2 cM(row[1], row[2]), cN(row[3], row[4]);
@@ -168,10 +171,12 @@ class ReplayDisks final : public DiskEngine {
       log.n_path_error_max_m = std::max(log.n_path_error_max_m, (cN - pb.path.position(row[0])).norm());
       // Touching to round-off is contact (an exact response holds |c_M - c_N| = 2 to round-off).
       const bool touching = d <= touch + kTouchRoundoff_m;
-      if (r.t_contact_s && !r.t_release_s && d - touch > kSeparation_m) r.t_release_s = row[0];
+      if (r.t_contact_s && !r.t_release_s && d - touch > separation_m) r.t_release_s = row[0];
       if (!r.t_contact_s && touching) {
         r.t_contact_s = row[0];
         r.contact_state = disks::Sample{row[0], cM, cN};
+        const disks::Vec2 vN = pb.path.velocity(row[0]);
+        separation_m = std::max(kSeparation_m, disks::kSeparationSteps * (pb.rule(row[0], cM, cN, vN) - vN).norm() * setup.dt_s);
         log.distance_at_first_m = d;
         if (k + 1 < trace_.rows.size()) {
           const auto& nx = trace_.rows[k + 1];

@@ -14,6 +14,13 @@
 
 namespace liftcheck::disks {
 
+/// A stepping engine's contact has ended when the disks are apart by more than this many steps of
+/// M's travel relative to N at the first contact (and at least kSeparation_m of engines/engine.hpp):
+/// a tenth of a step, above the chord of a step on the circle, (|v_rel| dt)^2 / 4, which opens a gap
+/// of 5 um at 4.4 m/s and 1 ms while the contact holds, and below a bounce's separation (a good part
+/// of a step of closing travel).
+constexpr double kSeparationSteps = 0.1;
+
 /// M's velocity in contact: v_cmd less the part of v_cmd - v_N along -n (n from N to M, unit).
 Vec2 contact_velocity(const Vec2& v_cmd, const Vec2& vN, const Vec2& n);
 
