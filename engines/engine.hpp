@@ -140,17 +140,19 @@ struct DiskContactLog {
 
 /// Disks apart by no more than this are touching (the round-off of |c_M - c_N| = 2 at these scales).
 constexpr double kTouchRoundoff_m = 1e-9;
-/// A contact has ended when the disks are apart by more than this: a micrometre, above the gaps of
-/// 0.2 um that Bullet's penetration recovery opens for a step while its contact holds, and far
-/// below the separation of a bounce (a fraction of a step of travel, 0.1 mm and more at 1 ms).
+/// A contact has ended when the disks are apart by at least this much more than touching: a
+/// micrometre, above the gaps of 0.2 um that Bullet's penetration recovery opens for a step while
+/// its contact holds (the larger threshold is a tenth of a step of relative travel, DiskRun).
 constexpr double kSeparation_m = 1e-6;
 
 struct DiskRun {
   std::optional<double> t_contact_s;  ///< analytic: root; engines: the state on which contact was first reported
   /// M and N at t_contact_s (engines: the state their collision pass first reported contact on).
   std::optional<disks::Sample> contact_state;
-  /// The end of the first contact: the first state after it with the disks apart by more than
-  /// kSeparation_m (analytic: the root of the release); none while they touch to T.
+  /// The end of the first contact: the first state after it with the disks apart by more than a
+  /// tenth of a step of M's travel relative to N at contact, and at least kSeparation_m
+  /// (models/disk_contact.hpp, kSeparationSteps; analytic: the root of the release); none while
+  /// they touch to T.
   std::optional<double> t_release_s;
   double min_distance = 0.0;          ///< smallest |c_M - c_N| (analytic: refined on the dense output; engines: over their steps)
   std::vector<disks::Sample> trace;   ///< at t = i * sample_dt from 0 to T (and T)
@@ -179,6 +181,10 @@ struct EngineError : std::runtime_error {
 /// One run target: an engine in a named configuration (the solver, joints, contact model and
 /// defaults its users run). Everything the harness and the reports need to know about a target
 /// is here, so adding one is its folder plus one registry line.
+class RawCar;  // engines/raw_car.hpp
+/// Makes a configuration's raw car at q0 with the given settings (its "car" knobs).
+using RawCarFactory = std::unique_ptr<RawCar> (*)(const Settings&, const CarSetup&, const car::Config&);
+
 struct EngineInfo {
   std::string name;          ///< configuration name, the run target ("ode-quick")
   std::string library;       ///< the engine it configures ("ODE"), for grouping
@@ -199,10 +205,26 @@ struct EngineInfo {
   /// Builds four-wheel cars (CarSetup::wheels = 4); a configuration without them rejects
   /// wheels=4 as bad input rather than run a tricycle.
   bool four_wheels = false;
+  /// The benchmark's raw loop (engines/raw_car.hpp): its car stepped by direct calls to the engine
+  /// (null: none; the reference has none, it does not step).
+  RawCarFactory make_raw_car = nullptr;
 
   /// Every knob of `vehicle` at its default.
   Settings defaults(const std::string& vehicle) const;
 };
+
+/// What a run asks of a configuration, and the first thing a configuration lacks of it (checked in
+/// this order). The runner, the conformance suite and the benchmark all ask `lacks`.
+struct Needs {
+  std::string vehicle;            ///< "car" or "disks": make_car or make_disks
+  bool four_wheels = false;       ///< a four-wheel car (wheels=4)
+  bool contact_dynamics = false;  ///< contact forces with friction (the negative controls)
+  bool raw_car = false;           ///< the benchmark's raw loop
+};
+enum class Lack { kNothing, kFourWheels, kVehicle, kContactDynamics, kRawCar };
+Lack lacks(const EngineInfo& e, const Needs& needs);
+/// The lack as the end of a sentence about the configuration ("has no car").
+std::string lack_text(Lack lack, const Needs& needs);
 
 /// Every configuration compiled in, in a fixed order (the reference first).
 const std::vector<EngineInfo>& engines();
