@@ -192,7 +192,19 @@ TEST(Sweeps, GateNamesEveryProblem) {
   EXPECT_FALSE(gate_sweep_entry(sw, entry));  // listed, but passes: the file is no longer true
   entry["points"][1]["status"] = "error";
   EXPECT_FALSE(gate_sweep_entry(sw, entry));
+  // Past the grip limit the car must slide: a listed point failing only in its heading (a car that
+  // kept its grip) is not the listed failure.
   entry["points"][1]["status"] = "fail";
+  entry["points"][1]["failed"] = {"heading_residual"};
+  entry["points"][1]["errors"] = {{"heading_residual", 1.0}};
+  SweepDef speed_sweep = sw;
+  speed_sweep.marker = 3.155, speed_sweep.slide_past_marker = true;
+  EXPECT_TRUE(gate_sweep_entry(sw, entry));  // without the rule, any listed failure would do
+  EXPECT_FALSE(gate_sweep_entry(speed_sweep, entry));
+  EXPECT_NE(entry["gate"]["problems"].dump().find("kept its grip"), std::string::npos) << entry["gate"].dump();
+  entry["points"][1]["failed"] = {"front_radius"};
+  entry["points"][1]["errors"] = {{"front_radius", 4.0}};
+  EXPECT_TRUE(gate_sweep_entry(speed_sweep, entry)) << entry["gate"].dump();
   entry["points"][0]["status"] = "fail";
   EXPECT_FALSE(gate_sweep_entry(sw, entry));  // 0.5 m/s is not listed
   EXPECT_EQ(entry["gate"]["points_unexpected"], 1);
