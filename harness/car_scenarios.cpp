@@ -199,7 +199,9 @@ void add_slip(Outcome& o, const CarEngine& engine) {
 /// wheels, or interpolated between steps, is off by its lag's travel at every moving sample.
 /// A model that reports the commanded shape as its realized one compares its lift with itself:
 /// informational.
-void add_realized_lift(Outcome& o, const CarEngine& engine, const car::CarDef& c, const std::vector<car::TimedConfig>& trace) {
+/// The tolerance (data at the default 0.5 m/s and 1 ms) scales with one step's travel, v dt.
+void add_realized_lift(Outcome& o, const CarEngine& engine, const CarSetup& setup, const std::vector<car::TimedConfig>& trace) {
+  const car::CarDef& c = setup.car;
   Config q = trace.front().q;
   double worst = 0.0;
   for (std::size_t i = 1; i < trace.size(); ++i) {
@@ -209,7 +211,8 @@ void add_realized_lift(Outcome& o, const CarEngine& engine, const car::CarDef& c
     q = car::flow_beta(q, b.beta_rad - q.beta_rad);
     worst = std::max(worst, std::hypot(b.x_m - q.x_m, b.y_m - q.y_m));
   }
-  o.values["realized_lift_error"] = {0.0, worst, 0.0, 1.0, !engine.realizes_shape()};
+  const double step_travel_factor = setup.drive.speed_mps * setup.dt_s / (0.5 * 1e-3);
+  o.values["realized_lift_error"] = {0.0, worst, 0.0, step_travel_factor, !engine.realizes_shape()};
 }
 
 /// The car's centre of mass in the chassis frame (x forward from the front-axle centre, y left):
@@ -287,7 +290,7 @@ Outcome run_circle(const Params& p, CarEngine& engine) {
   // Engines integrate the heading step by step: first order in dt, so the tolerance (data at
   // 1 ms) scales with dt / 1 ms.
   o.values["heading_residual"] = {0.0, heading_residual, 0.0, setup.dt_s / 1e-3};
-  add_realized_lift(o, engine, setup.car, trace);
+  add_realized_lift(o, engine, setup, trace);
   o.values["com_accel_excess"] = {0.0, com_accel_excess(setup, trace), 0.0, 1.0, !engine.realizes_shape()};
   // Lateral acceleration of the front wheel against the friction limit: the kinematic model holds
   // only while v^2 / (r g) is well below mu.
@@ -436,7 +439,7 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   o.values["lo_dx"] = {predicted[car::kX], d[car::kX], lo_size, lo_factor};
   o.values["lo_dy"] = {predicted[car::kY], d[car::kY], lo_size, lo_factor};
   o.values["lo_dphi"] = {predicted[car::kPhi], d[car::kPhi], lo_size / l, lo_factor};
-  add_realized_lift(o, engine, setup.car, trace);
+  add_realized_lift(o, engine, setup, trace);
   o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
                {"steps", steps.size()}, {"holonomy_size_m", size},
                {"measured_size_m", rod_shift(setup.car, trace.front().q, trace.back().q)},
@@ -698,8 +701,9 @@ const MetricDef TRACE_PATH = abs_("trace_path_error", "m", 0.0, 1e-3, "the trace
 const MetricDef TRACE_SHAPE = abs_("trace_shape_error", "rad", 0.0, 1e-3, "the trace up to the path's end: largest difference of its (alpha, beta) from the commanded path, or of its heading from the exact lift's, at any sample");
 
 // The connection (3.3) at every sample: the pose against the lift of the engine's own realized
-// (alpha, beta). 0.1 mm is a fifth of one engine step's travel at the default 0.5 m/s and 1 ms.
-const MetricDef REALIZED_LIFT = abs_("realized_lift_error", "m", 1e-9, 1e-4, "largest distance, at any sample, of the front-axle centre from the lift of the wheel and steering angles the engine realized up to that sample (a pose reported late or early)");
+// (alpha, beta). 0.1 mm is a fifth of one engine step's travel at the default 0.5 m/s and 1 ms;
+// the tolerance scales with v dt (a pose one step late is off by one step's travel).
+const MetricDef REALIZED_LIFT = abs_("realized_lift_error", "m", 1e-9, 1e-4, "largest distance, at any sample, of the front-axle centre from the lift of the wheel and steering angles the engine realized up to that sample (a pose reported late or early; tolerance at 0.5 m/s and dt = 1 ms, x v dt / 0.5 mm)");
 // Coulomb: the ground pushes the car by at most mu times its weight. 5% for the normal load's
 // fluctuation over two sample intervals and the second differences.
 const MetricDef COM_ACCEL = abs_("com_accel_excess", "1", 1e-9, 0.05, "largest horizontal acceleration of the car's centre of mass beyond mu g, as a fraction of mu g (0: within Coulomb's bound)");
