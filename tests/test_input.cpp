@@ -4,10 +4,10 @@
 
 #include <fmt/format.h>
 
-#include "harness/results_file.hpp"
-#include "harness/suggest.hpp"
-#include "harness/trace.hpp"
-#include "reports/ci.hpp"
+#include "input/results_file.hpp"
+#include "input/suggest.hpp"
+#include "input/trace.hpp"
+#include "input/results_diff.hpp"
 
 using namespace liftcheck;
 

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "harness/params.hpp"
+#include "input/params.hpp"
 
 namespace liftcheck {
 

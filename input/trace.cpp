@@ -1,4 +1,4 @@
-#include "harness/trace.hpp"
+#include "input/trace.hpp"
 
 #include <algorithm>
 #include <charconv>
