@@ -79,8 +79,22 @@ bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
       if (f.kind == KnownSweepFailure::kFit) fit_known = &f;
     }
   int anywhere_failed = 0;
+  const EngineInfo* info = find_engine(engine);
+  const bool must_slide = sweep.slide_past_marker && info && info->contact_dynamics;
   for (auto& pt : entry["points"]) {
     const double x = pt["x"];
+    if (must_slide && x > sweep.marker && pt["status"] != "error") {
+      bool slid = false;
+      for (const auto& [name, err] : point_errors(pt))
+        slid = slid || (name == "front_radius" && err >= SweepDef::kSlideRadius) || (name == "slip_across_max" && err >= SweepDef::kSlideAcross_mps);
+      if (!slid) {
+        ++unexpected;
+        problems.push_back(fmt::format("{} = {}: past the grip limit ({}) the car must slide (front radius +{:g} or lateral slip {:g} m/s), but it kept its grip: {}",
+                                       sweep.param, x, sweep.marker_label, SweepDef::kSlideRadius, SweepDef::kSlideAcross_mps,
+                                       pt["status"] == "pass" ? "every metric passes" : pt.value("message", "")));
+        continue;
+      }
+    }
     const KnownSweepFailure* k = nullptr;
     for (const auto& f : known_sweep_failures())
       if (f.sweep == sweep.name && f.engine == engine && (f.kind == KnownSweepFailure::kPoint || f.kind == KnownSweepFailure::kError) && f.x == x) k = &f;

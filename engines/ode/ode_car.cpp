@@ -116,7 +116,7 @@ EngineInfo ode_quick_engine() {
           .make_disks = [](const Settings& s) { return make_ode_disks(OdeStepper::quick_from(s)); },
           .contact_dynamics = true,
           .settings = {{"stepper", "dWorldQuickStep (iterative SOR/PGS), Gazebo's SDF physics defaults: global ERP 0.2, CFM 0, contact_max_correcting_vel 100 m/s, contact_surface_layer 0.001 m"},
-           {"front wheel", "dHinge2Joint, suspension CFM 1e-10; velocity motors on steering and spin"},
+           {"front wheel", "dHinge2Joint, suspension CFM 1e-10; velocity motors on steering and spin; no knuckle body: the knuckle's mass and inertia ride on the wheel body"},
            {"rear wheels", "dHingeJoint each"},
            {"contact", "dContactApprox1 | SoftERP 0.2 | SoftCFM 1e-9, up to 4 points per wheel"},
            {"friction directions", "world (Gazebo's default, no fdir1): ODE's axes from the normal; wheel: dContactFDir1 along the rolling direction"},
