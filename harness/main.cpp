@@ -14,6 +14,7 @@
 #include <cstring>
 
 #include "harness/external.hpp"
+#include "harness/interrupt.hpp"
 #include "harness/results.hpp"
 #include "harness/suggest.hpp"
 #include "liftcheck_version.hpp"
@@ -112,32 +113,13 @@ int cmd_engines(bool json) {
   return 0;
 }
 
-/// SIGINT or SIGTERM: the runner stops at its next event, the outputs are left as they were.
-volatile std::sig_atomic_t g_signal = 0;
-extern "C" void on_signal(int sig) { g_signal = sig; }
-void catch_interrupts() {
-  struct sigaction sa {};
-  sa.sa_handler = on_signal;
-  sigemptyset(&sa.sa_mask);
-  sigaction(SIGINT, &sa, nullptr);
-  sigaction(SIGTERM, &sa, nullptr);
-}
-/// Thrown when a signal stopped the work: exit 128 + the signal.
-struct Interrupted : std::runtime_error {
-  int sig;
-  Interrupted(int s, const std::string& where) : std::runtime_error(where), sig(s) {}
-};
-void throw_if_interrupted(const std::string& where) {
-  if (g_signal) throw Interrupted(g_signal, where);
-}
-
 RunnerDef runner_def(int jobs, double timeout_s) {
   if (jobs < 1) throw InputError(fmt::format("--jobs {} must be at least 1", jobs));
   if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) throw InputError(fmt::format("--timeout {} must be a positive number of seconds", timeout_s));
   RunnerDef r;
   r.jobs = jobs;
   r.timeout_s = timeout_s;
-  r.stop = [] { return g_signal != 0; };
+  r.stop = [] { return g_interrupt_signal != 0; };
   return r;
 }
 
@@ -176,7 +158,7 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   try {
     records = run_items(plan, {0}, runner_def(1, timeout_s), [](size_t, const nlohmann::json&) {});
   } catch (const RunnerStopped& e) {
-    throw Interrupted(g_signal, e.what());
+    throw Interrupted(g_interrupt_signal, e.what());
   }
   throw_if_interrupted("during the run");
   const nlohmann::json& r = records.at(0);
@@ -516,7 +498,7 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
     }, [&](size_t done, size_t total) { progress.update(done, total); });
   } catch (const RunnerStopped& e) {
     progress.clear();
-    throw Interrupted(g_signal, e.what());
+    throw Interrupted(g_interrupt_signal, e.what());
   }
   progress.clear();
   const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -642,7 +624,7 @@ int cmd_merge(const std::vector<std::string>& dirs, const OutputOptions& o) {
 
 int cmd_diff(const std::string& base_path, const std::string& head_path, double growth, bool json) {
   if (!(growth > 1.0)) throw InputError(fmt::format("--growth must be > 1 (got {})", growth));
-  const nlohmann::json base = read_results(base_path), head = read_results(head_path);
+  const auto [base, head] = read_results_pair(base_path, head_path);
   DiffDef def;
   def.growth = growth;
   nlohmann::json d;

@@ -1,5 +1,6 @@
 #include "reports/ci.hpp"
 
+#include "harness/interrupt.hpp"
 #include "reports/escape.hpp"
 
 #include <algorithm>
@@ -225,7 +226,9 @@ json diff_results(const json& base, const json& head, const DiffDef& def) {
   json d{{"regressions", json::array()}, {"fixed", json::array()}, {"worse", json::array()},
          {"better", json::array()}, {"added", json::array()}, {"removed", json::array()}};
   const auto b = index_runs(base), h = index_runs(head);
+  std::size_t compared = 0;
   for (const auto& [key, hr] : h) {
+    if ((++compared & 0xFFFF) == 0) throw_if_interrupted("while comparing the results");
     const auto it = b.find(key);
     const json id{{"scenario", key.first}, {"engine", key.second}};
     if (it == b.end()) {
