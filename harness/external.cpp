@@ -93,7 +93,11 @@ class RecordingDisks final : public DiskEngine {
   explicit RecordingDisks(std::string scenario) : scenario_(std::move(scenario)) {}
   DiskRun run(const DiskSetup& setup, const DiskProblem& pb) override {
     if (++runs_ > 1) throw single_run_only(scenario_, runs_);
-    // Every engine step: a disk trace is scored like a stepping engine's states.
+    // Every engine step: a disk trace is scored like a stepping engine's states (so the path lists
+    // every step, and the samples' limit holds for the steps).
+    if (!(pb.T_s / setup.dt_s <= kMaxRunSamples))
+      throw InputError(fmt::format("parameter 'dt' = {:g} s asks for {:.3g} rows of the path (one per engine step) over the run's {:g} s: at most {:g} (dt >= {:.3g} s here)",
+                                   setup.dt_s, pb.T_s / setup.dt_s, pb.T_s, kMaxRunSamples, pb.T_s / kMaxRunSamples));
     for (const double t : grid(pb.T_s, setup.dt_s)) {
       const disks::Vec2 c = pb.path.position(t);
       rows.push_back({t, c.x(), c.y()});
