@@ -7,7 +7,6 @@
 #include <fmt/ranges.h>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <set>
 #include <sstream>
 
 #include "harness/interrupt.hpp"
@@ -64,72 +63,82 @@ std::string printable(const std::string& s, std::size_t max) {
 
 namespace {
 
-/// Builds the document in one pass (nlohmann's own DOM builder, linear in the text) and checks on
-/// the way what the DOM cannot say afterwards: the nesting depth (copying or printing a document
-/// recurses that deep), a key repeated in one object (the last would silently win), an interruption.
+/// Builds the document in one pass (linear in the text: nlohmann's callback parser, which the
+/// depth limit used before, is quadratic) and checks on the way what the document cannot say
+/// afterwards: the nesting depth (copying or printing a document recurses that deep), a key repeated
+/// in one object (the last would silently win), an interruption.
 class CheckedDom {
  public:
-  CheckedDom(json& root, const std::string& file, int max_depth) : dom_(root, true), file_(file), max_depth_(max_depth) {
-    frames_.reserve(static_cast<std::size_t>(max_depth) + 1);
+  CheckedDom(json& root, const std::string& file, int max_depth) : root_(root), file_(file), max_depth_(max_depth) {
+    open_.reserve(static_cast<std::size_t>(max_depth) + 1);
   }
-  bool null() { return value(), dom_.null(); }
-  bool boolean(bool v) { return value(), dom_.boolean(v); }
-  bool number_integer(json::number_integer_t v) { return value(), dom_.number_integer(v); }
-  bool number_unsigned(json::number_unsigned_t v) { return value(), dom_.number_unsigned(v); }
-  bool number_float(json::number_float_t v, const std::string& s) { return value(), dom_.number_float(v, s); }
-  bool string(std::string& v) { return value(), dom_.string(v); }
-  bool binary(json::binary_t& v) { return value(), dom_.binary(v); }
-  bool start_object(std::size_t n) { return open(true), dom_.start_object(n); }
-  bool end_object() { return close(), dom_.end_object(); }
-  bool start_array(std::size_t n) { return open(false), dom_.start_array(n); }
-  bool end_array() { return close(), dom_.end_array(); }
+  bool null() { return put(json()); }
+  bool boolean(bool v) { return put(v); }
+  bool number_integer(json::number_integer_t v) { return put(v); }
+  bool number_unsigned(json::number_unsigned_t v) { return put(v); }
+  bool number_float(json::number_float_t v, const std::string&) { return put(v); }
+  bool string(std::string& v) { return put(std::move(v)); }
+  bool binary(json::binary_t& v) { return put(json::binary(std::move(v))); }
+  bool start_object(std::size_t) { return open(json::object()); }
+  bool start_array(std::size_t) { return open(json::array()); }
+  bool end_object() { return open_.pop_back(), true; }
+  bool end_array() { return open_.pop_back(), true; }
   bool key(std::string& k) {
-    Frame& f = frames_.back();
-    if (!f.keys.insert(k).second)
+    Open& o = open_.back();
+    if (o.value->contains(k))
       throw InputError(fmt::format("{}: {}: the key '{}' appears twice in one object (which one is meant?)", file_, where(), printable(k)));
-    f.key = k;
-    return dom_.key(k);
+    o.key = std::move(k);
+    return true;
   }
   template <class Exception>
-  bool parse_error(std::size_t at, const std::string& token, const Exception& e) {
-    return dom_.parse_error(at, token, e);
+  bool parse_error(std::size_t, const std::string&, const Exception& e) {
+    throw e;
   }
 
  private:
-  struct Frame {
-    bool object = false;
-    long index = -1;  ///< arrays: the element being read
+  struct Open {
+    json* value;
     std::string key;  ///< objects: the key being read
-    std::set<std::string> keys;
   };
-  void value() {
+  /// Places `v` in the innermost open container (or as the document) and returns where it went.
+  json* place(json&& v) {
     if ((++events_ & 0xFFFF) == 0) throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", printable(file_, 200)); });
-    if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+    if (open_.empty()) {
+      root_ = std::move(v);
+      return &root_;
+    }
+    json& c = *open_.back().value;
+    if (c.is_array()) {
+      c.push_back(std::move(v));
+      return &c.back();
+    }
+    return &(c[open_.back().key] = std::move(v));
   }
-  void open(bool object) {
-    value();
-    if (static_cast<int>(frames_.size()) >= max_depth_) throw InputError(fmt::format("{}: JSON nested deeper than {} levels", file_, max_depth_));
-    frames_.push_back({object, -1, {}, {}});
+  bool put(json&& v) { return place(std::move(v)), true; }
+  bool open(json&& container) {
+    if (static_cast<int>(open_.size()) >= max_depth_) throw InputError(fmt::format("{}: JSON nested deeper than {} levels", file_, max_depth_));
+    json* at = place(std::move(container));
+    open_.push_back({at, {}});
+    return true;
   }
-  void close() { frames_.pop_back(); }
   /// "runs[3].metrics" for the innermost open object.
   std::string where() const {
     std::string w;
-    for (std::size_t i = 0; i + 1 < frames_.size(); ++i) {
-      if (!frames_[i].object) {
-        w += fmt::format("[{}]", frames_[i].index);
+    for (std::size_t i = 0; i + 1 < open_.size(); ++i) {
+      if (open_[i].value->is_array()) {
+        w += fmt::format("[{}]", open_[i].value->size() - 1);
         continue;
       }
       if (!w.empty()) w += '.';
-      w += printable(frames_[i].key, 60);
+      w += printable(open_[i].key, 60);
     }
     return w.empty() ? "the top level" : w;
   }
 
-  nlohmann::detail::json_sax_dom_parser<json> dom_;
+  json& root_;
   const std::string& file_;
   int max_depth_;
-  std::vector<Frame> frames_;
+  std::vector<Open> open_;
   std::size_t events_ = 0;
 };
 
