@@ -1,11 +1,13 @@
 #include "harness/external.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <fstream>
 #include <sstream>
 
+#include "harness/read_file.hpp"
 #include "models/car.hpp"
 
 namespace liftcheck {
@@ -237,6 +239,11 @@ std::string path_csv(const json& path) {
 }
 
 EngineInfo replay_engine(const std::string& name, const Scenario& scenario, const Trace& trace) {
+  // The name is printed on the console, in summary.md's table and the report, and recorded in JSON.
+  require_utf8(name, "configuration name");
+  if (std::any_of(name.begin(), name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+    throw InputError(fmt::format("configuration name '{}' holds a control character (a line break?): it would forge lines of the console and the "
+                                 "summary; rename it", printable(name)));
   EngineInfo e;
   e.name = name;
   e.library = "external";
