@@ -119,11 +119,16 @@ json read_results(const std::string& path) {
 }
 
 std::pair<json, json> read_results_pair(const std::string& base, const std::string& head) {
-  // Two files, two threads: parsing is most of a diff's time.
-  auto later = std::async(std::launch::async, [&] { return read_results(head); });
+  // Read here (a blocking read is interrupted by a signal in this thread), parsed in two threads:
+  // parsing is most of a diff's time, and both threads check for an interruption as they go.
+  require_utf8(base, "results file name");
+  require_utf8(head, "results file name");
+  const std::string base_text = read_text_file(base, kMaxResultsBytes, "results file");
+  const std::string head_text = read_text_file(head, kMaxResultsBytes, "results file");
+  auto later = std::async(std::launch::async, [&] { return parse_results(head_text, printable(head, 200)); });
   json b;
   try {
-    b = read_results(base);
+    b = parse_results(base_text, printable(base, 200));
   } catch (...) {
     later.wait();
     throw;
