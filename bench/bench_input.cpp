@@ -5,8 +5,8 @@
 #include <fmt/format.h>
 #include <string>
 
-#include "harness/results_file.hpp"
-#include "reports/ci.hpp"
+#include "input/results_file.hpp"
+#include "input/results_diff.hpp"
 
 namespace {
 

@@ -505,5 +505,84 @@ exec 7>&-
   || { echo "FAIL diff did not stop at SIGTERM: exit $st"; cat "$tmp/fi.err"; fails=$((fails + 1)); }
 # --- end of the issue 23 block (reads, allocations, waits) -----------------------------------
 
+# --- Reliability, second round (issue 23): liftcheck deletes only what it wrote ---------------
+V=(validate --engines analytic,ode --filter car.circle,disks.linear --no-sweeps --no-report --jobs 2)
+check rel-out-first 0 "$bin" "${V[@]}" --out "$tmp/uo"
+grep -q '^liftcheck output manifest 1$' "$tmp/uo/.liftcheck-output" && grep -q '^results.json$' "$tmp/uo/.liftcheck-output" && passes=$((passes + 1)) \
+  || { echo "FAIL no manifest in the output folder"; cat "$tmp/uo/.liftcheck-output"; fails=$((fails + 1)); }
+# An input inside --out is refused (it would go with the folder), and so is a folder that holds
+# files liftcheck did not write, even inside one of liftcheck's own subfolders.
+mkdir -p "$tmp/uo/sim" && cp "$tmp/trace.csv" "$tmp/uo/sim/car.circle.csv" && echo x >"$tmp/uo/NOTES.txt"
+bad_input rel-trace-dir-in-out "--trace-dir '$tmp/uo/sim' must not be inside --out" "${V[@]}" --trace-dir "$tmp/uo/sim" --out "$tmp/uo"
+bad_input rel-user-files-in-out "holds files that liftcheck did not write ('NOTES.txt', 'sim/')" "${V[@]}" --out "$tmp/uo"
+[ -s "$tmp/uo/sim/car.circle.csv" ] && [ -s "$tmp/uo/NOTES.txt" ] && [ -s "$tmp/uo/results.json" ] && passes=$((passes + 1)) \
+  || { echo "FAIL a user's file inside --out was deleted"; ls -la "$tmp/uo"; fails=$((fails + 1)); }
+check rel-out-report 0 "$bin" validate --engines analytic --filter disks.copy --no-sweeps --out "$tmp/uo2"
+echo mine >"$tmp/uo2/plots/mine.txt"
+bad_input rel-user-file-in-plots "holds files that liftcheck did not write ('plots/mine.txt')" validate --engines analytic --filter disks.copy --no-sweeps --out "$tmp/uo2"
+check rel-shards 0 "$bin" "${V[@]}" --shard 1/2 --out "$tmp/us/s1"
+check rel-shards-2 0 "$bin" "${V[@]}" --shard 2/2 --out "$tmp/us/s2"
+bad_input rel-shard-in-out "must not be inside --out" merge "$tmp/us/s1" "$tmp/us/s2" --no-report --out "$tmp/us"
+[ -s "$tmp/us/s1/results.json" ] && [ -s "$tmp/us/s2/results.json" ] && passes=$((passes + 1)) || { echo "FAIL merge deleted its shards"; fails=$((fails + 1)); }
+# A dangling symbolic link as --out is refused before the suite runs.
+ln -s "$tmp/nowhere/at/all" "$tmp/dangling"
+bad_input rel-dangling-out "--out '$tmp/dangling' is a symbolic link to '$tmp/nowhere/at/all', which does not exist" "${V[@]}" --out "$tmp/dangling"
+# Staging folders: a fresh one each time (an existing folder of that name is never taken over);
+# one left by a liftcheck process that is gone (SIGKILL) is removed by the next run, one holding
+# anything else is kept; a long --out name fits.
+mkdir -p "$tmp/st" "$tmp/st/.o.partial-999999-AAAAAA" "$tmp/st/.o.partial-999998-BBBBBB"
+echo "liftcheck-staging pid 999999 start 1" >"$tmp/st/.o.partial-999999-AAAAAA/.liftcheck-staging"
+echo '{}' >"$tmp/st/.o.partial-999999-AAAAAA/results.json"
+echo mine >"$tmp/st/.o.partial-999998-BBBBBB/mine.txt"
+check rel-stale-stage 0 "$bin" "${V[@]}" --out "$tmp/st/o"
+[ ! -e "$tmp/st/.o.partial-999999-AAAAAA" ] && [ -s "$tmp/st/.o.partial-999998-BBBBBB/mine.txt" ] && [ -z "$(find "$tmp/st" -maxdepth 1 -name '.o.partial-*' ! -name '*BBBBBB')" ] \
+  && passes=$((passes + 1)) || { echo "FAIL stale staging folders"; ls -la "$tmp/st"; fails=$((fails + 1)); }
+"$bin" "${V[@]}" --jobs 1 --out "$tmp/st/k" >/dev/null 2>&1 &
+vpid=$!
+for _ in $(seq 100); do [ -n "$(find "$tmp/st" -maxdepth 1 -name '.k.partial-*')" ] && break; sleep 0.1; done
+kill -KILL "$vpid"; wait "$vpid" 2>/dev/null
+check rel-after-sigkill 0 "$bin" "${V[@]}" --out "$tmp/st/k"
+[ -z "$(find "$tmp/st" -maxdepth 1 -name '.k.partial-*')" ] && passes=$((passes + 1)) || { echo "FAIL SIGKILL's staging folder left"; fails=$((fails + 1)); }
+long="$tmp/st/$(printf 'n%.0s' $(seq 250))"
+check rel-long-out 0 "$bin" "${V[@]}" --out "$long"
+[ -s "$long/results.json" ] && passes=$((passes + 1)) || { echo "FAIL long --out name"; fails=$((fails + 1)); }
+# A mount point as --out (root only): the new entries are copied in before the old go, so a file
+# system too small for both keeps the old output whole and the new results beside it.
+if mkdir -p "$tmp/mnt" && mount -t tmpfs -o size=900k tmpfs "$tmp/mnt" 2>/dev/null; then
+  check rel-mount-first 0 "$bin" "${V[@]}" --out "$tmp/mnt"
+  check rel-mount-again 0 "$bin" "${V[@]}" --out "$tmp/mnt"
+  cp "$tmp/mnt/results.json" "$tmp/mnt-before.json"
+  python3 -c 'import json,sys; json.load(open(sys.argv[1]))' "$tmp/mnt/results.json" && [ -z "$(ls -A "$tmp/mnt" | grep liftcheck-new)" ] \
+    && passes=$((passes + 1)) || { echo "FAIL mount point output"; ls -la "$tmp/mnt"; fails=$((fails + 1)); }
+  # Now too small: validate with the report (snapshots) does not fit beside the old output.
+  "$bin" validate --engines analytic,ode --filter car.circle --no-sweeps --out "$tmp/mnt" >"$tmp/out" 2>"$tmp/err"
+  st=$?
+  kept=$(sed -n "s/.*the results are kept in '\([^']*\)').*/\1/p" "$tmp/err")
+  [ "$st" -eq 2 ] && grep -q "the previous output is as it was" "$tmp/err" && cmp -s "$tmp/mnt/results.json" "$tmp/mnt-before.json" && [ -s "$kept/results.json" ] \
+    && passes=$((passes + 1)) || { echo "FAIL full mount point: exit $st"; cat "$tmp/err"; ls -la "$tmp/mnt" "$kept"; fails=$((fails + 1)); }
+  umount "$tmp/mnt"
+fi
+# Every write to standard output is checked.
+for args in "run car.circle --json" "list" "path car.circle" "diff $tmp/report/results.json $tmp/report/results.json"; do
+  # shellcheck disable=SC2086
+  "$bin" $args >/dev/full 2>"$tmp/err"
+  st=$?
+  [ "$st" -eq 2 ] && [ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "cannot write to standard output: No space left on device" "$tmp/err" && passes=$((passes + 1)) \
+    || { echo "FAIL $args > /dev/full: exit $st"; cat "$tmp/err"; fails=$((fails + 1)); }
+done
+# A baseline that cannot be written is found before the output folder is replaced: nothing is
+# written, as the message says.
+cp "$tmp/uo2/results.json" "$tmp/uo2-before.json"
+rm "$tmp/uo2/plots/mine.txt"
+bad_input rel-baseline-unwritable "nothing is written" validate --engines analytic --filter disks.copy --no-sweeps --out "$tmp/uo2" --baseline "$tmp/no/such/dir/base.json" --update-baseline
+cmp -s "$tmp/uo2/results.json" "$tmp/uo2-before.json" && passes=$((passes + 1)) || { echo "FAIL a failed --update-baseline replaced --out"; fails=$((fails + 1)); }
+# The report renders in a process of its own: a renderer that dies (OSMesa under a memory
+# limit) costs the report, never the runs' results.
+(ulimit -v 400000; "$bin" validate --engines analytic --filter car.circle --no-sweeps --jobs 1 --out "$tmp/ulim" >"$tmp/out" 2>"$tmp/err")
+st=$?
+python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["summary"]["total"] == 1 and d["runs"][0]["verdict"] == "pass", d["summary"]' "$tmp/ulim/results.json" \
+  && passes=$((passes + 1)) || { echo "FAIL the runs' results lost with the report: exit $st"; cat "$tmp/err"; fails=$((fails + 1)); }
+# --- end of the issue 23 block (output folder) ------------------------------------------------
+
 echo "$passes passed, $fails failed"
 [ "$fails" -eq 0 ]

@@ -4,11 +4,11 @@
 
 #include <fmt/format.h>
 
-#include "harness/read_file.hpp"
-#include "harness/results_file.hpp"
-#include "harness/suggest.hpp"
-#include "harness/trace.hpp"
-#include "reports/ci.hpp"
+#include "input/read_file.hpp"
+#include "input/results_file.hpp"
+#include "input/suggest.hpp"
+#include "input/trace.hpp"
+#include "input/results_diff.hpp"
 
 using namespace liftcheck;
 

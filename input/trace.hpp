@@ -8,7 +8,7 @@
 #include <string_view>
 #include <vector>
 
-#include "harness/params.hpp"
+#include "input/params.hpp"
 
 namespace liftcheck {
 

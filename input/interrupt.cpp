@@ -1,4 +1,4 @@
-#include "harness/interrupt.hpp"
+#include "input/interrupt.hpp"
 
 namespace liftcheck {
 
@@ -14,6 +14,7 @@ void catch_interrupts() {
   sigemptyset(&sa.sa_mask);
   sigaction(SIGINT, &sa, nullptr);
   sigaction(SIGTERM, &sa, nullptr);
+  sigaction(SIGHUP, &sa, nullptr);  // a closed terminal: the staging folder is removed, the old output kept
 }
 
 }  // namespace liftcheck

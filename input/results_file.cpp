@@ -1,14 +1,14 @@
-#include "harness/results_file.hpp"
+#include "input/results_file.hpp"
 
 #include <fmt/format.h>
 #include <fstream>
 #include <future>
 #include <sstream>
 
-#include "harness/interrupt.hpp"
-#include "harness/params.hpp"
-#include "harness/read_file.hpp"
-#include "harness/trace.hpp"
+#include "input/interrupt.hpp"
+#include "input/params.hpp"
+#include "input/read_file.hpp"
+#include "input/trace.hpp"
 
 namespace liftcheck {
 

@@ -1,4 +1,4 @@
-// SIGINT and SIGTERM: the handler records the signal, every long loop (a run's wait, a file being
+// SIGINT, SIGTERM and SIGHUP: the handler records the signal, every long loop (a run's wait, a file being
 // read or parsed, a score, a diff) checks it and stops with Interrupted (exit 128 + the signal).
 #pragma once
 
@@ -11,7 +11,7 @@ namespace liftcheck {
 /// The signal that asked liftcheck to stop (0: none); set by catch_interrupts' handler only.
 extern volatile std::sig_atomic_t g_interrupt_signal;
 
-/// Installs the handler for SIGINT and SIGTERM.
+/// Installs the handler for SIGINT, SIGTERM and SIGHUP.
 void catch_interrupts();
 
 /// Thrown when a signal stopped the work: exit 128 + the signal.

@@ -1,4 +1,4 @@
-#include "harness/read_file.hpp"
+#include "input/read_file.hpp"
 
 #include <cerrno>
 #include <cstring>
@@ -7,9 +7,9 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-#include "harness/interrupt.hpp"
-#include "harness/params.hpp"
-#include "harness/trace.hpp"
+#include "input/interrupt.hpp"
+#include "input/params.hpp"
+#include "input/trace.hpp"
 
 namespace liftcheck {
 

@@ -1,4 +1,4 @@
-#include "harness/trace.hpp"
+#include "input/trace.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -9,8 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "harness/interrupt.hpp"
-#include "harness/read_file.hpp"
+#include "input/interrupt.hpp"
+#include "input/read_file.hpp"
 
 namespace liftcheck {
 

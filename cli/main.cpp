@@ -1,0 +1,69 @@
+// liftcheck: validation harness for physics engines against the analytic car and disk models.
+// Each subcommand is a file of its own (cli/command.hpp lists them).
+#include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fmt/format.h>
+#include <iostream>
+
+#include "cli/command.hpp"
+#include "cli/interrupts.hpp"
+#include "input/params.hpp"  // InputError
+#include "liftcheck_version.hpp"
+
+using namespace liftcheck;
+using namespace liftcheck::cli;
+
+namespace {
+
+/// Every write to standard output is checked (a full disk, a closed pipe): the output that was
+/// asked for is the command's result, so losing it is an error, exit 2 with the reason.
+bool stdout_written() {
+  errno = 0;
+  std::cout.flush();
+  const bool ok = std::cout.good() && std::fflush(stdout) == 0 && !std::ferror(stdout);
+  if (!ok) std::cerr << fmt::format("liftcheck: error: cannot write to standard output: {}\n", std::strerror(errno ? errno : EIO));
+  return ok;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"liftcheck: validates physics engines against exact kinematics (rolling without slipping, "
+               "reaction mechanisms)"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", std::string(LIFTCHECK_VERSION_STRING));
+  const std::vector<Command> commands = {add_list(app), add_engines(app), add_run(app),   add_validate(app), add_merge(app),
+                                         add_worker(app), add_path(app),  add_score(app), add_diff(app)};
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    std::cerr << "liftcheck: error: " << e.what() << "\n";
+    return 2;
+  }
+  try {
+    for (const Command& c : commands) {
+      if (!*c.app) continue;
+      if (c.interruptible) catch_interrupts();
+      const int status = c.run();
+      return stdout_written() ? status : 2;
+    }
+  } catch (const Interrupted& e) {
+    std::cerr << fmt::format("liftcheck: interrupted by {} {}; the previous outputs are left as they were\n", strsignal(e.sig), e.what());
+    return 128 + e.sig;
+  } catch (const InputError& e) {
+    std::cerr << "liftcheck: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "liftcheck: internal error: " << e.what() << "\n";
+    return 3;
+  }
+  return 2;
+}
