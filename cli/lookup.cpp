@@ -55,7 +55,7 @@ RunnerDef runner_def(int jobs, double timeout_s) {
   if (jobs < 1) throw InputError(fmt::format("--jobs {} must be at least 1", jobs));
   if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) throw InputError(fmt::format("--timeout {} must be a positive number of seconds", timeout_s));
   RunnerDef r;
-  r.jobs = jobs;
+  r.jobs = std::min(jobs, usable_cores());  // more would only queue for the same cores
   r.timeout_s = timeout_s;
   r.stop = [] { return pending_signal() != 0; };
   return r;

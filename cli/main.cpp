@@ -1,6 +1,8 @@
 // liftcheck: validation harness for physics engines against the analytic car and disk models.
 // Each subcommand is a file of its own (cli/command.hpp lists them).
 #include <CLI/CLI.hpp>
+#include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fmt/format.h>
 #include <iostream>
@@ -12,6 +14,20 @@
 
 using namespace liftcheck;
 using namespace liftcheck::cli;
+
+namespace {
+
+/// Every write to standard output is checked (a full disk, a closed pipe): the output that was
+/// asked for is the command's result, so losing it is an error, exit 2 with the reason.
+bool stdout_written() {
+  errno = 0;
+  std::cout.flush();
+  const bool ok = std::cout.good() && std::fflush(stdout) == 0 && !std::ferror(stdout);
+  if (!ok) std::cerr << fmt::format("liftcheck: error: cannot write to standard output: {}\n", std::strerror(errno ? errno : EIO));
+  return ok;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   CLI::App app{"liftcheck: validates physics engines against exact kinematics (rolling without slipping, "
@@ -36,7 +52,8 @@ int main(int argc, char** argv) {
     for (const Command& c : commands) {
       if (!*c.app) continue;
       if (c.interruptible) catch_interrupts();
-      return c.run();
+      const int status = c.run();
+      return stdout_written() ? status : 2;
     }
   } catch (const Interrupted& e) {
     std::cerr << fmt::format("liftcheck: interrupted by {} {}; the previous outputs are left as they were\n", strsignal(e.sig), e.what());

@@ -51,7 +51,7 @@ Command add_run(CLI::App& app) {
   run->add_option("--engine", o->engine, "engine configuration (see 'liftcheck engines')")->capture_default_str();
   run->add_option("--set", o->sets, "override a parameter, KEY=VALUE (repeatable)")->allow_extra_args(false);
   run->add_flag("--json", o->json, "print the run record as one JSON object");
-  run->add_option("--timeout", o->timeout_s, "wall-clock limit of the run in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
+  run->add_option("--timeout", o->timeout_s, "limit of the run's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
   return {run, [o] { return cmd_run(o->scenario, o->engine, o->sets, o->json, o->timeout_s); }};
 }
 

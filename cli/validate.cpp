@@ -117,8 +117,7 @@ int cmd_validate(const ValidateOptions& v) {
     listed.push_back(&outside.engine);
   }
   const SuitePlan plan = plan_suite(def);
-  StagedOutput staged(o.out_dir);
-  staged.refuse_inside(o.baseline_path, "--baseline");
+  StagedOutput staged(o.out_dir, {{o.baseline_path, "--baseline"}, {v.trace_dir, "--trace-dir"}});
 
   const std::vector<size_t> which = shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
   Ran ran = run_share(plan, which, runner);
@@ -152,7 +151,7 @@ Command add_validate(CLI::App& app) {
   validate->add_flag("--no-sweeps", v->no_sweeps, "skip the parameter sweeps");
   validate->add_flag("--no-report", v->no_report, "write results.json only (no snapshots, plots or HTML)");
   validate->add_option("--jobs,-j", v->jobs, "runs at once (default: the number of cores)")->capture_default_str();
-  validate->add_option("--timeout", v->timeout_s, "wall-clock limit of each run or sweep point in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
+  validate->add_option("--timeout", v->timeout_s, "limit of each run's or sweep point's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
   validate->add_option("--shard", v->shard, "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");
   return {validate, [v] {
             v->out.report = !v->no_report;

@@ -1,5 +1,6 @@
 #include "harness/external.hpp"
 
+#include <algorithm>
 #include "harness/suite.hpp"  // matches_any
 #include "models/disk_contact.hpp"
 
@@ -9,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "input/read_file.hpp"
 #include "models/car.hpp"
 
 namespace liftcheck {
@@ -96,7 +98,11 @@ class RecordingDisks final : public DiskEngine {
   explicit RecordingDisks(std::string scenario) : scenario_(std::move(scenario)) {}
   DiskRun run(const DiskSetup& setup, const DiskProblem& pb) override {
     if (++runs_ > 1) throw single_run_only(scenario_, runs_);
-    // Every engine step: a disk trace is scored like a stepping engine's states.
+    // Every engine step: a disk trace is scored like a stepping engine's states (so the path lists
+    // every step, and the samples' limit holds for the steps).
+    if (!(pb.T_s / setup.dt_s <= kMaxRunSamples))
+      throw InputError(fmt::format("parameter 'dt' = {:g} s asks for {:.3g} rows of the path (one per engine step) over the run's {:g} s: at most {:g} (dt >= {:.3g} s here)",
+                                   setup.dt_s, pb.T_s / setup.dt_s, pb.T_s, kMaxRunSamples, pb.T_s / kMaxRunSamples));
     for (const double t : grid(pb.T_s, setup.dt_s)) {
       const disks::Vec2 c = pb.path.position(t);
       rows.push_back({t, c.x(), c.y()});
@@ -250,6 +256,11 @@ namespace {
 
 /// A simulator outside liftcheck as a configuration, without its vehicles.
 EngineInfo outside_engine(const std::string& name, const std::string& description) {
+  // The name is printed on the console, in summary.md's table and the report, and recorded in JSON.
+  require_utf8(name, "configuration name");
+  if (std::any_of(name.begin(), name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+    throw InputError(fmt::format("configuration name '{}' holds a control character (a line break?): it would forge lines of the console and the "
+                                 "summary; rename it", printable(name)));
   EngineInfo e;
   e.name = name;
   e.library = "external";

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "input/params.hpp"
@@ -30,7 +31,7 @@ Trace parse_trace(const std::string& text, const std::string& file, const std::s
 
 /// Parses a JSON document that liftcheck reads back; InputError "FILE: is not JSON (...)", or for a
 /// document nested deeper than `max_depth` levels (copying or printing one recurses that deep).
-nlohmann::json parse_json_text(const std::string& text, const std::string& file, int max_depth = 64);
+nlohmann::json parse_json_text(std::string_view text, const std::string& file, int max_depth = 64);
 
 /// `s` for a one-line message: control characters as '?', at most `max` characters.
 std::string printable(const std::string& s, std::size_t max = 80);

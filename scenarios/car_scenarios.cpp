@@ -84,6 +84,7 @@ Config start_from(const Params& p) { return {0.0, p.num("beta"), p.num("x"), p.n
 /// Drives `path` and checks the trace: non-empty and finite, or the engine failed.
 std::vector<car::TimedConfig> drive_checked(CarEngine& engine, const CarSetup& setup, const Config& q0,
                                             const car::BasePath& path) {
+  check_run_budget(path.duration_s(), setup.dt_s, setup.sample_dt_s);
   engine.reset(setup, q0);
   auto trace = engine.drive(path);
   if (trace.empty()) throw EngineError("engine returned an empty trace");

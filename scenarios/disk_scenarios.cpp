@@ -67,6 +67,7 @@ DiskSetup setup_from(const Params& p) {
     throw InputError(fmt::format("parameter 'dt' must be < T = {:g} s (the duration), got '{:g}'", p.num("T"), dt));
   if (!(p.num("sample_dt") <= p.num("T")))
     throw InputError(fmt::format("parameter 'sample_dt' must be <= T = {:g} s (the duration), got '{:g}'", p.num("T"), p.num("sample_dt")));
+  check_run_budget(p.num("T"), dt, p.num("sample_dt"));
   return {1.0, dt, dt * std::max(1L, std::lround(p.num("sample_dt") / dt))};
 }
 
