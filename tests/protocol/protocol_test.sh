@@ -38,7 +38,7 @@ python3 "$HERE/check_records.py" same "$TMP/same/results.json" ode ode-protocol
 # 2. Adapters that lie: error records, one line each, and the suite goes on.
 status=0
 "$LIFTCHECK" validate --engine-dir "$HERE/fakes" --engines ode,fake-version,fake-malformed,fake-nan,fake-missing,fake-die,fake-hang,fake-flood \
-  --filter 'car.circle,disks.linear' --no-sweeps --no-report --timeout 4 --jobs 2 --out "$TMP/lies" >"$TMP/lies.log" || status=$?
+  --filter 'car.circle,disks.linear' --no-sweeps --no-report --timeout 10 --jobs 2 --out "$TMP/lies" >"$TMP/lies.log" || status=$?
 test "$status" -eq 1 || { cat "$TMP/lies.log"; exit 1; }
 python3 "$HERE/check_records.py" lies "$TMP/lies/results.json"
 echo "protocol: ok"
