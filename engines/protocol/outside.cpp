@@ -257,6 +257,7 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
   k.help = text_field(c, j, "help", where, false);
   if (k.numeric()) {
     k.min = c.number(j, "min", where.c_str()), k.max = c.number(j, "max", where.c_str());
+    if (j.contains("min_exclusive") && !j["min_exclusive"].is_boolean()) c.fail(fmt::format("hello: {}min_exclusive must be true or false", where));
     k.min_exclusive = j.value("min_exclusive", false);
     char* end = nullptr;
     const double v = std::strtod(k.default_text.c_str(), &end);
@@ -290,6 +291,7 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
     vehicles.insert(x.get<std::string>());
   }
   if (vehicles.empty()) c.fail("hello: 'vehicles' names no vehicle");
+  if (r.contains("four_wheels") && !r["four_wheels"].is_boolean()) c.fail("hello: 'four_wheels' must be true or false");
   e.four_wheels = o->four_wheels = r.value("four_wheels", false);
   e.knobs.clear();
   if (const auto s = r.find("settings"); s != r.end()) {
@@ -435,6 +437,8 @@ void describe_outside(EngineInfo& e) {
     g_all.push_back(o);
   } catch (const EngineError& err) {
     make_unavailable(e, err.what());
+  } catch (const std::exception& err) {  // a mistyped optional field of the hello
+    make_unavailable(e, fmt::format("engine '{}' (hello): malformed: {}", e.name, err.what()));
   }
   e.described = true;
 }

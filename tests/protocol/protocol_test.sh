@@ -29,6 +29,18 @@ grep -q "has no setting 'iterations'" "$TMP/err"
 if "$LIFTCHECK" run car.circle --engine ode-protocol --engine-dir "$TMP/reg" --set wheel=square 2>"$TMP/err"; then exit 1; else test $? -eq 2; fi
 test "$(wc -l < "$TMP/err")" -eq 1
 
+# A registration whose command cannot start is reported, not a crash: `engines` says why, its
+# runs are error records (exit 1).
+printf '{"name": "no-node", "command": ["no-such-command-for-liftcheck", "x.mjs"], "description": "missing", "color": "#000000"}\n' > "$TMP/reg/no-node.json"
+"$LIFTCHECK" engines --engine-dir "$TMP/reg" | grep -A2 "^no-node  \[unavailable" | grep -q "cannot start 'no-such-command-for-liftcheck'"
+if "$LIFTCHECK" run car.circle --engine no-node --engine-dir "$TMP/reg" >"$TMP/out"; then exit 1; else test $? -eq 1; fi
+grep -q "error (engine 'no-node': cannot start" "$TMP/out"
+rm "$TMP/reg/no-node.json"
+# A malformed registration is bad input: one line, exit 2.
+mkdir "$TMP/bad" && printf '{"name": "Bad Name", "command": []}\n' > "$TMP/bad/bad.json"
+if "$LIFTCHECK" list --engine-dir "$TMP/bad" >/dev/null 2>"$TMP/err"; then exit 1; else test $? -eq 2; fi
+test "$(wc -l < "$TMP/err")" -eq 1 && grep -q "bad.json" "$TMP/err"
+
 # 1. The same records.
 status=0
 "$LIFTCHECK" validate --engine-dir "$TMP/reg" --engines ode,ode-protocol --no-sweeps --no-report --out "$TMP/same" >"$TMP/same.log" || status=$?
