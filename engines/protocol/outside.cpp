@@ -36,6 +36,7 @@ struct Outside {
   std::vector<std::string> argv;
   std::string cwd;  ///< the registration's folder: relative paths in the command resolve there
   bool four_wheels = false;
+  std::string precision = "float64";
   std::mutex m;
   std::vector<std::unique_ptr<ProtocolChild>> idle;
 };
@@ -218,6 +219,9 @@ class ProtocolDisks final : public DrivenDisks {
     return out;
   }
   State read() const override { return state_; }
+  /// A contact reported within the precision's bookkeeping tolerance of touching (1e-9 m, 1e-5 m
+  /// for float32) touches; one further apart is speculative.
+  double touching_distance_m() const override { return 1e-9 * bookkeeping_factor(lease_.outside().precision); }
 
  private:
   static State positions(ProtocolChild& c, const json& r) {
@@ -283,6 +287,7 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
   e.version = text_field(c, r, "version", "");
   e.precision = text_field(c, r, "precision", "");
   if (e.precision != "float32" && e.precision != "float64") c.fail(fmt::format("hello: precision '{}' must be float32 or float64", e.precision));
+  o->precision = e.precision;
   const auto v = r.find("vehicles");
   if (v == r.end() || !v->is_array()) c.fail("hello: 'vehicles' must be an array of \"car\" and \"disks\"");
   std::set<std::string> vehicles;

@@ -47,10 +47,18 @@ status=0
 test "$status" -le 1 || { cat "$TMP/same.log"; exit 1; }
 python3 "$HERE/check_records.py" same "$TMP/same/results.json" ode ode-protocol
 
-# 2. Adapters that lie: error records, one line each, and the suite goes on.
+# 2. Adapters that lie: error records, one line each, and the suite goes on. Each is registered
+# with the Python running this test (no wrapper script to start on a loaded machine).
+mkdir "$TMP/fakes"
+python3 - "$HERE/fake_adapter.py" "$TMP/fakes" <<'PY'
+import json, sys
+for mode in ["version", "malformed", "nan", "missing", "die", "hang", "flood"]:
+    json.dump({"name": f"fake-{mode}", "command": [sys.executable, sys.argv[1], mode],
+               "description": f"an adapter that lies ({mode})", "color": "#7f7f7f"}, open(f"{sys.argv[2]}/fake-{mode}.json", "w"))
+PY
 status=0
-"$LIFTCHECK" validate --engine-dir "$HERE/fakes" --engines ode,fake-version,fake-malformed,fake-nan,fake-missing,fake-die,fake-hang,fake-flood \
-  --filter 'car.circle,disks.linear' --no-sweeps --no-report --timeout 10 --jobs 2 --out "$TMP/lies" >"$TMP/lies.log" || status=$?
+"$LIFTCHECK" validate --engine-dir "$TMP/fakes" --engines ode,fake-version,fake-malformed,fake-nan,fake-missing,fake-die,fake-hang,fake-flood \
+  --filter 'car.circle,disks.linear' --no-sweeps --no-report --timeout 20 --jobs 2 --out "$TMP/lies" >"$TMP/lies.log" || status=$?
 test "$status" -eq 1 || { cat "$TMP/lies.log"; exit 1; }
 python3 "$HERE/check_records.py" lies "$TMP/lies/results.json"
 echo "protocol: ok"
