@@ -1,9 +1,10 @@
 // Steps per second of the car on every stepping configuration, through liftcheck (the configuration's
 // CarEngine as the runner drives it: make_car, reset, drive) and through a raw loop on the same
 // bodies and settings that calls the engine's step function directly with the motors set once
-// (engines/raw_car.hpp): the physical limit. Reported: both rates and the overhead
-// liftcheck time / raw time - 1, each from the fastest of five iterations, in CPU time of the
-// benchmark's thread (the machine is shared: wall-clock ratios there move by 10% and more).
+// (engines/raw_car.hpp; each configuration declares its own, EngineInfo::make_raw_car): the
+// physical limit. Reported: both rates and the overhead liftcheck time / raw time - 1, each from
+// the fastest of five iterations, in CPU time of the benchmark's thread (the machine is shared:
+// wall-clock ratios there move by 10% and more).
 //
 // The drive is car.circle's at its defaults, shortened to 2 m of front-wheel travel: beta0 = 0.3 rad,
 // R = 0.3 m, l = 1 m, 0.5 m/s, dt = 1 ms; 0.5 s of settle, the path, 0.2 s of hold (5486 steps).
@@ -21,13 +22,7 @@
 #include <limits>
 #include <string>
 
-#include "engines/bullet/bullet_car.hpp"
-#include "engines/bullet/bullet_multibody.hpp"
-#include "engines/bullet/bullet_raycast.hpp"
-#include "engines/dart/dart_engine.hpp"
 #include "engines/engine.hpp"
-#include "engines/mujoco/mujoco_engine.hpp"
-#include "engines/ode/ode_car.hpp"
 #include "engines/protocol/outside.hpp"
 #include "engines/raw_car.hpp"
 #include "engines/rigid_car.hpp"
@@ -37,29 +32,11 @@ using namespace liftcheck;
 
 namespace {
 
-/// Each configuration's raw loop, by name (bench/ may name engines; harness/ never does).
-struct RawEntry {
-  const char* name;
-  RawCarFactory make;
-};
-const RawEntry kRaw[] = {
-    {"ode", make_raw_ode_car},
-    {"ode-quick", make_raw_ode_quick_car},
-    {"bullet", make_raw_bullet_car},
-    {"bullet-multibody", make_raw_bullet_multibody_car},
-    {"bullet-raycast", make_raw_bullet_raycast_car},
-    {"mujoco", make_raw_mujoco_car},
-    {"mujoco-noslip", make_raw_mujoco_noslip_car},
-    {"mujoco-stiff", make_raw_mujoco_stiff_car},
-    {"dart", make_raw_dart_car},
-    {"dart-primitive", make_raw_dart_primitive_car},
-};
-
 constexpr double kDrive_m = 2.0;
 constexpr double kCheckLiftcheck_m = 0.15;
 constexpr double kCheckRawRel = 0.05;
 
-/// car.circle's defaults (harness/car_scenarios.cpp, setup_from).
+/// car.circle's defaults (scenarios/car_scenarios.cpp, setup_from).
 CarSetup circle_setup() {
   CarSetup s;
   s.car = {0.3, 1.0};
@@ -138,20 +115,19 @@ void BM_CarSteps(benchmark::State& state, const EngineInfo* engine, RawCarFactor
 }
 
 void BM_NoRawLoop(benchmark::State& state) {
-  for (auto _ : state) state.SkipWithError("no raw loop for this configuration in bench/bench_engines.cpp");
+  for (auto _ : state) state.SkipWithError("no raw loop for this configuration (EngineInfo::make_raw_car)");
 }
 
 /// One benchmark per configuration that steps a car (the analytic reference integrates, it does not step).
 const bool kRegistered = [] {
   for (const EngineInfo& e : engines()) {
-    if (!e.make_car || !e.contact_dynamics) continue;
-    const auto it = std::find_if(std::begin(kRaw), std::end(kRaw), [&](const RawEntry& r) { return e.name == r.name; });
+    if (lacks(e, {.vehicle = "car", .contact_dynamics = true}) != Lack::kNothing) continue;
     const std::string name = "BM_CarSteps/" + e.name;
-    if (it == std::end(kRaw)) {
+    if (lacks(e, {.vehicle = "car", .contact_dynamics = true, .raw_car = true}) == Lack::kRawCar) {
       benchmark::RegisterBenchmark(name.c_str(), BM_NoRawLoop);
       continue;
     }
-    benchmark::RegisterBenchmark(name.c_str(), BM_CarSteps, &e, it->make)
+    benchmark::RegisterBenchmark(name.c_str(), BM_CarSteps, &e, e.make_raw_car)
         ->UseManualTime()
         ->Unit(benchmark::kMillisecond)
         ->Iterations(5);

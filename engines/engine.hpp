@@ -169,6 +169,10 @@ struct EngineError : std::runtime_error {
 /// One run target: an engine in a named configuration (the solver, joints, contact model and
 /// defaults its users run). Everything the harness and the reports need to know about a target
 /// is here, so adding one is its folder plus one registry line.
+class RawCar;  // engines/raw_car.hpp
+/// Makes a configuration's raw car at q0 with the given settings (its "car" knobs).
+using RawCarFactory = std::unique_ptr<RawCar> (*)(const Settings&, const CarSetup&, const car::Config&);
+
 struct EngineInfo {
   std::string name;          ///< configuration name, the run target ("ode-quick")
   std::string library;       ///< the engine it configures ("ODE"), for grouping
@@ -189,6 +193,9 @@ struct EngineInfo {
   /// Builds four-wheel cars (CarSetup::wheels = 4); a configuration without them rejects
   /// wheels=4 as bad input rather than run a tricycle.
   bool four_wheels = false;
+  /// The benchmark's raw loop (engines/raw_car.hpp): its car stepped by direct calls to the engine
+  /// (null: none; the reference has none, it does not step).
+  RawCarFactory make_raw_car = nullptr;
   /// The precision the engine stores positions in, "float64" or "float32": tolerances that check
   /// bookkeeping (MetricDef::bookkeeping) scale with it (bookkeeping_factor). Every compiled-in
   /// engine here is double precision.
@@ -206,6 +213,19 @@ struct EngineInfo {
   /// Every knob of `vehicle` at its default.
   Settings defaults(const std::string& vehicle) const;
 };
+
+/// What a run asks of a configuration, and the first thing a configuration lacks of it (checked in
+/// this order). The runner, the conformance suite and the benchmark all ask `lacks`.
+struct Needs {
+  std::string vehicle;            ///< "car" or "disks": make_car or make_disks
+  bool four_wheels = false;       ///< a four-wheel car (wheels=4)
+  bool contact_dynamics = false;  ///< contact forces with friction (the negative controls)
+  bool raw_car = false;           ///< the benchmark's raw loop
+};
+enum class Lack { kNothing, kFourWheels, kVehicle, kContactDynamics, kRawCar };
+Lack lacks(const EngineInfo& e, const Needs& needs);
+/// The lack as the end of a sentence about the configuration ("has no car").
+std::string lack_text(Lack lack, const Needs& needs);
 
 /// Every configuration compiled in, in a fixed order (the reference first), then every outside
 /// configuration registered (engines/protocol/outside.hpp), in folder and file name order. An

@@ -22,7 +22,4 @@ class RawCar {
   virtual Eigen::Vector2d front_xy_m() const = 0;
 };
 
-/// Makes a configuration's raw car at q0 with the given settings (its "car" knobs).
-using RawCarFactory = std::unique_ptr<RawCar> (*)(const Settings&, const CarSetup&, const car::Config&);
-
 }  // namespace liftcheck

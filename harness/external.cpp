@@ -1,5 +1,7 @@
 #include "harness/external.hpp"
 
+#include "harness/suite.hpp"  // matches_any
+
 #include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -232,21 +234,50 @@ std::string path_csv(const json& path) {
   return s;
 }
 
-EngineInfo replay_engine(const std::string& name, const Scenario& scenario, const Trace& trace) {
+namespace {
+
+/// A simulator outside liftcheck as a configuration, without its vehicles.
+EngineInfo outside_engine(const std::string& name, const std::string& description) {
   EngineInfo e;
   e.name = name;
   e.library = "external";
   e.version = "-";
-  e.description = fmt::format("a simulator outside liftcheck, scored from its trace ({})", trace.file);
+  e.description = description;
   e.color = "#7f7f7f";
   // Its contact forces are unknown to liftcheck (no wheel states, no contact log): scenarios that
   // need contact dynamics (the negative control) are skipped for it.
   e.contact_dynamics = false;
+  return e;
+}
+
+}  // namespace
+
+EngineInfo replay_engine(const std::string& name, const Scenario& scenario, const Trace& trace) {
+  EngineInfo e = outside_engine(name, fmt::format("a simulator outside liftcheck, scored from its trace ({})", trace.file));
   e.settings = {{"trace", trace.file}};
+  e.precision = trace.precision;  // the trace header's, float64 unless it says otherwise
+  for (const auto& [k, v] : trace.settings) e.settings.emplace_back("setting " + k, v);
   const std::string sc = scenario.name;
   if (scenario.vehicle == "car") e.make_car = [sc, trace](const Settings&) { return std::make_unique<ReplayCar>(sc, trace); };
   else e.make_disks = [sc, trace](const Settings&) { return std::make_unique<ReplayDisks>(sc, trace); };
   return e;
+}
+
+TraceFolder read_trace_folder(const std::string& trace_dir, const std::vector<std::string>& globs) {
+  const std::filesystem::path dir(trace_dir);
+  if (!std::filesystem::is_directory(dir)) throw InputError(fmt::format("--trace-dir '{}' is not a folder", trace_dir));
+  std::string name = std::filesystem::absolute(dir).lexically_normal().filename().string();
+  if (name.empty()) name = std::filesystem::absolute(dir).lexically_normal().parent_path().filename().string();
+  if (name.empty() || find_engine(name))
+    throw InputError(fmt::format("--trace-dir '{}': its name '{}' must not be a built-in configuration's", trace_dir, name));
+  TraceFolder folder;
+  for (const auto& s : scenarios())
+    for (const char* ext : {".csv", ".json"})
+      if (const auto f = dir / (s.name + ext); std::filesystem::exists(f) && !folder.traces.count(s.name) && matches_any(globs, s.name))
+        folder.traces[s.name] = read_trace(f, s.vehicle);
+  if (folder.traces.empty()) throw InputError(fmt::format("--trace-dir '{}' holds no SCENARIO.csv or .json for the scenarios run", trace_dir));
+  folder.engine = outside_engine(name, fmt::format("a simulator outside liftcheck, scored from the traces in {}", trace_dir));
+  return folder;
 }
 
 }  // namespace liftcheck

@@ -5,18 +5,19 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "engines/engine.hpp"
-#include "harness/params.hpp"
-#include "harness/scenario.hpp"
-#include "harness/trace.hpp"
+#include "input/params.hpp"
+#include "scenarios/scenario.hpp"
+#include "input/trace.hpp"
 
 namespace liftcheck {
 
-/// Columns of the commanded paths (the trace columns: harness/trace.hpp).
+/// Columns of the commanded paths (the trace columns: input/trace.hpp).
 const std::vector<std::string>& path_columns(const std::string& vehicle);
 
 /// The commanded path of one scenario run: {"scenario", "vehicle", "params", "settings", "start",
@@ -32,5 +33,15 @@ std::string path_csv(const nlohmann::json& path);
 /// contact slip; its disks report the trace's positions, first contact at the first sample with
 /// |c_M - c_N| <= 2 r, no contact log.
 EngineInfo replay_engine(const std::string& name, const Scenario& scenario, const Trace& trace);
+
+/// `validate --trace-dir`: an outside simulator whose folder's name is its configuration, each
+/// SCENARIO.csv (or .json) in it a run of a scenario matched by `globs`. Every trace is read at
+/// once, so a malformed one stops validate before anything runs. `engine` is the configuration as
+/// results.json lists it.
+struct TraceFolder {
+  EngineInfo engine;
+  std::map<std::string, Trace> traces;  ///< by scenario name
+};
+TraceFolder read_trace_folder(const std::string& dir, const std::vector<std::string>& globs);
 
 }  // namespace liftcheck

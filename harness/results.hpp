@@ -7,7 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "harness/results_file.hpp"  // read_results: results and baselines read back, checked
+#include "input/atomic_file.hpp"   // write_file_atomic
+#include "input/results_file.hpp"  // read_results: results and baselines read back, checked
 #include "harness/runner.hpp"
 
 namespace liftcheck {
@@ -19,9 +20,5 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
 nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::json& context);
 /// The same from run records as results.json stores them (RunRecord::to_json).
 nlohmann::json results_from_records(const nlohmann::json& runs, const nlohmann::json& context);
-
-/// Writes `text` to `path` through a temporary file in the same folder and a rename, so a reader
-/// never sees half a file. Throws std::runtime_error naming the path.
-void write_file_atomic(const std::filesystem::path& path, const std::string& text);
 
 }  // namespace liftcheck

@@ -158,23 +158,21 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
   const Params params = Params::resolve(scenario.params, param_overrides, scenario.name);
   r.params = params.to_json();
   for (const auto& [key, value] : settings) r.settings[key] = value;
+  const Needs needs{.vehicle = scenario.vehicle,
+                    .four_wheels = scenario.vehicle == "car" && r.params.value("wheels", "3") == "4",
+                    .contact_dynamics = scenario.needs_contact_dynamics};
+  const Lack lack = lacks(engine, needs);
   // A car with four wheels needs a configuration that builds one: never a tricycle instead.
-  if (scenario.vehicle == "car" && r.params.value("wheels", "3") == "4" && !engine.four_wheels)
-    throw InputError(fmt::format("configuration '{}' has no four-wheel car (wheels=4): it builds the tricycle only", engine.name));
+  if (lack == Lack::kFourWheels) throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
   // The expectations describe the default suite and the runs they name with changed parameters
   // ("params"); a run with anything else changed, or any setting, is judged on its own.
   const Settings default_settings = engine.defaults(scenario.vehicle);
   if (settings == default_settings)
     for (const KnownFailure* k : known_failures_of(scenario.name, engine.name))
       if (r.params == Params::resolve(scenario.params, k->params, scenario.name).to_json()) r.known = k;
-  if ((scenario.vehicle == "car" && !engine.make_car) || (scenario.vehicle == "disks" && !engine.make_disks)) {
+  if (lack != Lack::kNothing) {
     r.status = Status::kSkip;
-    r.message = fmt::format("engine '{}' has no {}", engine.name, scenario.vehicle == "car" ? "car" : "two-disk vehicles");
-    return r;
-  }
-  if (scenario.needs_contact_dynamics && !engine.contact_dynamics) {
-    r.status = Status::kSkip;
-    r.message = fmt::format("engine '{}' simulates no contact forces", engine.name);
+    r.message = fmt::format("engine '{}' {}", engine.name, lack_text(lack, needs));
     return r;
   }
   const auto t0 = std::chrono::steady_clock::now();

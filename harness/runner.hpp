@@ -8,7 +8,7 @@
 
 #include "engines/engine.hpp"
 #include "harness/expectations.hpp"
-#include "harness/scenario.hpp"
+#include "scenarios/scenario.hpp"
 
 namespace liftcheck {
 

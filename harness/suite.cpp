@@ -19,18 +19,13 @@
 
 extern char** environ;
 
+#include "harness/results.hpp"
 #include "harness/runner.hpp"
-#include "harness/suggest.hpp"
+#include "input/suggest.hpp"
 
 namespace liftcheck {
 
 namespace {
-
-bool matches(const std::vector<std::string>& globs, const std::string& name) {
-  for (const auto& g : globs)
-    if (fnmatch(g.c_str(), name.c_str(), 0) == 0) return true;
-  return false;
-}
 
 /// --set applies to a run whose scenario has the parameter or whose configuration has the
 /// setting for the scenario's vehicle.
@@ -73,27 +68,29 @@ nlohmann::json SuitePlan::selection() const {
   return j;
 }
 
-SuitePlan plan_suite(const SuiteDef& def) {
-  SuitePlan plan;
-  plan.def = def;
-  if (def.engines.empty()) throw InputError("--engines names no engine");
-  for (const auto& s : scenarios())
-    if (matches(def.globs, s.name)) plan.scenarios.push_back(&s);
-  if (plan.scenarios.empty()) throw InputError(fmt::format("no scenario matches '{}'", fmt::join(def.globs, ",")));
+namespace {
+
+/// Every --set key must be taken by some run: a parameter of a scenario or a setting of a
+/// configuration run here.
+void check_set_taken(const SuiteDef& def, const std::vector<const Scenario*>& scenarios) {
   for (const auto& [key, value] : def.set) {
     bool taken = false;
-    for (const Scenario* s : plan.scenarios)
+    for (const Scenario* s : scenarios)
       for (const EngineInfo* e : def.engines)
         for (const auto& kv : overrides_for(def.set, *s, *e)) taken = taken || kv.first == key;
     if (!taken) {
       std::vector<std::string> names;
-      for (const Scenario* s : plan.scenarios)
+      for (const Scenario* s : scenarios)
         for (const ParamSpec& p : s->params) names.push_back(p.key);
       for (const EngineInfo* e : def.engines)
         for (const SettingSpec& k : e->knobs) names.push_back(k.key);
       throw InputError(fmt::format("--set {}: no scenario run here has a parameter or setting '{}'{}", printable(key), printable(key), did_you_mean(key, names)));
     }
   }
+}
+
+/// Every scenario on every configuration, then the outside simulator's traces.
+void add_runs(SuitePlan& plan, const SuiteDef& def) {
   for (const Scenario* s : plan.scenarios)
     for (const EngineInfo* e : def.engines) {
       SuiteItem it;
@@ -112,21 +109,24 @@ SuitePlan plan_suite(const SuiteDef& def) {
     it.scenario = s, it.engine = it.owned.get(), it.cost = 1.0;
     plan.items.push_back(std::move(it));
   }
-  if (!def.sweeps) return plan;
+}
+
+/// The points of the sweeps, the outcome sweep and the map whose scenarios the filter matches.
+void add_points(SuitePlan& plan, const SuiteDef& def) {
   std::vector<PointRun> points;
   for (const SweepDef& sw : sweep_catalogue())
-    if (matches(def.globs, sw.scenario)) {
+    if (matches_any(def.globs, sw.scenario)) {
       plan.sweeps.push_back(&sw);
       const auto runs = sweep_runs(sw, def.engines);
       points.insert(points.end(), runs.begin(), runs.end());
     }
-  if (matches(def.globs, outcome_sweep_scenario())) {
+  if (matches_any(def.globs, outcome_sweep_scenario())) {
     plan.outcome_sweep = true;
     const auto runs = outcome_runs(def.engines);
     points.insert(points.end(), runs.begin(), runs.end());
   }
   const MapDef& map = speed_accuracy_map();
-  if (std::any_of(map.panels.begin(), map.panels.end(), [&](const MapDef::Panel& p) { return matches(def.globs, p.scenario); })) {
+  if (std::any_of(map.panels.begin(), map.panels.end(), [&](const MapDef::Panel& p) { return matches_any(def.globs, p.scenario); })) {
     plan.map = true;
     const auto runs = map_runs(map, def.engines);
     points.insert(points.end(), runs.begin(), runs.end());
@@ -139,6 +139,10 @@ SuitePlan plan_suite(const SuiteDef& def) {
     it.cost = cost_estimate(*it.scenario, it.overrides);
     plan.items.push_back(std::move(it));
   }
+}
+
+/// Keys are unique; an item the same as an earlier one is marked so it runs once.
+void mark_duplicates(SuitePlan& plan) {
   std::set<std::string> keys;
   for (const SuiteItem& it : plan.items)
     if (!keys.insert(it.key).second) throw std::logic_error(fmt::format("two suite items share the key '{}'", it.key));
@@ -158,6 +162,22 @@ SuitePlan plan_suite(const SuiteDef& def) {
     const auto [where, inserted] = first.emplace(identity, static_cast<long>(i));
     if (!inserted) it.same_as = where->second;
   }
+}
+
+}  // namespace
+
+SuitePlan plan_suite(const SuiteDef& def) {
+  SuitePlan plan;
+  plan.def = def;
+  if (def.engines.empty()) throw InputError("--engines names no engine");
+  for (const auto& s : scenarios())
+    if (matches_any(def.globs, s.name)) plan.scenarios.push_back(&s);
+  if (plan.scenarios.empty()) throw InputError(fmt::format("no scenario matches '{}'", fmt::join(def.globs, ",")));
+  check_set_taken(def, plan.scenarios);
+  add_runs(plan, def);
+  if (!def.sweeps) return plan;
+  add_points(plan, def);
+  mark_duplicates(plan);
   return plan;
 }
 
@@ -469,6 +489,23 @@ nlohmann::json assemble_suite(const SuitePlan& plan, const std::map<std::string,
   out["maps"] = nlohmann::json::array();
   if (plan.map) out["maps"].push_back(assemble_map(speed_accuracy_map(), plan.def.engines, lookup));
   return out;
+}
+
+nlohmann::json suite_results(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records, const nlohmann::json& context) {
+  fill_duplicates(plan, records);
+  const nlohmann::json assembled = assemble_suite(plan, records);
+  nlohmann::json results = results_from_records(assembled["runs"], context);
+  results["sweeps"] = assembled["sweeps"];
+  results["maps"] = assembled["maps"];
+  results["scenarios"] = nlohmann::json::array();
+  for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
+  return results;
+}
+
+bool matches_any(const std::vector<std::string>& globs, const std::string& name) {
+  for (const auto& g : globs)
+    if (fnmatch(g.c_str(), name.c_str(), 0) == 0) return true;
+  return false;
 }
 
 }  // namespace liftcheck

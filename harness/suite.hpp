@@ -14,8 +14,8 @@
 
 #include "engines/engine.hpp"
 #include "harness/external.hpp"
-#include "harness/params.hpp"
-#include "harness/scenario.hpp"
+#include "input/params.hpp"
+#include "scenarios/scenario.hpp"
 #include "harness/sweeps.hpp"
 
 namespace liftcheck {
@@ -105,5 +105,13 @@ void fill_duplicates(const SuitePlan& plan, std::map<std::string, nlohmann::json
 /// {"runs", "sweeps", "maps"} assembled from every item's record (by key): std::out_of_range when
 /// one is missing.
 nlohmann::json assemble_suite(const SuitePlan& plan, const std::map<std::string, nlohmann::json>& records);
+
+/// The results of a whole suite (one unsharded run, or the merge of every share) from every item's
+/// record: the duplicates filled in, then {"context", "summary", "runs", "sweeps", "maps",
+/// "scenarios"}.
+nlohmann::json suite_results(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records, const nlohmann::json& context);
+
+/// Whether `name` matches any of the globs (--filter).
+bool matches_any(const std::vector<std::string>& globs, const std::string& name);
 
 }  // namespace liftcheck

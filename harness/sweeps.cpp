@@ -4,50 +4,12 @@
 #include <cmath>
 #include <fmt/format.h>
 
-#include "harness/fit.hpp"
+#include "scenarios/fit.hpp"
+#include "scenarios/sweep_catalogue.hpp"
 #include "harness/runner.hpp"
 #include "liftcheck_expectations.hpp"
 
 namespace liftcheck {
-
-const std::vector<SweepDef>& sweep_catalogue() {
-  static const std::vector<SweepDef> all = [] {
-    std::vector<SweepDef> v;
-    v.push_back({"radius_vs_beta", "Circle radius against steering angle (appendix D: l/sin beta0, l/tan beta0)",
-                 "car.circle", "beta", {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8}, {},
-                 {"metric:front_radius", "metric:rear_radius"}, false, "", "", 0.0, ""});
-    v.push_back({"error_vs_dt", "Front circle radius error against the engine time step",
-                 "car.circle", "dt", {0.0005, 0.001, 0.002, 0.005, 0.01}, {},
-                 {"metric:front_radius", "metric:final_offset"}, false, "", "", 0.0, ""});
-    // mu = 0.3 on the 3.38 m circle: v^2/(r g) reaches mu at sqrt(0.3 * 9.81 * 3.3839) = 3.155 m/s.
-    v.push_back({"error_vs_speed", "Front circle radius error against speed (mu = 0.3)",
-                 "car.circle", "speed", {0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0},
-                 {{"mu", "0.3"}, {"drive", "40"}},
-                 {"metric:front_radius", "metric:slip_across_max", "detail:grip_use"}, false, "", "",
-                 std::sqrt(0.3 * 9.81 / std::sin(0.3)), "v^2/(r g) = mu"});
-    v.push_back({"holonomy_vs_eps", "Simple parking cycle: holonomy against eps (slope 2)",
-                 "car.cycle", "eps", {0.01, 0.02, 0.05, 0.1, 0.2, 0.4}, {},
-                 {"detail:holonomy_size_m", "detail:measured_size_m", "detail:holonomy_error_m"}, true,
-                 "detail:measured_size_m", "detail:holonomy_error_m", 0.0, "", 2.0, 0.05});
-    v.push_back({"holonomy_iterated_vs_eps", "Iterated cycle (5.8): holonomy against eps (slope 4)",
-                 "car.iterated", "eps", {0.05, 0.1, 0.2, 0.3, 0.5, 0.7}, {},
-                 {"detail:holonomy_size_m", "detail:measured_size_m", "detail:holonomy_error_m"}, true,
-                 "detail:measured_size_m", "detail:holonomy_error_m", 0.0, "", 4.0, 0.1});
-    v[0].plot = "values", v[0].x_label = "beta_0 [rad]", v[0].y_label = "radius [m]";
-    v[0].curves = {{"1.0/sin(x)", "l/sin(beta_0)"}, {"1.0/tan(x)", "l/tan(beta_0)"}};
-    v[1].x_label = "dt [s]", v[1].y_label = "relative error of the front radius", v[1].log_x = true;
-    v[2].x_label = "speed [m/s]", v[2].y_label = "relative error of the front radius";
-    for (int i : {3, 4}) v[i].plot = "sizes", v[i].x_label = "eps [rad]", v[i].y_label = "net shift of the tie rod [m]";
-    v[3].param_keys = {"eps_alpha", "eps_beta"};  // the simple cycle takes its two steps separately
-    return v;
-  }();
-  return all;
-}
-
-const std::string& outcome_sweep_scenario() {
-  static const std::string s = "disks.linear";
-  return s;
-}
 
 const std::vector<KnownSweepFailure>& known_sweep_failures() {
   static const std::vector<KnownSweepFailure> all = [] {
@@ -240,6 +202,36 @@ std::string outcome_key(const EngineInfo& e, const OutcomeCase& c) {
 /// A number of a stored record, NaN where it is null (JSON has no infinities or NaN).
 double number_or_nan(const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; }
 
+/// A stored record's failing counted metrics with their errors (a NaN error counts as infinite).
+std::pair<std::vector<std::pair<std::string, double>>, nlohmann::json> failed_metrics(const nlohmann::json& rec) {
+  std::vector<std::pair<std::string, double>> failed;
+  nlohmann::json failed_errors = nlohmann::json::object();
+  const nlohmann::json metrics = rec["metrics"];
+  for (const auto& [name, m] : metrics.items())
+    if (!m["pass"].get<bool>() && !m.value("informational", false)) {
+      const double err = number_or_nan(m["tolerance_kind"] == "rel" ? m["rel_error"] : m["abs_error"]);
+      failed.emplace_back(name, std::isnan(err) ? INFINITY : err);
+      failed_errors[name] = failed.back().second;
+    }
+  return {failed, failed_errors};
+}
+
+/// The outcome sweep's gate for one configuration: its problems (none: it passes).
+nlohmann::json outcome_problems(int unexplained, int errors, int failing, int known_failing, const KnownSweepFailure* listed,
+                                const std::vector<std::string>& failing_cases) {
+  nlohmann::json problems = nlohmann::json::array();
+  if (unexplained > (listed ? listed->disagreements_max : 0))
+    problems.push_back(fmt::format("{} disagreements with the reference outcome away from the boundary", unexplained));
+  if (listed && listed->disagreements_max > 0 && unexplained == 0)
+    problems.push_back(fmt::format("listed with up to {} outcome disagreements ({}) but agrees everywhere", listed->disagreements_max, listed->reason));
+  if (errors > 0) problems.push_back(fmt::format("{} error runs", errors));
+  if (failing > 0) problems.push_back(fmt::format("{} runs out of tolerance ({})", failing, fmt::join(failing_cases, "; ")));
+  if (listed && known_failing == 0) problems.push_back(fmt::format("listed as failing in some runs ({}) but every run passes", listed->reason));
+  if (listed && known_failing > listed->points_max)
+    problems.push_back(fmt::format("{} runs fail where at most {} are known to ({})", known_failing, listed->points_max, listed->reason));
+  return problems;
+}
+
 }  // namespace
 
 std::vector<PointRun> outcome_runs(const std::vector<const EngineInfo*>& engines) {
@@ -291,15 +283,7 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
       // A run failing only in metrics the expectations list for this configuration, no worse than
       // their ceilings, is a known failure.
       bool known_fail = false;
-      std::vector<std::pair<std::string, double>> failed;
-      nlohmann::json failed_errors = nlohmann::json::object();
-      const nlohmann::json metrics = rec["metrics"];
-      for (const auto& [name, m] : metrics.items())
-        if (!m["pass"].get<bool>() && !m.value("informational", false)) {
-          const double err = number_or_nan(m["tolerance_kind"] == "rel" ? m["rel_error"] : m["abs_error"]);
-          failed.emplace_back(name, std::isnan(err) ? INFINITY : err);
-          failed_errors[name] = failed.back().second;
-        }
+      const auto [failed, failed_errors] = failed_metrics(rec);
       if (listed && rec["status"] == "fail") {
         known_fail = beyond_ceilings(listed->metrics, failed).empty();
         known_failing += known_fail ? 1 : 0;
@@ -324,16 +308,7 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
                       {"reference_min_distance", cs.min_d}, {"near_boundary", is_near}, {"status", rec["status"]},
                       {"errors", failed_errors}, {"known_failure", known_fail}});
     }
-    nlohmann::json problems = nlohmann::json::array();
-    if (unexplained > (listed ? listed->disagreements_max : 0))
-      problems.push_back(fmt::format("{} disagreements with the reference outcome away from the boundary", unexplained));
-    if (listed && listed->disagreements_max > 0 && unexplained == 0)
-      problems.push_back(fmt::format("listed with up to {} outcome disagreements ({}) but agrees everywhere", listed->disagreements_max, listed->reason));
-    if (errors > 0) problems.push_back(fmt::format("{} error runs", errors));
-    if (failing > 0) problems.push_back(fmt::format("{} runs out of tolerance ({})", failing, fmt::join(failing_cases, "; ")));
-    if (listed && known_failing == 0) problems.push_back(fmt::format("listed as failing in some runs ({}) but every run passes", listed->reason));
-    if (listed && known_failing > listed->points_max)
-      problems.push_back(fmt::format("{} runs fail where at most {} are known to ({})", known_failing, listed->points_max, listed->reason));
+    const nlohmann::json problems = outcome_problems(unexplained, errors, failing, known_failing, listed, failing_cases);
     per_engine.push_back({{"engine", e->name},
                           {"confusion", {{"both_collide", tp}, {"neither", tn}, {"engine_only", fp}, {"reference_only", fn}}},
                           {"errors", errors}, {"runs_out_of_tolerance", failing}, {"runs_known_failure", known_failing},
@@ -346,20 +321,6 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
           {"scenario", outcome_sweep_scenario()}, {"grid", {{"a", outcome_as()}, {"b", outcome_bs()}, {"path", outcome_paths()}}},
           {"fixed", {{"cM", "0,0"}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}, {"dt", "0.001"}}},
           {"near_boundary_m", near_m}, {"engines", per_engine}};
-}
-
-const MapDef& speed_accuracy_map() {
-  static const MapDef m = [] {
-    MapDef d;
-    d.title = "Speed against accuracy: error against the exact reference and wall-clock cost per simulated second, "
-              "over dt (0.25 to 10 ms) and solver iterations (5 to 200)";
-    d.panels = {{"car.circle", {"front_radius", "rear_radius"}, "relative error of the circle radii"},
-                {"car.cycle", {"dx", "dy", "dphi"}, "relative error of the holonomy"}};
-    d.dt_s = {0.00025, 0.0005, 0.001, 0.002, 0.005, 0.01};
-    d.iterations = {5, 10, 20, 50, 100, 200};
-    return d;
-  }();
-  return m;
 }
 
 namespace {

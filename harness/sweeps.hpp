@@ -10,39 +10,11 @@
 
 #include "engines/engine.hpp"
 #include "harness/expectations.hpp"
-#include "harness/params.hpp"
+#include "input/params.hpp"
 #include "harness/runner.hpp"
+#include "scenarios/sweep_catalogue.hpp"
 
 namespace liftcheck {
-
-struct SweepDef {
-  std::string name;
-  std::string title;
-  std::string scenario;
-  std::string param;             ///< the swept parameter
-  std::vector<double> values;
-  Overrides fixed;               ///< other parameters held for the whole sweep
-  /// What each point records: "metric:NAME" (expected, measured, errors) or "detail:KEY".
-  std::vector<std::string> record;
-  bool loglog_fit = false;       ///< fit log y against log x above the engine's noise floor
-  std::string fit_y;             ///< the recorded quantity that is fitted ("detail:measured_size_m")
-  std::string fit_noise;         ///< its error against the exact value, which defines the noise floor
-  double marker = 0.0;           ///< an x value to mark on the plot (0: none)
-  std::string marker_label;
-  /// The gate on the fit: the fitted slope must lie within slope_band of slope_expected.
-  double slope_expected = 0.0;
-  double slope_band = 0.0;
-  /// How the report plots it: "values" (the recorded metrics' measured values, front and rear, over
-  /// the exact curves), "sizes" (measured against exact size, log-log) or "errors" (the first
-  /// recorded metric's relative error, log y).
-  std::string plot = "errors";
-  std::string x_label, y_label;
-  bool log_x = false;
-  /// The scenario parameters the swept value sets (empty: `param` itself).
-  std::vector<std::string> param_keys = {};
-  /// Exact curves drawn under the points: a gnuplot expression in x and its title.
-  std::vector<std::pair<std::string, std::string>> curves = {};
-};
 
 /// A sweep's known failure, reviewed data (harness/expectations.json "sweep_points"): the reason
 /// in one sentence and the measured figure. Every kind must still fail as listed, so the file stays
@@ -69,10 +41,6 @@ const std::vector<KnownSweepFailure>& known_sweep_failures();
 /// unless listed as a known failure (and then it must fail), no point is an error, and the fit
 /// lies in its band. Adds "gate" {"pass", "problems", counts} to the entry and returns pass.
 bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry);
-
-const std::vector<SweepDef>& sweep_catalogue();
-/// The scenario the outcome sweep (run_outcome_sweep) runs over its grid.
-const std::string& outcome_sweep_scenario();
 
 /// One run that a sweep, the outcome sweep or the map asks for: the unit validate schedules,
 /// shards and merges. `key` names it uniquely and stably ("sweep/radius_vs_beta/ode/x=0.1").
@@ -102,23 +70,8 @@ nlohmann::json assemble_sweep(const SweepDef& sweep, const std::vector<const Eng
 std::vector<PointRun> outcome_runs(const std::vector<const EngineInfo*>& engines);
 nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engines, const RecordLookup& record, double near_m = 0.01);
 
-/// The speed-accuracy map: scenarios run on every configuration over the engine step dt and, for
-/// configurations with an iterative solver (a car setting "iterations"), over the iteration count;
-/// each point's error against the exact reference and its cost in wall-clock seconds per simulated
-/// second, with the Pareto front over all configurations marked. Exploration, not a gate.
-struct MapDef {
-  std::string name = "speed_accuracy";
-  std::string title;
-  struct Panel {
-    std::string scenario;
-    std::vector<std::string> error_metrics;  ///< the point's error: the largest relative error among these
-    std::string error_label;
-  };
-  std::vector<Panel> panels;
-  std::vector<double> dt_s;         ///< at each configuration's default settings
-  std::vector<int> iterations;      ///< at the scenario's default dt
-};
-const MapDef& speed_accuracy_map();
+/// The speed-accuracy map's runs (configurations with an iterative solver also over the iteration
+/// count) and the map assembled from their records, with the Pareto front marked.
 std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const EngineInfo*>& engines);
 nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines, const RecordLookup& record);
 

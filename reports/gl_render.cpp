@@ -272,6 +272,149 @@ void draw_text(Image& img, const std::string& text, int x, int y, float size_px,
 
 // ---- renderer ------------------------------------------------------------------------------
 
+namespace {
+
+/// The ground (a quad in perspective; the clear colour from above) and its grid.
+void draw_ground(const Scene& s) {
+  const bool top = s.camera.kind == Camera::Kind::kTopDown;
+  // Ground and grid.
+  const Vec2 c = top ? s.camera.centre : Vec2(s.camera.target.x(), s.camera.target.y());
+  const double extent = top ? s.camera.half_height_m * s.width_px / s.height_px * 1.05 : 60.0;
+  if (!top) {
+    color(colors::kGround);
+    glBegin(GL_QUADS);
+    glVertex3d(c.x() - extent, c.y() - extent, 0), glVertex3d(c.x() + extent, c.y() - extent, 0);
+    glVertex3d(c.x() + extent, c.y() + extent, 0), glVertex3d(c.x() - extent, c.y() + extent, 0);
+    glEnd();
+  }
+  if (s.grid_step_m > 0) {
+    const double g = s.grid_step_m;
+    glDisable(GL_LINE_STIPPLE);
+    for (int major = 0; major < 2; ++major) {
+      glLineWidth(major ? 1.5f * kSuper : 1.0f * kSuper);
+      color(major ? colors::kGridMajor : colors::kGrid);
+      glBegin(GL_LINES);
+      const long k0 = static_cast<long>(std::floor((std::min(c.x(), c.y()) - extent) / g));
+      const long k1 = static_cast<long>(std::ceil((std::max(c.x(), c.y()) + extent) / g));
+      for (long k = k0; k <= k1; ++k) {
+        if ((k % 5 == 0) != (major == 1)) continue;
+        const double v = k * g;
+        if (std::abs(v - c.x()) <= extent) glVertex3d(v, c.y() - extent, 0), glVertex3d(v, c.y() + extent, 0);
+        if (std::abs(v - c.y()) <= extent) glVertex3d(c.x() - extent, v, 0), glVertex3d(c.x() + extent, v, 0);
+      }
+      glEnd();
+    }
+  }
+}
+
+/// Paths and circles flat on the ground, then the solid bodies.
+void draw_overlays_and_bodies(const Scene& s) {
+  // Flat overlays on the ground.
+  for (const auto& ci : s.circles) draw_circle(ci, 0.002);
+  for (const auto& l : s.lines) {
+    line_style(l.width_px, l.dashed);
+    color(l.color);
+    glBegin(GL_LINE_STRIP);
+    for (const auto& p : l.points) glVertex3d(p.x(), p.y(), 0.004);
+    glEnd();
+  }
+  glDisable(GL_LINE_STIPPLE);
+  // Solid bodies.
+  glEnable(GL_DEPTH_TEST);
+  glClear(GL_DEPTH_BUFFER_BIT);
+  glLineWidth(1.5f * kSuper);
+  for (const auto& b : s.boxes) draw_box(b);
+  for (const auto& w : s.wheels) draw_wheel(w);
+  for (const auto& p : s.pucks) draw_puck(p);
+  glDisable(GL_DEPTH_TEST);
+}
+
+/// Arrows and markers on top of everything.
+void draw_arrows_and_markers(const Scene& s) {
+  // Arrows and markers on top.
+  for (const auto& a : s.arrows) {
+    line_style(a.width_px, false);
+    color(a.color);
+    const Vec2 d = a.to - a.from;
+    const double L = d.norm();
+    glBegin(GL_LINES);
+    glVertex3d(a.from.x(), a.from.y(), 1.0), glVertex3d(a.to.x(), a.to.y(), 1.0);
+    glEnd();
+    if (L > 0) {
+      const Vec2 u = d / L, n(-u.y(), u.x());
+      const double head = std::min(0.3 * L, s.camera.half_height_m * 0.04);
+      glBegin(GL_TRIANGLES);
+      glVertex3d(a.to.x(), a.to.y(), 1.0);
+      const Vec2 b1 = a.to - head * u + 0.45 * head * n, b2 = a.to - head * u - 0.45 * head * n;
+      glVertex3d(b1.x(), b1.y(), 1.0), glVertex3d(b2.x(), b2.y(), 1.0);
+      glEnd();
+    }
+  }
+  for (const auto& m : s.markers) {
+    line_style(3.0f, false);
+    color(m.color);
+    glBegin(GL_LINES);
+    glVertex3d(m.at.x() - m.size_m, m.at.y() - m.size_m, 1.0), glVertex3d(m.at.x() + m.size_m, m.at.y() + m.size_m, 1.0);
+    glVertex3d(m.at.x() - m.size_m, m.at.y() + m.size_m, 1.0), glVertex3d(m.at.x() + m.size_m, m.at.y() - m.size_m, 1.0);
+    glEnd();
+  }
+}
+
+/// The supersampled buffer (W x H) averaged down to the scene's size, opaque.
+Image downsample(const std::vector<std::uint8_t>& buffer, int W, const Scene& s) {
+  // Downsample kSuper x kSuper.
+  Image img;
+  img.width = s.width_px;
+  img.height = s.height_px;
+  img.rgba.resize(static_cast<std::size_t>(img.width) * img.height * 4);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x)
+      for (int ch = 0; ch < 4; ++ch) {
+        int sum = 0;
+        for (int j = 0; j < kSuper; ++j)
+          for (int i = 0; i < kSuper; ++i)
+            sum += buffer[(static_cast<std::size_t>(y * kSuper + j) * W + (x * kSuper + i)) * 4 + ch];
+        img.rgba[(static_cast<std::size_t>(y) * img.width + x) * 4 + ch] = static_cast<std::uint8_t>(sum / (kSuper * kSuper));
+      }
+  for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
+  return img;
+}
+
+/// Scale bar (top-down): a round length about a fifth of the width, bottom left.
+void draw_scale_bar(Image& img, const Scene& s) {
+  const double ppm = img.height / (2.0 * s.camera.half_height_m);
+  const double target = img.width / 5.0 / ppm;
+  const double p10 = std::pow(10.0, std::floor(std::log10(target)));
+  double L = p10;
+  for (double m : {2.0, 5.0, 10.0})
+    if (m * p10 <= target) L = m * p10;
+  const int len = static_cast<int>(std::lround(L * ppm)), x0 = 20, y0 = img.height - 24;
+  for (int y = y0; y < y0 + 6; ++y)
+    for (int x = x0; x < x0 + len && x < img.width; ++x) {
+      std::uint8_t* p = img.pixel(x, y);
+      const bool light = ((x - x0) * 2 / std::max(1, len)) % 2 == 1 && y > y0 && y < y0 + 5;
+      p[0] = p[1] = p[2] = light ? 255 : 20;
+    }
+  const std::string text = L >= 1 ? fmt::format("{:g} m", L) : L >= 0.01 ? fmt::format("{:g} cm", L * 100) : L >= 1e-3 ? fmt::format("{:g} mm", L * 1e3) : fmt::format("{:g} µm", L * 1e6);
+  draw_text(img, text, x0 + len + 8, y0 - 7, 15.0f, Color{0.1f, 0.1f, 0.1f, 1.0f});
+}
+
+/// The scene's labels, in pixels or at ground points.
+void draw_labels(Image& img, const Scene& s, const Eigen::Matrix4d& vp) {
+  for (const auto& l : s.labels) {
+    int x = static_cast<int>(l.at.x()), y = static_cast<int>(l.at.y());
+    if (!l.screen) {
+      const Eigen::Vector4d p = vp * Eigen::Vector4d(l.at.x(), l.at.y(), 0.0, 1.0);
+      if (p.w() <= 0) continue;
+      x = static_cast<int>((p.x() / p.w() * 0.5 + 0.5) * img.width);
+      y = static_cast<int>((0.5 - p.y() / p.w() * 0.5) * img.height);
+    }
+    draw_text(img, l.text, x, y, l.size_px, l.color);
+  }
+}
+
+}  // namespace
+
 struct Renderer::Impl {
   OSMesaContext ctx = nullptr;
   std::vector<std::uint8_t> buffer;
@@ -321,126 +464,14 @@ Image Renderer::render(const Scene& s) {
   glDisable(GL_DEPTH_TEST);
   glDisable(GL_CULL_FACE);
 
-  // Ground and grid.
-  const Vec2 c = top ? s.camera.centre : Vec2(s.camera.target.x(), s.camera.target.y());
-  const double extent = top ? s.camera.half_height_m * s.width_px / s.height_px * 1.05 : 60.0;
-  if (!top) {
-    color(colors::kGround);
-    glBegin(GL_QUADS);
-    glVertex3d(c.x() - extent, c.y() - extent, 0), glVertex3d(c.x() + extent, c.y() - extent, 0);
-    glVertex3d(c.x() + extent, c.y() + extent, 0), glVertex3d(c.x() - extent, c.y() + extent, 0);
-    glEnd();
-  }
-  if (s.grid_step_m > 0) {
-    const double g = s.grid_step_m;
-    glDisable(GL_LINE_STIPPLE);
-    for (int major = 0; major < 2; ++major) {
-      glLineWidth(major ? 1.5f * kSuper : 1.0f * kSuper);
-      color(major ? colors::kGridMajor : colors::kGrid);
-      glBegin(GL_LINES);
-      const long k0 = static_cast<long>(std::floor((std::min(c.x(), c.y()) - extent) / g));
-      const long k1 = static_cast<long>(std::ceil((std::max(c.x(), c.y()) + extent) / g));
-      for (long k = k0; k <= k1; ++k) {
-        if ((k % 5 == 0) != (major == 1)) continue;
-        const double v = k * g;
-        if (std::abs(v - c.x()) <= extent) glVertex3d(v, c.y() - extent, 0), glVertex3d(v, c.y() + extent, 0);
-        if (std::abs(v - c.y()) <= extent) glVertex3d(c.x() - extent, v, 0), glVertex3d(c.x() + extent, v, 0);
-      }
-      glEnd();
-    }
-  }
-  // Flat overlays on the ground.
-  for (const auto& ci : s.circles) draw_circle(ci, 0.002);
-  for (const auto& l : s.lines) {
-    line_style(l.width_px, l.dashed);
-    color(l.color);
-    glBegin(GL_LINE_STRIP);
-    for (const auto& p : l.points) glVertex3d(p.x(), p.y(), 0.004);
-    glEnd();
-  }
-  glDisable(GL_LINE_STIPPLE);
-  // Solid bodies.
-  glEnable(GL_DEPTH_TEST);
-  glClear(GL_DEPTH_BUFFER_BIT);
-  glLineWidth(1.5f * kSuper);
-  for (const auto& b : s.boxes) draw_box(b);
-  for (const auto& w : s.wheels) draw_wheel(w);
-  for (const auto& p : s.pucks) draw_puck(p);
-  glDisable(GL_DEPTH_TEST);
-  // Arrows and markers on top.
-  for (const auto& a : s.arrows) {
-    line_style(a.width_px, false);
-    color(a.color);
-    const Vec2 d = a.to - a.from;
-    const double L = d.norm();
-    glBegin(GL_LINES);
-    glVertex3d(a.from.x(), a.from.y(), 1.0), glVertex3d(a.to.x(), a.to.y(), 1.0);
-    glEnd();
-    if (L > 0) {
-      const Vec2 u = d / L, n(-u.y(), u.x());
-      const double head = std::min(0.3 * L, s.camera.half_height_m * 0.04);
-      glBegin(GL_TRIANGLES);
-      glVertex3d(a.to.x(), a.to.y(), 1.0);
-      const Vec2 b1 = a.to - head * u + 0.45 * head * n, b2 = a.to - head * u - 0.45 * head * n;
-      glVertex3d(b1.x(), b1.y(), 1.0), glVertex3d(b2.x(), b2.y(), 1.0);
-      glEnd();
-    }
-  }
-  for (const auto& m : s.markers) {
-    line_style(3.0f, false);
-    color(m.color);
-    glBegin(GL_LINES);
-    glVertex3d(m.at.x() - m.size_m, m.at.y() - m.size_m, 1.0), glVertex3d(m.at.x() + m.size_m, m.at.y() + m.size_m, 1.0);
-    glVertex3d(m.at.x() - m.size_m, m.at.y() + m.size_m, 1.0), glVertex3d(m.at.x() + m.size_m, m.at.y() - m.size_m, 1.0);
-    glEnd();
-  }
+  draw_ground(s);
+  draw_overlays_and_bodies(s);
+  draw_arrows_and_markers(s);
   glFinish();
 
-  // Downsample kSuper x kSuper.
-  Image img;
-  img.width = s.width_px;
-  img.height = s.height_px;
-  img.rgba.resize(static_cast<std::size_t>(img.width) * img.height * 4);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x)
-      for (int ch = 0; ch < 4; ++ch) {
-        int sum = 0;
-        for (int j = 0; j < kSuper; ++j)
-          for (int i = 0; i < kSuper; ++i)
-            sum += impl_->buffer[(static_cast<std::size_t>(y * kSuper + j) * W + (x * kSuper + i)) * 4 + ch];
-        img.rgba[(static_cast<std::size_t>(y) * img.width + x) * 4 + ch] = static_cast<std::uint8_t>(sum / (kSuper * kSuper));
-      }
-  for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
-
-  // Scale bar (top-down): a round length about a fifth of the width, bottom left.
-  if (top && s.scale_bar) {
-    const double ppm = img.height / (2.0 * s.camera.half_height_m);
-    const double target = img.width / 5.0 / ppm;
-    const double p10 = std::pow(10.0, std::floor(std::log10(target)));
-    double L = p10;
-    for (double m : {2.0, 5.0, 10.0})
-      if (m * p10 <= target) L = m * p10;
-    const int len = static_cast<int>(std::lround(L * ppm)), x0 = 20, y0 = img.height - 24;
-    for (int y = y0; y < y0 + 6; ++y)
-      for (int x = x0; x < x0 + len && x < img.width; ++x) {
-        std::uint8_t* p = img.pixel(x, y);
-        const bool light = ((x - x0) * 2 / std::max(1, len)) % 2 == 1 && y > y0 && y < y0 + 5;
-        p[0] = p[1] = p[2] = light ? 255 : 20;
-      }
-    const std::string text = L >= 1 ? fmt::format("{:g} m", L) : L >= 0.01 ? fmt::format("{:g} cm", L * 100) : L >= 1e-3 ? fmt::format("{:g} mm", L * 1e3) : fmt::format("{:g} µm", L * 1e6);
-    draw_text(img, text, x0 + len + 8, y0 - 7, 15.0f, Color{0.1f, 0.1f, 0.1f, 1.0f});
-  }
-  // Labels.
-  for (const auto& l : s.labels) {
-    int x = static_cast<int>(l.at.x()), y = static_cast<int>(l.at.y());
-    if (!l.screen) {
-      const Eigen::Vector4d p = vp * Eigen::Vector4d(l.at.x(), l.at.y(), 0.0, 1.0);
-      if (p.w() <= 0) continue;
-      x = static_cast<int>((p.x() / p.w() * 0.5 + 0.5) * img.width);
-      y = static_cast<int>((0.5 - p.y() / p.w() * 0.5) * img.height);
-    }
-    draw_text(img, l.text, x, y, l.size_px, l.color);
-  }
+  Image img = downsample(impl_->buffer, W, s);
+  if (top && s.scale_bar) draw_scale_bar(img, s);
+  draw_labels(img, s, vp);
   return img;
 }
 

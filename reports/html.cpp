@@ -182,24 +182,11 @@ std::string markdown_html(const std::string& md) {
   return h;
 }
 
-std::string index_html(const json& results) {
-  const auto& ctx = results["context"];
-  const auto& sum = results["summary"];
-  std::string h = head("liftcheck validation report");
-  h += "<h1>liftcheck validation report</h1>\n";
-  h += fmt::format("<p class=\"meta\">liftcheck {} (commit <code>{}</code>) &middot; {} &middot; {} &middot; {} CPUs &middot; {}<br>"
-                   "{:.1f} s wall on {} threads (engine time: runs {:.1f} s, sweep and map points {:.1f} s), report {:.1f} s</p>\n",
-                   esc(ctx["liftcheck"]["version"]), esc(ctx["liftcheck"]["commit"]), esc(ctx["date"]), esc(ctx["machine"]["os"]),
-                   ctx["machine"]["cpus"].get<int>(), esc(ctx["machine"]["compiler"]), ctx.value("wall_s", 0.0), ctx.value("jobs", 1), ctx.value("runs_s", 0.0),
-                   ctx.value("points_s", 0.0), results.value("report", json::object()).value("report_s", 0.0));
-  h += fmt::format("<p><b>{} runs</b>: {} pass, <span class=\"st xfail\">&nbsp;{} known failures&nbsp;</span> (reviewed, "
-                   "<a href=\"#known\">listed below</a> with their reasons), {} unexpected passes, {} fail, {} error, {} skip; "
-                   "<b>{} <a href=\"#sweeps\">sweep gates</a></b>, {} failed. {}</p>\n",
-                   sum["total"].get<int>(), sum.value("pass", 0), sum.value("known failure", 0), sum.value("unexpected pass", 0),
-                   sum.value("fail", 0), sum.value("error", 0), sum.value("skip", 0), sum.value("sweep_gates", 0), sum.value("sweep_gates_failed", 0),
-                   sum["unexpected"].get<int>() == 0 ? "<span class=\"st pass\">&nbsp;ALL AS EXPECTED&nbsp;</span>"
-                                                     : fmt::format("<span class=\"st fail\">&nbsp;{} UNEXPECTED&nbsp;</span>", sum["unexpected"].get<int>()));
+namespace {
 
+/// The comparison with the baseline, when there is one.
+std::string baseline_section(const json& results) {
+  std::string h;
   // Against the baseline: regressions and worsened metrics lead, before and after side by side.
   if (results.contains("baseline") && results["baseline"].is_object()) {
     const json& d = results["baseline"]["diff"];
@@ -221,7 +208,12 @@ std::string index_html(const json& results) {
       h += "<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th class=\"l\">what</th><th>before</th><th>after</th>"
            "<th class=\"l\"></th></tr>\n" + rows + "</table>\n";
   }
+  return h;
+}
 
+/// The summary matrix (scenario x configuration) and the known failures of this run.
+std::string matrix_section(const json& results) {
+  std::string h;
   // Summary matrix.
   const auto engines = engine_order(results);
   h += "<h2 id=\"summary\">Summary</h2>\n<table id=\"matrix\"><tr><th class=\"l\">scenario</th><th class=\"l\">checks</th>";
@@ -270,9 +262,14 @@ std::string index_html(const json& results) {
     h += "<h3 id=\"known\">Known failures</h3>\n<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th>verdict</th>"
          "<th class=\"l\">metrics that may fail, error ceilings</th><th class=\"l\">reason</th><th class=\"l\">measured when reviewed</th></tr>\n" +
          known + "</table>\n";
+  return h;
+}
 
-  // Sweeps.
+/// The sweeps' plots, their gates, the collision outcomes and the fitted slopes.
+std::string sweeps_section(const json& results) {
+  std::string h;
   const json& rep = results.value("report", json::object());
+  // Sweeps.
   h += "<h2 id=\"sweeps\">Sweeps</h2>\n";
   for (const auto& p : rep.value("plots", json::array()))
     if (p["group"] == "sweeps")
@@ -320,7 +317,14 @@ std::string index_html(const json& results) {
                            esc(sw["name"]), esc(e["engine"]), e["fit"]["slope"].get<double>(), e["fit"]["points"].get<int>());
     }
   }
+  return h;
+}
 
+/// The configurations with their settings, the machine and the report's own problems.
+std::string engines_section(const json& results) {
+  std::string h;
+  const auto& ctx = results["context"];
+  const json& rep = results.value("report", json::object());
   // Engines and machine.
   h += "<h2 id=\"engines\">Engines and settings</h2>\n<table><tr><th class=\"l\">engine</th><th class=\"l\">version</th><th class=\"l\">settings</th></tr>\n";
   for (const auto& e : ctx["engines"]) {
@@ -335,6 +339,33 @@ std::string index_html(const json& results) {
   h += fmt::format("<p class=\"meta\">Machine: {} ({}), {} CPUs; renderer: {}.</p>\n", esc(ctx["machine"]["host"]),
                    esc(ctx["machine"]["os"]), ctx["machine"]["cpus"].get<int>(), esc(rep.value("gl_version", "none")));
   for (const auto& err : rep.value("errors", json::array())) h += "<p class=\"st error\">report: " + esc(err) + "</p>\n";
+  return h;
+}
+
+}  // namespace
+
+std::string index_html(const json& results) {
+  const auto& ctx = results["context"];
+  const auto& sum = results["summary"];
+  std::string h = head("liftcheck validation report");
+  h += "<h1>liftcheck validation report</h1>\n";
+  h += fmt::format("<p class=\"meta\">liftcheck {} (commit <code>{}</code>) &middot; {} &middot; {} &middot; {} CPUs &middot; {}<br>"
+                   "{:.1f} s wall on {} threads (engine time: runs {:.1f} s, sweep and map points {:.1f} s), report {:.1f} s</p>\n",
+                   esc(ctx["liftcheck"]["version"]), esc(ctx["liftcheck"]["commit"]), esc(ctx["date"]), esc(ctx["machine"]["os"]),
+                   ctx["machine"]["cpus"].get<int>(), esc(ctx["machine"]["compiler"]), ctx.value("wall_s", 0.0), ctx.value("jobs", 1), ctx.value("runs_s", 0.0),
+                   ctx.value("points_s", 0.0), results.value("report", json::object()).value("report_s", 0.0));
+  h += fmt::format("<p><b>{} runs</b>: {} pass, <span class=\"st xfail\">&nbsp;{} known failures&nbsp;</span> (reviewed, "
+                   "<a href=\"#known\">listed below</a> with their reasons), {} unexpected passes, {} fail, {} error, {} skip; "
+                   "<b>{} <a href=\"#sweeps\">sweep gates</a></b>, {} failed. {}</p>\n",
+                   sum["total"].get<int>(), sum.value("pass", 0), sum.value("known failure", 0), sum.value("unexpected pass", 0),
+                   sum.value("fail", 0), sum.value("error", 0), sum.value("skip", 0), sum.value("sweep_gates", 0), sum.value("sweep_gates_failed", 0),
+                   sum["unexpected"].get<int>() == 0 ? "<span class=\"st pass\">&nbsp;ALL AS EXPECTED&nbsp;</span>"
+                                                     : fmt::format("<span class=\"st fail\">&nbsp;{} UNEXPECTED&nbsp;</span>", sum["unexpected"].get<int>()));
+
+  h += baseline_section(results);
+  h += matrix_section(results);
+  h += sweeps_section(results);
+  h += engines_section(results);
 
   // Errata.
   h += "<h2 id=\"errata\">Errata found in the papers</h2>\n";

@@ -6,6 +6,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <fmt/format.h>
+#include <functional>
 #include <fstream>
 #include <map>
 #include <set>
@@ -103,17 +104,10 @@ void run_gnuplot(const std::filesystem::path& dir) {
     throw std::runtime_error(fmt::format("gnuplot exited with status {}; see {}", WEXITSTATUS(status), log));
 }
 
-}  // namespace
+using ColorOf = std::function<std::string(const std::string&)>;
 
-std::vector<PlotFile> write_plots(const json& results, const std::filesystem::path& out) {
-  std::filesystem::create_directories(out / "plots");
-  Script S;
-  std::vector<PlotFile> files;
-  const std::map<std::string, std::string> colors = colors_of(results);
-  const auto color_of = [&](const std::string& engine) {
-    const auto it = colors.find(engine);
-    return it == colors.end() ? std::string("#808080") : it->second;
-  };
+/// A plot per scenario of its runs' traces: front-axle paths, or the distance between the disks.
+void plot_runs(Script& S, std::vector<PlotFile>& files, const json& results, const ColorOf& color_of) {
   // Runs by scenario, in catalogue order.
   std::vector<std::string> order;
   std::map<std::string, std::vector<const json*>> by_scenario;
@@ -156,140 +150,160 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
     S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
     files.push_back({sc, file, disks ? "distance |c_M - c_N| against time; contact at 2 (dashed)" : "front-axle paths, engines over the exact lift"});
   }
+}
 
-  // Sweeps.
-  for (const auto& sw : results.value("sweeps", json::array())) {
-    const std::string name = sw["name"];
-    const std::string file = fmt::format("plots/sweep-{}.svg", safe(name));
-    if (sw.value("kind", "") == "outcomes") {
-      const auto& grid = sw["grid"];
-      const auto& paths = grid["path"];
-      S.begin(file_name(file), "", 1100, 420);
-      S.gp << fmt::format("set multiplot layout 1,{} title {}\nset xlabel 'a'\nset ylabel 'b'\nset xrange [-1.5:3.5]\nset yrange [-1.5:1.5]\nset key bottom right font ',9'\n",
-                          paths.size(), gnuplot_quote(sw["title"].get<std::string>()));
-      const json* first = sw["engines"].empty() ? nullptr : &sw["engines"][0];
-      for (const auto& path : paths) {
-        std::vector<std::vector<double>> hit, miss, nearb, dis;
-        if (first)
-          for (const auto& c : (*first)["cases"]) {
-            if (c["path"] != path) continue;
-            (c["reference"].get<bool>() ? hit : miss).push_back({c["a"].get<double>(), c["b"].get<double>()});
-            if (c["near_boundary"].get<bool>()) nearb.push_back({c["a"].get<double>(), c["b"].get<double>()});
-          }
-        for (const auto& e : sw["engines"])
-          for (const auto& c : e["cases"])
-            if (c["path"] == path && c["reference"] != c["engine"]) dis.push_back({c["a"].get<double>(), c["b"].get<double>()});
-        hit.push_back({NAN, NAN}), miss.push_back({NAN, NAN}), nearb.push_back({NAN, NAN}), dis.push_back({NAN, NAN});
-        const std::string bh = S.block(hit), bm = S.block(miss), bn = S.block(nearb), bd = S.block(dis);
-        S.gp << fmt::format("set title {}\nplot {} u 1:2 w p pt 7 ps 1.3 lc rgb '#d62728' t 'collision', "
-                            "{} u 1:2 w p pt 7 ps 1.3 lc rgb '#2ca02c' t 'no collision', "
-                            "{} u 1:2 w p pt 6 ps 2.6 lc rgb '#000000' t 'near boundary', "
-                            "{} u 1:2 w p pt 2 ps 2.2 lw 2 lc rgb '#9467bd' t 'an engine disagrees'\n",
-                            gnuplot_quote("N on a " + path.get<std::string>()), bh, bm, bn, bd);
+/// The outcome sweep: a panel per path of N over (a, b), the reference's outcomes and where an
+/// engine disagrees.
+void plot_outcomes(Script& S, const json& sw, const std::string& file) {
+  const auto& grid = sw["grid"];
+  const auto& paths = grid["path"];
+  S.begin(file_name(file), "", 1100, 420);
+  S.gp << fmt::format("set multiplot layout 1,{} title {}\nset xlabel 'a'\nset ylabel 'b'\nset xrange [-1.5:3.5]\nset yrange [-1.5:1.5]\nset key bottom right font ',9'\n",
+                      paths.size(), gnuplot_quote(sw["title"].get<std::string>()));
+  const json* first = sw["engines"].empty() ? nullptr : &sw["engines"][0];
+  for (const auto& path : paths) {
+    std::vector<std::vector<double>> hit, miss, nearb, dis;
+    if (first)
+      for (const auto& c : (*first)["cases"]) {
+        if (c["path"] != path) continue;
+        (c["reference"].get<bool>() ? hit : miss).push_back({c["a"].get<double>(), c["b"].get<double>()});
+        if (c["near_boundary"].get<bool>()) nearb.push_back({c["a"].get<double>(), c["b"].get<double>()});
       }
-      S.gp << "unset multiplot\n";
-      files.push_back({"sweeps", file, sw["title"]});
-      continue;
+    for (const auto& e : sw["engines"])
+      for (const auto& c : e["cases"])
+        if (c["path"] == path && c["reference"] != c["engine"]) dis.push_back({c["a"].get<double>(), c["b"].get<double>()});
+    hit.push_back({NAN, NAN}), miss.push_back({NAN, NAN}), nearb.push_back({NAN, NAN}), dis.push_back({NAN, NAN});
+    const std::string bh = S.block(hit), bm = S.block(miss), bn = S.block(nearb), bd = S.block(dis);
+    S.gp << fmt::format("set title {}\nplot {} u 1:2 w p pt 7 ps 1.3 lc rgb '#d62728' t 'collision', "
+                        "{} u 1:2 w p pt 7 ps 1.3 lc rgb '#2ca02c' t 'no collision', "
+                        "{} u 1:2 w p pt 6 ps 2.6 lc rgb '#000000' t 'near boundary', "
+                        "{} u 1:2 w p pt 2 ps 2.2 lw 2 lc rgb '#9467bd' t 'an engine disagrees'\n",
+                        gnuplot_quote("N on a " + path.get<std::string>()), bh, bm, bn, bd);
+  }
+  S.gp << "unset multiplot\n";
+}
+
+/// One parameter sweep, plotted as its catalogue entry says; false when it has nothing to plot.
+bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorOf& color_of) {
+  const std::string param = sw["param"];
+  const auto& rec = sw["record"];
+  S.begin(file_name(file), sw["title"]);
+  std::string cmd;
+  // The sweep says how it is plotted (its catalogue entry): measured values over exact curves,
+  // measured against exact sizes, or relative errors.
+  const json plot = sw.value("plot", json::object());
+  const std::string kind = plot.value("kind", "errors");
+  const bool values = kind == "values", holonomy = kind == "sizes";
+  S.gp << fmt::format("set xlabel {}\nset ylabel {}\n", gnuplot_quote(plot.value("x_label", param)), gnuplot_quote(plot.value("y_label", "")));
+  if (values) S.gp << "set logscale y\n";
+  else if (holonomy) S.gp << "set logscale xy\nset format y '10^{%T}'\n";
+  else S.gp << "set logscale y\nset format y '10^{%T}'\n";
+  if (plot.value("log_x", false)) S.gp << "set logscale x\n";
+  int shade = 0;
+  for (const auto& c : plot.value("curves", json::array()))
+    cmd += fmt::format("{} w l lw 6 lc rgb '{}' t {}, ", c["expr"].get<std::string>(), shade++ == 0 ? "#c8c8c8" : "#e0e0e0",
+                       gnuplot_quote(c["title"].get<std::string>()));
+  if (sw.contains("marker")) {
+    S.gp << fmt::format("set arrow from {0}, graph 0 to {0}, graph 1 nohead lc rgb '#cc0000' dt 2\nset label {1} at {0}, graph 0.95 offset 0.5,0 tc rgb '#cc0000'\n",
+                        sw["marker"]["x"].get<double>(), gnuplot_quote(sw["marker"]["label"].get<std::string>()));
+  }
+  bool exact_done = false;
+  for (const auto& e : sw["engines"]) {
+    const std::string eng = e["engine"];
+    std::vector<std::vector<double>> a, b2, exact;
+    for (const auto& pt : e["points"]) {
+      const double x = pt["x"].get<double>();
+      if (values) {
+        const auto& f = pt[rec[0].get<std::string>()];
+        const auto& r = pt[rec[1].get<std::string>()];
+        if (f.is_object() && f["measured"].is_number()) a.push_back({x, f["measured"].get<double>()});
+        if (r.is_object() && r["measured"].is_number()) b2.push_back({x, r["measured"].get<double>()});
+      } else if (holonomy) {
+        const auto& ex = pt["detail:holonomy_size_m"];
+        const auto& me = pt["detail:measured_size_m"];
+        if (ex.is_number()) exact.push_back({x, ex.get<double>()});
+        if (me.is_number()) a.push_back({x, me.get<double>()});
+      } else {
+        const auto& m = pt[rec[0].get<std::string>()];
+        if (m.is_object() && m["rel_error"].is_number() && m["rel_error"].get<double>() > 0)
+          a.push_back({x, std::max(m["rel_error"].get<double>(), 1e-16)});
+      }
     }
-    const std::string param = sw["param"];
-    const auto& rec = sw["record"];
-    S.begin(file_name(file), sw["title"]);
+    if (a.empty()) continue;
+    a.push_back({NAN, NAN});
+    if (holonomy && !exact_done && !exact.empty()) {
+      cmd += fmt::format("{} u 1:2 w l lw 6 lc rgb '#c8c8c8' t 'exact holonomy', ", S.block(exact));
+      exact_done = true;
+    }
+    std::string title = eng;
+    if (holonomy && e.contains("fit") && e["fit"]["slope"].is_number())
+      title += fmt::format(" (slope {:.2f})", e["fit"]["slope"].get<double>());
+    cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb {} t {} noenhanced, ", S.block(a), gnuplot_quote(color_of(eng)),
+                       gnuplot_quote(title + (values ? " front" : "")));
+    if (!b2.empty())
+      cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb {} t {} noenhanced, ", S.block(b2), gnuplot_quote(color_of(eng)), gnuplot_quote(eng + " rear"));
+  }
+  if (cmd.empty()) return false;
+  S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
+  return true;
+}
+
+/// A speed-accuracy map: a panel per scenario, error against cost, a curve per configuration and
+/// knob (dt solid, iterations dashed), the Pareto front over the configurations ringed.
+void plot_map(Script& S, std::vector<PlotFile>& files, const json& map, const ColorOf& color_of) {
+  const std::string file = fmt::format("plots/map-{}.svg", safe(map["name"]));
+  const auto& panels = map["panels"];
+  S.begin(file_name(file), "", 1200, 520);
+  S.gp << fmt::format("set multiplot layout 1,{} title {} font ',11'\nset logscale xy\nset format x '10^{{%T}}'\nset format y '10^{{%T}}'\n"
+                      "set xlabel 'wall-clock cost [s per simulated s]'\nset key inside top right font ',8'\n",
+                      panels.size(), gnuplot_quote(map["title"].get<std::string>()));
+  for (const auto& panel : panels) {
     std::string cmd;
-    // The sweep says how it is plotted (its catalogue entry): measured values over exact curves,
-    // measured against exact sizes, or relative errors.
-    const json plot = sw.value("plot", json::object());
-    const std::string kind = plot.value("kind", "errors");
-    const bool values = kind == "values", holonomy = kind == "sizes";
-    S.gp << fmt::format("set xlabel {}\nset ylabel {}\n", gnuplot_quote(plot.value("x_label", param)), gnuplot_quote(plot.value("y_label", "")));
-    if (values) S.gp << "set logscale y\n";
-    else if (holonomy) S.gp << "set logscale xy\nset format y '10^{%T}'\n";
-    else S.gp << "set logscale y\nset format y '10^{%T}'\n";
-    if (plot.value("log_x", false)) S.gp << "set logscale x\n";
-    int shade = 0;
-    for (const auto& c : plot.value("curves", json::array()))
-      cmd += fmt::format("{} w l lw 6 lc rgb '{}' t {}, ", c["expr"].get<std::string>(), shade++ == 0 ? "#c8c8c8" : "#e0e0e0",
-                         gnuplot_quote(c["title"].get<std::string>()));
-    if (sw.contains("marker")) {
-      S.gp << fmt::format("set arrow from {0}, graph 0 to {0}, graph 1 nohead lc rgb '#cc0000' dt 2\nset label {1} at {0}, graph 0.95 offset 0.5,0 tc rgb '#cc0000'\n",
-                          sw["marker"]["x"].get<double>(), gnuplot_quote(sw["marker"]["label"].get<std::string>()));
-    }
-    bool exact_done = false;
-    for (const auto& e : sw["engines"]) {
-      const std::string eng = e["engine"];
-      std::vector<std::vector<double>> a, b2, exact;
-      for (const auto& pt : e["points"]) {
-        const double x = pt["x"].get<double>();
-        if (values) {
-          const auto& f = pt[rec[0].get<std::string>()];
-          const auto& r = pt[rec[1].get<std::string>()];
-          if (f.is_object() && f["measured"].is_number()) a.push_back({x, f["measured"].get<double>()});
-          if (r.is_object() && r["measured"].is_number()) b2.push_back({x, r["measured"].get<double>()});
-        } else if (holonomy) {
-          const auto& ex = pt["detail:holonomy_size_m"];
-          const auto& me = pt["detail:measured_size_m"];
-          if (ex.is_number()) exact.push_back({x, ex.get<double>()});
-          if (me.is_number()) a.push_back({x, me.get<double>()});
-        } else {
-          const auto& m = pt[rec[0].get<std::string>()];
-          if (m.is_object() && m["rel_error"].is_number() && m["rel_error"].get<double>() > 0)
-            a.push_back({x, std::max(m["rel_error"].get<double>(), 1e-16)});
-        }
+    std::vector<std::vector<double>> front;
+    for (const auto& c : panel["curves"]) {
+      const std::string eng = c["engine"];
+      for (const char* knob : {"default", "dt", "iterations"}) {
+        std::vector<std::vector<double>> rows;
+        for (const auto& p : c["points"])
+          if (p["knob"] == knob && p["error"].is_number() && p["cost_s_per_s"].is_number()) {
+            rows.push_back({p["cost_s_per_s"].get<double>(), std::max(p["error"].get<double>(), 1e-16)});
+            if (p["pareto"].get<bool>()) front.push_back(rows.back());
+          }
+        if (rows.empty()) continue;
+        const std::string style = std::string(knob) == "iterations" ? "w lp pt 6 dt 2" : std::string(knob) == "dt" ? "w lp pt 7" : "w p pt 9 ps 1.6";
+        cmd += fmt::format("{} u 1:2 {} lw 1.5 lc rgb {} t {} noenhanced, ", S.block(rows), style, gnuplot_quote(color_of(eng)),
+                           gnuplot_quote(eng + (std::string(knob) == "default" ? "" : fmt::format(" ({})", knob))));
       }
-      if (a.empty()) continue;
-      a.push_back({NAN, NAN});
-      if (holonomy && !exact_done && !exact.empty()) {
-        cmd += fmt::format("{} u 1:2 w l lw 6 lc rgb '#c8c8c8' t 'exact holonomy', ", S.block(exact));
-        exact_done = true;
-      }
-      std::string title = eng;
-      if (holonomy && e.contains("fit") && e["fit"]["slope"].is_number())
-        title += fmt::format(" (slope {:.2f})", e["fit"]["slope"].get<double>());
-      cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb {} t {} noenhanced, ", S.block(a), gnuplot_quote(color_of(eng)),
-                         gnuplot_quote(title + (values ? " front" : "")));
-      if (!b2.empty())
-        cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb {} t {} noenhanced, ", S.block(b2), gnuplot_quote(color_of(eng)), gnuplot_quote(eng + " rear"));
     }
+    std::sort(front.begin(), front.end());
+    if (!front.empty()) cmd += fmt::format("{} u 1:2 w lp pt 6 ps 2.4 lw 1 dt 3 lc rgb '#000000' t 'Pareto front', ", S.block(front));
     if (cmd.empty()) continue;
-    S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
+    S.gp << fmt::format("set title {}\nset ylabel {}\nplot {}\n", gnuplot_quote(panel["scenario"].get<std::string>()),
+                        gnuplot_quote(panel["error_label"].get<std::string>()), cmd.substr(0, cmd.size() - 2));
+  }
+  S.gp << "unset multiplot\n";
+  files.push_back({"sweeps", file, map["title"]});
+}
+
+}  // namespace
+
+std::vector<PlotFile> write_plots(const json& results, const std::filesystem::path& out) {
+  std::filesystem::create_directories(out / "plots");
+  Script S;
+  std::vector<PlotFile> files;
+  const std::map<std::string, std::string> colors = colors_of(results);
+  const ColorOf color_of = [&](const std::string& engine) {
+    const auto it = colors.find(engine);
+    return it == colors.end() ? std::string("#808080") : it->second;
+  };
+  plot_runs(S, files, results, color_of);
+  for (const auto& sw : results.value("sweeps", json::array())) {
+    const std::string file = fmt::format("plots/sweep-{}.svg", safe(sw["name"].get<std::string>()));
+    if (sw.value("kind", "") == "outcomes") plot_outcomes(S, sw, file);
+    else if (!plot_sweep(S, sw, file, color_of)) continue;
     files.push_back({"sweeps", file, sw["title"]});
   }
-
-  // Speed-accuracy maps: a panel per scenario, error against cost, a curve per configuration and
-  // knob (dt solid, iterations dashed), the Pareto front over the configurations ringed.
-  for (const auto& map : results.value("maps", json::array())) {
-    const std::string file = fmt::format("plots/map-{}.svg", safe(map["name"]));
-    const auto& panels = map["panels"];
-    S.begin(file_name(file), "", 1200, 520);
-    S.gp << fmt::format("set multiplot layout 1,{} title {} font ',11'\nset logscale xy\nset format x '10^{{%T}}'\nset format y '10^{{%T}}'\n"
-                        "set xlabel 'wall-clock cost [s per simulated s]'\nset key inside top right font ',8'\n",
-                        panels.size(), gnuplot_quote(map["title"].get<std::string>()));
-    for (const auto& panel : panels) {
-      std::string cmd;
-      std::vector<std::vector<double>> front;
-      for (const auto& c : panel["curves"]) {
-        const std::string eng = c["engine"];
-        for (const char* knob : {"default", "dt", "iterations"}) {
-          std::vector<std::vector<double>> rows;
-          for (const auto& p : c["points"])
-            if (p["knob"] == knob && p["error"].is_number() && p["cost_s_per_s"].is_number()) {
-              rows.push_back({p["cost_s_per_s"].get<double>(), std::max(p["error"].get<double>(), 1e-16)});
-              if (p["pareto"].get<bool>()) front.push_back(rows.back());
-            }
-          if (rows.empty()) continue;
-          const std::string style = std::string(knob) == "iterations" ? "w lp pt 6 dt 2" : std::string(knob) == "dt" ? "w lp pt 7" : "w p pt 9 ps 1.6";
-          cmd += fmt::format("{} u 1:2 {} lw 1.5 lc rgb {} t {} noenhanced, ", S.block(rows), style, gnuplot_quote(color_of(eng)),
-                             gnuplot_quote(eng + (std::string(knob) == "default" ? "" : fmt::format(" ({})", knob))));
-        }
-      }
-      std::sort(front.begin(), front.end());
-      if (!front.empty()) cmd += fmt::format("{} u 1:2 w lp pt 6 ps 2.4 lw 1 dt 3 lc rgb '#000000' t 'Pareto front', ", S.block(front));
-      if (cmd.empty()) continue;
-      S.gp << fmt::format("set title {}\nset ylabel {}\nplot {}\n", gnuplot_quote(panel["scenario"].get<std::string>()),
-                          gnuplot_quote(panel["error_label"].get<std::string>()), cmd.substr(0, cmd.size() - 2));
-    }
-    S.gp << "unset multiplot\n";
-    files.push_back({"sweeps", file, map["title"]});
-  }
+  for (const auto& map : results.value("maps", json::array())) plot_map(S, files, map, color_of);
 
   const auto script = out / "plots" / "plots.gp";
   {

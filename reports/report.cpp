@@ -5,7 +5,7 @@
 #include <mutex>
 #include <thread>
 
-#include "harness/results.hpp"
+#include "input/atomic_file.hpp"
 #include "reports/gl_render.hpp"
 #include "reports/html.hpp"
 #include "reports/plots.hpp"

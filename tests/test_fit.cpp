@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "harness/fit.hpp"
+#include "scenarios/fit.hpp"
 
 using liftcheck::fit_circle;
 

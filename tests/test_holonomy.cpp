@@ -5,7 +5,7 @@
 #include <cmath>
 
 #include "models/holonomy.hpp"
-#include "harness/fit.hpp"
+#include "scenarios/fit.hpp"
 #include "models/lift.hpp"
 
 using liftcheck::loglog_slope;

@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
-#include "harness/params.hpp"
+#include "input/params.hpp"
 #include "harness/runner.hpp"
-#include "harness/scenario.hpp"
+#include "scenarios/scenario.hpp"
 
 using namespace liftcheck;
 

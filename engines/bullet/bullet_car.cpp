@@ -4,7 +4,7 @@
 // wheels: btHingeConstraint about the rear axle. Wheel-ground friction uses two friction rows
 // (SOLVER_USE_2_FRICTION_DIRECTIONS); with friction_dirs = wheel the first row lies along the
 // wheel's rolling direction, set on every contact point before each solve.
-// Signs (tests/test_engine_signs.cpp): the 6DOF angles are of body B relative to body A with the
+// Signs (tests/conformance.cpp, ForwardIsPositiveAlphaAndLeftIsPositiveBeta): the 6DOF angles are of body B relative to body A with the
 // chassis as A; the steering angle and spin rate are negated where marked.
 #include "engines/bullet/bullet_car.hpp"
 #include "engines/bullet/bullet_core.hpp"
@@ -286,7 +286,8 @@ EngineInfo bullet_engine() {
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
            {"disks", "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), sequential-impulse response"}},
           .knobs = {SettingSpec{"iterations", "car", "100", "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", SettingSpec::kInteger, 1, 10000, {}}, SettingSpec{"wheel", "car", "sphere", "wheel collision shape", SettingSpec::kChoice, 0, 0, {"sphere", "cylinder"}}, SettingSpec{"friction_dirs", "car", "wheel", "first friction direction: along the wheel's rolling direction, or the engine's default axes", SettingSpec::kChoice, 0, 0, {"wheel", "world"}}},
-          .four_wheels = true};
+          .four_wheels = true,
+          .make_raw_car = make_raw_bullet_car};
 }
 
 }  // namespace liftcheck

@@ -354,7 +354,8 @@ EngineInfo bullet_multibody_engine() {
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
            {"disks", "M: zero-link floating-base btMultiBody (radius 1, 1 kg, frictionless base collider), base velocity set to the command (z = 0) before each step; N: kinematic btRigidBody sphere placed on its path; contact from the step's manifolds (distance <= 0), multibody solver response, 10 iterations"}},
           .knobs = {SettingSpec{"iterations", "car", std::to_string(kDefaultIterations), "solver iterations (btContactSolverInfo::m_numIterations)", SettingSpec::kInteger, 1, 10000, {}},
-                    SettingSpec{"damping", "car", fmt::format("{:g}", kDefaultDamping), "btMultiBody linear and angular damping", SettingSpec::kReal, 0, 1, {}}}};
+                    SettingSpec{"damping", "car", fmt::format("{:g}", kDefaultDamping), "btMultiBody linear and angular damping", SettingSpec::kReal, 0, 1, {}}},
+          .make_raw_car = make_raw_bullet_multibody_car};
 }
 
 }  // namespace liftcheck

@@ -362,7 +362,8 @@ EngineInfo bullet_raycast_engine() {
                {"stability", "the suspension is explicit: at k = 1e4 the run diverges for dt >= 2 ms (a period-2 oscillation from about 1.8 ms); smaller k allows larger steps"},
                {"threads", "Bullet writes the same constants into one function-static btRigidBody (btActionInterface::getFixedBody, the vehicle's ground object) from every vehicle on every ray cast and reads it in the friction pass: the body is made once before the first vehicle, and each vehicle's action (ray casts, suspension, friction) holds a process-wide lock, so concurrent runs take turns at it; the numbers do not depend on what else runs"}},
           .knobs = {SettingSpec{"suspension_stiffness", "car", "10000", "suspension stiffness per unit chassis mass, 1/s^2 (btVehicleTuning::m_suspensionStiffness); damping follows as sqrt(3k)", SettingSpec::kReal, 0, 1e6, {}, true},
-                    SettingSpec{"wheel_angle", "car", "heading", "the realized wheel angle: the front wheel's travel along its heading / R, or Bullet's m_rotation (travel along the chassis axis / R)", SettingSpec::kChoice, 0, 0, {"heading", "m_rotation"}}}};
+                    SettingSpec{"wheel_angle", "car", "heading", "the realized wheel angle: the front wheel's travel along its heading / R, or Bullet's m_rotation (travel along the chassis axis / R)", SettingSpec::kChoice, 0, 0, {"heading", "m_rotation"}}},
+          .make_raw_car = make_raw_bullet_raycast_car};
 }
 
 }  // namespace liftcheck

@@ -356,7 +356,8 @@ EngineInfo make_info(Detector det) {
           .contact_dynamics = true,
           .settings = settings_for(det),
           .knobs = {SettingSpec{"friction_dirs", "car", "world", "first friction direction: DART's default from the contact normal (world-fixed), or along the wheel's rolling direction (DynamicsAspect::setFirstFrictionDirection)",
-                                SettingSpec::kChoice, 0, 0, {"world", "wheel"}}}};
+                                SettingSpec::kChoice, 0, 0, {"world", "wheel"}}},
+          .make_raw_car = prim ? make_raw_dart_primitive_car : make_raw_dart_car};
 }
 
 }  // namespace

@@ -415,7 +415,8 @@ EngineInfo mujoco_engine() {
           .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, Variant{}); },
           .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{}); },
           .contact_dynamics = true,
-          .settings = settings};
+          .settings = settings,
+          .make_raw_car = make_raw_mujoco_car};
 }
 
 EngineInfo mujoco_noslip_engine() {
@@ -430,7 +431,8 @@ EngineInfo mujoco_noslip_engine() {
           .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{.noslip_iterations = kDefaultNoslip}); },
           .contact_dynamics = true,
           .settings = settings,
-          .knobs = {SettingSpec{"noslip_iterations", "car", std::to_string(kDefaultNoslip), "noslip post-solver iterations (option noslip_iterations; 0 turns it off)", SettingSpec::kInteger, 0, 1000, {}}}};
+          .knobs = {SettingSpec{"noslip_iterations", "car", std::to_string(kDefaultNoslip), "noslip post-solver iterations (option noslip_iterations; 0 turns it off)", SettingSpec::kInteger, 0, 1000, {}}},
+          .make_raw_car = make_raw_mujoco_noslip_car};
 }
 
 EngineInfo mujoco_stiff_engine() {
@@ -446,7 +448,8 @@ EngineInfo mujoco_stiff_engine() {
           .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{.stiff = true, .impratio = kDefaultImpratio}); },
           .contact_dynamics = true,
           .settings = settings,
-          .knobs = {SettingSpec{"impratio", "car", fmt::format("{:g}", kDefaultImpratio), "ratio of frictional to normal constraint impedance (option impratio)", SettingSpec::kReal, 0.0, 1000.0, {}, true}}};
+          .knobs = {SettingSpec{"impratio", "car", fmt::format("{:g}", kDefaultImpratio), "ratio of frictional to normal constraint impedance (option impratio)", SettingSpec::kReal, 0.0, 1000.0, {}, true}},
+          .make_raw_car = make_raw_mujoco_stiff_car};
 }
 
 }  // namespace liftcheck

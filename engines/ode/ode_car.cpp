@@ -3,7 +3,7 @@
 // axis 2 = axle), driven by the joint motors. Rear wheels: hinge joints on the rear axle.
 // Wheel-ground contacts: dContactApprox1 (mu is a coefficient, not a force cap), soft ERP/CFM,
 // and, with friction_dirs = wheel, the first friction direction along the wheel's rolling direction.
-// Signs (tests/test_engine_signs.cpp): ODE reports hinge-2 angles of body 1 (chassis) relative to
+// Signs (tests/conformance.cpp, ForwardIsPositiveAlphaAndLeftIsPositiveBeta): ODE reports hinge-2 angles of body 1 (chassis) relative to
 // body 2 (wheel), so the steering angle and the spin rate are negated.
 #include "engines/ode/ode_car.hpp"
 
@@ -124,7 +124,8 @@ EngineInfo ode_quick_engine() {
            {"disks", kDisks},
            {"threads", "each world has its own ODE threading implementation; dWorldQuickStep draws its random constraint order (dRandInt) from ODE's one process-wide generator, so concurrent runs take turns at it (a process-wide lock around each quick step), each world continuing its own sequence from seed 0: the numbers do not depend on what else runs"}},
           .knobs = knobs,
-          .four_wheels = true};
+          .four_wheels = true,
+          .make_raw_car = make_raw_ode_quick_car};
 }
 
 EngineInfo ode_engine() {
@@ -146,7 +147,8 @@ EngineInfo ode_engine() {
            {"disks", kDisks},
            {"threads", "each world has its own ODE threading implementation (ODE's default one is shared by every world and not synchronised); every thread that steps a world calls dAllocateODEDataForThread first: runs step in parallel"}},
           .knobs = {wheel_knob(), friction_dirs_knob("wheel")},
-          .four_wheels = true};
+          .four_wheels = true,
+          .make_raw_car = make_raw_ode_car};
 }
 
 }  // namespace liftcheck

@@ -5,9 +5,9 @@
 #include <string>
 #include <utility>
 
-#include "harness/params.hpp"
-#include "harness/results_file.hpp"
-#include "reports/ci.hpp"
+#include "input/params.hpp"
+#include "input/results_file.hpp"
+#include "input/results_diff.hpp"
 
 using namespace liftcheck;
 

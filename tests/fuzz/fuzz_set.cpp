@@ -6,9 +6,9 @@
 #include <cstdlib>
 #include <string>
 
-#include "harness/params.hpp"
-#include "harness/scenario.hpp"
-#include "harness/suggest.hpp"
+#include "input/params.hpp"
+#include "scenarios/scenario.hpp"
+#include "input/suggest.hpp"
 
 using namespace liftcheck;
 

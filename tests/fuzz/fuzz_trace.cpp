@@ -6,7 +6,7 @@
 #include <cstdlib>
 #include <string>
 
-#include "harness/trace.hpp"
+#include "input/trace.hpp"
 
 using namespace liftcheck;
 

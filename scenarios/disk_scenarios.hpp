@@ -1,6 +1,6 @@
 #pragma once
 #include <vector>
-#include "harness/scenario.hpp"
+#include "scenarios/scenario.hpp"
 namespace liftcheck {
 /// disks.copy, disks.actuated, disks.repel, disks.orbit, disks.linear, disks.forced,
 /// disks.moving-away, disks.extended, disks.target.

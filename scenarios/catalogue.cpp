@@ -1,6 +1,6 @@
-#include "harness/car_scenarios.hpp"
-#include "harness/disk_scenarios.hpp"
-#include "harness/scenario.hpp"
+#include "scenarios/car_scenarios.hpp"
+#include "scenarios/disk_scenarios.hpp"
+#include "scenarios/scenario.hpp"
 
 namespace liftcheck {
 

@@ -1,6 +1,6 @@
 // The two-disk scenarios (Farber, Kurz, Pillin, sections 3, 5, 6). Expected values come from the
 // paper's closed forms where it has them, otherwise from the lift (21) integrated in models/.
-#include "harness/disk_scenarios.hpp"
+#include "scenarios/disk_scenarios.hpp"
 
 #include <cmath>
 #include <fmt/format.h>

@@ -1,11 +1,11 @@
-#include "harness/params.hpp"
+#include "input/params.hpp"
 
 #include <charconv>
 #include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
-#include "harness/suggest.hpp"
+#include "input/suggest.hpp"
 
 namespace liftcheck {
 

@@ -1,6 +1,6 @@
 #pragma once
 #include <vector>
-#include "harness/scenario.hpp"
+#include "scenarios/scenario.hpp"
 namespace liftcheck {
 /// car.circle, car.cycle, car.iterated, car.iterated-beta, car.steer-in-place, car.reparam.
 std::vector<Scenario> car_scenarios();

@@ -1,4 +1,4 @@
-#include "harness/suggest.hpp"
+#include "input/suggest.hpp"
 
 #include <algorithm>
 #include <cctype>

@@ -1,11 +1,11 @@
-#include "harness/results_file.hpp"
+#include "input/results_file.hpp"
 
 #include <fmt/format.h>
 #include <fstream>
 #include <sstream>
 
-#include "harness/params.hpp"
-#include "harness/trace.hpp"
+#include "input/params.hpp"
+#include "input/trace.hpp"
 
 namespace liftcheck {
 

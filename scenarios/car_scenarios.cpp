@@ -4,8 +4,8 @@
 #include <fmt/format.h>
 #include <numbers>
 
-#include "harness/car_scenarios.hpp"
-#include "harness/fit.hpp"
+#include "scenarios/car_scenarios.hpp"
+#include "scenarios/fit.hpp"
 #include "models/holonomy.hpp"
 #include "models/lift.hpp"
 

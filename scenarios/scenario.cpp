@@ -1,4 +1,4 @@
-#include "harness/scenario.hpp"
+#include "scenarios/scenario.hpp"
 
 #include <fmt/format.h>
 

@@ -1,4 +1,4 @@
-#include "harness/fit.hpp"
+#include "scenarios/fit.hpp"
 
 #include <cmath>
 #include <stdexcept>

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "engines/engine.hpp"
-#include "harness/params.hpp"
+#include "input/params.hpp"
 
 namespace liftcheck {
 

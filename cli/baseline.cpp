@@ -1,0 +1,36 @@
+#include "cli/baseline.hpp"
+
+#include <fmt/format.h>
+#include <iostream>
+#include <set>
+
+#include "input/params.hpp"  // InputError
+#include "input/results_diff.hpp"
+#include "input/results_file.hpp"
+
+namespace liftcheck::cli {
+
+nlohmann::json read_baseline(const std::string& path, bool update_baseline) {
+  if (update_baseline && path.empty()) throw InputError("--update-baseline needs --baseline FILE");
+  return !path.empty() && !update_baseline ? read_results(path) : nlohmann::json();
+}
+
+int compare_with_baseline(nlohmann::json& results, const std::string& path, const nlohmann::json& baseline) {
+  std::set<std::pair<std::string, std::string>> ran;
+  for (const auto& r : results["runs"]) ran.insert({r["scenario"].get<std::string>(), r["engine"].get<std::string>()});
+  nlohmann::json base = baseline;
+  base["runs"] = nlohmann::json::array();
+  for (const auto& r : baseline["runs"])
+    if (ran.count({r["scenario"].get<std::string>(), r["engine"].get<std::string>()})) base["runs"].push_back(r);
+  nlohmann::json d;
+  try {
+    d = diff_results(base, results);
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(fmt::format("'{}' is not a liftcheck baseline: {}", path, e.what()));
+  }
+  results["baseline"] = {{"file", path}, {"diff", d}};
+  std::cout << "against the baseline " << path << ":\n" << diff_text(d);
+  return static_cast<int>(d["regressions"].size() + d["worse"].size());
+}
+
+}  // namespace liftcheck::cli

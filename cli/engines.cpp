@@ -1,0 +1,50 @@
+// liftcheck engines: every configuration with its description and settings.
+#include <fmt/format.h>
+#include <iostream>
+
+#include "cli/command.hpp"
+#include "engines/protocol/outside.hpp"
+#include "harness/results.hpp"
+
+namespace liftcheck::cli {
+
+namespace {
+
+/// Every configuration: what it is, the fixed settings it applies and the ones --set may change.
+int cmd_engines(bool json) {
+  const std::vector<EngineInfo>& all_engines = described_engines();  // outside ones: their hello read
+  close_idle_children();
+  if (json) {
+    std::cout << context_json([&] {
+      std::vector<const EngineInfo*> all;
+      for (const auto& e : all_engines) all.push_back(&e);
+      return all;
+    }(), 0.0)["engines"].dump(2) << "\n";
+    return 0;
+  }
+  for (const auto& e : all_engines) {
+    std::vector<std::string> vehicles;
+    if (e.make_car) vehicles.push_back("car");
+    if (e.make_disks) vehicles.push_back("disks");
+    if (!e.unavailable.empty()) vehicles = {"UNAVAILABLE"};
+    std::cout << fmt::format("{}  [{} {}; {}{}; {}; colour {}{}]\n  {}\n", e.name, e.library, e.version, fmt::join(vehicles, ", "),
+                             e.is_reference ? "; the reference" : "", e.precision, e.color,
+                             e.registration.empty() ? "" : "; outside: " + e.registration, e.description);
+    for (const auto& [k, v] : e.settings) std::cout << fmt::format("    {:<22} {}\n", k, v);
+    for (const SettingSpec& k : e.knobs)
+      std::cout << fmt::format("    --set {:<16} {} ({}): {}; default {}, {}\n", k.key, k.vehicle, k.kind == SettingSpec::kChoice ? "choice" : k.kind == SettingSpec::kInteger ? "integer" : "real",
+                               k.help, k.default_text, k.range_text());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command add_engines(CLI::App& app) {
+  auto json = std::make_shared<bool>(false);
+  auto* engines_cmd = app.add_subcommand("engines", "list every engine configuration with its description and settings");
+  engines_cmd->add_flag("--json", *json, "print JSON");
+  return {engines_cmd, [json] { return cmd_engines(*json); }, false};
+}
+
+}  // namespace liftcheck::cli

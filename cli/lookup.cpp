@@ -1,0 +1,87 @@
+#include "cli/lookup.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+#include <iostream>
+#include <sstream>
+
+#include "cli/interrupts.hpp"
+#include "engines/protocol/outside.hpp"
+#include "input/suggest.hpp"
+
+namespace liftcheck::cli {
+
+std::vector<std::string> split_list(const std::string& s) {
+  std::vector<std::string> out;
+  std::stringstream ss(s);
+  std::string item;
+  while (std::getline(ss, item, ','))
+    if (!item.empty()) out.push_back(item);
+  return out;
+}
+
+const Scenario& scenario_or_throw(const std::string& name) {
+  if (const Scenario* s = find_scenario(name)) return *s;
+  std::vector<std::string> names;
+  for (const auto& s : scenarios()) names.push_back(s.name);
+  throw InputError(fmt::format("unknown scenario '{}' (see 'liftcheck list'){}", printable(name), did_you_mean(name, names)));
+}
+
+const EngineInfo& engine_or_throw(const std::string& name) {
+  if (const EngineInfo* e = find_engine(name)) return *e;
+  std::vector<std::string> names;
+  for (const auto& e : engines()) names.push_back(e.name);
+  throw InputError(fmt::format("unknown engine configuration '{}' (available: {}){}", printable(name), fmt::join(names, ", "), did_you_mean(name, names)));
+}
+
+Overrides overrides_or_throw(const std::vector<std::string>& sets, const Scenario& s, const EngineInfo* e) {
+  Overrides ov;
+  for (const auto& a : sets) ov.push_back(split_assignment(a));
+  std::vector<std::string> own, all;
+  for (const auto& p : s.params) own.push_back(p.key), all.push_back(p.key);
+  for (const auto& engine : engines())
+    for (const SettingSpec& k : engine.knobs)
+      if (k.vehicle == s.vehicle) {
+        all.push_back(k.key);
+        if (!e || e == &engine) own.push_back(k.key);
+      }
+  for (const auto& [key, value] : ov)
+    if (std::find(all.begin(), all.end(), key) == all.end())
+      throw InputError(fmt::format("unknown parameter '{}' for scenario '{}'{}", printable(key), s.name, did_you_mean(key, own)));
+  return ov;
+}
+
+RunnerDef runner_def(int jobs, double timeout_s) {
+  if (jobs < 1) throw InputError(fmt::format("--jobs {} must be at least 1", jobs));
+  if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) throw InputError(fmt::format("--timeout {} must be a positive number of seconds", timeout_s));
+  RunnerDef r;
+  r.jobs = jobs;
+  r.timeout_s = timeout_s;
+  r.stop = [] { return pending_signal() != 0; };
+  // Outside engines' replies are bounded by the run's limit, here and in the worker processes.
+  set_protocol_timeout(timeout_s);
+  setenv("LIFTCHECK_RUN_TIMEOUT_S", fmt::format("{}", timeout_s).c_str(), 1);
+  return r;
+}
+
+void print_record(const nlohmann::json& r) {
+  const std::string message = r["message"];
+  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), r["verdict"].get<std::string>(),
+                           message.empty() ? "" : " (" + message + ")");
+  if (r["expectation"].is_object())
+    std::cout << fmt::format("  {}: {}\n  measured when reviewed: {}\n",
+                             r["as_expected"].get<bool>() ? "known failure" : "listed as a known failure (harness/expectations.json)",
+                             r["expectation"]["reason"].get<std::string>(), r["expectation"]["measured"].get<std::string>());
+  std::cout << fmt::format("  {:<20} {:>14} {:>14} {:>10} {:>10} {:>10}  {}\n", "metric", "expected", "measured",
+                           "abs_err", "rel_err", "tolerance", "");
+  const auto num = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  const nlohmann::json metrics = r["metrics"];
+  for (const auto& [name, m] : metrics.items())
+    std::cout << fmt::format("  {:<20} {:>14.8g} {:>14.8g} {:>10.3g} {:>10.3g} {:>6.3g} {:<3} {} {}\n", name,
+                             num(m["expected"]), num(m["measured"]), num(m["abs_error"]), num(m["rel_error"]), num(m["tolerance"]),
+                             m["tolerance_kind"].get<std::string>(), m["unit"].get<std::string>(),
+                             m.value("informational", false) ? "info" : m["pass"].get<bool>() ? "ok" : "FAIL");
+}
+
+}  // namespace liftcheck::cli

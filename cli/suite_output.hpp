@@ -1,0 +1,24 @@
+// What validate and merge write once a suite's records are assembled: the sweeps' gates, the
+// baseline comparison, results.json, junit.xml, summary.md and the report, and the exit status.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "cli/staged_output.hpp"
+
+namespace liftcheck::cli {
+
+/// Where and what validate and merge write.
+struct OutputOptions {
+  std::string out_dir;
+  bool report = true;
+  std::string baseline_path;  ///< compare with it (or rewrite it)
+  bool update_baseline = false;
+};
+
+/// The sweeps' gates, the baseline comparison (of the runs made only: a filtered or sharded run
+/// compares its share), then results.json, junit.xml, summary.md and the report; the exit status.
+int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann::json& baseline, StagedOutput& staged);
+
+}  // namespace liftcheck::cli

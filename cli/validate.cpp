@@ -1,0 +1,165 @@
+// liftcheck validate: every scenario on every configuration (or a filtered share), the sweeps, the
+// report.
+#include <chrono>
+#include <fmt/format.h>
+#include <iostream>
+#include <thread>
+
+#include "engines/protocol/outside.hpp"
+#include "cli/baseline.hpp"
+#include "cli/command.hpp"
+#include "cli/interrupts.hpp"
+#include "cli/lookup.hpp"
+#include "cli/progress.hpp"
+#include "cli/shard.hpp"
+#include "cli/suite_output.hpp"
+#include "harness/results.hpp"
+
+namespace liftcheck::cli {
+
+namespace {
+
+struct ValidateOptions {
+  std::string engine_list, filter = "*", trace_dir, shard;
+  std::vector<std::string> sets;
+  bool no_sweeps = false, no_report = false;
+  OutputOptions out{"build/report"};
+  int jobs = 1;
+  double timeout_s = 120.0;
+};
+
+SuiteDef suite_def(const ValidateOptions& v, const RunnerDef& runner) {
+  SuiteDef def;
+  if (v.engine_list.empty()) {
+    for (const auto& e : described_engines()) def.engines.push_back(&e);
+  } else {
+    for (const auto& n : split_list(v.engine_list)) def.engines.push_back(&engine_or_throw(n));
+  }
+  close_idle_children();  // the workers start their own
+  def.globs = split_list(v.filter);
+  def.sweeps = !v.no_sweeps;
+  def.timeout_s = runner.timeout_s;
+  for (const auto& a : v.sets) def.set.push_back(split_assignment(a));
+  return def;
+}
+
+/// The records of a share by key, with what they cost in engine seconds.
+struct Ran {
+  std::map<std::string, nlohmann::json> by_key;
+  double wall_s = 0.0, runs_s = 0.0, points_s = 0.0;
+  std::map<std::string, double> cost_by_part, cost_by_config;
+};
+
+/// One line per run as it ends (the points only count), the progress line between.
+Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner) {
+  Ran ran;
+  const auto t0 = std::chrono::steady_clock::now();
+  Progress progress;
+  std::vector<nlohmann::json> records;
+  const auto done = [&](size_t i, const nlohmann::json& r) {
+    const SuiteItem& it = plan.items[i];
+    (it.kind == SuiteItem::kRun ? ran.runs_s : ran.points_s) += r["wall_s"].get<double>();
+    // Where the time goes: engine seconds by part of the suite and by configuration.
+    const std::string part = it.kind == SuiteItem::kRun ? "runs" : it.key.substr(0, it.key.find('/', it.key.find('/') + 1));
+    ran.cost_by_part[part.rfind("outcomes/", 0) == 0 ? "outcomes" : part] += r["wall_s"].get<double>();
+    ran.cost_by_config[it.engine->name] += r["wall_s"].get<double>();
+    if (it.kind != SuiteItem::kRun) return;
+    progress.clear();
+    const bool known = r["expectation"].is_object() && r["as_expected"].get<bool>();
+    std::cout << fmt::format("{:<15} {:<22} {:<16} {:8.3f} s  {}{}\n", r["verdict"].get<std::string>(), it.scenario->name, it.engine->name,
+                             r["wall_s"].get<double>(), r["message"].get<std::string>(),
+                             known ? fmt::format(" (known: {})", r["expectation"]["reason"].get<std::string>()) : "");
+  };
+  try {
+    records = run_items(plan, which, runner, done, [&](size_t n, size_t total) { progress.update(n, total); });
+  } catch (const RunnerStopped& e) {
+    progress.clear();
+    throw Interrupted(pending_signal(), e.what());
+  }
+  progress.clear();
+  ran.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  for (size_t k = 0; k < which.size(); ++k) ran.by_key[plan.items[which[k]].key] = records[k];
+  return ran;
+}
+
+/// A share: its runs and the records of its points, which merge assembles with the others'.
+nlohmann::json shard_results(const SuitePlan& plan, const std::vector<size_t>& which, const Ran& ran, const nlohmann::json& context,
+                             int shard_index, int shard_total) {
+  nlohmann::json runs = nlohmann::json::array(), points = nlohmann::json::object();
+  for (size_t i : which)
+    (plan.items[i].kind == SuiteItem::kRun ? runs.push_back(ran.by_key.at(plan.items[i].key)) : (void)(points[plan.items[i].key] = ran.by_key.at(plan.items[i].key)));
+  nlohmann::json results = results_from_records(runs, context);
+  results["sweeps"] = nlohmann::json::array();
+  results["maps"] = nlohmann::json::array();
+  results["shard"] = {{"index", shard_index}, {"total", shard_total}, {"items", which.size()}};
+  nlohmann::json keys = nlohmann::json::array();
+  for (const SuiteItem& it : plan.items) keys.push_back(it.key);
+  results["plan"] = {{"selection", plan.selection()}, {"keys", keys}};
+  results["points"] = points;
+  results["scenarios"] = nlohmann::json::array();
+  for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
+  std::cout << fmt::format("shard {}/{}: {} of {} runs and points ({} sweep, outcome and map points; their gates are judged at merge)\n",
+                           shard_index, shard_total, which.size(), plan.items.size(), points.size());
+  return results;
+}
+
+int cmd_validate(const ValidateOptions& v) {
+  const OutputOptions& o = v.out;
+  const nlohmann::json baseline = read_baseline(o.baseline_path, o.update_baseline);
+  const auto [shard_index, shard_total] = parse_shard(v.shard);
+  const RunnerDef runner = runner_def(v.jobs, v.timeout_s);
+  SuiteDef def = suite_def(v, runner);
+  std::vector<const EngineInfo*> listed = def.engines;
+  TraceFolder outside;
+  if (!v.trace_dir.empty()) {
+    if (shard_total > 0) throw InputError("--trace-dir cannot be sharded: score the traces in one run");
+    outside = read_trace_folder(v.trace_dir, def.globs);
+    def.traces = outside.traces;
+    def.external_name = outside.engine.name;
+    listed.push_back(&outside.engine);
+  }
+  const SuitePlan plan = plan_suite(def);
+  StagedOutput staged(o.out_dir);
+  staged.refuse_inside(o.baseline_path, "--baseline");
+
+  const std::vector<size_t> which = shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
+  Ran ran = run_share(plan, which, runner);
+  nlohmann::json context = context_json(listed, ran.wall_s);
+  context["runs_s"] = ran.runs_s;
+  context["points_s"] = ran.points_s;
+  context["engine_s_by_part"] = ran.cost_by_part;
+  context["engine_s_by_configuration"] = ran.cost_by_config;
+  context["jobs"] = runner.jobs;
+  context["timeout_s"] = runner.timeout_s;
+  context["set"] = nlohmann::json::object();
+  for (const auto& [key, value] : def.set) context["set"][key] = value;
+  nlohmann::json results = shard_total > 0 ? shard_results(plan, which, ran, context, shard_index, shard_total)
+                                           : suite_results(plan, ran.by_key, context);
+  return finish_suite(results, o, baseline, staged);
+}
+
+}  // namespace
+
+Command add_validate(CLI::App& app) {
+  auto v = std::make_shared<ValidateOptions>();
+  v->jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  auto* validate = app.add_subcommand("validate", "run every scenario on every engine and write the report");
+  validate->add_option("--engines", v->engine_list, "comma-separated engine configurations (default: all; see 'liftcheck engines')");
+  validate->add_option("--filter", v->filter, "glob on scenario names (comma-separated globs: any may match)")->capture_default_str();
+  validate->add_option("--out", v->out.out_dir, "output folder")->capture_default_str();
+  validate->add_option("--baseline", v->out.baseline_path, "compare the runs made with this baseline (reports/baselines/default.json): a regression or a metric grown tenfold exits 1");
+  validate->add_flag("--update-baseline", v->out.update_baseline, "rewrite the --baseline file from this run instead of comparing");
+  validate->add_option("--set", v->sets, "KEY=VALUE for every run whose scenario has that parameter or whose configuration has that setting (repeatable; the sweeps keep their own values)")->allow_extra_args(false);
+  validate->add_option("--trace-dir", v->trace_dir, "score every SCENARIO.csv (or .json) in this folder as a run of the configuration named after it");
+  validate->add_flag("--no-sweeps", v->no_sweeps, "skip the parameter sweeps");
+  validate->add_flag("--no-report", v->no_report, "write results.json only (no snapshots, plots or HTML)");
+  validate->add_option("--jobs,-j", v->jobs, "runs at once (default: the number of cores)")->capture_default_str();
+  validate->add_option("--timeout", v->timeout_s, "wall-clock limit of each run or sweep point in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
+  validate->add_option("--shard", v->shard, "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");
+  return {validate, [v] {
+            v->out.report = !v->no_report;
+            return cmd_validate(*v);
+          }};
+}
+
+}  // namespace liftcheck::cli
