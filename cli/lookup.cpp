@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "cli/interrupts.hpp"
+#include "engines/protocol/outside.hpp"
 #include "input/suggest.hpp"
 
 namespace liftcheck::cli {
@@ -58,6 +59,9 @@ RunnerDef runner_def(int jobs, double timeout_s) {
   r.jobs = std::min(jobs, usable_cores());  // more would only queue for the same cores
   r.timeout_s = timeout_s;
   r.stop = [] { return pending_signal() != 0; };
+  // Outside engines' replies are bounded by the run's limit, here and in the worker processes.
+  set_protocol_timeout(timeout_s);
+  setenv("LIFTCHECK_RUN_TIMEOUT_S", fmt::format("{}", timeout_s).c_str(), 1);
   return r;
 }
 

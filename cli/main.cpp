@@ -9,6 +9,8 @@
 
 #include "cli/command.hpp"
 #include "cli/interrupts.hpp"
+#include "engines/engine.hpp"
+#include <fmt/ranges.h>
 #include "input/params.hpp"  // InputError
 #include "liftcheck_version.hpp"
 
@@ -27,15 +29,34 @@ bool stdout_written() {
   return ok;
 }
 
+/// --engine-dir DIR (anywhere on the command line) joins LIFTCHECK_ENGINE_PATH before the registry
+/// is first read, and so reaches the worker processes too.
+void engine_dirs_from_args(int argc, char** argv) {
+  std::vector<std::string> dirs;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--engine-dir" && i + 1 < argc) dirs.push_back(argv[++i]);
+    else if (a.rfind("--engine-dir=", 0) == 0) dirs.push_back(a.substr(13));
+  }
+  if (dirs.empty()) return;
+  if (const char* old = std::getenv("LIFTCHECK_ENGINE_PATH"); old && *old) dirs.push_back(old);
+  setenv("LIFTCHECK_ENGINE_PATH", fmt::format("{}", fmt::join(dirs, ":")).c_str(), 1);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  engine_dirs_from_args(argc, argv);
   CLI::App app{"liftcheck: validates physics engines against exact kinematics (rolling without slipping, "
                "reaction mechanisms)"};
   app.require_subcommand(1);
+  app.fallthrough();  // --engine-dir after the subcommand
+  std::vector<std::string> engine_dir_args;  // read before parsing (engine_dirs_from_args)
+  app.add_option("--engine-dir", engine_dir_args, "a folder of outside engine registrations, NAME.json (docs/protocol.md; also LIFTCHECK_ENGINE_PATH)");
   app.set_version_flag("--version", std::string(LIFTCHECK_VERSION_STRING));
   const std::vector<Command> commands = {add_list(app), add_engines(app), add_run(app),   add_validate(app), add_merge(app),
-                                         add_worker(app), add_path(app),  add_score(app), add_diff(app)};
+                                         add_worker(app), add_path(app),  add_score(app), add_diff(app),
+                                         add_serve(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -49,6 +70,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    if (!registration_problems().empty()) throw InputError(registration_problems().front());
     for (const Command& c : commands) {
       if (!*c.app) continue;
       if (c.interruptible) catch_interrupts();

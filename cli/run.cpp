@@ -5,6 +5,7 @@
 #include "cli/command.hpp"
 #include "cli/interrupts.hpp"
 #include "cli/lookup.hpp"
+#include "engines/protocol/outside.hpp"
 
 namespace liftcheck::cli {
 
@@ -12,7 +13,9 @@ namespace {
 
 int cmd_run(const std::string& scenario, const std::string& engine, const std::vector<std::string>& sets, bool json, double timeout_s) {
   const Scenario& s = scenario_or_throw(scenario);
+  const RunnerDef runner = runner_def(1, timeout_s);
   const EngineInfo& e = engine_or_throw(engine);
+  close_idle_children();  // its worker starts its own
   const Overrides ov = overrides_or_throw(sets, s, &e);
   // Bad names and values are input errors here, not error records.
   (void)Params::resolve(s.params, split_settings(s, e, ov).first, s.name);
@@ -24,7 +27,7 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   plan.items.push_back(item);
   std::vector<nlohmann::json> records;
   try {
-    records = run_items(plan, {0}, runner_def(1, timeout_s), [](size_t, const nlohmann::json&) {});
+    records = run_items(plan, {0}, runner, [](size_t, const nlohmann::json&) {});
   } catch (const RunnerStopped& e) {
     throw Interrupted(pending_signal(), e.what());
   }

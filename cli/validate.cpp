@@ -5,6 +5,7 @@
 #include <iostream>
 #include <thread>
 
+#include "engines/protocol/outside.hpp"
 #include "cli/baseline.hpp"
 #include "cli/command.hpp"
 #include "cli/interrupts.hpp"
@@ -30,10 +31,11 @@ struct ValidateOptions {
 SuiteDef suite_def(const ValidateOptions& v, const RunnerDef& runner) {
   SuiteDef def;
   if (v.engine_list.empty()) {
-    for (const auto& e : engines()) def.engines.push_back(&e);
+    for (const auto& e : described_engines()) def.engines.push_back(&e);
   } else {
     for (const auto& n : split_list(v.engine_list)) def.engines.push_back(&engine_or_throw(n));
   }
+  close_idle_children();  // the workers start their own
   def.globs = split_list(v.filter);
   def.sweeps = !v.no_sweeps;
   def.timeout_s = runner.timeout_s;

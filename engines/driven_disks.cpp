@@ -31,8 +31,11 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     fastest_commanded_mps = std::max({fastest_commanded_mps, vM_cmd.norm(), vN.norm()});
     stepped_s_ += h;
     // The collision pass ran on the state at t, whose distance is d.
-    const bool first = c.count > 0 && !r.t_contact_s;
-    if (c.count > 0) {
+    // Contact is what the engine's collision pass reports as touching: a speculative contact it
+    // generated ahead of touching (an outside engine reports its signed distance) is not one yet.
+    const bool touching = c.count > 0 && !(c.distance_min_m > touching_distance_m());
+    const bool first = touching && !r.t_contact_s;
+    if (touching) {
       if (first) {
         r.t_contact_s = t;
         r.contact_state = disks::Sample{t, s.cM, s.cN};

@@ -278,6 +278,8 @@ EngineInfo outside_engine(const std::string& name, const std::string& descriptio
 EngineInfo replay_engine(const std::string& name, const Scenario& scenario, const Trace& trace) {
   EngineInfo e = outside_engine(name, fmt::format("a simulator outside liftcheck, scored from its trace ({})", trace.file));
   e.settings = {{"trace", trace.file}};
+  e.precision = trace.precision;  // the trace header's, float64 unless it says otherwise
+  for (const auto& [k, v] : trace.settings) e.settings.emplace_back("setting " + k, v);
   const std::string sc = scenario.name;
   if (scenario.vehicle == "car") e.make_car = [sc, trace](const Settings&) { return std::make_unique<ReplayCar>(sc, trace); };
   else e.make_disks = [sc, trace](const Settings&) { return std::make_unique<ReplayDisks>(sc, trace); };

@@ -182,6 +182,10 @@ std::string_view utf8_text(const std::string& text, const std::string& file) {
   return v;
 }
 
+std::string header_precision(const std::string& p, const std::string& where) {
+  if (p != "float32" && p != "float64") throw InputError(fmt::format("{}: precision '{}' must be float32 or float64", where, printable(p)));
+  return p;
+}
 }  // namespace
 
 Trace parse_trace(const std::string& whole, const std::string& file, const std::string& vehicle) {
@@ -196,6 +200,17 @@ Trace parse_trace(const std::string& whole, const std::string& file, const std::
     const auto it = j.is_object() ? j.find("rows") : j.end();
     const json& rows = !j.is_object() ? j : it != j.end() ? *it : kNone;  // a reference: no copy of the document
     if (!rows.is_array()) throw InputError(fmt::format("{}: JSON trace needs an array of rows (or {{\"rows\": [...]}})", tr.file));
+    if (j.is_object() && j.contains("precision")) {
+      if (!j["precision"].is_string()) throw InputError(fmt::format("{}: 'precision' must be \"float32\" or \"float64\"", tr.file));
+      tr.precision = header_precision(j["precision"].get<std::string>(), tr.file);
+    }
+    if (j.is_object() && j.contains("settings")) {
+      if (!j["settings"].is_object()) throw InputError(fmt::format("{}: 'settings' must be an object of strings", tr.file));
+      for (const auto& [k, v] : j["settings"].items()) {
+        if (!v.is_string()) throw InputError(fmt::format("{}: setting '{}' must be a string", tr.file, printable(k)));
+        tr.settings.emplace_back(printable(k), printable(v.get<std::string>()));
+      }
+    }
     int i = 0;
     for (const auto& r : rows) {
       ++i;
@@ -221,7 +236,18 @@ Trace parse_trace(const std::string& whole, const std::string& file, const std::
     while (std::getline(lines, line)) {
       if ((++n & 0xFFFF) == 0) throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", tr.file); });
       const std::string t = trim(line);
-      if (t.empty() || t[0] == '#') continue;
+      if (!t.empty() && t[0] == '#') {
+        const std::string c = trim(t.substr(1));
+        if (c.rfind("precision:", 0) == 0) tr.precision = header_precision(trim(c.substr(10)), fmt::format("{}:{}", tr.file, n));
+        if (c.rfind("setting:", 0) == 0) {
+          const std::string kv = trim(c.substr(8));
+          const std::size_t eq = kv.find('=');
+          if (eq == std::string::npos || eq == 0) throw InputError(fmt::format("{}:{}: '# setting:' needs KEY=VALUE", tr.file, n));
+          tr.settings.emplace_back(printable(trim(kv.substr(0, eq))), printable(trim(kv.substr(eq + 1))));
+        }
+        continue;
+      }
+      if (t.empty()) continue;
       std::vector<std::string> cells;
       std::size_t from = 0;
       for (std::size_t comma; (comma = t.find(',', from)) != std::string::npos; from = comma + 1) cells.push_back(trim(t.substr(from, comma - from)));

@@ -19,6 +19,11 @@ const std::vector<std::string>& trace_columns(const std::string& vehicle);
 struct Trace {
   std::string file;
   std::vector<std::vector<double>> rows;  ///< in trace_columns(vehicle) order
+  /// What the simulator says of itself, optional: CSV comment lines `# precision: float32` and
+  /// `# setting: KEY=VALUE`, or JSON {"precision": ..., "settings": {KEY: VALUE}} beside "rows".
+  /// The precision scales bookkeeping tolerances as for a stepped engine; settings are recorded.
+  std::string precision = "float64";
+  std::vector<std::pair<std::string, std::string>> settings;
 };
 
 /// Reads CSV (a header naming the columns, '#' comments) or JSON (an array of objects with the

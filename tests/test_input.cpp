@@ -128,6 +128,25 @@ TEST(Trace, CsvNamesLineColumnAndProblem) {
   EXPECT_EQ(tr.rows[1], (std::vector<double>{0.01, 1, 2, 3, 4, 5}));
 }
 
+// The trace header may say the simulator's precision and settings (the road of a trace learns
+// what a stepped engine's hello says); without one a trace is float64 with no settings.
+TEST(Trace, HeaderCarriesPrecisionAndSettings) {
+  const std::string rows = "t,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.01,0,0,0,0,0\n";
+  const Trace plain = parse_trace(rows, "trace.csv", "car");
+  EXPECT_EQ(plain.precision, "float64");
+  EXPECT_TRUE(plain.settings.empty());
+  const Trace csv = parse_trace("# precision: float32\n# setting: iterations=20\n" + rows, "trace.csv", "car");
+  EXPECT_EQ(csv.precision, "float32");
+  EXPECT_EQ(csv.settings, (std::vector<std::pair<std::string, std::string>>{{"iterations", "20"}}));
+  EXPECT_EQ(trace_error("# precision: half\n" + rows), "trace.csv:1: precision 'half' must be float32 or float64");
+  EXPECT_EQ(trace_error("# setting: iterations\n" + rows), "trace.csv:1: '# setting:' needs KEY=VALUE");
+  const Trace js = parse_trace(R"({"precision": "float32", "settings": {"solver": "pgs"}, "rows": [
+      {"t": 0, "alpha": 0, "beta": 0, "x": 0, "y": 0, "phi": 0}, {"t": 0.01, "alpha": 0, "beta": 0, "x": 0, "y": 0, "phi": 0}]})",
+                               "trace.json", "car");
+  EXPECT_EQ(js.precision, "float32");
+  EXPECT_EQ(js.settings, (std::vector<std::pair<std::string, std::string>>{{"solver", "pgs"}}));
+}
+
 TEST(Trace, JsonNamesRowColumnAndProblem) {
   EXPECT_EQ(trace_error(R"([{"t": 0, "cMx": 0, "cMy": 0, "cNx": 3, "cNy": 0}, {"t": 1, "cMx": "0", "cMy": 0, "cNx": 3, "cNy": 0}])", "disks"),
             "trace.csv: row 2: column 'cMx' is not a finite number");
