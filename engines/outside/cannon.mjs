@@ -59,6 +59,7 @@ const GROUND = 1, WHEEL = 2;
 let car = null, disks = null;
 
 function buildCar(req) {
+  car = disks = null;  // a build that fails leaves no world to step
   const iterations = C.applySettings(KNOBS, req.settings, 'car').iterations;
   const { car: d, q0, servo, mu, dt_s, gravity_W } = C.carRequest(req);
   const world = new CANNON.World({ gravity: vec(gravity_W) });
@@ -106,6 +107,7 @@ function stepCar(req) {
 }
 
 function buildDisks(req) {
+  car = disks = null;
   C.applySettings(KNOBS, req.settings, 'disks');
   const { radius_m, cM0, cN0 } = C.diskRequest(req);
   const world = new CANNON.World({ gravity: vec([0, 0, 0]) });

@@ -73,6 +73,7 @@ async function checkCar(request, settings) {
     q0: { x_m: 0, y_m: 0, phi_rad: 0, beta_rad: beta0 }, servo: { spin_torque_max_Nm: 500, steer_torque_max_Nm: 500 } });
   const radius = l / Math.sin(beta0), lap_s = (2 * Math.PI * radius) / speed;
   let alpha = 0, engine_s = 0, steps = 0, path_m = 0, last = null;
+  const across = [0, 0, 0];  // largest sideways slip of each wheel's contact point, m/s
   const pts = [];
   const t0 = process.hrtime.bigint();
   const settle = Math.round(0.5 / dt), drive = Math.round(lap_s / dt);
@@ -87,12 +88,21 @@ async function checkCar(request, settings) {
     if (driving && last) path_m += Math.hypot(s.x_m - last[0], s.y_m - last[1]);
     if (driving) last = [s.x_m, s.y_m];
     if (driving && k % 10 === 0) pts.push([s.x_m, s.y_m]);
+    if (driving) s.wheels.forEach((w, i) => { across[i] = Math.max(across[i], Math.abs(sideSlip(w))); });
   }
   const wall_s = Number(process.hrtime.bigint() - t0) * 1e-9;
   const fitted = fitCircle(pts);
   console.log(`car:   fitted radius ${fitted.toFixed(5)} m, l/sin(beta0) ${radius.toFixed(5)} m, ` +
     `error ${((fitted / radius - 1) * 100).toFixed(3)} %; path ${((path_m / (speed * (drive - 1) * dt) - 1) * 100).toFixed(3)} % against v t; final beta ${s.steer_rad[0].toFixed(4)} rad, wheel z ${s.z_m.toFixed(5)} m`);
+  console.log(`       sideways slip of the contact points at most ${across.map((v) => (v * 1e3).toFixed(2)).join(', ')} mm/s (front, rear left, rear right)`);
   console.log(`       engine ${(engine_s / steps * 1e6).toFixed(1)} us/step, round trip ${(wall_s / steps * 1e6).toFixed(1)} us/step (${steps} steps)`);
+}
+
+/// The sideways speed of a wheel's contact point straight below its hub (v + w x (0, 0, -z)) along
+/// its horizontal axle.
+function sideSlip({ v_hub_W: v, omega_W: w, axle_W: a, hub_z_m: z }) {
+  const vc = [v[0] - w[1] * z, v[1] + w[0] * z], n = Math.hypot(a[0], a[1]);
+  return (vc[0] * a[0] + vc[1] * a[1]) / n;
 }
 
 function wrap(a) {

@@ -104,6 +104,7 @@ ${option(dt_s, gravity_W)}
 }
 
 function buildCar(req) {
+  car = disks = null;  // a build that fails leaves no world to step
   C.applySettings([], req.settings, 'car');
   const r = C.carRequest(req);
   const id = compile(carXml(r));
@@ -169,6 +170,7 @@ ${option(dt_s, [0, 0, 0])}
 }
 
 function buildDisks(req) {
+  car = disks = null;
   C.applySettings([], req.settings, 'disks');
   const r = C.diskRequest(req);
   const id = compile(disksXml(r));

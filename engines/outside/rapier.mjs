@@ -66,6 +66,7 @@ function revolute(a, b, anchorA, axis, motorMax_Nm) {
 }
 
 function buildCar(req) {
+  car = disks = null;  // a build that fails leaves no world to step
   const s = C.applySettings(KNOBS, req.settings, 'car');
   const { car: d, q0, servo, mu, dt_s, gravity_W } = C.carRequest(req);
   newWorld(gravity_W, dt_s);
@@ -112,6 +113,7 @@ function stepCar(req) {
 }
 
 function buildDisks(req) {
+  car = disks = null;
   C.applySettings(KNOBS, req.settings, 'disks');
   const { radius_m, dt_s, cM0, cN0 } = C.diskRequest(req);
   newWorld([0, 0, 0], dt_s);
