@@ -73,7 +73,7 @@ async function checkCar(request, settings) {
     q0: { x_m: 0, y_m: 0, phi_rad: 0, beta_rad: beta0 }, servo: { spin_torque_max_Nm: 500, steer_torque_max_Nm: 500 } });
   const radius = l / Math.sin(beta0), lap_s = (2 * Math.PI * radius) / speed;
   let alpha = 0, engine_s = 0, steps = 0, path_m = 0, last = null;
-  const across = [0, 0, 0];  // largest sideways slip of each wheel's contact point, m/s
+  const across = [0, 0, 0], across_sq = [0, 0, 0];  // sideways slip of each wheel's contact point: largest, sum of squares
   const pts = [];
   const t0 = process.hrtime.bigint();
   const settle = Math.round(0.5 / dt), drive = Math.round(lap_s / dt);
@@ -88,13 +88,15 @@ async function checkCar(request, settings) {
     if (driving && last) path_m += Math.hypot(s.x_m - last[0], s.y_m - last[1]);
     if (driving) last = [s.x_m, s.y_m];
     if (driving && k % 10 === 0) pts.push([s.x_m, s.y_m]);
-    if (driving) s.wheels.forEach((w, i) => { across[i] = Math.max(across[i], Math.abs(sideSlip(w))); });
+    if (driving) s.wheels.forEach((w, i) => { const u = sideSlip(w); across[i] = Math.max(across[i], Math.abs(u)); across_sq[i] += u * u; });
   }
   const wall_s = Number(process.hrtime.bigint() - t0) * 1e-9;
   const fitted = fitCircle(pts);
   console.log(`car:   fitted radius ${fitted.toFixed(5)} m, l/sin(beta0) ${radius.toFixed(5)} m, ` +
     `error ${((fitted / radius - 1) * 100).toFixed(3)} %; path ${((path_m / (speed * (drive - 1) * dt) - 1) * 100).toFixed(3)} % against v t; final beta ${s.steer_rad[0].toFixed(4)} rad, wheel z ${s.z_m.toFixed(5)} m`);
-  console.log(`       sideways slip of the contact points at most ${across.map((v) => (v * 1e3).toFixed(2)).join(', ')} mm/s (front, rear left, rear right)`);
+  const mm = (v) => (v * 1e3).toFixed(2);
+  console.log(`       sideways slip of the contact points (front, rear left, rear right): largest ${across.map(mm).join(', ')} mm/s, ` +
+    `rms ${across_sq.map((q) => mm(Math.sqrt(q / drive))).join(', ')} mm/s`);
   console.log(`       engine ${(engine_s / steps * 1e6).toFixed(1)} us/step, round trip ${(wall_s / steps * 1e6).toFixed(1)} us/step (${steps} steps)`);
 }
 
