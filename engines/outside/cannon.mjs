@@ -69,28 +69,35 @@ function buildCar(req) {
   body(world, { mass: 0, shape: new CANNON.Plane(), p: [0, 0, 0], q: [0, 0, 0, 1], group: GROUND, mask: WHEEL, material: groundMat });
 
   const R = d.R_m, l = d.l_m, w = d.track_m;
-  const yaw = C.yawQuat(q0.phi_rad), steerYaw = C.yawQuat(q0.phi_rad + q0.beta_rad);
+  const yaw = C.yawQuat(q0.phi_rad);
   const chassis = body(world, { mass: d.chassis_mass_kg, shape: new CANNON.Box(vec([l / 2, w / 2, d.chassis_height_m / 2])),
     inertia: C.boxInertia(d.chassis_mass_kg, l / 2, w / 2, d.chassis_height_m / 2), p: C.chassisPoint(q0, -l / 2, 0, R), q: yaw, group: 0, mask: 0 });
   const k2 = d.knuckle_mass_kg * C.KNUCKLE_GYRATION_SQ_M2;
-  const knuckle = body(world, { mass: d.knuckle_mass_kg, inertia: [k2, k2, k2], p: C.chassisPoint(q0, 0, 0, R), q: steerYaw, group: 0, mask: 0 });
   const wheel = (p, q) => body(world, { mass: d.wheel_mass_kg, shape: new CANNON.Sphere(R), inertia: C.sphereInertia(d.wheel_mass_kg, R),
     p, q, group: WHEEL, mask: GROUND, material: wheelMat });
-  const front = wheel(C.chassisPoint(q0, 0, 0, R), steerYaw);
-  const rl = wheel(C.chassisPoint(q0, -l, w / 2, R), yaw), rr = wheel(C.chassisPoint(q0, -l, -w / 2, R), yaw);
-  const steer = hinge(world, chassis, knuckle, [l / 2, 0, 0], [0, 0, 1], servo.steer_Nm);
-  const spin = hinge(world, knuckle, front, [0, 0, 0], [0, 1, 0], servo.spin_Nm);
-  hinge(world, chassis, rl, [-l / 2, w / 2, 0], [0, 1, 0]);
-  hinge(world, chassis, rr, [-l / 2, -w / 2, 0], [0, 1, 0]);
-  car = { world, dt_s, chassis, knuckle, front, rl, rr, steer, spin, previous: null };
-  disks = null;
+  // Each front wheel on its knuckle: steering hinge about the chassis z, spin hinge about the knuckle y.
+  const fronts = C.frontWheels(d, q0.beta_rad).map(({ y_m, beta0_rad }) => {
+    const at = C.chassisPoint(q0, 0, y_m, R), q = C.yawQuat(q0.phi_rad + beta0_rad);
+    const knuckle = body(world, { mass: d.knuckle_mass_kg, inertia: [k2, k2, k2], p: at, q, group: 0, mask: 0 });
+    const wheelBody = wheel(at, q);
+    return { knuckle, wheel: wheelBody, steer: hinge(world, chassis, knuckle, [l / 2, y_m, 0], [0, 0, 1], servo.steer_Nm),
+      spin: hinge(world, knuckle, wheelBody, [0, 0, 0], [0, 1, 0], servo.spin_Nm) };
+  });
+  const rears = [1, -1].map((s) => {
+    const b = wheel(C.chassisPoint(q0, -l, s * w / 2, R), yaw);
+    hinge(world, chassis, b, [-l / 2, s * w / 2, 0], [0, 1, 0]);
+    return b;
+  });
+  car = { world, dt_s, chassis, fronts, rears, previous: null };
   return carState(0);
 }
 
+const state = (b) => ({ p: arr(b.position), q: quat(b), v: arr(b.velocity), w: arr(b.angularVelocity) });
+
 function carState(engine_s) {
-  const { chassis, knuckle, front, rl, rr } = car;
-  const bodies = [front, rl, rr].map((b) => ({ p: arr(b.position), q: quat(b), v: arr(b.velocity), w: arr(b.angularVelocity) }));
-  const reply = C.tricycleReply(engine_s, C.twist(quat(knuckle), quat(front), 1), C.twist(quat(chassis), quat(knuckle), 2), quat(chassis), bodies);
+  const { chassis, fronts, rears } = car;
+  const reply = C.carReply(engine_s, fronts.map((f) => C.twist(quat(f.knuckle), quat(f.wheel), 1)),
+    fronts.map((f) => C.twist(quat(chassis), quat(f.knuckle), 2)), quat(chassis), fronts.map((f) => state(f.wheel)), rears.map(state));
   if (opts.fault !== 'stale-pose') return reply;
   const now = { x_m: reply.x_m, y_m: reply.y_m, phi_rad: reply.phi_rad };
   const stale = car.previous ?? now;
@@ -101,8 +108,10 @@ function carState(engine_s) {
 function stepCar(req) {
   const { spin, steer, dt_s } = C.carStep(req);
   // The motor equation holds (w_A - w_B) . axis at its target: B turning by +rate needs -rate.
-  car.spin.setMotorSpeed(-spin);
-  car.steer.setMotorSpeed(-steer);
+  car.fronts.forEach((f, k) => {
+    f.spin.setMotorSpeed(-spin[k]);
+    f.steer.setMotorSpeed(-steer[k]);
+  });
   return carState(timed(() => car.world.step(dt_s)));
 }
 
@@ -156,10 +165,10 @@ function stepDisks(req) {
 
 serve({
   hello: () => ({
-    engine: 'cannon-es', version: VERSION, precision: 'float64', vehicles: ['car', 'disks'], four_wheels: false, settings: KNOBS,
+    engine: 'cannon-es', version: VERSION, precision: 'float64', vehicles: ['car', 'disks'], four_wheels: true, settings: KNOBS,
     fixed: [
       ['stepping', 'world.step(dt) (fixed step, no interpolation); GSSolver, tolerance 1e-7 (default); SPOOK contact stiffness 1e7, relaxation 3 (defaults)'],
-      ['joints', 'HingeConstraint steering (chassis z) and front spin (knuckle y) with rotational motors, torque limit from the request; rear wheels HingeConstraint'],
+      ['joints', 'HingeConstraint steering (chassis z) and front spin (knuckle y) with rotational motors, one knuckle per front wheel (four wheels: each at its Ackermann angle), torque limit from the request; rear wheels HingeConstraint'],
       ['bodies', 'chassis box (collides with nothing), knuckle (no shape, inertia m x 2e-3 m^2), sphere wheels; exact solid inertias set (cannon-es estimates a world-aligned bounding box); damping 0 (default 0.01)'],
       ['friction', 'ContactMaterial(ground, wheel) friction mu, restitution 0 (the materials have no coefficients, so the pair\'s apply); cannon-es bounds friction by mu g times the pair\'s reduced mass (the wheel\'s mass), not by the normal force'],
       ['ground', 'CANNON.Plane z = 0'],

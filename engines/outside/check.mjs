@@ -2,7 +2,8 @@
 //   node check.mjs NAME.json            (a registration file: its command is run)
 //   node check.mjs node rapier.mjs --config default
 //   node check.mjs --set iterations=50 cannon.json      (knob values for the car)
-// 1. The tricycle (R = 0.3 m, l = 1 m) at beta0 = 0.35 rad driven at 0.5 m/s for one lap with
+//   node check.mjs --wheels 4 cannon.json               (the four-wheel Ackermann car)
+// 1. The tricycle (R = 0.3 m, l = 1 m; or the four-wheel car) at beta0 = 0.35 rad driven at 0.5 m/s for one lap with
 //    liftcheck's servo (rate = feed-forward + 40/s x angle error): the circle fitted to the
 //    front-axle centre against the kinematic radius l / sin(beta0), and the engine's cost per step.
 // 2. Two disks (radius 1 m) 3 m apart closing head-on at 1 m/s: the first step whose reported
@@ -14,15 +15,18 @@ import { createInterface } from 'node:readline';
 
 const TIMEOUT_MS = 20000;
 
-/// Leading --set KEY=VALUE options (the car's knobs), then the adapter.
-function knobsOf(args) {
+/// Leading options: --set KEY=VALUE (the car's knobs), --wheels 3|4; then the adapter.
+function optionsOf(args) {
   const settings = {};
-  while (args[0] === '--set' && /^[^=]+=.+$/.test(args[1] ?? '')) {
-    const [key, value] = args[1].split('=');
-    settings[key] = value;
+  let wheels = 3;
+  for (;;) {
+    if (args[0] === '--set' && /^[^=]+=.+$/.test(args[1] ?? '')) {
+      const [key, value] = args[1].split('=');
+      settings[key] = value;
+    } else if (args[0] === '--wheels' && ['3', '4'].includes(args[1])) wheels = Number(args[1]);
+    else return { settings, wheels, rest: args };
     args = args.slice(2);
   }
-  return { settings, rest: args };
 }
 
 function commandOf(args) {
@@ -65,24 +69,37 @@ function fitCircle(pts) {
   return Math.sqrt(uc * uc + vc * vc + (suu + svv) / n);
 }
 
-async function checkCar(request, settings) {
-  const R = 0.3, l = 1.0, beta0 = 0.35, speed = 0.5, dt = 0.001, gain = 40;
-  const car = { R_m: R, l_m: l, track_m: 0.8, wheels: 3, parallel_steering: false, wheel_width_m: 0.09, wheel_shape: 'sphere',
+/// Front wheel k's steering angle and drive ratio at the car's steering beta: the tricycle's one
+/// wheel (beta, 1), or the four-wheel car's left and right at their Ackermann angles, driven at
+/// their turning radius over the front-axle centre's (models/ackermann.hpp).
+function frontGeometry(wheels, beta, l, track) {
+  if (wheels === 3) return [{ beta_rad: beta, rho: 1 }];
+  const k = track / (2 * l);
+  return [1, -1].map((s) => ({ beta_rad: Math.atan2(Math.sin(beta), Math.cos(beta) - s * k * Math.sin(beta)),
+    rho: Math.hypot(Math.sin(beta), Math.cos(beta) - s * k * Math.sin(beta)) }));
+}
+
+async function checkCar(request, settings, wheels) {
+  const R = 0.3, l = 1.0, track = 0.8, beta0 = 0.35, speed = 0.5, dt = 0.001, gain = 40;
+  const car = { R_m: R, l_m: l, track_m: track, wheels, parallel_steering: false, wheel_width_m: 0.09, wheel_shape: 'sphere',
     chassis_height_m: 0.1, chassis_mass_kg: 40, wheel_mass_kg: 2, knuckle_mass_kg: 2 };
   let s = await request({ op: 'car', settings, dt_s: dt, mu: 1, gravity_W: [0, 0, -9.81], car,
     q0: { x_m: 0, y_m: 0, phi_rad: 0, beta_rad: beta0 }, servo: { spin_torque_max_Nm: 500, steer_torque_max_Nm: 500 } });
+  const fronts = frontGeometry(wheels, beta0, l, track);
   const radius = l / Math.sin(beta0), lap_s = (2 * Math.PI * radius) / speed;
   let alpha = 0, engine_s = 0, steps = 0, path_m = 0, last = null;
-  const across = [0, 0, 0], across_sq = [0, 0, 0];  // sideways slip of each wheel's contact point: largest, sum of squares
+  const across = Array(wheels).fill(0), across_sq = Array(wheels).fill(0);  // sideways slip of each wheel's contact point: largest, sum of squares
   const pts = [];
   const t0 = process.hrtime.bigint();
   const settle = Math.round(0.5 / dt), drive = Math.round(lap_s / dt);
   for (let k = -settle; k < drive; k++) {
     const t1 = (k + 1) * dt, driving = k >= 0;
     const rate = driving ? speed / R : 0, target = driving ? rate * t1 : 0;
-    const prev = s.spin_joint_rad[0];
-    s = await request({ op: 'step', spin_radps: [rate + gain * (target - alpha), 0], steer_radps: [gain * (beta0 - s.steer_rad[0]), 0], dt_s: dt });
-    alpha = k === -1 ? 0 : alpha + wrap(s.spin_joint_rad[0] - prev);
+    const prev = s.spin_joint_rad.slice(), roll = rate + gain * (target - alpha);
+    const spin = fronts.map((f) => f.rho * roll), steer = fronts.map((f, i) => gain * (f.beta_rad - s.steer_rad[i]));
+    s = await request({ op: 'step', spin_radps: [spin[0], spin[1] ?? 0], steer_radps: [steer[0], steer[1] ?? 0], dt_s: dt });
+    const d_alpha = fronts.reduce((a, f, i) => a + wrap(s.spin_joint_rad[i] - prev[i]) / f.rho, 0) / fronts.length;
+    alpha = k === -1 ? 0 : alpha + d_alpha;
     engine_s += s.engine_s;
     steps += 1;
     if (driving && last) path_m += Math.hypot(s.x_m - last[0], s.y_m - last[1]);
@@ -92,11 +109,12 @@ async function checkCar(request, settings) {
   }
   const wall_s = Number(process.hrtime.bigint() - t0) * 1e-9;
   const fitted = fitCircle(pts);
-  console.log(`car:   fitted radius ${fitted.toFixed(5)} m, l/sin(beta0) ${radius.toFixed(5)} m, ` +
-    `error ${((fitted / radius - 1) * 100).toFixed(3)} %; path ${((path_m / (speed * (drive - 1) * dt) - 1) * 100).toFixed(3)} % against v t; final beta ${s.steer_rad[0].toFixed(4)} rad, wheel z ${s.z_m.toFixed(5)} m`);
+  console.log(`car:   ${wheels} wheels: fitted radius ${fitted.toFixed(5)} m, l/sin(beta0) ${radius.toFixed(5)} m, ` +
+    `error ${((fitted / radius - 1) * 100).toFixed(3)} %; path ${((path_m / (speed * (drive - 1) * dt) - 1) * 100).toFixed(3)} % against v t; ` +
+    `final steering ${s.steer_rad.slice(0, fronts.length).map((b) => b.toFixed(4)).join(', ')} rad, front wheel z ${s.z_m.toFixed(5)} m`);
   const mm = (v) => (v * 1e3).toFixed(2);
-  console.log(`       sideways slip of the contact points (front, rear left, rear right): largest ${across.map(mm).join(', ')} mm/s, ` +
-    `rms ${across_sq.map((q) => mm(Math.sqrt(q / drive))).join(', ')} mm/s`);
+  console.log(`       sideways slip of the contact points (${wheels === 3 ? 'front' : 'front left, front right'}, rear left, rear right): ` +
+    `largest ${across.map(mm).join(', ')} mm/s, rms ${across_sq.map((q) => mm(Math.sqrt(q / drive))).join(', ')} mm/s`);
   console.log(`       engine ${(engine_s / steps * 1e6).toFixed(1)} us/step, round trip ${(wall_s / steps * 1e6).toFixed(1)} us/step (${steps} steps)`);
 }
 
@@ -129,7 +147,7 @@ async function checkDisks(request) {
   console.log('disks: no contact reported within 2 s');
 }
 
-const { settings, rest } = knobsOf(process.argv.slice(2));
+const { settings, wheels, rest } = optionsOf(process.argv.slice(2));
 const target = commandOf(rest);
 if (!target.argv?.length) {
   console.error('usage: node check.mjs NAME.json | COMMAND ARG...');
@@ -139,7 +157,7 @@ const { child, request } = connect(target);
 try {
   const hello = await request({ op: 'hello', protocol: 1 });
   console.log(`${target.name}: ${hello.engine} ${hello.version} (${hello.precision}); knobs: ${hello.settings.map((k) => `${k.key}=${k.default}`).join(', ') || 'none'}`);
-  await checkCar(request, settings);
+  await checkCar(request, settings, wheels);
   await checkDisks(request);
   await request({ op: 'bye' });
 } catch (e) {

@@ -51,14 +51,16 @@ export function applySettings(specs, given, vehicle) {
   return values;
 }
 
-/// The car request's numbers, checked. Only the tricycle with sphere wheels is built here.
+/// The car request's numbers, checked: the tricycle (wheels 3) or the four-wheel car, sphere wheels.
 export function carRequest(req) {
   const c = req.car;
   need(c && typeof c === 'object', 'car request without a car object');
   const car = {};
   for (const k of ['R_m', 'l_m', 'track_m', 'chassis_height_m', 'chassis_mass_kg', 'wheel_mass_kg', 'knuckle_mass_kg'])
     car[k] = positive(c, k, 'car');
-  need(c.wheels === 3, `car.wheels = ${c.wheels}: this adapter builds the tricycle only (wheels 3)`);
+  need(c.wheels === 3 || c.wheels === 4, `car.wheels = ${c.wheels}: 3 (the tricycle) or 4`);
+  car.wheels = c.wheels;
+  car.parallel_steering = c.parallel_steering === true;
   need((c.wheel_shape ?? 'sphere') === 'sphere', `car.wheel_shape '${c.wheel_shape}': this adapter builds sphere wheels only`);
   const mu = finiteNumber(req, 'mu', 'car request');
   need(mu >= 0, 'mu must not be negative');
@@ -68,6 +70,19 @@ export function carRequest(req) {
   return { car, q0, servo, mu, dt_s: positive(req, 'dt_s', 'car request'), gravity_W: vector(req, 'gravity_W', 3, 'car request') };
 }
 
+/// The front wheels of a car at steering beta0: the tricycle's one at the front-axle centre, or
+/// the four-wheel car's left and right at (0, +-track/2), each at its Ackermann angle,
+/// cot(beta_s) = cot(beta) - s track/(2 l) with s = +1 left, -1 right (models/ackermann.hpp), or
+/// at beta0 itself when steered in parallel. Each: its chassis-frame y and start angle.
+export function frontWheels(car, beta0) {
+  if (car.wheels === 3) return [{ y_m: 0, beta0_rad: beta0 }];
+  const k = car.track_m / (2 * car.l_m);
+  return [1, -1].map((s) => ({
+    y_m: s * car.track_m / 2,
+    beta0_rad: car.parallel_steering ? beta0 : Math.atan2(Math.sin(beta0), Math.cos(beta0) - s * k * Math.sin(beta0)),
+  }));
+}
+
 export function diskRequest(req) {
   return { radius_m: positive(req, 'radius_m', 'disks request'), dt_s: positive(req, 'dt_s', 'disks request'),
     cM0: vector(req, 'cM0', 2, 'disks request'), cN0: vector(req, 'cN0', 2, 'disks request') };
@@ -75,7 +90,7 @@ export function diskRequest(req) {
 
 /// A step request's rates (car) or commands (disks), checked.
 export function carStep(req) {
-  return { spin: vector(req, 'spin_radps', 2, 'step')[0], steer: vector(req, 'steer_radps', 2, 'step')[0], dt_s: positive(req, 'dt_s', 'step') };
+  return { spin: vector(req, 'spin_radps', 2, 'step'), steer: vector(req, 'steer_radps', 2, 'step'), dt_s: positive(req, 'dt_s', 'step') };
 }
 export function diskStep(req) {
   return { vM: vector(req, 'vM_cmd', 2, 'step'), cN_next: vector(req, 'cN_next', 2, 'step'), vN: vector(req, 'vN', 2, 'step'), dt_s: positive(req, 'dt_s', 'step') };
@@ -131,14 +146,16 @@ export function wheelState(p, q, v, w) {
   return { v_hub_W: [...v], omega_W: [...w], axle_W: rotate(q, [0, 1, 0]), hub_z_m: p[2] };
 }
 
-/// The car reply (RigidCarState) of a tricycle: front wheel spin and steering angles, the chassis
-/// orientation, and the three wheels (front, rear left, rear right) as {p, q, v, w}.
-export function tricycleReply(engine_s, spin_rad, steer_rad, chassis_q, wheels) {
-  const [front, rl, rr] = wheels;
+/// The car reply (RigidCarState): each front wheel's spin and steering angle, the chassis
+/// orientation, the front wheels' and then the rear wheels' (left, right) body states {p, q, v, w}.
+export function carReply(engine_s, spin_rad, steer_rad, chassis_q, fronts, rears) {
+  const pad = (a) => (a.length === 2 ? a : [a[0], 0]);
+  const n = fronts.length;
   return {
-    engine_s, spin_joint_rad: [wrapAngle(spin_rad), 0], steer_rad: [steer_rad, 0],
-    x_m: front.p[0], y_m: front.p[1], z_m: front.p[2], phi_rad: heading(chassis_q), rear_z_m: Math.min(rl.p[2], rr.p[2]),
-    wheels: wheels.map((b) => wheelState(b.p, b.q, b.v, b.w)),
+    engine_s, spin_joint_rad: pad(spin_rad.map(wrapAngle)), steer_rad: pad(steer_rad),
+    x_m: fronts.reduce((x, b) => x + b.p[0] / n, 0), y_m: fronts.reduce((y, b) => y + b.p[1] / n, 0),
+    z_m: Math.min(...fronts.map((b) => b.p[2])), phi_rad: heading(chassis_q), rear_z_m: Math.min(...rears.map((b) => b.p[2])),
+    wheels: [...fronts, ...rears].map((b) => wheelState(b.p, b.q, b.v, b.w)),
   };
 }
 
