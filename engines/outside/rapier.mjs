@@ -76,39 +76,49 @@ function buildCar(req) {
   world.createCollider(RAPIER.ColliderDesc.cuboid(GROUND_HALF_M, GROUND_HALF_M, 0.5).setTranslation(q0.x_m, q0.y_m, -0.5)
     .setFriction(mu).setRestitution(0).setCollisionGroups(groups(GROUND, WHEEL)));
   const R = d.R_m, l = d.l_m, w = d.track_m;
-  const yaw = C.yawQuat(q0.phi_rad), steerYaw = C.yawQuat(q0.phi_rad + q0.beta_rad);
+  const yaw = C.yawQuat(q0.phi_rad);
   const chassis = dynamic(C.chassisPoint(q0, -l / 2, 0, R), yaw);
   world.createCollider(RAPIER.ColliderDesc.cuboid(l / 2, w / 2, d.chassis_height_m / 2).setMass(d.chassis_mass_kg).setCollisionGroups(0), chassis);
-  const knuckle = world.createRigidBody(RAPIER.RigidBodyDesc.dynamic().setTranslation(...C.chassisPoint(q0, 0, 0, R)).setRotation(q4(steerYaw))
-    .setCanSleep(false).setAdditionalMassProperties(d.knuckle_mass_kg, v3([0, 0, 0]), v3(Array(3).fill(d.knuckle_mass_kg * C.KNUCKLE_GYRATION_SQ_M2)), q4([0, 0, 0, 1])));
+  const k2 = d.knuckle_mass_kg * C.KNUCKLE_GYRATION_SQ_M2;
   const wheel = (p, q) => {
     const b = dynamic(p, q);
     world.createCollider(RAPIER.ColliderDesc.ball(R).setMass(d.wheel_mass_kg).setFriction(mu).setRestitution(0).setCollisionGroups(groups(WHEEL, GROUND)), b);
     return b;
   };
-  const front = wheel(C.chassisPoint(q0, 0, 0, R), steerYaw);
-  const rl = wheel(C.chassisPoint(q0, -l, w / 2, R), yaw), rr = wheel(C.chassisPoint(q0, -l, -w / 2, R), yaw);
-  const steer = revolute(chassis, knuckle, [l / 2, 0, 0], [0, 0, 1], servo.steer_Nm);
-  const spin = revolute(knuckle, front, [0, 0, 0], [0, 1, 0], servo.spin_Nm);
-  revolute(chassis, rl, [-l / 2, w / 2, 0], [0, 1, 0]);
-  revolute(chassis, rr, [-l / 2, -w / 2, 0], [0, 1, 0]);
-  car = { chassis, knuckle, front, rl, rr, steer, spin };
-  disks = null;
+  // Each front wheel on its knuckle: steering joint about the chassis z, spin joint about the knuckle y.
+  const fronts = C.frontWheels(d, q0.beta_rad).map(({ y_m, beta0_rad }) => {
+    const at = C.chassisPoint(q0, 0, y_m, R), q = C.yawQuat(q0.phi_rad + beta0_rad);
+    const knuckle = world.createRigidBody(RAPIER.RigidBodyDesc.dynamic().setTranslation(...at).setRotation(q4(q)).setCanSleep(false)
+      .setAdditionalMassProperties(d.knuckle_mass_kg, v3([0, 0, 0]), v3([k2, k2, k2]), q4([0, 0, 0, 1])));
+    const wheelBody = wheel(at, q);
+    return { knuckle, wheel: wheelBody, steer: revolute(chassis, knuckle, [l / 2, y_m, 0], [0, 0, 1], servo.steer_Nm),
+      spin: revolute(knuckle, wheelBody, [0, 0, 0], [0, 1, 0], servo.spin_Nm) };
+  });
+  const rears = [1, -1].map((s) => {
+    const b = wheel(C.chassisPoint(q0, -l, s * w / 2, R), yaw);
+    revolute(chassis, b, [-l / 2, s * w / 2, 0], [0, 1, 0]);
+    return b;
+  });
+  car = { chassis, fronts, rears };
   return carState(0);
 }
 
+const state = (b) => ({ p: arr(b.translation()), q: quat(b), v: arr(b.linvel()), w: arr(b.angvel()) });
+
 function carState(engine_s) {
-  const { chassis, knuckle, front, rl, rr } = car;
-  const bodies = [front, rl, rr].map((b) => ({ p: arr(b.translation()), q: quat(b), v: arr(b.linvel()), w: arr(b.angvel()) }));
-  return C.tricycleReply(engine_s, C.twist(quat(knuckle), quat(front), 1), C.twist(quat(chassis), quat(knuckle), 2), quat(chassis), bodies);
+  const { chassis, fronts, rears } = car;
+  return C.carReply(engine_s, fronts.map((f) => C.twist(quat(f.knuckle), quat(f.wheel), 1)),
+    fronts.map((f) => C.twist(quat(chassis), quat(f.knuckle), 2)), quat(chassis), fronts.map((f) => state(f.wheel)), rears.map(state));
 }
 
 function stepCar(req) {
   const { spin, steer, dt_s } = C.carStep(req);
   if (dt_s !== world.timestep) world.timestep = dt_s;
   const factor = MOTOR_FACTOR_DT / dt_s;
-  car.spin.configureMotorVelocity(spin, factor);  // the rate of the second body relative to the first
-  car.steer.configureMotorVelocity(steer, factor);
+  car.fronts.forEach((f, k) => {  // the rate of the second body relative to the first
+    f.spin.configureMotorVelocity(spin[k], factor);
+    f.steer.configureMotorVelocity(steer[k], factor);
+  });
   return carState(timed(() => world.step()));
 }
 
@@ -153,10 +163,10 @@ function stepDisks(req) {
 
 serve({
   hello: () => ({
-    engine: 'Rapier', version: VERSION, precision: 'float32', vehicles: ['car', 'disks'], four_wheels: false, settings: KNOBS,
+    engine: 'Rapier', version: VERSION, precision: 'float32', vehicles: ['car', 'disks'], four_wheels: true, settings: KNOBS,
     fixed: [
       ['stepping', 'World.step() with World.timestep = dt (no interpolation); integration parameters otherwise as shipped (prediction distance 0.02 m, allowed linear error 0.001 m)'],
-      ['joints', 'revolute impulse joints (JointData.revolute): steering about the chassis z, front spin about the knuckle y, rear wheels about the chassis y; multibody joints are not used: Rapier\'s JS multibody joints have no motors'],
+      ['joints', 'revolute impulse joints (JointData.revolute): steering about the chassis z, front spin about the knuckle y (one knuckle per front wheel; four wheels at their Ackermann angles), rear wheels about the chassis y; multibody joints are not used: Rapier\'s JS multibody joints have no motors'],
       ['motors', `steering and front spin: configureMotorModel(AccelerationBased), configureMotorVelocity(rate, ${MOTOR_FACTOR_DT}/dt), setMotorMaxForce(the request's torque limit)`],
       ['bodies', 'chassis cuboid collider with setMass (collision groups 0: collides with nothing); knuckle setAdditionalMassProperties (inertia m x 2e-3 m^2); ball wheels setMass (Rapier\'s solid-ball inertia)'],
       ['friction', 'wheel and ground colliders both friction mu, restitution 0; Rapier\'s default combine rule (Average) gives mu'],
