@@ -1,8 +1,9 @@
 // cannon-es (pure JavaScript, float64) served over liftcheck's engine protocol (docs/protocol.md).
 //
-// Car: the chassis box, the steering knuckle and the three sphere wheels are CANNON.Body objects;
-// the steering and the front wheel's spin are HingeConstraints with their rotational motors on
-// (enableMotor, setMotorSpeed, setMotorMaxForce), the rear wheels plain HingeConstraints. The
+// Car: the chassis box, the steering knuckle(s) and the sphere wheels are CANNON.Body objects;
+// each front wheel's steering and spin are HingeConstraints with their rotational motors on
+// (enableMotor, setMotorSpeed, setMotorMaxForce), the rear wheels plain HingeConstraints; the
+// tricycle or the four-wheel car (front wheels at their Ackermann angles). The
 // ground is a CANNON.Plane. Wheel-ground friction comes from a ContactMaterial for the pair
 // (the materials' own coefficients are unset, so cannon-es uses the pair's).
 // Disks: M a dynamic sphere whose velocity is set to the command before each step (cannon-es has

@@ -12,7 +12,8 @@
 // Car: a free-joint chassis whose origin is the front-axle centre, a box l/2 behind it (no
 // collision); a knuckle hinged about the chassis z, the front wheel hinged about the knuckle's y,
 // the rear wheels about the chassis y; sphere wheels (condim 3) on a ground plane; <velocity>
-// actuators (kv = the joint's own inertia / dt, force-limited to the request's torque).
+// actuators (kv = the joint's own inertia / dt, force-limited to the request's torque). The
+// four-wheel car has two knuckles at (0, +-track/2), named with _left and _right.
 // Disks: M a sphere on slide joints x and y with velocity actuators kv = 1 kg / dt, N a mocap
 // sphere placed on its path after each step; frictionless (condim 1), no gravity.
 //
@@ -78,26 +79,34 @@ function carXml({ car: d, q0, servo, mu, dt_s, gravity_W }) {
   const ik = d.knuckle_mass_kg * C.KNUCKLE_GYRATION_SQ_M2;
   const spinI = 0.4 * d.wheel_mass_kg * R * R, steerI = spinI + ik;  // kv = I / dt: deadbeat when unloaded
   const wheel = `<geom type="sphere" size="${num(R)}" mass="${num(d.wheel_mass_kg)}" condim="3" friction="${num(mu)} 0.005 0.0001" contype="1" conaffinity="2"/>`;
-  const [, , qz, qw] = C.yawQuat(q0.phi_rad), [, , bz, bw] = C.yawQuat(q0.beta_rad);
-  return `<mujoco model="liftcheck tricycle">
+  const [, , qz, qw] = C.yawQuat(q0.phi_rad);
+  // The tricycle's one knuckle (named as in the compiled-in model) or the four-wheel car's two.
+  const fronts = C.frontWheels(d, q0.beta_rad).map((f, k, all) => ({ ...f, sfx: all.length === 1 ? '' : ['_left', '_right'][k] }));
+  const knuckles = fronts.map(({ y_m, beta0_rad, sfx }) => {
+    const [, , bz, bw] = C.yawQuat(beta0_rad);
+    return `  <body name="knuckle${sfx}" pos="0 ${num(y_m)} 0" quat="${num(bw)} 0 0 ${num(bz)}">
+    <joint name="steer${sfx}" type="hinge" axis="0 0 1"/>
+    <inertial pos="0 0 0" mass="${num(d.knuckle_mass_kg)}" diaginertia="${num(ik)} ${num(ik)} ${num(ik)}"/>
+    <body name="front${sfx}"><joint name="spin${sfx}" type="hinge" axis="0 1 0"/>${wheel}</body>
+  </body>`;
+  }).join('\n');
+  const actuators = fronts.map(({ sfx }) =>
+    `<velocity name="spin${sfx}" joint="spin${sfx}" kv="${num(spinI / dt_s)}" forcelimited="true" forcerange="${num(-servo.spin_Nm)} ${num(servo.spin_Nm)}"/>
+<velocity name="steer${sfx}" joint="steer${sfx}" kv="${num(steerI / dt_s)}" forcelimited="true" forcerange="${num(-servo.steer_Nm)} ${num(servo.steer_Nm)}"/>`).join('\n');
+  return `<mujoco model="liftcheck ${fronts.length === 1 ? 'tricycle' : 'four-wheel car'}">
 ${option(dt_s, gravity_W)}
 <worldbody>
 <geom name="ground" type="plane" size="0 0 1" condim="3" friction="${num(mu)} 0.005 0.0001" contype="2" conaffinity="1"/>
 <body name="chassis" pos="${num(q0.x_m)} ${num(q0.y_m)} ${num(R)}" quat="${num(qw)} 0 0 ${num(qz)}">
   <freejoint name="chassis"/>
   <geom type="box" pos="${num(-l / 2)} 0 0" size="${num(l / 2)} ${num(w / 2)} ${num(d.chassis_height_m / 2)}" mass="${num(d.chassis_mass_kg)}" contype="0" conaffinity="0"/>
-  <body name="knuckle" quat="${num(bw)} 0 0 ${num(bz)}">
-    <joint name="steer" type="hinge" axis="0 0 1"/>
-    <inertial pos="0 0 0" mass="${num(d.knuckle_mass_kg)}" diaginertia="${num(ik)} ${num(ik)} ${num(ik)}"/>
-    <body name="front"><joint name="spin" type="hinge" axis="0 1 0"/>${wheel}</body>
-  </body>
+${knuckles}
   <body name="rear_left" pos="${num(-l)} ${num(w / 2)} 0"><joint name="rear_left" type="hinge" axis="0 1 0"/>${wheel}</body>
   <body name="rear_right" pos="${num(-l)} ${num(-w / 2)} 0"><joint name="rear_right" type="hinge" axis="0 1 0"/>${wheel}</body>
 </body>
 </worldbody>
 <actuator>
-<velocity name="spin" joint="spin" kv="${num(spinI / dt_s)}" forcelimited="true" forcerange="${num(-servo.spin_Nm)} ${num(servo.spin_Nm)}"/>
-<velocity name="steer" joint="steer" kv="${num(steerI / dt_s)}" forcelimited="true" forcerange="${num(-servo.steer_Nm)} ${num(servo.steer_Nm)}"/>
+${actuators}
 </actuator>
 </mujoco>
 `;
@@ -109,10 +118,12 @@ function buildCar(req) {
   const r = C.carRequest(req);
   const id = compile(carXml(r));
   const { m } = sim;
-  car = { dt_s: r.dt_s, beta0: r.q0.beta_rad, chassis: id('body', 'chassis'), wheels: ['front', 'rear_left', 'rear_right'].map((n) => id('body', n)),
-    spin_q: m.jnt_qposadr[id('joint', 'spin')], steer_q: m.jnt_qposadr[id('joint', 'steer')],
-    spin_a: id('actuator', 'spin'), steer_a: id('actuator', 'steer') };
-  disks = null;
+  const fronts = C.frontWheels(r.car, r.q0.beta_rad).map((f, k, all) => {
+    const sfx = all.length === 1 ? '' : ['_left', '_right'][k];
+    return { beta0: f.beta0_rad, body: id('body', `front${sfx}`), spin_q: m.jnt_qposadr[id('joint', `spin${sfx}`)],
+      steer_q: m.jnt_qposadr[id('joint', `steer${sfx}`)], spin_a: id('actuator', `spin${sfx}`), steer_a: id('actuator', `steer${sfx}`) };
+  });
+  car = { dt_s: r.dt_s, chassis: id('body', 'chassis'), fronts, rears: ['rear_left', 'rear_right'].map((n) => id('body', n)) };
   return carState(0);
 }
 
@@ -136,15 +147,19 @@ function carState(engine_s) {
   const chassis = bodyState(car.chassis);
   // The hinges' own coordinates: spin relative to the knuckle; steering from beta0, where the
   // knuckle is built (the joint's zero).
-  return C.tricycleReply(engine_s, d.qpos[car.spin_q], car.beta0 + d.qpos[car.steer_q], chassis.q, car.wheels.map(bodyState));
+  const { fronts, rears } = car;
+  return C.carReply(engine_s, fronts.map((f) => d.qpos[f.spin_q]), fronts.map((f) => f.beta0 + d.qpos[f.steer_q]), chassis.q,
+    fronts.map((f) => bodyState(f.body)), rears.map(bodyState));
 }
 
 function stepCar(req) {
   const { spin, steer, dt_s } = C.carStep(req);
   if (dt_s !== car.dt_s) throw new Error(`step dt_s ${dt_s} differs from the model's timestep ${car.dt_s}`);
   const { m, d } = sim;
-  d.ctrl[car.spin_a] = spin;
-  d.ctrl[car.steer_a] = steer;
+  car.fronts.forEach((f, k) => {
+    d.ctrl[f.spin_a] = spin[k];
+    d.ctrl[f.steer_a] = steer[k];
+  });
   const engine_s = timed(() => {
     mj.mj_step2(m, d);
     mj.mj_step1(m, d);
@@ -223,12 +238,12 @@ function stepDisks(req) {
 
 serve({
   hello: () => ({
-    engine: 'MuJoCo', version: mj.mj_versionString(), precision: 'float64', vehicles: ['car', 'disks'], four_wheels: false, settings: [],
+    engine: 'MuJoCo', version: mj.mj_versionString(), precision: 'float64', vehicles: ['car', 'disks'], four_wheels: true, settings: [],
     fixed: [
       ['model', 'the MJCF of liftcheck\'s compiled-in MuJoCo adapter, compiled by MjModel.loadFromXML from the module\'s in-memory file system'],
       ['stepping', 'mj_step1 / set ctrl / mj_step2 (equal to mj_step); MuJoCo\'s defaults: Euler, Newton solver, 100 iterations, tolerance 1e-8, pyramidal cone, impratio 1, noslip off'],
       ['contact', 'MuJoCo\'s defaults: solref 0.02 1, solimp 0.9 0.95 0.001, margin 0'],
-      ['joints', 'free-joint chassis at the front-axle centre (box l/2 behind it, no collision); knuckle hinged about the chassis z (inertia m x 2e-3 m^2); front wheel hinged about the knuckle y; rear wheels hinged about the chassis y'],
+      ['joints', 'free-joint chassis at the front-axle centre (box l/2 behind it, no collision); knuckle hinged about the chassis z (inertia m x 2e-3 m^2); front wheel hinged about the knuckle y; rear wheels hinged about the chassis y; four wheels: two knuckles at (0, +-track/2), each at its Ackermann angle'],
       ['actuators', 'velocity actuators on spin and steering, kv = the joint\'s own inertia / dt, forcerange the request\'s torque limit'],
       ['friction', 'wheels and ground friction mu (MuJoCo takes the larger of the two geoms\'), condim 3'],
       ['disks', 'M sphere 1 kg on slide joints x, y, velocity actuators kv = 1 kg / dt; N mocap sphere placed on cN_next after mj_step2; condim 1, no gravity; contacts: those mj_step1 generated on the state the step starts from'],

@@ -2,9 +2,10 @@
 // engine protocol (docs/protocol.md).
 //
 // Car: rigid bodies for the chassis (a cuboid collider that collides with nothing), the steering
-// knuckle (mass properties only) and three ball wheels; revolute impulse joints for the steering
-// (chassis z) and the wheels (knuckle y, chassis y), velocity motors on the steering and the front
-// spin (Rapier's JS multibody joints have no motors). The ground is a cuboid under the start.
+// knuckle(s) (mass properties only) and ball wheels; revolute impulse joints for the steering
+// (chassis z) and the wheels (knuckle y, chassis y), velocity motors on each front wheel's steering
+// and spin (Rapier's JS multibody joints have no motors); the tricycle or the four-wheel car. The
+// ground is a cuboid under the start.
 // Disks: M a dynamic ball whose linear velocity is set to the command before each step, N a
 // kinematic position-based ball given its next translation; the contacts are the points of the
 // M-N contact manifold the narrow phase built in the step, predictive ones included.
