@@ -27,7 +27,7 @@ const CONFIGS = { default: { solver: 4, pgs: 1 }, accurate: { solver: 16, pgs: 1
 const opts = C.parseArgs(process.argv.slice(2), CONFIGS);
 const CONFIG = CONFIGS[opts.config];
 const KNOBS = [
-  { key: 'solver_iterations', vehicle: 'car', kind: 'integer', min: 1, max: 1000, default: String(CONFIG.solver),
+  { key: 'iterations', vehicle: 'car', kind: 'integer', min: 1, max: 1000, default: String(CONFIG.solver),
     help: 'solver iterations (substeps) per step (World.numSolverIterations)' },
   { key: 'pgs_iterations', vehicle: 'car', kind: 'integer', min: 1, max: 1000, default: String(CONFIG.pgs),
     help: 'internal PGS iterations per solver iteration (World.numInternalPgsIterations)' },
@@ -71,7 +71,7 @@ function buildCar(req) {
   const s = C.applySettings(KNOBS, req.settings, 'car');
   const { car: d, q0, servo, mu, dt_s, gravity_W } = C.carRequest(req);
   newWorld(gravity_W, dt_s);
-  world.numSolverIterations = s.solver_iterations;
+  world.numSolverIterations = s.iterations;
   world.numInternalPgsIterations = s.pgs_iterations;
   // Friction: Rapier averages the two colliders' coefficients by default; both are mu.
   world.createCollider(RAPIER.ColliderDesc.cuboid(GROUND_HALF_M, GROUND_HALF_M, 0.5).setTranslation(q0.x_m, q0.y_m, -0.5)
