@@ -144,22 +144,37 @@ function diskPositions() {
   return { cM: [m.x, m.y], cN: [n.x, n.y] };
 }
 
-function stepDisks(req) {
-  const { vM, cN_next, dt_s } = C.diskStep(req);
-  if (dt_s !== world.timestep) world.timestep = dt_s;
-  disks.M.setLinvel(v3([vM[0], vM[1], 0]), true);
-  disks.N.setNextKinematicTranslation(v3([cN_next[0], cN_next[1], 0]));
-  const engine_s = timed(() => world.step());
+const pose = (b) => { const t = b.translation(), r = b.rotation(); return { x: [t.x, t.y, t.z], q: [r.x, r.y, r.z, r.w] }; };
+const at = (p, l) => C.rotate(p.q, [l.x, l.y, l.z]).map((v, j) => v + p.x[j]);
+
+/// The M-N contacts of the step with their signed distances on the start state. Rapier's narrow
+/// phase keeps a manifold's points between its updates (contactDist is their distance when last
+/// computed) and its solver measures each point's distance from the two local points anchored to
+/// the bodies: so here, n . (p2 - p1) with both points at the poses the step started from.
+function diskContacts(start) {
   const contacts = { count: 0, depth_max_m: 0, distance_min_m: 0 };
   let dmin = Infinity;
-  world.contactPair(disks.colM, disks.colN, (manifold) => {
+  world.contactPair(disks.colM, disks.colN, (manifold, flipped) => {
+    const [a, b] = flipped ? [start.N, start.M] : [start.M, start.N];
+    const n1 = manifold.localNormal1(), n = C.rotate(a.q, [n1.x, n1.y, n1.z]);
     for (let i = 0; i < manifold.numContacts(); i++) {
-      dmin = Math.min(dmin, manifold.contactDist(i));
+      const p1 = at(a, manifold.localContactPoint1(i)), p2 = at(b, manifold.localContactPoint2(i));
+      dmin = Math.min(dmin, n[0] * (p2[0] - p1[0]) + n[1] * (p2[1] - p1[1]) + n[2] * (p2[2] - p1[2]));
       contacts.count += 1;
     }
   });
   if (contacts.count > 0) Object.assign(contacts, { distance_min_m: dmin, depth_max_m: Math.max(0, -dmin) });
-  return { engine_s, ...diskPositions(), contacts };
+  return contacts;
+}
+
+function stepDisks(req) {
+  const { vM, cN_next, dt_s } = C.diskStep(req);
+  if (dt_s !== world.timestep) world.timestep = dt_s;
+  const start = { M: pose(disks.M), N: pose(disks.N) };
+  disks.M.setLinvel(v3([vM[0], vM[1], 0]), true);
+  disks.N.setNextKinematicTranslation(v3([cN_next[0], cN_next[1], 0]));
+  const engine_s = timed(() => world.step());
+  return { engine_s, ...diskPositions(), contacts: diskContacts(start) };
 }
 
 serve({
@@ -172,7 +187,7 @@ serve({
       ['bodies', 'chassis cuboid collider with setMass (collision groups 0: collides with nothing); knuckle setAdditionalMassProperties (inertia m x 2e-3 m^2); ball wheels setMass (Rapier\'s solid-ball inertia)'],
       ['friction', 'wheel and ground colliders both friction mu, restitution 0; Rapier\'s default combine rule (Average) gives mu'],
       ['ground', `cuboid ${2 * GROUND_HALF_M} m x ${2 * GROUND_HALF_M} m x 1 m, top face z = 0, centred under the start (float32: kept small)`],
-      ['disks', `M ball 1 kg, linvel set before each step, translations z locked; N kinematicPositionBased ball, setNextKinematicTranslation(cN_next); friction 0, restitution 0; ${CONFIG.solver} solver iterations, ${CONFIG.pgs} PGS; contacts: the M-N manifold points of the step (predictive ones included, contactDist as the signed distance)`],
+      ['disks', `M ball 1 kg, linvel set before each step, translations z locked; N kinematicPositionBased ball, setNextKinematicTranslation(cN_next); friction 0, restitution 0; ${CONFIG.solver} solver iterations, ${CONFIG.pgs} PGS; contacts: the points of the M-N manifold the step used (predictive ones included); signed distance n . (p2 - p1) of each point's two local points at the start poses, as Rapier's solver measures it (contactDist is the distance when the narrow phase last recomputed the manifold, which it does not do every step)`],
     ],
   }),
   car: buildCar,
