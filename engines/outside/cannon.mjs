@@ -45,15 +45,20 @@ function body(world, { mass, shape, inertia, p, q, group, mask, material, type }
   return b;
 }
 
-/// A hinge about the local `axis` of both bodies, at pivotA in a and the origin of b.
+/// A hinge about the local `axis` of both bodies, at pivotA in a and the origin of b, with its
+/// motor on where a torque limit is given.
 function hinge(world, a, b, pivotA, axis, motorMax_Nm) {
   const h = new CANNON.HingeConstraint(a, b, { pivotA: vec(pivotA), axisA: vec(axis), pivotB: vec([0, 0, 0]), axisB: vec(axis) });
-  if (motorMax_Nm) {
-    h.enableMotor();
-    h.setMotorMaxForce(motorMax_Nm);
-  }
+  if (motorMax_Nm) h.enableMotor();
+  h.motorMax_Nm = motorMax_Nm;
   world.addConstraint(h);
   return h;
+}
+
+/// cannon-es's GSSolver clamps an equation's impulse over the step (its lambda) between the
+/// equation's minForce and maxForce: a torque limit T is the bound T dt.
+function limitMotor(h, dt_s) {
+  h.setMotorMaxForce(h.motorMax_Nm * dt_s);
 }
 
 const GROUND = 1, WHEEL = 2;
@@ -112,6 +117,8 @@ function stepCar(req) {
   car.fronts.forEach((f, k) => {
     f.spin.setMotorSpeed(-spin[k]);
     f.steer.setMotorSpeed(-steer[k]);
+    limitMotor(f.spin, dt_s);
+    limitMotor(f.steer, dt_s);
   });
   return carState(timed(() => car.world.step(dt_s)));
 }
@@ -169,9 +176,10 @@ serve({
     engine: 'cannon-es', version: VERSION, precision: 'float64', vehicles: ['car', 'disks'], four_wheels: true, settings: KNOBS,
     fixed: [
       ['stepping', 'world.step(dt) (fixed step, no interpolation); GSSolver, tolerance 1e-7 (default); SPOOK contact stiffness 1e7, relaxation 3 (defaults)'],
-      ['joints', 'HingeConstraint steering (chassis z) and front spin (knuckle y) with rotational motors, one knuckle per front wheel (four wheels: each at its Ackermann angle), torque limit from the request; rear wheels HingeConstraint'],
+      ['joints', 'HingeConstraint steering (chassis z) and front spin (knuckle y) with rotational motors, one knuckle per front wheel (four wheels: each at its Ackermann angle); rear wheels HingeConstraint'],
+      ['motors', 'setMotorSpeed(-rate) (the motor equation holds (w_A - w_B) . axis), setMotorMaxForce(torque limit x dt): GSSolver clamps each equation\'s impulse over the step between its minForce and maxForce'],
       ['bodies', 'chassis box (collides with nothing), knuckle (no shape, inertia m x 2e-3 m^2), sphere wheels; exact solid inertias set (cannon-es estimates a world-aligned bounding box); damping 0 (default 0.01)'],
-      ['friction', 'ContactMaterial(ground, wheel) friction mu, restitution 0 (the materials have no coefficients, so the pair\'s apply); cannon-es bounds friction by mu g times the pair\'s reduced mass (the wheel\'s mass), not by the normal force'],
+      ['friction', 'ContactMaterial(ground, wheel) friction mu, restitution 0 (the materials have no coefficients, so the pair\'s apply); cannon-es clamps each friction row\'s impulse over the step at mu g times the pair\'s reduced mass (the wheel\'s mass), not at mu times the normal impulse: at dt = 1 ms a force of mu g m / dt, a thousand times the wheel\'s weight'],
       ['ground', 'CANNON.Plane z = 0'],
       ['disks', `M sphere 1 kg, velocity set before each step, linearFactor (1, 1, 0); N kinematic sphere, velocity that lands it on cN_next; frictionless, restitution 0; ${ITERATIONS} iterations; contacts: the step's ContactEquations (narrow phase on the start state), signed distance n . (x_j + r_j - x_i - r_i)`],
     ],
