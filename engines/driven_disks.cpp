@@ -29,18 +29,18 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     fastest_commanded_mps = std::max({fastest_commanded_mps, vM_cmd.norm(), vN.norm()});
     stepped_s_ += h;
     // The collision pass ran on the state at t, whose distance is d.
-    const bool first = c.count > 0 && !r.t_contact_s;
-    if (c.count > 0) {
+    // Contact is what the engine's collision pass reports as touching: a speculative contact it
+    // generated ahead of touching (an outside engine reports its signed distance) is not one yet.
+    const bool touching = c.count > 0 && !(c.distance_min_m > touching_distance_m());
+    const bool first = touching && !r.t_contact_s;
+    if (touching) {
       if (first) {
         r.t_contact_s = t;
         log.distance_at_first_m = d;
       }
       ++log.steps_in_contact;
       log.depth_reported_max_m = std::max(log.depth_reported_max_m, c.depth_max_m);
-      // A speculative contact (reported at a positive distance) explains that much gap: what
-      // counts is the gap beyond the distance the engine itself says its contact has.
-      const double said_apart_m = std::isnan(c.distance_min_m) ? 0.0 : std::max(0.0, c.distance_min_m);
-      log.gap_reported_max_m = std::max(log.gap_reported_max_m, d - touch - said_apart_m);
+      log.gap_reported_max_m = std::max(log.gap_reported_max_m, d - touch);
       log.depth_error_max_m = std::max(log.depth_error_max_m, std::abs(c.depth_max_m - std::max(0.0, touch - d)));
     } else {
       log.overlap_unreported_m = std::max(log.overlap_unreported_m, touch - d);

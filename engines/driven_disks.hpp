@@ -25,7 +25,8 @@ class DrivenDisks : public DiskEngine {
     int count = 0;
     double depth_max_m = 0.0;  ///< deepest penetration among them (>= 0)
     /// The smallest signed distance among them where the engine reports one (an outside engine:
-    /// positive for a speculative contact generated before the shapes touch); NaN: -depth_max_m.
+    /// positive for a speculative contact generated before the shapes touch); NaN: not reported
+    /// (the contacts touch).
     double distance_min_m = NAN;
   };
   /// Builds the world: M a dynamic body at cM0 at rest, N a kinematic body at cN0.
@@ -34,6 +35,9 @@ class DrivenDisks : public DiskEngine {
   /// cN_next (velocity vN), collision detection runs on the state at the start of the step.
   virtual StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt_s) = 0;
   virtual State read() const = 0;
+  /// A step's contacts touch when their smallest reported distance is at most this (an engine
+  /// that reports distances stores positions with a rounding of about this much).
+  virtual double touching_distance_m() const { return 0.0; }
 
  private:
   double stepped_s_ = 0.0;

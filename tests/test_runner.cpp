@@ -92,6 +92,34 @@ TEST(Runner, ScoringUsesPerEngineToleranceData) {
   EXPECT_THROW(score(s, "a", o), std::logic_error);
 }
 
+// Precision declared, not assumed: a bookkeeping metric's tolerance scales with the engine's
+// precision (1e-9 m becomes 1e-5 m for float32), a physics metric's does not.
+TEST(Runner, BookkeepingTolerancesScaleWithDeclaredPrecision) {
+  EXPECT_EQ(bookkeeping_factor("float64"), 1.0);
+  EXPECT_EQ(bookkeeping_factor("float32"), 1e4);
+  Scenario s;
+  s.name = "t";
+  s.metrics = {{"n_path", "m", TolKind::kAbsolute, {{"default", 1e-9}}, "", {}, true},
+               {"penetration", "m", TolKind::kAbsolute, {{"default", 1e-9}}, ""}};
+  Outcome o;
+  o.values["n_path"] = {0.0, 3e-7};       // float32 storage of N's position at a few metres
+  o.values["penetration"] = {0.0, 3e-7};
+  const auto f64 = score(s, "default", o, bookkeeping_factor("float64"));
+  const auto f32 = score(s, "default", o, bookkeeping_factor("float32"));
+  EXPECT_FALSE(f64[0].pass);
+  EXPECT_TRUE(f32[0].pass);
+  EXPECT_DOUBLE_EQ(f32[0].tolerance, 1e-5);
+  EXPECT_FALSE(f32[1].pass);  // physics: the same tolerance whatever the precision
+  EXPECT_DOUBLE_EQ(f32[1].tolerance, 1e-9);
+  o.values["n_path"] = {0.0, 2e-5};  // beyond rounding: still a failure in float32
+  EXPECT_FALSE(score(s, "default", o, bookkeeping_factor("float32"))[0].pass);
+  // The disk scenarios mark exactly their bookkeeping of the engine against itself.
+  std::set<std::string> marked;
+  for (const MetricDef& m : find_scenario("disks.linear")->metrics)
+    if (m.bookkeeping) marked.insert(m.name);
+  EXPECT_EQ(marked, (std::set<std::string>{"n_path_error", "contact_missed", "contact_report_gap", "contact_depth_error"}));
+}
+
 TEST(Runner, CycleRecordMatchesExactHolonomy) {
   // The run of the README: measured and expected against a direct composition of the exact flows.
   const Overrides ov{{"R", "0.3"}, {"l", "1.2"}, {"beta", "0.4"}, {"phi", "0.7"}, {"eps_alpha", "0.01"}, {"eps_beta", "0.01"}};

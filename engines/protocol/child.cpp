@@ -177,7 +177,7 @@ std::string ProtocolChild::read_line(double deadline_s) {
       fail("sent a line longer than 1 MiB");
     }
     const double left = deadline_s - now_s();
-    if (left <= 0.0) fail(fmt::format("no reply within {:g} s (the run's --timeout allows it that long)", timeout_hint_s_));
+    if (left <= 0.0) fail(fmt::format("no reply within {:.3g} s (what the run's --timeout left it)", timeout_hint_s_));
     pollfd fds[2] = {{out_fd_, POLLIN, 0}, {err_fd_, POLLIN, 0}};
     if (poll(fds, 2, static_cast<int>(left * 1000.0) + 1) < 0 && errno != EINTR) fail(fmt::format("poll: {}", std::strerror(errno)));
     if (fds[1].revents) drain_stderr();

@@ -1,6 +1,7 @@
 #include "engines/protocol/outside.hpp"
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -27,7 +28,7 @@ using nlohmann::json;
 
 namespace {
 
-std::atomic<double> g_timeout_s{110.0};
+std::atomic<double> g_timeout_s{100.5};  // set_protocol_timeout(120), the default --timeout
 
 /// An outside configuration's command and its idle child processes (one serves many runs).
 struct Outside {
@@ -35,6 +36,7 @@ struct Outside {
   std::vector<std::string> argv;
   std::string cwd;  ///< the registration's folder: relative paths in the command resolve there
   bool four_wheels = false;
+  std::string precision = "float64";
   std::mutex m;
   std::vector<std::unique_ptr<ProtocolChild>> idle;
 };
@@ -42,9 +44,11 @@ struct Outside {
 std::mutex g_all_m;
 std::vector<std::weak_ptr<Outside>> g_all;  ///< for close_idle_children
 
+double now_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
 /// The hello of a child just started: the protocol version must be 1.
-json hello(ProtocolChild& c) {
-  json r = c.call({{"op", "hello"}, {"protocol", 1}}, protocol_timeout_s());
+json hello(ProtocolChild& c, double deadline_s) {
+  json r = c.call({{"op", "hello"}, {"protocol", 1}}, std::max(0.05, deadline_s - now_s()));
   const auto p = r.find("protocol");
   if (p == r.end() || !p->is_number_integer() || p->get<long>() != 1)
     c.fail(fmt::format("speaks protocol {}, liftcheck speaks 1", p == r.end() ? "(none given)" : p->dump()));
@@ -54,7 +58,7 @@ json hello(ProtocolChild& c) {
 std::unique_ptr<ProtocolChild> start(Outside& o) { return std::make_unique<ProtocolChild>(o.name, o.argv, o.cwd); }
 
 /// A child for one engine object: an idle one, or a new one past its hello.
-std::unique_ptr<ProtocolChild> take(Outside& o) {
+std::unique_ptr<ProtocolChild> take(Outside& o, double deadline_s) {
   {
     std::lock_guard<std::mutex> lock(o.m);
     while (!o.idle.empty()) {
@@ -64,7 +68,7 @@ std::unique_ptr<ProtocolChild> take(Outside& o) {
     }
   }
   std::unique_ptr<ProtocolChild> c = start(o);
-  hello(*c);
+  hello(*c, deadline_s);
   return c;
 }
 
@@ -74,19 +78,25 @@ void give_back(Outside& o, std::unique_ptr<ProtocolChild> c) {
   o.idle.push_back(std::move(c));
 }
 
-/// The child an engine object uses for all its runs, back to the idle ones when it is done.
+/// The child an engine object uses for its run, back to the idle ones when it is done. Every
+/// reply must come before the run's deadline (protocol_timeout_s from the engine object's making).
 class Lease {
  public:
-  explicit Lease(std::shared_ptr<Outside> o) : o_(std::move(o)) {}
+  explicit Lease(std::shared_ptr<Outside> o) : o_(std::move(o)), deadline_s_(now_s() + protocol_timeout_s()) {}
   ~Lease() { give_back(*o_, std::move(child_)); }
   ProtocolChild& get() {
-    if (!child_ || !child_->healthy()) child_ = take(*o_);
+    if (!child_ || !child_->healthy()) child_ = take(*o_, deadline_s_);
     return *child_;
+  }
+  json call(const json& request) {
+    ProtocolChild& c = get();
+    return c.call(request, std::max(0.05, deadline_s_ - now_s()));
   }
   const Outside& outside() const { return *o_; }
 
  private:
   std::shared_ptr<Outside> o_;
+  double deadline_s_;
   std::unique_ptr<ProtocolChild> child_;
 };
 
@@ -154,15 +164,15 @@ class ProtocolCar final : public RigidCar {
                    {"gravity_W", vec(setup.gravity_W())}, {"car", car},
                    {"q0", {{"x_m", q0.x_m}, {"y_m", q0.y_m}, {"phi_rad", q0.phi_rad}, {"beta_rad", q0.beta_rad}}},
                    {"servo", {{"spin_torque_max_Nm", servo_.spin_torque_max_Nm}, {"steer_torque_max_Nm", servo_.steer_torque_max_Nm}}}};
-    ProtocolChild& c = lease_.get();
-    state_ = car_state(c, c.call(req, protocol_timeout_s()), d.wheels);
+    const json r = lease_.call(req);
+    state_ = car_state(lease_.get(), r, d.wheels);
   }
   void actuate(const FrontRates& rates, const ServoDef&) override { rates_ = rates; }
   void step(double dt_s) override {
     const json req{{"op", "step"}, {"spin_radps", {rates_.spin_radps[0], rates_.spin_radps[1]}},
                    {"steer_radps", {rates_.steer_radps[0], rates_.steer_radps[1]}}, {"dt_s", dt_s}};
+    const json r = lease_.call(req);
     ProtocolChild& c = lease_.get();
-    const json r = c.call(req, protocol_timeout_s());
     engine_s_ += engine_seconds(c, r);
     state_ = car_state(c, r, def_.wheels);
   }
@@ -186,13 +196,13 @@ class ProtocolDisks final : public DrivenDisks {
   void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
     const json req{{"op", "disks"}, {"settings", settings_json(settings_)}, {"radius_m", setup.radius_m}, {"dt_s", setup.dt_s},
                    {"cM0", vec(cM0)}, {"cN0", vec(cN0)}};
-    ProtocolChild& c = lease_.get();
-    state_ = positions(c, c.call(req, protocol_timeout_s()));
+    const json r = lease_.call(req);
+    state_ = positions(lease_.get(), r);
   }
   StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt_s) override {
     const json req{{"op", "step"}, {"vM_cmd", vec(vM_cmd)}, {"cN_next", vec(cN_next)}, {"vN", vec(vN)}, {"dt_s", dt_s}};
+    const json r = lease_.call(req);
     ProtocolChild& c = lease_.get();
-    const json r = c.call(req, protocol_timeout_s());
     engine_s_ += engine_seconds(c, r);
     state_ = positions(c, r);
     const auto ct = r.find("contacts");
@@ -209,6 +219,9 @@ class ProtocolDisks final : public DrivenDisks {
     return out;
   }
   State read() const override { return state_; }
+  /// A contact reported within the precision's bookkeeping tolerance of touching (1e-9 m, 1e-5 m
+  /// for float32) touches; one further apart is speculative.
+  double touching_distance_m() const override { return 1e-9 * bookkeeping_factor(lease_.outside().precision); }
 
  private:
   static State positions(ProtocolChild& c, const json& r) {
@@ -248,6 +261,7 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
   k.help = text_field(c, j, "help", where, false);
   if (k.numeric()) {
     k.min = c.number(j, "min", where.c_str()), k.max = c.number(j, "max", where.c_str());
+    if (j.contains("min_exclusive") && !j["min_exclusive"].is_boolean()) c.fail(fmt::format("hello: {}min_exclusive must be true or false", where));
     k.min_exclusive = j.value("min_exclusive", false);
     char* end = nullptr;
     const double v = std::strtod(k.default_text.c_str(), &end);
@@ -273,6 +287,7 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
   e.version = text_field(c, r, "version", "");
   e.precision = text_field(c, r, "precision", "");
   if (e.precision != "float32" && e.precision != "float64") c.fail(fmt::format("hello: precision '{}' must be float32 or float64", e.precision));
+  o->precision = e.precision;
   const auto v = r.find("vehicles");
   if (v == r.end() || !v->is_array()) c.fail("hello: 'vehicles' must be an array of \"car\" and \"disks\"");
   std::set<std::string> vehicles;
@@ -281,6 +296,7 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
     vehicles.insert(x.get<std::string>());
   }
   if (vehicles.empty()) c.fail("hello: 'vehicles' names no vehicle");
+  if (r.contains("four_wheels") && !r["four_wheels"].is_boolean()) c.fail("hello: 'four_wheels' must be true or false");
   e.four_wheels = o->four_wheels = r.value("four_wheels", false);
   e.knobs.clear();
   if (const auto s = r.find("settings"); s != r.end()) {
@@ -351,9 +367,11 @@ bool read_registration(const std::filesystem::path& file, EngineInfo& e, std::st
 }  // namespace
 
 void set_protocol_timeout(double run_timeout_s) {
-  // A reply may take nearly the run's whole time limit, not all of it: the run's worker must be
-  // able to write the error record before its own limit stops it.
-  g_timeout_s = std::max(0.2, std::min(run_timeout_s - 1.0, 0.9 * run_timeout_s));
+  // The replies of a run may take most of the run's time limit, not all of it: before the engine
+  // object is made, the worker process has started and read the configuration's hello (about a
+  // second on a loaded machine), and after a hang it must still write the error record before
+  // its own limit stops it.
+  g_timeout_s = std::max(0.5, 0.85 * run_timeout_s - 1.5);
 }
 double protocol_timeout_s() { return g_timeout_s; }
 
@@ -417,15 +435,29 @@ void describe_outside(EngineInfo& e) {
   o->cwd = std::filesystem::path(e.registration).parent_path().string();
   try {
     std::unique_ptr<ProtocolChild> c = start(*o);
-    const json r = hello(*c);
+    const json r = hello(*c, now_s() + protocol_timeout_s());
     apply_hello(e, *c, r, o);
     give_back(*o, std::move(c));
     std::lock_guard<std::mutex> all(g_all_m);
     g_all.push_back(o);
   } catch (const EngineError& err) {
     make_unavailable(e, err.what());
+  } catch (const std::exception& err) {  // a mistyped optional field of the hello
+    make_unavailable(e, fmt::format("engine '{}' (hello): malformed: {}", e.name, err.what()));
   }
   e.described = true;
+}
+
+EngineInfo outside_engine(const std::string& name, const std::vector<std::string>& command, const std::string& dir) {
+  EngineInfo e;
+  e.name = name;
+  e.command = command;
+  e.registration = (std::filesystem::path(dir) / (name + ".json")).string();
+  e.color = "#7f7f7f";
+  e.contact_dynamics = true;
+  e.described = false;
+  describe_outside(e);
+  return e;
 }
 
 void close_idle_children() {

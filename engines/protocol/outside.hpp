@@ -27,10 +27,15 @@ std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled
 /// leaves the entry unavailable (EngineInfo::unavailable): its runs are error records naming why.
 void describe_outside(EngineInfo& e);
 
-/// Every reply must come within this many seconds (a little under the run's --timeout, so that a
-/// hang is an error record naming what the child sent last). Default 110 s.
+/// The replies of one run must all come within this many seconds of its engine object's making
+/// (a little under the run's --timeout, so that a hang is an error record naming what the child
+/// sent last rather than a worker stopped). 0.85 T - 1.5 s; 100.5 s for the default 120 s.
 void set_protocol_timeout(double run_timeout_s);
 double protocol_timeout_s();
+
+/// A described outside configuration that no registration file names (tests, benchmarks): `name`
+/// started by `command` in the folder `dir`. Unavailable (EngineInfo::unavailable) if its hello fails.
+EngineInfo outside_engine(const std::string& name, const std::vector<std::string>& command, const std::string& dir);
 
 /// Ends the idle child processes of every outside configuration (a process that only described
 /// its configurations keeps none running).

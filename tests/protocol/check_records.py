@@ -60,7 +60,7 @@ EXPECT = {
     "fake-version": "speaks protocol 2, liftcheck speaks 1",
     "fake-malformed": "a reply that is not one JSON object",
     "fake-nan": "non-finite number",
-    "fake-missing": "no field 'x_m'",
+    "fake-missing": "the reply has no field '",
     "fake-die": "exited with status 7",
     "fake-hang": "no reply within",
     "fake-flood": "longer than 1 MiB",

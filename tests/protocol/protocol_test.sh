@@ -29,16 +29,36 @@ grep -q "has no setting 'iterations'" "$TMP/err"
 if "$LIFTCHECK" run car.circle --engine ode-protocol --engine-dir "$TMP/reg" --set wheel=square 2>"$TMP/err"; then exit 1; else test $? -eq 2; fi
 test "$(wc -l < "$TMP/err")" -eq 1
 
+# A registration whose command cannot start is reported, not a crash: `engines` says why, its
+# runs are error records (exit 1).
+printf '{"name": "no-node", "command": ["no-such-command-for-liftcheck", "x.mjs"], "description": "missing", "color": "#000000"}\n' > "$TMP/reg/no-node.json"
+"$LIFTCHECK" engines --engine-dir "$TMP/reg" | grep -A2 "^no-node  \[unavailable" | grep -q "cannot start 'no-such-command-for-liftcheck'"
+if "$LIFTCHECK" run car.circle --engine no-node --engine-dir "$TMP/reg" >"$TMP/out"; then exit 1; else test $? -eq 1; fi
+grep -q "error (engine 'no-node': cannot start" "$TMP/out"
+rm "$TMP/reg/no-node.json"
+# A malformed registration is bad input: one line, exit 2.
+mkdir "$TMP/bad" && printf '{"name": "Bad Name", "command": []}\n' > "$TMP/bad/bad.json"
+if "$LIFTCHECK" list --engine-dir "$TMP/bad" >/dev/null 2>"$TMP/err"; then exit 1; else test $? -eq 2; fi
+test "$(wc -l < "$TMP/err")" -eq 1 && grep -q "bad.json" "$TMP/err"
+
 # 1. The same records.
 status=0
 "$LIFTCHECK" validate --engine-dir "$TMP/reg" --engines ode,ode-protocol --no-sweeps --no-report --out "$TMP/same" >"$TMP/same.log" || status=$?
 test "$status" -le 1 || { cat "$TMP/same.log"; exit 1; }
 python3 "$HERE/check_records.py" same "$TMP/same/results.json" ode ode-protocol
 
-# 2. Adapters that lie: error records, one line each, and the suite goes on.
+# 2. Adapters that lie: error records, one line each, and the suite goes on. Each is registered
+# with the Python running this test (no wrapper script to start on a loaded machine).
+mkdir "$TMP/fakes"
+python3 - "$HERE/fake_adapter.py" "$TMP/fakes" <<'PY'
+import json, sys
+for mode in ["version", "malformed", "nan", "missing", "die", "hang", "flood"]:
+    json.dump({"name": f"fake-{mode}", "command": [sys.executable, sys.argv[1], mode],
+               "description": f"an adapter that lies ({mode})", "color": "#7f7f7f"}, open(f"{sys.argv[2]}/fake-{mode}.json", "w"))
+PY
 status=0
-"$LIFTCHECK" validate --engine-dir "$HERE/fakes" --engines ode,fake-version,fake-malformed,fake-nan,fake-missing,fake-die,fake-hang,fake-flood \
-  --filter 'car.circle,disks.linear' --no-sweeps --no-report --timeout 4 --jobs 2 --out "$TMP/lies" >"$TMP/lies.log" || status=$?
+"$LIFTCHECK" validate --engine-dir "$TMP/fakes" --engines ode,fake-version,fake-malformed,fake-nan,fake-missing,fake-die,fake-hang,fake-flood \
+  --filter 'car.circle,disks.linear' --no-sweeps --no-report --timeout 20 --jobs 2 --out "$TMP/lies" >"$TMP/lies.log" || status=$?
 test "$status" -eq 1 || { cat "$TMP/lies.log"; exit 1; }
 python3 "$HERE/check_records.py" lies "$TMP/lies/results.json"
 echo "protocol: ok"
