@@ -29,7 +29,9 @@ const HK = await (await import(new URL('lib/esm/HavokPhysics_es.js', PKG))).defa
 const F_GROUND = [1, 2], F_WHEEL = [2, 1], F_GHOST = [4, 0], F_DISK = [8, 8];
 const A = HK.ConstraintAxis, LOCKED = HK.ConstraintAxisLimitMode.LOCKED;
 // Babylon.js's PhysicsMaterial combines friction with MINIMUM unless told otherwise; both
-// materials use it, so the pair's coefficient is min(f_wheel, f_ground).
+// materials use it, so the pair's coefficient is min(f_wheel, f_ground) (measured: a box sliding
+// on the ground decelerates at min(f1, f2) g; of two materials with different modes the one
+// later in GEOMETRIC_MEAN, MINIMUM, MAXIMUM, ARITHMETIC_MEAN, MULTIPLY wins).
 const COMBINE = HK.MaterialCombine.MINIMUM, RESTITUTION_COMBINE = HK.MaterialCombine.MAXIMUM;
 
 const PRESETS = { default: '1/60', accurate: 'dt' };
@@ -246,7 +248,7 @@ serve({
         ['joints', '6-DOF constraints with only ANGULAR_X free (Babylon.js HingeConstraint): steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y) with VELOCITY motors, max torque the servo torque; passive ones for the rear wheels; joint angles from the bodies\' orientations'],
         ['bodies', `chassis box of the chassis mass (filter colliding with nothing); knuckle a ${KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg, colliding with nothing; wheels spheres of radius R (or y-axis cylinders) of wheel_mass_kg; inertias HP_Shape_BuildMassProperties gives for the shapes at those masses; no damping, always active`],
         ['ground', 'static box, top face z = 0, 60 m square (or 20 l) centred under the start (a 4 km box makes the car skid)'],
-        ['friction', 'friction combine MINIMUM on both materials (Babylon.js PhysicsMaterial default): wheel and ground both mu; restitution 0'],
+        ['friction', 'each material names its combine mode; measured: GEOMETRIC_MEAN, MINIMUM, MAXIMUM, ARITHMETIC_MEAN, MULTIPLY do what they say, and of two different modes the later in that list wins. Both materials MINIMUM (Babylon.js PhysicsMaterial default), wheel and ground both mu: min(mu, mu) = mu; restitution 0'],
         ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, linear velocity set to the command (z = 0) before each step; N kinematic, HP_Body_SetTargetQTransform to its next position; contacts from the step\'s COLLISION_STARTED/CONTINUED events, distance (p_N - p_M) . n'],
         ['four wheels', 'not built: this adapter builds the tricycle only'],
       ],
