@@ -86,7 +86,7 @@ export function check_car(req) {
   if (!c) throw new Error('car request without "car"');
   for (const key of ['R_m', 'l_m', 'track_m', 'chassis_height_m', 'chassis_mass_kg', 'wheel_mass_kg', 'knuckle_mass_kg'])
     if (!(typeof c[key] === 'number' && c[key] > 0)) throw new Error(`car.${key} must be a positive number`);
-  if (c.wheels !== 3) throw new Error(`car.wheels = ${c.wheels}: this configuration builds only the tricycle (wheels = 3)`);
+  if (c.wheels !== 3 && c.wheels !== 4) throw new Error(`car.wheels = ${c.wheels} is not 3 (the tricycle) or 4`);
   if (c.wheel_shape !== 'sphere' && c.wheel_shape !== 'cylinder') throw new Error(`car.wheel_shape '${c.wheel_shape}' is not sphere | cylinder`);
   if (c.wheel_shape === 'cylinder' && !(c.wheel_width_m > 0)) throw new Error('car.wheel_width_m must be positive for cylinder wheels');
   if (!(req.dt_s > 0)) throw new Error('dt_s must be positive');
@@ -96,6 +96,47 @@ export function check_car(req) {
     if (typeof req.q0?.[key] !== 'number') throw new Error(`q0.${key} must be a number`);
   for (const key of ['spin_torque_max_Nm', 'steer_torque_max_Nm'])
     if (!(req.servo?.[key] > 0)) throw new Error(`servo.${key} must be positive`);
+}
+
+/// The steered front wheels in the chassis frame: the tricycle's one at the front-axle centre,
+/// steered at beta; a four-wheel car's left and right at y = +-track/2, each at its Ackermann angle
+/// atan2(l sin beta, l cos beta -+ (track/2) sin beta) (models/ackermann.hpp), or at beta itself
+/// when steered in parallel.
+export function front_wheels(car, beta_rad) {
+  if (car.wheels === 3) return [{ y_m: 0, beta0_rad: beta_rad }];
+  return [1, -1].map((side) => ({
+    y_m: 0.5 * side * car.track_m,
+    beta0_rad: car.parallel_steering ? beta_rad
+      : Math.atan2(car.l_m * Math.sin(beta_rad), car.l_m * Math.cos(beta_rad) - side * 0.5 * car.track_m * Math.sin(beta_rad)),
+  }));
+}
+
+/// The per-wheel rates of a car step: spin_radps[k] and steer_radps[k] for each front wheel k.
+export function front_rates(req, n_front) {
+  const out = [];
+  for (let k = 0; k < n_front; ++k) {
+    const spin = req.spin_radps?.[k], steer = req.steer_radps?.[k];
+    if (typeof spin !== 'number' || typeof steer !== 'number') throw new Error(`car step needs spin_radps[${k}] and steer_radps[${k}]`);
+    out.push({ spin, steer });
+  }
+  return out;
+}
+
+/// The protocol's car state from the engine's readings: per front wheel its spin joint angle,
+/// steering angle and pose; the chassis heading; every wheel's body state (fronts, then rears).
+export function car_reply(fronts, phi_rad, wheels) {
+  const n = fronts.length;
+  const pair = (f) => [f(fronts[0]), n === 2 ? f(fronts[1]) : 0];
+  return {
+    spin_joint_rad: pair((f) => f.spin_rad),
+    steer_rad: pair((f) => f.steer_rad),
+    x_m: fronts.reduce((s, f) => s + f.p[0], 0) / n,
+    y_m: fronts.reduce((s, f) => s + f.p[1], 0) / n,
+    z_m: Math.min(...fronts.map((f) => f.p[2])),
+    phi_rad,
+    rear_z_m: Math.min(wheels[n].hub_z_m, wheels[n + 1].hub_z_m),
+    wheels,
+  };
 }
 
 /// Half-size of the square ground box centred under the start, m: room for the scenarios' drives

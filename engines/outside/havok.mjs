@@ -16,7 +16,7 @@
 // signed distance is (p_B - p_A) . n_A (positive for Havok's contacts ahead of touching).
 // Every build releases the previous world with all its bodies, shapes and constraints.
 import { serve, timed } from './protocol.mjs';
-import { apply_settings, check_car, chassis_to_world, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, twist_angle, yaw_quat } from './frames.mjs';
+import { apply_settings, car_reply, check_car, chassis_to_world, front_rates, front_wheels, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, twist_angle, yaw_quat } from './frames.mjs';
 import { readFileSync } from 'node:fs';
 
 const PKG = new URL('./node_modules/@babylonjs/havok/', import.meta.url);
@@ -134,24 +134,34 @@ function build_car(req) {
   world.kind = 'car';
   const c = req.car, q0 = req.q0, R = c.R_m, DYN = HK.MotionType.DYNAMIC;
   const at = chassis_to_world(q0);
-  const q_chassis = yaw_quat(q0.phi_rad), q_front = yaw_quat(q0.phi_rad + q0.beta_rad);
+  const q_chassis = yaw_quat(q0.phi_rad);
   const side = 2 * ground_half_m(c);
   // Havok's pair coefficient is min(mu, mu) = mu.
   add_body(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [side, side, 1]), F_GROUND, req.mu), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1],
            HK.MotionType.STATIC, 0);
   const chassis = add_body(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [c.l_m, c.track_m, c.chassis_height_m]), F_GHOST, 0),
                            at(-0.5 * c.l_m, 0, R), q_chassis, DYN, c.chassis_mass_kg);
-  const knuckle = add_body(shape(HK.HP_Shape_CreateSphere([0, 0, 0], KNUCKLE_RADIUS_M), F_GHOST, 0), at(0, 0, R), q_front, DYN, c.knuckle_mass_kg);
   const wheel_shape = () => shape(c.wheel_shape === 'cylinder'
     ? HK.HP_Shape_CreateCylinder([0, -0.5 * c.wheel_width_m, 0], [0, 0.5 * c.wheel_width_m, 0], R)  // axis along local y
     : HK.HP_Shape_CreateSphere([0, 0, 0], R), F_WHEEL, req.mu);
-  const front = add_body(wheel_shape(), at(0, 0, R), q_front, DYN, c.wheel_mass_kg);
-  const rear = [0.5, -0.5].map((y) => add_body(wheel_shape(), at(-c.l_m, y * c.track_m, R), q_chassis, DYN, c.wheel_mass_kg));
-  const b0 = q0.beta_rad, Z = [0, 0, 1], Y = [0, 1, 0], X = [1, 0, 0], O = [0, 0, 0];
-  world.steer = add_hinge(chassis, knuckle, [0.5 * c.l_m, 0, 0], Z, [Math.cos(b0), Math.sin(b0), 0], O, Z, X, req.servo.steer_torque_max_Nm);
-  world.spin = add_hinge(knuckle, front, O, Y, Z, O, Y, Z, req.servo.spin_torque_max_Nm);
-  for (const [k, y] of [[0, 0.5], [1, -0.5]]) add_hinge(chassis, rear[k], [-0.5 * c.l_m, y * c.track_m, 0], Y, Z, O, Y, Z, 0);
-  Object.assign(world, { chassis, knuckle, front, rear, beta0: b0 });
+  const Z = [0, 0, 1], Y = [0, 1, 0], X = [1, 0, 0], O = [0, 0, 0];
+  // Each front wheel on its own knuckle, both yawed by the wheel's start steering angle b0. The
+  // steering hinge's zero direction is the chassis x: (1, 0, 0) in the chassis frame, the same
+  // direction (cos b0, -sin b0, 0) in the knuckle's.
+  world.fronts = front_wheels(c, q0.beta_rad).map(({ y_m, beta0_rad: b0 }) => {
+    const q_front = yaw_quat(q0.phi_rad + b0), hub = at(0, y_m, R);
+    const knuckle = add_body(shape(HK.HP_Shape_CreateSphere(O, KNUCKLE_RADIUS_M), F_GHOST, 0), hub, q_front, DYN, c.knuckle_mass_kg);
+    const body = add_body(wheel_shape(), hub, q_front, DYN, c.wheel_mass_kg);
+    const steer = add_hinge(chassis, knuckle, [0.5 * c.l_m, y_m, 0], Z, X, O, Z, [Math.cos(b0), -Math.sin(b0), 0], req.servo.steer_torque_max_Nm);
+    const spin = add_hinge(knuckle, body, O, Y, Z, O, Y, Z, req.servo.spin_torque_max_Nm);
+    return { knuckle, body, steer, spin };
+  });
+  world.rear = [0.5, -0.5].map((y) => {
+    const body = add_body(wheel_shape(), at(-c.l_m, y * c.track_m, R), q_chassis, DYN, c.wheel_mass_kg);
+    add_hinge(chassis, body, [-0.5 * c.l_m, y * c.track_m, 0], Y, Z, O, Y, Z, 0);
+    return body;
+  });
+  world.chassis = chassis;
   return car_state();
 }
 
@@ -166,24 +176,22 @@ function wheel_state(b) {
 }
 
 function car_state() {
-  const chassis = pose(world.chassis), knuckle = pose(world.knuckle), front = pose(world.front);
-  const wheels = [world.front, ...world.rear].map(wheel_state);
-  return {
-    // The joints' angles from the bodies: the knuckle about the chassis z, the wheel about the knuckle y.
-    spin_joint_rad: [twist_angle(knuckle.q, front.q, [0, 1, 0]), 0],
-    steer_rad: [twist_angle(chassis.q, knuckle.q, [0, 0, 1]), 0],
-    x_m: front.p[0], y_m: front.p[1], z_m: front.p[2],
-    phi_rad: heading(chassis.q),
-    rear_z_m: Math.min(wheels[1].hub_z_m, wheels[2].hub_z_m),
-    wheels,
-  };
+  const q_chassis = pose(world.chassis).q;
+  // The joints' angles from the bodies: the knuckle's twist about the chassis z (the steering angle
+  // itself: the hinge's zero is the chassis x), the wheel's about the knuckle y.
+  const fronts = world.fronts.map((f) => {
+    const knuckle = pose(f.knuckle).q, wheel = pose(f.body);
+    return { spin_rad: twist_angle(knuckle, wheel.q, [0, 1, 0]), steer_rad: twist_angle(q_chassis, knuckle, [0, 0, 1]), p: wheel.p };
+  });
+  const wheels = [...world.fronts.map((f) => f.body), ...world.rear].map(wheel_state);
+  return car_reply(fronts, heading(q_chassis), wheels);
 }
 
 function step_car(req) {
-  const spin = req.spin_radps?.[0], steer = req.steer_radps?.[0];
-  if (typeof spin !== 'number' || typeof steer !== 'number') throw new Error('car step needs spin_radps[0] and steer_radps[0]');
-  HK.HP_Constraint_SetAxisMotorTarget(world.spin, A.ANGULAR_X, spin);
-  HK.HP_Constraint_SetAxisMotorTarget(world.steer, A.ANGULAR_X, steer);
+  front_rates(req, world.fronts.length).forEach(({ spin, steer }, k) => {
+    HK.HP_Constraint_SetAxisMotorTarget(world.fronts[k].spin, A.ANGULAR_X, spin);
+    HK.HP_Constraint_SetAxisMotorTarget(world.fronts[k].steer, A.ANGULAR_X, steer);
+  });
   const engine_s = timed(() => HK.HP_World_Step(world.id, req.dt_s));
   return { engine_s, ...car_state() };
 }
@@ -240,7 +248,7 @@ serve({
   hello() {
     return {
       engine: 'Havok', version: VERSION, precision: 'float32',
-      vehicles: ['car', 'disks'], four_wheels: false, settings: SETTINGS,
+      vehicles: ['car', 'disks'], four_wheels: true, settings: SETTINGS,
       fixed: [
         ['configuration', CONFIG === 'default'
           ? 'Havok as Babylon.js ships it: world defaults (ideal step time 1/60 s, from which Havok adapts its solver to the step it is given); no solver iterations are exposed'
@@ -250,7 +258,7 @@ serve({
         ['ground', 'static box, top face z = 0, 60 m square (or 20 l) centred under the start (a 4 km box makes the car skid)'],
         ['friction', 'each material names its combine mode; measured: GEOMETRIC_MEAN, MINIMUM, MAXIMUM, ARITHMETIC_MEAN, MULTIPLY do what they say, and of two different modes the later in that list wins. Both materials MINIMUM (Babylon.js PhysicsMaterial default), wheel and ground both mu: min(mu, mu) = mu; restitution 0'],
         ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, linear velocity set to the command (z = 0) before each step; N kinematic, HP_Body_SetTargetQTransform to its next position; contacts from the step\'s COLLISION_STARTED/CONTINUED events, distance (p_N - p_M) . n'],
-        ['four wheels', 'not built: this adapter builds the tricycle only'],
+        ['four wheels', 'two front wheels at +-track/2, each on its own knuckle and hinges as above, built at its Ackermann angle (or at beta when steered in parallel)'],
       ],
     };
   },

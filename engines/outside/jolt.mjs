@@ -17,7 +17,7 @@
 // Every build makes a new JoltInterface and destroys the previous one with all its bodies and
 // constraints (one process serves many runs).
 import { serve, timed } from './protocol.mjs';
-import { apply_settings, check_car, chassis_to_world, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, wrap, yaw_quat } from './frames.mjs';
+import { apply_settings, car_reply, check_car, chassis_to_world, front_rates, front_wheels, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, wrap, yaw_quat } from './frames.mjs';
 import { readFileSync } from 'node:fs';
 
 const Jolt = await (await import('jolt-physics')).default();
@@ -159,7 +159,7 @@ function build_car(req) {
   world.kind = 'car';
   const c = req.car, q0 = req.q0, R = c.R_m;
   const at = chassis_to_world(q0);
-  const q_chassis = yaw_quat(q0.phi_rad), steer0 = q0.phi_rad + q0.beta_rad, q_front = yaw_quat(steer0);
+  const q_chassis = yaw_quat(q0.phi_rad);
   const half = ground_half_m(c);
   const ext = vec3([half, half, 0.5]);
   add_body(new Jolt.BoxShape(ext, 0.05, null), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1], Jolt.EMotionType_Static, L_GROUND,
@@ -169,19 +169,27 @@ function build_car(req) {
   const chassis = add_body(new Jolt.BoxShape(box, 0, null), at(-0.5 * c.l_m, 0, R), q_chassis, Jolt.EMotionType_Dynamic, L_GHOST,
                            { mass_kg: c.chassis_mass_kg });
   Jolt.destroy(box);
-  const knuckle = add_body(new Jolt.SphereShape(KNUCKLE_RADIUS_M, null), at(0, 0, R), q_front, Jolt.EMotionType_Dynamic, L_GHOST,
-                           { mass_kg: c.knuckle_mass_kg });
   const wheel_shape = () => c.wheel_shape === 'cylinder'
     ? new Jolt.CylinderShape(0.5 * c.wheel_width_m, R, Math.min(0.05, 0.25 * c.wheel_width_m), null)  // axis along local y
     : new Jolt.SphereShape(R, null);
   const wheel = (p, q) => add_body(wheel_shape(), p, q, Jolt.EMotionType_Dynamic, L_WHEEL, { mass_kg: c.wheel_mass_kg, friction: req.mu });
-  const front = wheel(at(0, 0, R), q_front);
-  const rear = [wheel(at(-c.l_m, 0.5 * c.track_m, R), q_chassis), wheel(at(-c.l_m, -0.5 * c.track_m, R), q_chassis)];
-  const axle_front = rotate(q_front, [0, 1, 0]), axle_chassis = rotate(q_chassis, [0, 1, 0]), forward = rotate(q_front, [1, 0, 0]);
-  world.steer = add_hinge(chassis, knuckle, at(0, 0, R), [0, 0, 1], forward, req.servo.steer_torque_max_Nm);
-  world.spin = add_hinge(knuckle, front, at(0, 0, R), axle_front, [0, 0, 1], req.servo.spin_torque_max_Nm);
-  for (const [k, y] of [[0, 0.5], [1, -0.5]]) add_hinge(chassis, rear[k], at(-c.l_m, y * c.track_m, R), axle_chassis, [0, 0, 1], 0);
-  Object.assign(world, { chassis, front, rear, beta0: q0.beta_rad });
+  // Each front wheel on its own knuckle, both yawed by the wheel's start steering angle.
+  world.fronts = front_wheels(c, q0.beta_rad).map(({ y_m, beta0_rad }) => {
+    const q_front = yaw_quat(q0.phi_rad + beta0_rad), hub = at(0, y_m, R);
+    const knuckle = add_body(new Jolt.SphereShape(KNUCKLE_RADIUS_M, null), hub, q_front, Jolt.EMotionType_Dynamic, L_GHOST,
+                             { mass_kg: c.knuckle_mass_kg });
+    const body = wheel(hub, q_front);
+    const steer = add_hinge(chassis, knuckle, hub, [0, 0, 1], rotate(q_front, [1, 0, 0]), req.servo.steer_torque_max_Nm);
+    const spin = add_hinge(knuckle, body, hub, rotate(q_front, [0, 1, 0]), [0, 0, 1], req.servo.spin_torque_max_Nm);
+    return { body, steer, spin, beta0_rad };
+  });
+  const axle_chassis = rotate(q_chassis, [0, 1, 0]);
+  world.rear = [0.5, -0.5].map((y) => {
+    const body = wheel(at(-c.l_m, y * c.track_m, R), q_chassis);
+    add_hinge(chassis, body, at(-c.l_m, y * c.track_m, R), axle_chassis, [0, 0, 1], 0);
+    return body;
+  });
+  world.chassis = chassis;
   return car_state();
 }
 
@@ -198,23 +206,17 @@ function wheel_state(body) {
 }
 
 function car_state() {
-  const front = pose(world.front);
-  const wheels = [world.front, ...world.rear].map(wheel_state);
-  return {
-    spin_joint_rad: [wrap(world.spin.GetCurrentAngle()), 0],
-    steer_rad: [world.beta0 + world.steer.GetCurrentAngle(), 0],
-    x_m: front.p[0], y_m: front.p[1], z_m: front.p[2],
-    phi_rad: heading(pose(world.chassis).q),
-    rear_z_m: Math.min(wheels[1].hub_z_m, wheels[2].hub_z_m),
-    wheels,
-  };
+  // Hinge angles are zero at the build pose: the steering angle is the start angle plus it.
+  const fronts = world.fronts.map((f) => ({ spin_rad: wrap(f.spin.GetCurrentAngle()), steer_rad: f.beta0_rad + f.steer.GetCurrentAngle(), p: pose(f.body).p }));
+  const wheels = [...world.fronts.map((f) => f.body), ...world.rear].map(wheel_state);
+  return car_reply(fronts, heading(pose(world.chassis).q), wheels);
 }
 
 function step_car(req) {
-  const spin = req.spin_radps?.[0], steer = req.steer_radps?.[0];
-  if (typeof spin !== 'number' || typeof steer !== 'number') throw new Error('car step needs spin_radps[0] and steer_radps[0]');
-  world.spin.SetTargetAngularVelocity(spin);
-  world.steer.SetTargetAngularVelocity(steer);
+  front_rates(req, world.fronts.length).forEach(({ spin, steer }, k) => {
+    world.fronts[k].spin.SetTargetAngularVelocity(spin);
+    world.fronts[k].steer.SetTargetAngularVelocity(steer);
+  });
   const engine_s = timed(() => world.jolt.Step(req.dt_s, 1));
   return { engine_s, ...car_state() };
 }
@@ -289,7 +291,7 @@ serve({
   hello() {
     return {
       engine: 'Jolt Physics', version: VERSION, precision: 'float32',
-      vehicles: ['car', 'disks'], four_wheels: false, settings: SETTINGS,
+      vehicles: ['car', 'disks'], four_wheels: true, settings: SETTINGS,
       fixed: [
         ['configuration', FIXED[CONFIG]],
         ['joints', 'HingeConstraint steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y), both EMotorState_Velocity with torque limits +-servo torque; passive HingeConstraints for the rear wheels'],
@@ -297,7 +299,7 @@ serve({
         ['ground', 'static BoxShape, top face z = 0, 60 m square (or 20 l) centred under the start'],
         ['friction', 'Jolt combines friction as the geometric mean sqrt(f1 f2): wheel and ground both mu'],
         ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, EAllowedDOFs_Plane2D, linear velocity set to the command before each step; N kinematic, MoveKinematic to its next position; contacts from ContactListener OnContactAdded/OnContactPersisted (speculative manifolds within 2 cm included, distance = -mPenetrationDepth)'],
-        ['four wheels', 'not built: this adapter builds the tricycle only'],
+        ['four wheels', 'two front wheels at +-track/2, each on its own knuckle and hinges as above, built at its Ackermann angle (or at beta when steered in parallel)'],
       ],
     };
   },
