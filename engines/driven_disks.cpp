@@ -37,7 +37,10 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
       }
       ++log.steps_in_contact;
       log.depth_reported_max_m = std::max(log.depth_reported_max_m, c.depth_max_m);
-      log.gap_reported_max_m = std::max(log.gap_reported_max_m, d - touch);
+      // A speculative contact (reported at a positive distance) explains that much gap: what
+      // counts is the gap beyond the distance the engine itself says its contact has.
+      const double said_apart_m = std::isnan(c.distance_min_m) ? 0.0 : std::max(0.0, c.distance_min_m);
+      log.gap_reported_max_m = std::max(log.gap_reported_max_m, d - touch - said_apart_m);
       log.depth_error_max_m = std::max(log.depth_error_max_m, std::abs(c.depth_max_m - std::max(0.0, touch - d)));
     } else {
       log.overlap_unreported_m = std::max(log.overlap_unreported_m, touch - d);

@@ -10,6 +10,8 @@
 namespace liftcheck {
 
 class DrivenDisks : public DiskEngine {
+  friend class ProtocolServer;  // `liftcheck serve`: these hooks over the engine protocol
+
  public:
   DiskRun run(const DiskSetup& setup, const DiskProblem& problem) final;
   double simulated_s() const final { return stepped_s_; }
@@ -22,6 +24,9 @@ class DrivenDisks : public DiskEngine {
   struct StepContacts {
     int count = 0;
     double depth_max_m = 0.0;  ///< deepest penetration among them (>= 0)
+    /// The smallest signed distance among them where the engine reports one (an outside engine:
+    /// positive for a speculative contact generated before the shapes touch); NaN: -depth_max_m.
+    double distance_min_m = NAN;
   };
   /// Builds the world: M a dynamic body at cM0 at rest, N a kinematic body at cN0.
   virtual void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) = 0;

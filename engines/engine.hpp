@@ -98,6 +98,10 @@ class CarEngine {
   /// True for a trace read back from a simulator outside liftcheck: nothing inside it is known,
   /// so its whole path is compared with the exact lift at every sample.
   virtual bool replays_trace() const { return false; }
+  /// Seconds the engine itself spent stepping, as an outside engine's adapter reports them
+  /// (docs/protocol.md, `engine_s`): the cost per simulated second without the protocol's round
+  /// trip. NaN for an engine in liftcheck's process, whose run's wall clock is its cost.
+  virtual double reported_engine_s() const { return NAN; }
 };
 
 /// Two unit disks: N moves along a known path, M's velocity is commanded from a reaction rule.
@@ -147,6 +151,8 @@ class DiskEngine {
   virtual DiskRun run(const DiskSetup& setup, const DiskProblem& problem) = 0;
   /// Simulated time stepped since construction, s (the exact model: the problems' horizons).
   virtual double simulated_s() const = 0;
+  /// As CarEngine::reported_engine_s.
+  virtual double reported_engine_s() const { return NAN; }
 };
 
 /// A body has blown up when it is faster than kRunawayFactor times the fastest speed the run
@@ -183,14 +189,38 @@ struct EngineInfo {
   /// Builds four-wheel cars (CarSetup::wheels = 4); a configuration without them rejects
   /// wheels=4 as bad input rather than run a tricycle.
   bool four_wheels = false;
+  /// The precision the engine stores positions in, "float64" or "float32": tolerances that check
+  /// bookkeeping (MetricDef::bookkeeping) scale with it (bookkeeping_factor). Every compiled-in
+  /// engine here is double precision.
+  std::string precision = "float64";
+  /// An engine outside liftcheck (engines/protocol/outside.hpp): its registration file and the
+  /// argument vector that starts it; empty for a compiled-in configuration.
+  std::string registration = {};
+  std::vector<std::string> command = {};
+  /// False until an outside configuration's hello has been read (find_engine reads it).
+  bool described = true;
+  /// Why an outside configuration cannot run (its command did not start, its hello was wrong);
+  /// its runs are error records saying so. Empty when it is available.
+  std::string unavailable = {};
 
   /// Every knob of `vehicle` at its default.
   Settings defaults(const std::string& vehicle) const;
 };
 
-/// Every configuration compiled in, in a fixed order (the reference first).
+/// Every configuration compiled in, in a fixed order (the reference first), then every outside
+/// configuration registered (engines/protocol/outside.hpp), in folder and file name order. An
+/// outside configuration is described (its hello read) only once it is looked up by
+/// find_engine or all are by described_engines(): listing the names starts no process.
 const std::vector<EngineInfo>& engines();
+/// engines(), every outside configuration described first.
+const std::vector<EngineInfo>& described_engines();
+/// The configuration named `name`, described; nullptr if there is none.
 const EngineInfo* find_engine(const std::string& name);
+/// Registration files that could not be used (malformed, a name taken twice), one line each.
+const std::vector<std::string>& registration_problems();
+/// The tolerance factor of bookkeeping metrics for an engine of this precision: 1 for float64;
+/// 1e4 for float32 (docs/protocol.md, "precision").
+double bookkeeping_factor(const std::string& precision);
 /// The configuration marked is_reference (exactly one).
 const EngineInfo& reference_engine();
 

@@ -70,6 +70,8 @@ struct RigidCarState {
 };
 
 class RigidCar : public CarEngine {
+  friend class ProtocolServer;  // `liftcheck serve`: these hooks over the engine protocol
+
  public:
   explicit RigidCar(Settings settings) : settings_(std::move(settings)) {}
   void reset(const CarSetup& setup, const car::Config& q0) final;

@@ -464,13 +464,13 @@ std::vector<Scenario> disk_scenarios() {
       kCollision, kTContact,
       abs_("path_error", "m", 1e-8, 1e-2, "largest distance of c_M from the reference up to the first contact"),
       // The engine's own contact log against its own reported positions: exact for any engine.
-      {"n_path_error", "m", TolKind::kAbsolute, {{"default", 1e-9}}, "largest distance of N, as the engine moved it, from its path"},
+      {"n_path_error", "m", TolKind::kAbsolute, {{"default", 1e-9}}, "largest distance of N, as the engine moved it, from its path", {}, true},
       {"contact_missed", "m", TolKind::kAbsolute, {{"default", 1e-9}},
-       "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact"},
+       "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact", {}, true},
       {"contact_report_gap", "m", TolKind::kAbsolute, {{"default", 1e-9}},
-       "largest gap |c_M - c_N| - 2 on a state the engine's collision pass reported in contact"},
+       "largest gap |c_M - c_N| - 2 on a state the engine's collision pass reported in contact", {}, true},
       {"contact_depth_error", "m", TolKind::kAbsolute, {{"default", 1e-9}},
-       "largest difference between the depth the engine's contacts report and the overlap of its bodies"},
+       "largest difference between the depth the engine's contacts report and the overlap of its bodies", {}, true},
       abs_("overlap_growth", "m", 0.0, 0.1, "growth of the overlap over the step after the first contact; tolerance in steps of closing travel"),
       // Contact is first seen up to one step of closing travel deep; a Baumgarte-stabilised response
       // (ERP 0.2) holds a sustained push at up to 1 / ERP = 5 such steps.

@@ -13,6 +13,8 @@
 #include <csignal>
 #include <cstring>
 
+#include "engines/protocol/outside.hpp"
+#include "engines/protocol/serve.hpp"
 #include "harness/external.hpp"
 #include "harness/results.hpp"
 #include "harness/suggest.hpp"
@@ -90,20 +92,24 @@ int cmd_list(bool json) {
 
 /// Every configuration: what it is, the fixed settings it applies and the ones --set may change.
 int cmd_engines(bool json) {
+  const std::vector<EngineInfo>& all_engines = described_engines();
+  close_idle_children();
   if (json) {
-    std::cout << context_json([] {
+    std::cout << context_json([&] {
       std::vector<const EngineInfo*> all;
-      for (const auto& e : engines()) all.push_back(&e);
+      for (const auto& e : all_engines) all.push_back(&e);
       return all;
     }(), 0.0)["engines"].dump(2) << "\n";
     return 0;
   }
-  for (const auto& e : engines()) {
+  for (const auto& e : all_engines) {
     std::vector<std::string> vehicles;
     if (e.make_car) vehicles.push_back("car");
     if (e.make_disks) vehicles.push_back("disks");
-    std::cout << fmt::format("{}  [{} {}; {}{}; colour {}]\n  {}\n", e.name, e.library, e.version, fmt::join(vehicles, ", "),
-                             e.is_reference ? "; the reference" : "", e.color, e.description);
+    if (!e.unavailable.empty()) vehicles = {"UNAVAILABLE"};
+    std::cout << fmt::format("{}  [{} {}; {}{}; {}; colour {}{}]\n  {}\n", e.name, e.library, e.version, fmt::join(vehicles, ", "),
+                             e.is_reference ? "; the reference" : "", e.precision, e.color,
+                             e.registration.empty() ? "" : "; outside: " + e.registration, e.description);
     for (const auto& [k, v] : e.settings) std::cout << fmt::format("    {:<22} {}\n", k, v);
     for (const SettingSpec& k : e.knobs)
       std::cout << fmt::format("    --set {:<16} {} ({}): {}; default {}, {}\n", k.key, k.vehicle, k.kind == SettingSpec::kChoice ? "choice" : k.kind == SettingSpec::kInteger ? "integer" : "real",
@@ -138,6 +144,9 @@ RunnerDef runner_def(int jobs, double timeout_s) {
   r.jobs = jobs;
   r.timeout_s = timeout_s;
   r.stop = [] { return g_signal != 0; };
+  // Outside engines' replies are bounded by the run's limit, here and in the worker processes.
+  set_protocol_timeout(timeout_s);
+  setenv("LIFTCHECK_RUN_TIMEOUT_S", fmt::format("{}", timeout_s).c_str(), 1);
   return r;
 }
 
@@ -162,7 +171,9 @@ void print_record(const nlohmann::json& r) {
 
 int cmd_run(const std::string& scenario, const std::string& engine, const std::vector<std::string>& sets, bool json, double timeout_s) {
   const Scenario& s = scenario_or_throw(scenario);
+  const RunnerDef runner = runner_def(1, timeout_s);
   const EngineInfo& e = engine_or_throw(engine);
+  close_idle_children();
   const Overrides ov = overrides_or_throw(sets, s, &e);
   // Bad names and values are input errors here, not error records.
   (void)Params::resolve(s.params, split_settings(s, e, ov).first, s.name);
@@ -174,7 +185,7 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   plan.items.push_back(item);
   std::vector<nlohmann::json> records;
   try {
-    records = run_items(plan, {0}, runner_def(1, timeout_s), [](size_t, const nlohmann::json&) {});
+    records = run_items(plan, {0}, runner, [](size_t, const nlohmann::json&) {});
   } catch (const RunnerStopped& e) {
     throw Interrupted(g_signal, e.what());
   }
@@ -453,10 +464,11 @@ int cmd_validate(const std::string& engine_list, const std::string& filter, bool
   const RunnerDef runner = runner_def(jobs, timeout_s);
   SuiteDef def;
   if (engine_list.empty()) {
-    for (const auto& e : engines()) def.engines.push_back(&e);
+    for (const auto& e : described_engines()) def.engines.push_back(&e);
   } else {
     for (const auto& n : split_list(engine_list)) def.engines.push_back(&engine_or_throw(n));
   }
+  close_idle_children();  // the workers start their own
   def.globs = split_list(filter);
   def.sweeps = sweeps;
   def.timeout_s = runner.timeout_s;
@@ -658,10 +670,28 @@ int cmd_diff(const std::string& base_path, const std::string& head_path, double 
 
 }  // namespace
 
+/// --engine-dir DIR (anywhere on the command line) joins LIFTCHECK_ENGINE_PATH before the registry
+/// is first read, and so reaches the worker processes too.
+void engine_dirs_from_args(int argc, char** argv) {
+  std::vector<std::string> dirs;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--engine-dir" && i + 1 < argc) dirs.push_back(argv[++i]);
+    else if (a.rfind("--engine-dir=", 0) == 0) dirs.push_back(a.substr(13));
+  }
+  if (dirs.empty()) return;
+  if (const char* old = std::getenv("LIFTCHECK_ENGINE_PATH"); old && *old) dirs.push_back(old);
+  setenv("LIFTCHECK_ENGINE_PATH", fmt::format("{}", fmt::join(dirs, ":")).c_str(), 1);
+}
+
 int main(int argc, char** argv) {
+  engine_dirs_from_args(argc, argv);
   CLI::App app{"liftcheck: validates physics engines against exact kinematics (rolling without slipping, "
                "reaction mechanisms)"};
   app.require_subcommand(1);
+  app.fallthrough();
+  std::vector<std::string> engine_dir_args;  // read before parsing (engine_dirs_from_args)
+  app.add_option("--engine-dir", engine_dir_args, "a folder of outside engine registrations, NAME.json (docs/protocol.md; also LIFTCHECK_ENGINE_PATH)");
   app.set_version_flag("--version", std::string(LIFTCHECK_VERSION_STRING));
 
   bool list_json = false;
@@ -719,6 +749,10 @@ int main(int argc, char** argv) {
   auto* worker = app.add_subcommand("worker", "");  // hidden: runs validate's items in a process of its own
   worker->group("");
 
+  std::string serve_config;
+  auto* serve = app.add_subcommand("serve", "serve a compiled-in configuration over the engine protocol on stdin and stdout (docs/protocol.md)");
+  serve->add_option("config", serve_config, "configuration name (see 'liftcheck engines')")->required();
+
   std::string path_format = "csv";
   auto* path_cmd = app.add_subcommand("path", "write a scenario's commanded path (cars: t,alpha,beta; disks: N's t,cNx,cNy) for a simulator outside liftcheck");
   path_cmd->add_option("scenario", scenario, "scenario name (see 'liftcheck list')")->required();
@@ -756,9 +790,14 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
+    if (!registration_problems().empty()) throw InputError(registration_problems().front());
+    if (*serve) return serve_main(serve_config);
     if (*list) return cmd_list(list_json);
     if (*engines_cmd) return cmd_engines(engines_json);
-    if (*worker) return worker_main();
+    if (*worker) {
+      if (const char* t = std::getenv("LIFTCHECK_RUN_TIMEOUT_S")) set_protocol_timeout(std::strtod(t, nullptr));
+      return worker_main();
+    }
     catch_interrupts();
     if (*run) return cmd_run(scenario, engine, sets, run_json, run_timeout);
     if (*validate) return cmd_validate(engine_list, filter, !no_sweeps, trace_dir, validate_sets, {out_dir, !no_report, baseline_file, update_baseline}, jobs, shard, validate_timeout);

@@ -26,6 +26,10 @@ struct MetricDef {
   /// Absolute floor by role (relative metrics only): an absolute error at or below it
   /// passes, for quantities that can be tiny (round-off of a 1e-9 m holonomy is not an error).
   std::map<std::string, double> floor = {};
+  /// Checks an engine's bookkeeping against itself (where it put N, what its contacts report
+  /// against its bodies), not physics: the tolerance scales with the precision the engine
+  /// declares (bookkeeping_factor in engines/engine.hpp).
+  bool bookkeeping = false;
 
   double tolerance_for(const std::string& engine) const;
   double floor_for(const std::string& engine) const;

@@ -289,7 +289,8 @@ void pass_on_stderr(Worker& w) {
 /// Ends a worker (killed when `kill_it`, else by closing its input) and says how it ended.
 std::string end_worker(Worker& w, bool kill_it) {
   close_fd(w.in_fd);
-  if (kill_it) ::kill(w.pid, SIGKILL);
+  // Its process group: the worker and any engine process it started (a hung outside engine).
+  if (kill_it) ::kill(-w.pid, SIGKILL), ::kill(w.pid, SIGKILL);
   int status = 0;
   while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
   }

@@ -407,8 +407,11 @@ nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInf
         for (const auto& [name, m] : metrics.items())
           if (std::find(panel.error_metrics.begin(), panel.error_metrics.end(), name) != panel.error_metrics.end() && m["rel_error"].is_number())
             err = std::isnan(err) ? m["rel_error"].get<double>() : std::max(err, m["rel_error"].get<double>());
+        // An outside engine's cost is its own stepping time as its adapter reports it, so that the
+        // protocol's round trip does not count against it; in process, the run's wall clock.
         const double wall_s = r["wall_s"], simulated_s = r["simulated_s"];
-        const double cost = simulated_s > 0.0 ? wall_s / simulated_s : NAN;
+        const double spent_s = r.contains("engine_s") && r["engine_s"].is_number() ? r["engine_s"].get<double>() : wall_s;
+        const double cost = simulated_s > 0.0 ? spent_s / simulated_s : NAN;
         points.push_back({{"knob", g.knob}, {"value", g.value}, {"status", r["status"]}, {"message", r["message"]},
                           {"error", r["status"] == "error" || !std::isfinite(err) ? nlohmann::json() : nlohmann::json(err)},
                           {"wall_s", wall_s}, {"simulated_s", simulated_s},
