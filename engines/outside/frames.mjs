@@ -80,6 +80,19 @@ function parse_setting(k, text) {
   return v;
 }
 
+/// The wheel-shape knob both adapters declare for the car (Bullet's `wheel`, same choices).
+export const WHEEL_KNOB = { key: 'wheel', vehicle: 'car', kind: 'choice', choices: ['sphere', 'cylinder'], default: 'sphere',
+  help: 'wheel collision shape: spheres of radius R, or cylinders of wheel_width_m about the axle' };
+
+/// The wheel shape a car request asks for: the `wheel` knob where it is set, else car.wheel_shape
+/// (the two must agree where both are given).
+export function wheel_shape_of(req, knob) {
+  const given = req.settings && Object.prototype.hasOwnProperty.call(req.settings, 'wheel');
+  if (given && req.car.wheel_shape !== undefined && req.car.wheel_shape !== knob.wheel)
+    throw new Error(`setting wheel = ${knob.wheel} disagrees with car.wheel_shape = ${req.car.wheel_shape}`);
+  return given ? knob.wheel : req.car.wheel_shape;
+}
+
 /// Refuses a car request this adapter cannot build as asked.
 export function check_car(req) {
   const c = req.car;
@@ -87,8 +100,8 @@ export function check_car(req) {
   for (const key of ['R_m', 'l_m', 'track_m', 'chassis_height_m', 'chassis_mass_kg', 'wheel_mass_kg', 'knuckle_mass_kg'])
     if (!(typeof c[key] === 'number' && c[key] > 0)) throw new Error(`car.${key} must be a positive number`);
   if (c.wheels !== 3 && c.wheels !== 4) throw new Error(`car.wheels = ${c.wheels} is not 3 (the tricycle) or 4`);
-  if (c.wheel_shape !== 'sphere' && c.wheel_shape !== 'cylinder') throw new Error(`car.wheel_shape '${c.wheel_shape}' is not sphere | cylinder`);
-  if (c.wheel_shape === 'cylinder' && !(c.wheel_width_m > 0)) throw new Error('car.wheel_width_m must be positive for cylinder wheels');
+  if (c.wheel_shape !== undefined && c.wheel_shape !== 'sphere' && c.wheel_shape !== 'cylinder') throw new Error(`car.wheel_shape '${c.wheel_shape}' is not sphere | cylinder`);
+  if (!(c.wheel_width_m > 0)) throw new Error('car.wheel_width_m must be positive');
   if (!(req.dt_s > 0)) throw new Error('dt_s must be positive');
   if (!(req.mu >= 0)) throw new Error('mu must be a number >= 0');
   if (!Array.isArray(req.gravity_W) || req.gravity_W.length !== 3) throw new Error('gravity_W must be [x, y, z]');

@@ -16,7 +16,7 @@
 // signed distance is (p_B - p_A) . n_A (positive for Havok's contacts ahead of touching).
 // Every build releases the previous world with all its bodies, shapes and constraints.
 import { serve, timed } from './protocol.mjs';
-import { apply_settings, car_reply, check_car, chassis_to_world, front_rates, front_wheels, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, twist_angle, yaw_quat } from './frames.mjs';
+import { apply_settings, car_reply, WHEEL_KNOB, wheel_shape_of, check_car, chassis_to_world, front_rates, front_wheels, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, twist_angle, yaw_quat } from './frames.mjs';
 import { readFileSync } from 'node:fs';
 
 const PKG = new URL('./node_modules/@babylonjs/havok/', import.meta.url);
@@ -48,6 +48,7 @@ const SETTINGS = ['car', 'disks'].map((vehicle) => ({
   key: 'ideal_step_time', vehicle, kind: 'choice', choices: ['1/60', 'dt', 'off'], default: PRESETS[CONFIG],
   help: 'HP_World_SetIdealStepTime: 1/60 s (Havok\'s default), the run\'s dt, or off (0: no adaptation of the solver to the step)',
 }));
+SETTINGS.splice(1, 0, WHEEL_KNOB);
 
 let world = null;  // { id, bodies, shapes, constraints, kind, ... }
 
@@ -141,7 +142,7 @@ function build_car(req) {
            HK.MotionType.STATIC, 0);
   const chassis = add_body(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [c.l_m, c.track_m, c.chassis_height_m]), F_GHOST, 0),
                            at(-0.5 * c.l_m, 0, R), q_chassis, DYN, c.chassis_mass_kg);
-  const wheel_shape = () => shape(c.wheel_shape === 'cylinder'
+  const wheel_shape = () => shape(wheel_shape_of(req, knob) === 'cylinder'
     ? HK.HP_Shape_CreateCylinder([0, -0.5 * c.wheel_width_m, 0], [0, 0.5 * c.wheel_width_m, 0], R)  // axis along local y
     : HK.HP_Shape_CreateSphere([0, 0, 0], R), F_WHEEL, req.mu);
   const Z = [0, 0, 1], Y = [0, 1, 0], X = [1, 0, 0], O = [0, 0, 0];

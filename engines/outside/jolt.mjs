@@ -17,7 +17,7 @@
 // Every build makes a new JoltInterface and destroys the previous one with all its bodies and
 // constraints (one process serves many runs).
 import { serve, timed } from './protocol.mjs';
-import { apply_settings, car_reply, check_car, chassis_to_world, front_rates, front_wheels, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, wrap, yaw_quat } from './frames.mjs';
+import { apply_settings, car_reply, WHEEL_KNOB, wheel_shape_of, check_car, chassis_to_world, front_rates, front_wheels, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, wrap, yaw_quat } from './frames.mjs';
 import { readFileSync } from 'node:fs';
 
 const Jolt = await (await import('jolt-physics')).default();
@@ -48,7 +48,7 @@ function knobs(vehicle) {
       help: 'PhysicsSettings::mPenetrationSlop, m: how far bodies may sink into each other before the position solver pushes them out' },
   ];
 }
-const SETTINGS = [...knobs('car'), ...knobs('disks')];
+const SETTINGS = [...knobs('car'), WHEEL_KNOB, ...knobs('disks')];
 
 // Object layers: the ground, wheels (collide with the ground only), ghosts (chassis and knuckle,
 // collide with nothing), disks (collide with each other).
@@ -169,7 +169,7 @@ function build_car(req) {
   const chassis = add_body(new Jolt.BoxShape(box, 0, null), at(-0.5 * c.l_m, 0, R), q_chassis, Jolt.EMotionType_Dynamic, L_GHOST,
                            { mass_kg: c.chassis_mass_kg });
   Jolt.destroy(box);
-  const wheel_shape = () => c.wheel_shape === 'cylinder'
+  const wheel_shape = () => wheel_shape_of(req, knob) === 'cylinder'
     ? new Jolt.CylinderShape(0.5 * c.wheel_width_m, R, Math.min(0.05, 0.25 * c.wheel_width_m), null)  // axis along local y
     : new Jolt.SphereShape(R, null);
   const wheel = (p, q) => add_body(wheel_shape(), p, q, Jolt.EMotionType_Dynamic, L_WHEEL, { mass_kg: c.wheel_mass_kg, friction: req.mu });
