@@ -5,8 +5,9 @@
 //   accurate  what the API documents: HP_World_SetIdealStepTime "configure the ideal delta time
 //             which you intend to call HP_World_Step()" (HavokPhysics.d.ts), so the solver is
 //             tuned for the step liftcheck runs. This build exposes no solver iterations.
-// Car: a chassis box (collides with nothing), a steering knuckle on a 6-DOF constraint with only
-// ANGULAR_X free about the vertical at the front-axle centre, the front wheel on one with only
+// Car: a chassis box (collides with nothing), per front wheel (one for the tricycle, two for the
+// four-wheel car) a steering knuckle on a 6-DOF constraint with only ANGULAR_X free about the
+// vertical through the wheel centre, the wheel on one with only
 // ANGULAR_X free about the knuckle's y (Babylon.js's HingeConstraint), both with VELOCITY motors
 // limited to the servo's torques; the rear wheels on passive ones about the chassis y. Joint
 // angles are read from the bodies' orientations (Havok has no joint-angle query).

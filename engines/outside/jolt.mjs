@@ -7,8 +7,9 @@
 //             (jrouwe/JoltPhysics issue 151), here 100 and 20, and a 1 mm penetration slop
 //             (PhysicsSettings::mPenetrationSlop, "how much bodies are allowed to sink into each
 //             other").
-// Car: a chassis box (collides with nothing), a steering knuckle on a HingeConstraint about the
-// vertical at the front-axle centre, the front wheel on a HingeConstraint about the knuckle's y,
+// Car: a chassis box (collides with nothing), per front wheel (one for the tricycle, two for the
+// four-wheel car) a steering knuckle on a HingeConstraint about the vertical through the wheel
+// centre and the wheel on a HingeConstraint about the knuckle's y,
 // both with velocity motors (EMotorState_Velocity) limited to the servo's torques; the rear wheels
 // on passive HingeConstraints about the chassis y. Disks: M a dynamic sphere whose linear velocity
 // is set before each step (Plane2D degrees of freedom), N a kinematic sphere moved with
