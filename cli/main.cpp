@@ -4,6 +4,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <unistd.h>
 #include <fmt/format.h>
 #include <iostream>
 
@@ -25,7 +26,11 @@ bool stdout_written() {
   errno = 0;
   std::cout.flush();
   const bool ok = std::cout.good() && std::fflush(stdout) == 0 && !std::ferror(stdout);
-  if (!ok) std::cerr << fmt::format("liftcheck: error: cannot write to standard output: {}\n", std::strerror(errno ? errno : EIO));
+  if (ok) return true;
+  // The stream's own error may have come earlier; a probe gives the reason (ENOSPC, EPIPE, ...).
+  errno = 0;
+  const int reason = ::write(STDOUT_FILENO, "\n", 1) < 0 && errno != 0 ? errno : EIO;
+  std::cerr << fmt::format("liftcheck: error: cannot write to standard output: {}\n", std::strerror(reason));
   return ok;
 }
 

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <signal.h>
+#include <fcntl.h>
 #include <unistd.h>
 
 #include "input/atomic_file.hpp"
