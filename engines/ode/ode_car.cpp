@@ -32,7 +32,7 @@ OdeStepper OdeStepper::quick_from(const Settings& s) {
   OdeStepper st;
   st.quick = true;
   st.iterations = std::stoi(s.at("iterations"));
-  st.w = std::stod(s.at("w"));
+  st.w = s.count("w") ? std::stod(s.at("w")) : 1.3;  // the disks: no w (see ode_quick_engine)
   st.cfm = 0.0;
   st.surface_layer_m = 0.001;
   st.max_correcting_vel_mps = 100.0;
@@ -101,10 +101,11 @@ SettingSpec friction_dirs_knob(const char* default_text) {
 
 EngineInfo ode_quick_engine() {
   std::vector<SettingSpec> knobs;
-  for (const char* vehicle : {"car", "disks"}) {
+  for (const char* vehicle : {"car", "disks"})
     knobs.push_back({"iterations", vehicle, "50", "quick-step iterations (dWorldSetQuickStepNumIterations; Gazebo's default 50)", SettingSpec::kInteger, 1, 10000, {}});
-    knobs.push_back({"w", vehicle, "1.3", "successive over-relaxation factor (dWorldSetQuickStepW; Gazebo's sor 1.3)", SettingSpec::kReal, 0.0, 2.0, {}, true});
-  }
+  // The disk M is velocity-set: its one frictionless contact row converges at any over-relaxation,
+  // so w changes nothing for the disks and is a car setting only (an ignored setting is refused).
+  knobs.push_back({"w", "car", "1.3", "successive over-relaxation factor (dWorldSetQuickStepW; Gazebo's sor 1.3)", SettingSpec::kReal, 0.0, 2.0, {}, true});
   knobs.push_back(wheel_knob());
   knobs.push_back(friction_dirs_knob("world"));
   return {.name = "ode-quick",
