@@ -84,4 +84,19 @@ void print_record(const nlohmann::json& r) {
                              m.value("informational", false) ? "info" : m["pass"].get<bool>() ? "ok" : "FAIL");
 }
 
+int run_one(const SuitePlan& plan, const RunnerDef& runner, bool json, const std::string& during) {
+  std::vector<nlohmann::json> records;
+  try {
+    records = run_items(plan, {0}, runner, [](size_t, const nlohmann::json&) {});
+  } catch (const RunnerStopped& e) {
+    throw Interrupted(pending_signal(), e.what());
+  }
+  throw_if_interrupted(during);
+  const nlohmann::json& r = records.at(0);
+  if (r.value("input_error", false)) throw InputError(r["message"].get<std::string>());
+  if (json) std::cout << r.dump() << "\n";
+  else print_record(r);
+  return r["as_expected"].get<bool>() ? 0 : 1;
+}
+
 }  // namespace liftcheck::cli

@@ -25,18 +25,7 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   item.key = "run";
   item.scenario = &s, item.engine = &e, item.overrides = ov;
   plan.items.push_back(item);
-  std::vector<nlohmann::json> records;
-  try {
-    records = run_items(plan, {0}, runner, [](size_t, const nlohmann::json&) {});
-  } catch (const RunnerStopped& e) {
-    throw Interrupted(pending_signal(), e.what());
-  }
-  throw_if_interrupted("during the run");
-  const nlohmann::json& r = records.at(0);
-  if (r.value("input_error", false)) throw InputError(r["message"].get<std::string>());
-  if (json) std::cout << r.dump() << "\n";
-  else print_record(r);
-  return r["as_expected"].get<bool>() ? 0 : 1;
+  return run_one(plan, runner, json, "during the run");
 }
 
 }  // namespace

@@ -24,18 +24,7 @@ int cmd_score(const std::string& scenario, const std::string& trace_file, const 
   item.trace_file = trace_file;  // the worker reads it again, from the same working folder
   item.scenario = &s, item.engine = item.owned.get(), item.overrides = ov;
   plan.items.push_back(item);
-  std::vector<nlohmann::json> records;
-  try {
-    records = run_items(plan, {0}, runner_def(1, 120.0), [](size_t, const nlohmann::json&) {});
-  } catch (const RunnerStopped& e) {
-    throw Interrupted(pending_signal(), e.what());
-  }
-  throw_if_interrupted("during the score");
-  const nlohmann::json& r = records.at(0);
-  if (r.value("input_error", false)) throw InputError(r["message"].get<std::string>());
-  if (json) std::cout << r.dump() << "\n";
-  else print_record(r);
-  return r["as_expected"].get<bool>() ? 0 : 1;
+  return run_one(plan, runner_def(1, 120.0), json, "during the score");
 }
 
 }  // namespace
