@@ -8,32 +8,14 @@ verdict and expectation) and the timings (wall_s, engine_s). B must carry engine
 lies RESULTS: every run of a fake-* configuration is an error whose message is one line naming the
 configuration and what went wrong; every run of ode passes."""
 import json
+import os
 import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
+from same_records import first_difference  # noqa: E402  (the one comparison of records)
 
 NAMED = {"engine", "verdict", "as_expected", "expectation"}
 TIMING = {"wall_s", "engine_s"}
-
-
-def first_difference(a, b, where):
-    if type(a) is not type(b):
-        return f"{where}: {json.dumps(a)[:200]} against {json.dumps(b)[:200]}"
-    if isinstance(a, dict):
-        for k in sorted(set(a) | set(b)):
-            if k not in a or k not in b:
-                return f"{where}.{k}: only in {'the first' if k in a else 'the second'}"
-            d = first_difference(a[k], b[k], f"{where}.{k}")
-            if d:
-                return d
-        return None
-    if isinstance(a, list):
-        if len(a) != len(b):
-            return f"{where}: {len(a)} items against {len(b)}"
-        for i, (x, y) in enumerate(zip(a, b)):
-            d = first_difference(x, y, f"{where}[{i}]")
-            if d:
-                return d
-        return None
-    return None if a == b else f"{where}: {a!r} against {b!r}"
 
 
 def same(results, a, b):
