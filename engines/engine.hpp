@@ -93,9 +93,11 @@ class CarEngine {
   /// must say: empty only for a model without contact points to measure (the analytic lift rolls
   /// without slipping by construction; an outside simulator's trace has no wheel states).
   virtual std::vector<WheelSlip> slip() const = 0;
-  /// False for a model that reports the commanded (alpha, beta) as its realized shape (the
-  /// analytic lift): comparisons of the realized shape with the command are then informational.
-  virtual bool realizes_shape() const { return true; }
+  /// True only for the analytic engine: it reports the commanded (alpha, beta) and their exact
+  /// lift by construction, so comparing its trace with the command or with the lift of its own
+  /// shape compares a value with itself (shown, not counted). Every engine that steps physics,
+  /// whatever it derives its wheel angles from, is judged by those comparisons.
+  virtual bool exact_by_construction() const { return false; }
   /// Simulated time the engine stepped since construction (settling included), s: the
   /// denominator of the cost per simulated second.
   virtual double simulated_s() const = 0;

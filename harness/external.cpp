@@ -79,7 +79,7 @@ class RecordingCar final : public CarEngine {
     return car::lift(setup_.car, path, q0_, def);
   }
   double simulated_s() const override { return 0.0; }
-  bool realizes_shape() const override { return false; }
+  bool exact_by_construction() const override { return true; }  // it drives the exact lift
   std::vector<WheelSlip> slip() const override { return {}; }
 
   std::vector<std::vector<double>> rows;

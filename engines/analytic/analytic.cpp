@@ -18,7 +18,7 @@ class AnalyticCar final : public CarEngine {
     simulated_s_ += path.duration_s();
     return car::lift(setup_.car, path, q0_, def);
   }
-  bool realizes_shape() const override { return false; }
+  bool exact_by_construction() const override { return true; }
   std::vector<WheelSlip> slip() const override { return {}; }  // rolls without slipping by construction
   double simulated_s() const override { return simulated_s_; }
 

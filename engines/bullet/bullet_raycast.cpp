@@ -86,7 +86,6 @@ class BulletRaycastCar final : public RigidCar {
   ~BulletRaycastCar() override { teardown(); }
 
   bool wheels_spin() const override { return false; }
-  bool realizes_shape() const override { return false; }
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
