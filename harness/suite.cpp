@@ -92,6 +92,19 @@ void check_set_taken(const SuiteDef& def, const std::vector<const Scenario*>& sc
   }
 }
 
+/// Every run that --set changes takes its values (a bad one is bad input, exit 2, before anything
+/// runs; not an error record per run).
+void check_set_values(const SuitePlan& plan) {
+  for (const SuiteItem& it : plan.items) {
+    if (it.kind != SuiteItem::kRun || it.owned || it.overrides.empty()) continue;
+    try {
+      check_run_inputs(*it.scenario, *it.engine, it.overrides);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("--set: {} on {}: {}", it.scenario->name, it.engine->name, e.what()));
+    }
+  }
+}
+
 /// Every scenario on every configuration, then the outside simulator's traces.
 void add_runs(SuitePlan& plan, const SuiteDef& def) {
   for (const Scenario* s : plan.scenarios)
@@ -178,6 +191,7 @@ SuitePlan plan_suite(const SuiteDef& def) {
   if (plan.scenarios.empty()) throw InputError(fmt::format("no scenario matches '{}'", fmt::join(def.globs, ",")));
   check_set_taken(def, plan.scenarios);
   add_runs(plan, def);
+  check_set_values(plan);
   if (!def.sweeps) return plan;
   add_points(plan, def);
   mark_duplicates(plan);
