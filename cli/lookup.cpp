@@ -52,10 +52,13 @@ Overrides overrides_or_throw(const std::vector<std::string>& sets, const Scenari
   return ov;
 }
 
-RunnerDef runner_def(int jobs, double timeout_s) {
+RunnerDef runner_def(int jobs, double timeout_s, double memory_limit_mib) {
   if (jobs < 1) throw InputError(fmt::format("--jobs {} must be at least 1", jobs));
   if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) throw InputError(fmt::format("--timeout {} must be a positive number of seconds", timeout_s));
+  if (!(memory_limit_mib >= 256.0) || !std::isfinite(memory_limit_mib))
+    throw InputError(fmt::format("--memory-limit {} must be at least 256 MiB (a worker with every engine loaded takes about 250 MiB)", memory_limit_mib));
   RunnerDef r;
+  r.memory_limit_mib = memory_limit_mib;
   r.jobs = std::min(jobs, usable_cores());  // more would only queue for the same cores
   r.timeout_s = timeout_s;
   r.stop = [] { return pending_signal() != 0; };

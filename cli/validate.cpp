@@ -26,6 +26,7 @@ struct ValidateOptions {
   OutputOptions out{"build/report"};
   int jobs = 1;
   double timeout_s = 120.0;
+  double memory_limit_mib = kDefaultRunMemoryMiB;
 };
 
 SuiteDef suite_def(const ValidateOptions& v, const RunnerDef& runner) {
@@ -107,7 +108,7 @@ int cmd_validate(const ValidateOptions& v) {
   const OutputOptions& o = v.out;
   const nlohmann::json baseline = read_baseline(o.baseline_path, o.update_baseline);
   const auto [shard_index, shard_total] = parse_shard(v.shard);
-  const RunnerDef runner = runner_def(v.jobs, v.timeout_s);
+  const RunnerDef runner = runner_def(v.jobs, v.timeout_s, v.memory_limit_mib);
   SuiteDef def = suite_def(v, runner);
   std::vector<const EngineInfo*> listed = def.engines;
   TraceFolder outside;
@@ -130,6 +131,7 @@ int cmd_validate(const ValidateOptions& v) {
   context["engine_s_by_configuration"] = ran.cost_by_config;
   context["jobs"] = runner.jobs;
   context["timeout_s"] = runner.timeout_s;
+  context["memory_limit_mib"] = runner.memory_limit_mib;
   context["set"] = nlohmann::json::object();
   for (const auto& [key, value] : def.set) context["set"][key] = value;
   nlohmann::json results = shard_total > 0 ? shard_results(plan, which, ran, context, shard_index, shard_total)
@@ -154,6 +156,7 @@ Command add_validate(CLI::App& app) {
   validate->add_flag("--no-report", v->no_report, "write results.json only (no snapshots, plots or HTML)");
   validate->add_option("--jobs,-j", v->jobs, "runs at once (default: the number of cores)")->capture_default_str();
   validate->add_option("--timeout", v->timeout_s, "limit of each run's or sweep point's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
+  validate->add_option("--memory-limit", v->memory_limit_mib, "limit of each worker process's address space in MiB: a run that needs more is an error, the suite goes on")->capture_default_str();
   validate->add_option("--shard", v->shard, "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");
   return {validate, [v] {
             v->out.report = !v->no_report;
