@@ -70,8 +70,8 @@ RunnerDef runner_def(int jobs, double timeout_s, double memory_limit_mib) {
 
 void print_record(const nlohmann::json& r) {
   const std::string message = r["message"];
-  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), r["verdict"].get<std::string>(),
-                           message.empty() ? "" : " (" + message + ")");
+  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(), printable(r["engine"].get<std::string>(), 200), r["verdict"].get<std::string>(),
+                           message.empty() ? "" : " (" + printable(message, 1000) + ")");
   if (r["expectation"].is_object())
     std::cout << fmt::format("  {}: {}\n  measured when reviewed: {}\n",
                              r["as_expected"].get<bool>() ? "known failure" : "listed as a known failure (harness/expectations.json)",

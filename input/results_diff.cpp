@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "input/interrupt.hpp"
+#include "input/trace.hpp"  // printable
 
 namespace liftcheck {
 
@@ -134,21 +135,23 @@ json diff_results(const json& base, const json& head, const DiffDef& def) {
 }
 
 std::string diff_text(const json& d) {
+  // Names and messages come from the files: one line each, whatever they hold.
+  const auto name = [](const json& v) { return printable(v.get<std::string>(), 200); };
   std::string t;
   for (const auto& r : d["regressions"])
-    t += fmt::format("REGRESSION {} on {}: {} -> {} ({})\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(),
-                     r["from"].get<std::string>(), r["to"].get<std::string>(), r["message"].get<std::string>());
+    t += fmt::format("REGRESSION {} on {}: {} -> {} ({})\n", name(r["scenario"]), name(r["engine"]),
+                     name(r["from"]), name(r["to"]), printable(r["message"].get<std::string>(), 1000));
   for (const auto& r : d["fixed"])
-    t += fmt::format("fixed      {} on {}: {} -> {}\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(),
-                     r["from"].get<std::string>(), r["to"].get<std::string>());
+    t += fmt::format("fixed      {} on {}: {} -> {}\n", name(r["scenario"]), name(r["engine"]),
+                     name(r["from"]), name(r["to"]));
   for (const char* kind : {"worse", "better"})
     for (const auto& r : d[kind])
-      t += fmt::format("{:<10} {} on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", kind, r["scenario"].get<std::string>(),
-                       r["engine"].get<std::string>(), r["metric"].get<std::string>(), r["head_measured"].dump(), r["base_measured"].dump(),
+      t += fmt::format("{:<10} {} on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", kind, name(r["scenario"]),
+                       name(r["engine"]), name(r["metric"]), r["head_measured"].dump(), r["base_measured"].dump(),
                        r["head_ratio"].get<double>(), r["base_ratio"].get<double>());
   for (const char* kind : {"added", "removed"})
     for (const auto& r : d[kind])
-      t += fmt::format("{:<10} {} on {}\n", kind, r["scenario"].get<std::string>(), r["engine"].get<std::string>());
+      t += fmt::format("{:<10} {} on {}\n", kind, name(r["scenario"]), name(r["engine"]));
   t += fmt::format("{} regressions, {} fixed, {} metrics worse, {} better, {} runs added, {} removed\n", d["regressions"].size(),
                    d["fixed"].size(), d["worse"].size(), d["better"].size(), d["added"].size(), d["removed"].size());
   return t;
