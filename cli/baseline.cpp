@@ -7,6 +7,7 @@
 #include "input/params.hpp"  // InputError
 #include "input/results_diff.hpp"
 #include "input/results_file.hpp"
+#include "input/trace.hpp"  // printable
 
 namespace liftcheck::cli {
 
@@ -26,10 +27,10 @@ int compare_with_baseline(nlohmann::json& results, const std::string& path, cons
   try {
     d = diff_results(base, results);
   } catch (const nlohmann::json::exception& e) {
-    throw InputError(fmt::format("'{}' is not a liftcheck baseline: {}", path, e.what()));
+    throw InputError(fmt::format("'{}' is not a liftcheck baseline: {}", printable(path, 200), e.what()));
   }
   results["baseline"] = {{"file", path}, {"diff", d}};
-  std::cout << "against the baseline " << path << ":\n" << diff_text(d);
+  std::cout << "against the baseline " << printable(path, 200) << ":\n" << diff_text(d);
   return static_cast<int>(d["regressions"].size() + d["worse"].size());
 }
 

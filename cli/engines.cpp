@@ -5,6 +5,7 @@
 #include "cli/command.hpp"
 #include "engines/protocol/outside.hpp"
 #include "harness/results.hpp"
+#include "input/trace.hpp"  // printable
 
 namespace liftcheck::cli {
 
@@ -22,18 +23,20 @@ int cmd_engines(bool json) {
     }(), 0.0)["engines"].dump(2) << "\n";
     return 0;
   }
+  // An outside registration's texts are the user's: one line each, whatever they hold.
+  const auto line = [](const std::string& s) { return printable(s, 1000); };
   for (const auto& e : all_engines) {
     std::vector<std::string> vehicles;
     if (e.make_car) vehicles.push_back("car");
     if (e.make_disks) vehicles.push_back("disks");
     if (!e.unavailable.empty()) vehicles = {"UNAVAILABLE"};
-    std::cout << fmt::format("{}  [{} {}; {}{}; {}; colour {}{}]\n  {}\n", e.name, e.library, e.version, fmt::join(vehicles, ", "),
-                             e.is_reference ? "; the reference" : "", e.precision, e.color,
-                             e.registration.empty() ? "" : "; outside: " + e.registration, e.description);
-    for (const auto& [k, v] : e.settings) std::cout << fmt::format("    {:<22} {}\n", k, v);
+    std::cout << fmt::format("{}  [{} {}; {}{}; {}; colour {}{}]\n  {}\n", e.name, line(e.library), line(e.version), fmt::join(vehicles, ", "),
+                             e.is_reference ? "; the reference" : "", e.precision, line(e.color),
+                             e.registration.empty() ? "" : "; outside: " + line(e.registration), line(e.description));
+    for (const auto& [k, v] : e.settings) std::cout << fmt::format("    {:<22} {}\n", line(k), line(v));
     for (const SettingSpec& k : e.knobs)
       std::cout << fmt::format("    --set {:<16} {} ({}): {}; default {}, {}\n", k.key, k.vehicle, k.kind == SettingSpec::kChoice ? "choice" : k.kind == SettingSpec::kInteger ? "integer" : "real",
-                               k.help, k.default_text, k.range_text());
+                               line(k.help), line(k.default_text), line(k.range_text()));
   }
   return 0;
 }

@@ -52,10 +52,13 @@ Overrides overrides_or_throw(const std::vector<std::string>& sets, const Scenari
   return ov;
 }
 
-RunnerDef runner_def(int jobs, double timeout_s) {
+RunnerDef runner_def(int jobs, double timeout_s, double memory_limit_mib) {
   if (jobs < 1) throw InputError(fmt::format("--jobs {} must be at least 1", jobs));
   if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) throw InputError(fmt::format("--timeout {} must be a positive number of seconds", timeout_s));
+  if (!(memory_limit_mib >= 256.0) || !std::isfinite(memory_limit_mib))
+    throw InputError(fmt::format("--memory-limit {} must be at least 256 MiB (a worker with every engine loaded takes about 250 MiB)", memory_limit_mib));
   RunnerDef r;
+  r.memory_limit_mib = memory_limit_mib;
   r.jobs = std::min(jobs, usable_cores());  // more would only queue for the same cores
   r.timeout_s = timeout_s;
   r.stop = [] { return pending_signal() != 0; };
@@ -67,8 +70,8 @@ RunnerDef runner_def(int jobs, double timeout_s) {
 
 void print_record(const nlohmann::json& r) {
   const std::string message = r["message"];
-  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), r["verdict"].get<std::string>(),
-                           message.empty() ? "" : " (" + message + ")");
+  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(), printable(r["engine"].get<std::string>(), 200), r["verdict"].get<std::string>(),
+                           message.empty() ? "" : " (" + printable(message, 1000) + ")");
   if (r["expectation"].is_object())
     std::cout << fmt::format("  {}: {}\n  measured when reviewed: {}\n",
                              r["as_expected"].get<bool>() ? "known failure" : "listed as a known failure (harness/expectations.json)",

@@ -23,7 +23,7 @@ const EngineInfo& engine_or_throw(const std::string& name);
 Overrides overrides_or_throw(const std::vector<std::string>& sets, const Scenario& s, const EngineInfo* e);
 
 /// --jobs and --timeout checked; the runner stops at a signal.
-RunnerDef runner_def(int jobs, double timeout_s);
+RunnerDef runner_def(int jobs, double timeout_s, double memory_limit_mib = kDefaultRunMemoryMiB);
 
 /// A run record as a table of its metrics.
 void print_record(const nlohmann::json& r);

@@ -13,6 +13,7 @@
 #include "engines/engine.hpp"
 #include <fmt/ranges.h>
 #include "input/params.hpp"  // InputError
+#include "input/trace.hpp"   // printable: a message stays one line, whatever names it holds
 #include "liftcheck_version.hpp"
 
 using namespace liftcheck;
@@ -71,7 +72,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "liftcheck: error: " << e.what() << "\n";
+    std::cerr << "liftcheck: error: " << printable(e.what(), 2000) << "\n";
     return 2;
   }
   try {
@@ -83,13 +84,13 @@ int main(int argc, char** argv) {
       return stdout_written() ? status : 2;
     }
   } catch (const Interrupted& e) {
-    std::cerr << fmt::format("liftcheck: interrupted by {} {}; the previous outputs are left as they were\n", strsignal(e.sig), e.what());
+    std::cerr << fmt::format("liftcheck: interrupted by {} {}; the previous outputs are left as they were\n", strsignal(e.sig), printable(e.what(), 2000));
     return 128 + e.sig;
   } catch (const InputError& e) {
-    std::cerr << "liftcheck: error: " << e.what() << "\n";
+    std::cerr << "liftcheck: error: " << printable(e.what(), 2000) << "\n";
     return 2;
   } catch (const std::exception& e) {
-    std::cerr << "liftcheck: internal error: " << e.what() << "\n";
+    std::cerr << "liftcheck: internal error: " << printable(e.what(), 2000) << "\n";
     return 3;
   }
   return 2;

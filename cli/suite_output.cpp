@@ -14,6 +14,7 @@
 #include "cli/interrupts.hpp"
 #include "input/atomic_file.hpp"
 #include "input/params.hpp"  // InputError
+#include "input/trace.hpp"   // printable
 #include "reports/ci.hpp"
 #include "reports/report.hpp"
 
@@ -33,8 +34,8 @@ Gates sweep_gates(const nlohmann::json& results) {
       ++g.total;
       if (entry["gate"]["pass"].get<bool>()) continue;
       ++g.failed;
-      std::cout << fmt::format("FAIL   sweep {} on {}: {}\n", sw["name"].get<std::string>(), entry["engine"].get<std::string>(),
-                               fmt::join(entry["gate"]["problems"].get<std::vector<std::string>>(), "; "));
+      std::cout << fmt::format("FAIL   sweep {} on {}: {}\n", sw["name"].get<std::string>(), printable(entry["engine"].get<std::string>(), 200),
+                               printable(fmt::format("{}", fmt::join(entry["gate"]["problems"].get<std::vector<std::string>>(), "; ")), 1000));
     }
   return g;
 }
@@ -135,9 +136,9 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
     }
     if (o.update_baseline) {
       if (std::rename(pending.c_str(), o.baseline_path.c_str()) != 0)
-        throw InputError(fmt::format("cannot write the baseline '{}': {}; the output folder '{}' is written, the baseline is as it was", o.baseline_path,
-                                     std::strerror(errno), staged.final_path().string()));
-      std::cout << "baseline written: " << o.baseline_path << "\n";
+        throw InputError(fmt::format("cannot write the baseline '{}': {}; the output folder '{}' is written, the baseline is as it was",
+                                     printable(o.baseline_path, 200), std::strerror(errno), printable(staged.final_path().string(), 200)));
+      std::cout << "baseline written: " << printable(o.baseline_path, 200) << "\n";
     }
   } catch (const Interrupted&) {
     throw;
@@ -154,7 +155,7 @@ void print_summary(const nlohmann::json& results, const OutputOptions& o, const 
                            results.contains("shard") ? fmt::format("shard {}/{}", results["shard"]["index"].get<int>(), results["shard"]["total"].get<int>()) : "validate",
                            sum["total"].get<int>(), gates.total, sum["unexpected"].get<int>(), sum["pass"].get<int>(), sum["known failure"].get<int>(),
                            sum["unexpected pass"].get<int>(), sum["fail"].get<int>(), sum["error"].get<int>(), sum["skip"].get<int>(), gates.failed,
-                           o.report ? "report: " + (staged.final_path() / "index.html").string() : "results: " + (staged.final_path() / "results.json").string());
+                           printable(o.report ? "report: " + (staged.final_path() / "index.html").string() : "results: " + (staged.final_path() / "results.json").string(), 300));
 }
 
 }  // namespace
@@ -178,7 +179,7 @@ int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann
   if (o.report && results.contains("report"))
     for (const auto& e : results["report"]["errors"]) {
       ++report_problems;
-      std::cout << "REPORT " << e.get<std::string>() << "\n";
+      std::cout << "REPORT " << printable(e.get<std::string>(), 1000) << "\n";
     }
   print_summary(results, o, gates, staged);
   if (report_problems > 0) std::cout << fmt::format("the report has {} problems (listed above and in index.html)\n", report_problems);

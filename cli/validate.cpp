@@ -14,6 +14,7 @@
 #include "cli/shard.hpp"
 #include "cli/suite_output.hpp"
 #include "harness/results.hpp"
+#include "input/trace.hpp"  // printable
 
 namespace liftcheck::cli {
 
@@ -26,6 +27,7 @@ struct ValidateOptions {
   OutputOptions out{"build/report"};
   int jobs = 1;
   double timeout_s = 120.0;
+  double memory_limit_mib = kDefaultRunMemoryMiB;
 };
 
 SuiteDef suite_def(const ValidateOptions& v, const RunnerDef& runner) {
@@ -66,8 +68,8 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
     if (it.kind != SuiteItem::kRun) return;
     progress.clear();
     const bool known = r["expectation"].is_object() && r["as_expected"].get<bool>();
-    std::cout << fmt::format("{:<15} {:<22} {:<16} {:8.3f} s  {}{}\n", r["verdict"].get<std::string>(), it.scenario->name, it.engine->name,
-                             r["wall_s"].get<double>(), r["message"].get<std::string>(),
+    std::cout << fmt::format("{:<15} {:<22} {:<16} {:8.3f} s  {}{}\n", r["verdict"].get<std::string>(), it.scenario->name, printable(it.engine->name, 200),
+                             r["wall_s"].get<double>(), printable(r["message"].get<std::string>(), 1000),
                              known ? fmt::format(" (known: {})", r["expectation"]["reason"].get<std::string>()) : "");
   };
   try {
@@ -107,7 +109,7 @@ int cmd_validate(const ValidateOptions& v) {
   const OutputOptions& o = v.out;
   const nlohmann::json baseline = read_baseline(o.baseline_path, o.update_baseline);
   const auto [shard_index, shard_total] = parse_shard(v.shard);
-  const RunnerDef runner = runner_def(v.jobs, v.timeout_s);
+  const RunnerDef runner = runner_def(v.jobs, v.timeout_s, v.memory_limit_mib);
   SuiteDef def = suite_def(v, runner);
   std::vector<const EngineInfo*> listed = def.engines;
   TraceFolder outside;
@@ -130,6 +132,7 @@ int cmd_validate(const ValidateOptions& v) {
   context["engine_s_by_configuration"] = ran.cost_by_config;
   context["jobs"] = runner.jobs;
   context["timeout_s"] = runner.timeout_s;
+  context["memory_limit_mib"] = runner.memory_limit_mib;
   context["set"] = nlohmann::json::object();
   for (const auto& [key, value] : def.set) context["set"][key] = value;
   nlohmann::json results = shard_total > 0 ? shard_results(plan, which, ran, context, shard_index, shard_total)
@@ -154,6 +157,7 @@ Command add_validate(CLI::App& app) {
   validate->add_flag("--no-report", v->no_report, "write results.json only (no snapshots, plots or HTML)");
   validate->add_option("--jobs,-j", v->jobs, "runs at once (default: the number of cores)")->capture_default_str();
   validate->add_option("--timeout", v->timeout_s, "limit of each run's or sweep point's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
+  validate->add_option("--memory-limit", v->memory_limit_mib, "limit of each worker process's address space in MiB: a run that needs more is an error, the suite goes on")->capture_default_str();
   validate->add_option("--shard", v->shard, "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");
   return {validate, [v] {
             v->out.report = !v->no_report;

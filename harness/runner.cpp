@@ -147,6 +147,53 @@ std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const En
   return {params, settings};
 }
 
+namespace {
+
+/// Stands in for an engine: the scenario's checks before its first engine call have passed when
+/// it is called.
+struct ProbeStop {};
+
+class ProbeCar final : public CarEngine {
+ public:
+  void reset(const CarSetup&, const car::Config&) override { throw ProbeStop{}; }
+  std::vector<car::TimedConfig> drive(const car::BasePath&) override { throw ProbeStop{}; }
+  std::vector<WheelSlip> slip() const override { throw ProbeStop{}; }
+  double simulated_s() const override { return 0.0; }
+};
+
+class ProbeDisks final : public DiskEngine {
+ public:
+  DiskRun run(const DiskSetup&, const DiskProblem&) override { throw ProbeStop{}; }
+  double simulated_s() const override { return 0.0; }
+};
+
+}  // namespace
+
+void check_run_inputs(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
+  const auto [param_overrides, settings] = split_settings(scenario, engine, overrides);
+  const Params params = Params::resolve(scenario.params, param_overrides, scenario.name);
+  const Needs needs{.vehicle = scenario.vehicle,
+                    .four_wheels = scenario.vehicle == "car" && params.to_json().value("wheels", "3") == "4",
+                    .contact_dynamics = scenario.needs_contact_dynamics};
+  const Lack lack = lacks(engine, needs);
+  if (lack == Lack::kFourWheels) throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
+  if (lack != Lack::kNothing) return;  // skipped: nothing of it runs
+  try {
+    if (scenario.vehicle == "disks") {
+      ProbeDisks d;
+      (void)scenario.run_disks(params, d);
+    } else {
+      ProbeCar c;
+      (void)scenario.run_car(params, c);
+    }
+  } catch (const ProbeStop&) {
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception&) {
+    // Anything else is the engine's or the run's to report, in its record.
+  }
+}
+
 std::string tolerance_key(const EngineInfo& engine) { return engine.is_reference ? "reference" : engine.name; }
 
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {

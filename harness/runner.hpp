@@ -55,6 +55,13 @@ struct RunRecord {
 /// parameters and settings are the defaults carries its known failure, if the expectations list one.
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides = {});
 
+/// The checks of run_scenario that come before the engine works, without running it: the
+/// parameters and settings, the configuration's wheels, and the scenario's own checks up to its
+/// first engine call (dt and sample_dt against the steps and samples a run may take,
+/// check_run_budget). InputError as run_scenario would raise it; validate calls it for every run a
+/// --set changes, so that a bad value is exit 2 before the suite runs, not an error record per run.
+void check_run_inputs(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides);
+
 /// Splits `overrides` into the scenario's parameters and the engine's settings for the scenario's
 /// vehicle, validates the settings and fills in their defaults. A key that is neither a parameter
 /// of the scenario nor a setting of this engine is an InputError (naming the engine's settings when

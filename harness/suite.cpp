@@ -7,12 +7,14 @@
 #include <set>
 #include <thread>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
 #include <iostream>
 #include <poll.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/time.h>
 #include <sched.h>
 #include <cmath>
@@ -88,6 +90,19 @@ void check_set_taken(const SuiteDef& def, const std::vector<const Scenario*>& sc
       for (const EngineInfo* e : def.engines)
         for (const SettingSpec& k : e->knobs) names.push_back(k.key);
       throw InputError(fmt::format("--set {}: no scenario run here has a parameter or setting '{}'{}", printable(key), printable(key), did_you_mean(key, names)));
+    }
+  }
+}
+
+/// Every run that --set changes takes its values (a bad one is bad input, exit 2, before anything
+/// runs; not an error record per run).
+void check_set_values(const SuitePlan& plan) {
+  for (const SuiteItem& it : plan.items) {
+    if (it.kind != SuiteItem::kRun || it.owned || it.overrides.empty()) continue;
+    try {
+      check_run_inputs(*it.scenario, *it.engine, it.overrides);
+    } catch (const InputError& e) {
+      throw InputError(fmt::format("--set: {} on {}: {}", it.scenario->name, it.engine->name, e.what()));
     }
   }
 }
@@ -178,6 +193,7 @@ SuitePlan plan_suite(const SuiteDef& def) {
   if (plan.scenarios.empty()) throw InputError(fmt::format("no scenario matches '{}'", fmt::join(def.globs, ",")));
   check_set_taken(def, plan.scenarios);
   add_runs(plan, def);
+  check_set_values(plan);
   if (!def.sweeps) return plan;
   add_points(plan, def);
   mark_duplicates(plan);
@@ -201,11 +217,66 @@ void fill_duplicates(const SuitePlan& plan, std::map<std::string, nlohmann::json
   }
 }
 
+namespace {
+
+/// The memory limit in force in this worker (MiB; 0: none).
+double g_memory_limit_mib = 0.0;
+
+/// Test hook (tests/cli_test.sh): LIFTCHECK_TEST_ALLOCATE=SCENARIO makes that scenario's run allocate
+/// without bound, to show that the limit turns it into an error record. Only under a limit: without
+/// one it does nothing, so it can never take memory from the machine.
+void test_hook_allocate(const SuiteItem& item) {
+  const char* which = std::getenv("LIFTCHECK_TEST_ALLOCATE");
+  if (!which || item.scenario->name != which || !(g_memory_limit_mib > 0.0)) return;
+  std::vector<std::unique_ptr<char[]>> blocks;
+  for (;;) {
+    blocks.emplace_back(new char[std::size_t{16} << 20]);
+    std::memset(blocks.back().get(), 1, std::size_t{16} << 20);
+  }
+}
+
+std::string out_of_memory() {
+  return fmt::format("out of memory: the run needed more than its limit of {:g} MiB of address space (--memory-limit), stopped", g_memory_limit_mib);
+}
+
+}  // namespace
+
+#if defined(__SANITIZE_ADDRESS__)
+#define LIFTCHECK_ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define LIFTCHECK_ASAN 1
+#endif
+#endif
+
+void set_memory_limit(double mib) {
+#ifdef LIFTCHECK_ASAN
+  // AddressSanitizer maps terabytes of shadow memory: under any RLIMIT_AS its first allocation fails.
+  // The sanitized build (make sanitize) runs without the limit.
+  (void)mib;
+#else
+  if (!(mib > 0.0) || !std::isfinite(mib)) return;
+  rlimit r{};
+  if (getrlimit(RLIMIT_AS, &r) != 0) return;
+  const double bytes = mib * 1048576.0;
+  r.rlim_cur = r.rlim_max == RLIM_INFINITY || bytes < static_cast<double>(r.rlim_max) ? static_cast<rlim_t>(bytes) : r.rlim_max;
+  if (setrlimit(RLIMIT_AS, &r) == 0) g_memory_limit_mib = static_cast<double>(r.rlim_cur) / 1048576.0;  // a lower hard limit holds
+#endif
+}
+
 nlohmann::json run_item(const SuiteItem& item) {
   RunRecord r;
   bool input_error = false;
   try {
+    test_hook_allocate(item);
     r = run_scenario(*item.scenario, *item.engine, item.overrides);
+  } catch (const std::bad_alloc&) {
+    r = RunRecord{};
+    r.scenario = item.scenario->name;
+    r.engine = item.engine->name;
+    r.vehicle = item.scenario->vehicle;
+    r.status = Status::kError;
+    r.message = g_memory_limit_mib > 0.0 ? out_of_memory() : "out of memory (std::bad_alloc)";
   } catch (const std::exception& err) {  // values rejected by the scenario (a defect at the defaults): reported per run
     input_error = dynamic_cast<const InputError*>(&err) != nullptr;
     r = RunRecord{};
@@ -437,6 +508,7 @@ int worker_main() {
     if (line.empty()) continue;
     const nlohmann::json request = nlohmann::json::parse(line);
     const SuiteItem it = item_from_request(request);
+    set_memory_limit(request.value("memory_limit_mib", 0.0));
     arm_cpu_limit(request.value("cpu_limit_s", 0.0));
     const std::string text = run_item(it).dump() + "\n";
     arm_cpu_limit(0.0);
@@ -490,6 +562,7 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
         w.started = clock::now();
         nlohmann::json request = item_request(plan.items[which[static_cast<size_t>(w.slot)]]);
         request["cpu_limit_s"] = runner.timeout_s;
+        request["memory_limit_mib"] = runner.memory_limit_mib;
         if (!write_all(w.in_fd, request.dump() + "\n")) {
           const std::string how = end_worker(w, true);
           finish(w, error_record(plan.items[which[static_cast<size_t>(w.slot)]], fmt::format("the worker process {} before the run", how)));

@@ -71,12 +71,19 @@ std::vector<size_t> shard_share(const SuitePlan& plan, int index, int total);
 /// record read back from results.json is identical to one just made.
 nlohmann::json run_item(const SuiteItem& item);
 
+/// The default memory limit of a worker process (--memory-limit), in MiB: a worker takes about 250 MiB
+/// of address space with every engine loaded, a default run far less than 1 GiB more.
+constexpr double kDefaultRunMemoryMiB = 4096;
+
 /// How items are run: each in a worker process (`liftcheck worker`), `jobs` at once, so an engine
 /// that hangs, crashes or ends the process is an error record and never takes the suite with it.
 struct RunnerDef {
   int jobs = 1;              ///< at most usable_cores() run at once
   double timeout_s = 120.0;  ///< CPU-time limit of one item, counted by its worker from the item's start; a run that
                              ///< waits is stopped after 4 times as long (at least 30 s more) of wall-clock time
+  /// Limit of one worker's address space in MiB (RLIMIT_AS; 0: none): an allocation beyond it fails
+  /// and the run is an error record saying so, the suite goes on. Not applied under AddressSanitizer.
+  double memory_limit_mib = kDefaultRunMemoryMiB;
   std::string exe;           ///< the liftcheck executable (empty: /proc/self/exe)
   /// Polled between events; true stops the runner (killing its workers) with RunnerStopped.
   std::function<bool()> stop = {};
@@ -95,6 +102,10 @@ struct RunnerStopped : std::runtime_error {
 std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
                                       const std::function<void(size_t, const nlohmann::json&)>& done,
                                       const std::function<void(size_t, size_t)>& progress = {});
+
+/// Limits this process's address space to `mib` MiB (RLIMIT_AS, the soft limit; 0: no change): the
+/// worker's memory limit. Does nothing under AddressSanitizer, whose shadow memory needs terabytes.
+void set_memory_limit(double mib);
 
 /// The request a worker reads for an item (one JSON line), and the item it describes.
 nlohmann::json item_request(const SuiteItem& item);

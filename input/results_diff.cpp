@@ -4,8 +4,12 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
+#include <string_view>
+#include <unordered_map>
+#include <vector>
 
 #include "input/interrupt.hpp"
+#include "input/trace.hpp"  // printable
 
 namespace liftcheck {
 
@@ -13,11 +17,38 @@ namespace {
 
 using json = nlohmann::json;
 
-std::map<std::pair<std::string, std::string>, const json*> index_runs(const json& results) {
-  std::map<std::pair<std::string, std::string>, const json*> m;
-  for (const auto& r : results.at("runs")) m[{r.at("scenario").get<std::string>(), r.at("engine").get<std::string>()}] = &r;
+/// A run's key: its scenario and configuration, views into the document.
+using RunKey = std::pair<std::string_view, std::string_view>;
+
+struct RunKeyHash {
+  std::size_t operator()(const RunKey& k) const {
+    const std::size_t a = std::hash<std::string_view>()(k.first);
+    return a ^ (std::hash<std::string_view>()(k.second) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2));
+  }
+};
+
+RunKey key_of(const json& r) {
+  return {r.at("scenario").get_ref<const std::string&>(), r.at("engine").get_ref<const std::string&>()};
+}
+
+/// The runs by key (a later record of the same run wins, as it always did), hashed: a diff of a
+/// million runs is linear in them.
+std::unordered_map<RunKey, const json*, RunKeyHash> index_runs(const json& results) {
+  const json& runs = results.at("runs");
+  std::unordered_map<RunKey, const json*, RunKeyHash> m;
+  m.reserve(runs.size());
+  for (const auto& r : runs) m[key_of(r)] = &r;
   return m;
 }
+
+/// The same, in key order (the order of the diff's findings).
+std::vector<std::pair<RunKey, const json*>> sorted_runs(const std::unordered_map<RunKey, const json*, RunKeyHash>& index) {
+  std::vector<std::pair<RunKey, const json*>> v(index.begin(), index.end());
+  std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  return v;
+}
+
+json id_of(const RunKey& key) { return {{"scenario", std::string(key.first)}, {"engine", std::string(key.second)}}; }
 
 json merged(json a, const json& b) {
   a.update(b);
@@ -72,51 +103,55 @@ json diff_results(const json& base, const json& head, const DiffDef& def) {
          {"better", json::array()}, {"added", json::array()}, {"removed", json::array()}};
   const auto b = index_runs(base), h = index_runs(head);
   std::size_t compared = 0;
-  for (const auto& [key, hr] : h) {
+  for (const auto& [key, hr] : sorted_runs(h)) {
     if ((++compared & 0xFFFF) == 0) throw_if_interrupted("while comparing the results");
     const auto it = b.find(key);
-    const json id{{"scenario", key.first}, {"engine", key.second}};
     if (it == b.end()) {
-      d["added"].push_back(id);
+      d["added"].push_back(id_of(key));
       continue;
     }
     const json& br = *it->second;
-    if (record_as_expected(br) && !record_as_expected(*hr))
-      d["regressions"].push_back(merged(id, {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}, {"message", hr->value("message", "")}}));
-    else if (!record_as_expected(br) && record_as_expected(*hr))
-      d["fixed"].push_back(merged(id, {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}}));
-    if (!br.contains("metrics") || !hr->contains("metrics") || !br["metrics"].is_object() || !(*hr)["metrics"].is_object()) continue;
-    for (const auto& [name, hm] : (*hr)["metrics"].items()) {
-      if (!br["metrics"].contains(name) || hm.value("informational", false)) continue;
-      const json& bm = br["metrics"][name];
-      const double rb = ratio(bm), rh = ratio(hm);
-      const json entry = merged(id, {{"metric", name}, {"base_ratio", rb}, {"head_ratio", rh},
-                                     {"base_measured", bm.value("measured", json())}, {"head_measured", hm.value("measured", json())}});
-      if (rh > def.floor && rh > def.growth * rb) d["worse"].push_back(entry);
-      else if (rb > def.floor && rb > def.growth * rh) d["better"].push_back(entry);
+    const bool was = record_as_expected(br), is = record_as_expected(*hr);
+    if (was && !is)
+      d["regressions"].push_back(merged(id_of(key), {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}, {"message", hr->value("message", "")}}));
+    else if (!was && is)
+      d["fixed"].push_back(merged(id_of(key), {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}}));
+    const auto bms = br.find("metrics"), hms = hr->find("metrics");
+    if (bms == br.end() || hms == hr->end() || !bms->is_object() || !hms->is_object()) continue;
+    for (const auto& [name, hm] : hms->get_ref<const json::object_t&>()) {
+      const auto bm = bms->find(name);
+      if (bm == bms->end() || hm.value("informational", false)) continue;
+      const double rb = ratio(*bm), rh = ratio(hm);
+      const bool worse = rh > def.floor && rh > def.growth * rb, better = !worse && rb > def.floor && rb > def.growth * rh;
+      if (!worse && !better) continue;
+      d[worse ? "worse" : "better"].push_back(merged(id_of(key), {{"metric", name}, {"base_ratio", rb}, {"head_ratio", rh},
+                                                                  {"base_measured", bm->value("measured", json())},
+                                                                  {"head_measured", hm.value("measured", json())}}));
     }
   }
-  for (const auto& [key, br] : b)
-    if (!h.count(key)) d["removed"].push_back({{"scenario", key.first}, {"engine", key.second}});
+  for (const auto& [key, br] : sorted_runs(b))
+    if (!h.count(key)) d["removed"].push_back(id_of(key));
   return d;
 }
 
 std::string diff_text(const json& d) {
+  // Names and messages come from the files: one line each, whatever they hold.
+  const auto name = [](const json& v) { return printable(v.get<std::string>(), 200); };
   std::string t;
   for (const auto& r : d["regressions"])
-    t += fmt::format("REGRESSION {} on {}: {} -> {} ({})\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(),
-                     r["from"].get<std::string>(), r["to"].get<std::string>(), r["message"].get<std::string>());
+    t += fmt::format("REGRESSION {} on {}: {} -> {} ({})\n", name(r["scenario"]), name(r["engine"]),
+                     name(r["from"]), name(r["to"]), printable(r["message"].get<std::string>(), 1000));
   for (const auto& r : d["fixed"])
-    t += fmt::format("fixed      {} on {}: {} -> {}\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(),
-                     r["from"].get<std::string>(), r["to"].get<std::string>());
+    t += fmt::format("fixed      {} on {}: {} -> {}\n", name(r["scenario"]), name(r["engine"]),
+                     name(r["from"]), name(r["to"]));
   for (const char* kind : {"worse", "better"})
     for (const auto& r : d[kind])
-      t += fmt::format("{:<10} {} on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", kind, r["scenario"].get<std::string>(),
-                       r["engine"].get<std::string>(), r["metric"].get<std::string>(), r["head_measured"].dump(), r["base_measured"].dump(),
+      t += fmt::format("{:<10} {} on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", kind, name(r["scenario"]),
+                       name(r["engine"]), name(r["metric"]), r["head_measured"].dump(), r["base_measured"].dump(),
                        r["head_ratio"].get<double>(), r["base_ratio"].get<double>());
   for (const char* kind : {"added", "removed"})
     for (const auto& r : d[kind])
-      t += fmt::format("{:<10} {} on {}\n", kind, r["scenario"].get<std::string>(), r["engine"].get<std::string>());
+      t += fmt::format("{:<10} {} on {}\n", kind, name(r["scenario"]), name(r["engine"]));
   t += fmt::format("{} regressions, {} fixed, {} metrics worse, {} better, {} runs added, {} removed\n", d["regressions"].size(),
                    d["fixed"].size(), d["worse"].size(), d["better"].size(), d["added"].size(), d["removed"].size());
   return t;

@@ -84,10 +84,7 @@ class CheckedDom {
   bool end_object() { return open_.pop_back(), true; }
   bool end_array() { return open_.pop_back(), true; }
   bool key(std::string& k) {
-    Open& o = open_.back();
-    if (o.value->contains(k))
-      throw InputError(fmt::format("{}: {}: the key '{}' appears twice in one object (which one is meant?)", file_, where(), printable(k)));
-    o.key = std::move(k);
+    open_.back().key = std::move(k);
     return true;
   }
   template <class Exception>
@@ -112,7 +109,11 @@ class CheckedDom {
       c.push_back(std::move(v));
       return &c.back();
     }
-    return &(c[open_.back().key] = std::move(v));
+    // One look-up finds a repeated key and places the value (the key stays for where()).
+    auto [at, inserted] = c.get_ref<json::object_t&>().try_emplace(open_.back().key, std::move(v));
+    if (!inserted)
+      throw InputError(fmt::format("{}: {}: the key '{}' appears twice in one object (which one is meant?)", file_, where(), printable(at->first)));
+    return &at->second;
   }
   bool put(json&& v) { return place(std::move(v)), true; }
   bool open(json&& container) {

@@ -118,7 +118,7 @@ std::string summary_markdown(const json& results, const std::string& report_link
     std::string b;
     for (const auto& r : d["regressions"])
       b += fmt::format("- REGRESSION **{}** on {}: {} → {} ({})\n", r["scenario"].get<std::string>(), markdown_code(r["engine"].get<std::string>()),
-                       r["from"].get<std::string>(), r["to"].get<std::string>(), r["message"].get<std::string>());
+                       r["from"].get<std::string>(), r["to"].get<std::string>(), escape_markdown(r["message"].get<std::string>()));
     for (const auto& r : d["worse"])
       b += fmt::format("- worse **{}** on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", r["scenario"].get<std::string>(),
                        markdown_code(r["engine"].get<std::string>()), r["metric"].get<std::string>(), r["head_measured"].dump(), r["base_measured"].dump(),
@@ -131,13 +131,13 @@ std::string summary_markdown(const json& results, const std::string& report_link
   std::string bad;
   for (const auto& r : results["runs"])
     if (!record_as_expected(r))
-      bad += fmt::format("- **{}** on {}: {}\n", r["scenario"].get<std::string>(), markdown_code(r["engine"].get<std::string>()), failure_text(r));
+      bad += fmt::format("- **{}** on {}: {}\n", r["scenario"].get<std::string>(), markdown_code(r["engine"].get<std::string>()), escape_markdown(failure_text(r)));
   for (const auto& sw : results.value("sweeps", json::array()))
     for (const auto& e : sw["engines"])
       if (!e["gate"]["pass"].get<bool>()) {
         std::string problems;
         for (const auto& p : e["gate"]["problems"]) problems += (problems.empty() ? "" : "; ") + p.get<std::string>();
-        bad += fmt::format("- sweep **{}** on {}: {}\n", sw["name"].get<std::string>(), markdown_code(e["engine"].get<std::string>()), problems);
+        bad += fmt::format("- sweep **{}** on {}: {}\n", sw["name"].get<std::string>(), markdown_code(e["engine"].get<std::string>()), escape_markdown(problems));
       }
   if (!bad.empty()) md += "### Not as expected\n\n" + bad + "\n";
   // The matrix.

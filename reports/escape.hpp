@@ -4,7 +4,8 @@
 
 namespace liftcheck {
 
-/// Escapes text for HTML and XML content and attribute values (& < > " ').
+/// Escapes text for HTML and XML content and attribute values (& < > " '); a control character
+/// other than a tab or a line break (XML 1.0 allows no other, an ANSI escape among them) is '?'.
 inline std::string escape_markup(const std::string& s) {
   std::string o;
   o.reserve(s.size());
@@ -15,7 +16,7 @@ inline std::string escape_markup(const std::string& s) {
       case '>': o += "&gt;"; break;
       case '"': o += "&quot;"; break;
       case '\'': o += "&apos;"; break;
-      default: o += c;
+      default: o += (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7f ? '?' : c;
     }
   }
   return o;

@@ -441,6 +441,19 @@ bad_input rel-dt-denormal "parameter 'dt' = 1e-300 s asks for" run car.circle --
 bad_input rel-sample-dt-tiny "parameter 'sample_dt' = 1e-09 s asks for 2.08e+10 recorded samples" run car.circle --set sample_dt=1e-9
 bad_input rel-path-sample-dt "parameter 'sample_dt' = 1e-09 s asks for" path car.circle --set sample_dt=1e-9
 bad_input rel-disk-path-rows "rows of the path (one per engine step)" path disks.copy --set dt=1e-6 --set T=100
+# Every extreme of dt and sample_dt is bad input (exit 2, one line naming the parameter) on run,
+# path, score and validate alike; validate refuses it before anything runs and writes nothing.
+for k in dt sample_dt; do
+  for v in 1e-20 1e-300 4.9e-324 0 -1 inf nan 1e300; do
+    bad_input "rel-$k=$v-run" "parameter '$k'" run car.circle --set "$k=$v"
+    bad_input "rel-$k=$v-path" "parameter '$k'" path car.circle --set "$k=$v"
+    bad_input "rel-$k=$v-score" "parameter '$k'" score car.circle --trace "$tmp/trace.csv" --set "$k=$v"
+    bad_input "rel-$k=$v-validate" "parameter '$k'" validate --engines analytic --filter car.circle,disks.copy --no-sweeps --no-report --set "$k=$v" --out "$tmp/rdt"
+  done
+done
+[ ! -e "$tmp/rdt" ] && passes=$((passes + 1)) || { echo "FAIL a refused --set wrote an output"; fails=$((fails + 1)); }
+bad_input rel-validate-dt-tiny "--set: car.circle on analytic: parameter 'dt' = 1e-20 s asks for 2.08e+21 engine steps over the run's 20.7854 s: at most 1e+08 (dt >= 2.08e-07 s here)" \
+  validate --engines analytic --filter car.circle --no-sweeps --no-report --set dt=1e-20 --out "$tmp/rdt"
 # A key given twice in one object is refused: a baseline ending in "runs": [] compared nothing.
 python3 -c 'import sys; t=open(sys.argv[1]).read().rstrip(); open(sys.argv[2], "w").write(t[:-1] + ", \"runs\": []}\n")' "$tmp/report/results.json" "$tmp/dupkey.json"
 bad_input rel-duplicate-key "dupkey.json: the top level: the key 'runs' appears twice in one object" validate --filter car.circle --engines analytic --no-sweeps --no-report --baseline "$tmp/dupkey.json" --out "$tmp/rdk"
@@ -542,12 +555,31 @@ echo mine >"$tmp/st/.o.partial-999998-BBBBBB/mine.txt"
 check rel-stale-stage 0 "$bin" "${V[@]}" --out "$tmp/st/o"
 [ ! -e "$tmp/st/.o.partial-999999-AAAAAA" ] && [ -s "$tmp/st/.o.partial-999998-BBBBBB/mine.txt" ] && [ -z "$(find "$tmp/st" -maxdepth 1 -name '.o.partial-*' ! -name '*BBBBBB')" ] \
   && passes=$((passes + 1)) || { echo "FAIL stale staging folders"; ls -la "$tmp/st"; fails=$((fails + 1)); }
-"$bin" "${V[@]}" --jobs 1 --out "$tmp/st/k" >/dev/null 2>&1 &
+# SIGKILL mid-suite (a second into its runs, a worker running): the previous output is as it was, the staging
+# folder left names the killed process, and the next run removes it. One that names a process still
+# running (this shell, with its start time) is not liftcheck's to remove.
+# (Bullet's car.covariance runs for a second, to its time limit: the kill lands mid-suite.)
+K=(validate --engines analytic,bullet --filter car.circle,car.covariance --no-sweeps --no-report --jobs 1 --timeout 1)
+check rel-before-sigkill 1 "$bin" "${K[@]}" --out "$tmp/st/k"
+cp "$tmp/st/k/results.json" "$tmp/k-before.json" && cp "$tmp/st/k/.liftcheck-output" "$tmp/k-before.manifest"
+"$bin" "${K[@]}" --out "$tmp/st/k" >"$tmp/k.out" 2>&1 &
 vpid=$!
-for _ in $(seq 100); do [ -n "$(find "$tmp/st" -maxdepth 1 -name '.k.partial-*')" ] && break; sleep 0.1; done
+for _ in $(seq 300); do [ -n "$(find "$tmp/st" -maxdepth 1 -name ".k.partial-$vpid-*")" ] && pgrep -P "$vpid" >/dev/null && break; sleep 0.05; done
+sleep 1  # a second into the runs (they take five): mid-suite, a worker running
+pgrep -P "$vpid" >/dev/null && running=yes || running=no
 kill -KILL "$vpid"; wait "$vpid" 2>/dev/null
-check rel-after-sigkill 0 "$bin" "${V[@]}" --out "$tmp/st/k"
-[ -z "$(find "$tmp/st" -maxdepth 1 -name '.k.partial-*')" ] && passes=$((passes + 1)) || { echo "FAIL SIGKILL's staging folder left"; fails=$((fails + 1)); }
+killed=$(find "$tmp/st" -maxdepth 1 -name ".k.partial-$vpid-*")
+[ "$running" = yes ] && [ -n "$killed" ] && grep -q "^liftcheck-staging pid $vpid start " "$killed/.liftcheck-staging" \
+  && cmp -s "$tmp/st/k/results.json" "$tmp/k-before.json" && cmp -s "$tmp/st/k/.liftcheck-output" "$tmp/k-before.manifest" \
+  && [ "$(ls -A "$tmp/st/k" | sort | tr '\n' ' ')" = ".liftcheck-output junit.xml results.json summary.md " ] \
+  && passes=$((passes + 1)) || { echo "FAIL after SIGKILL mid-suite: the old output changed or no staging folder of the killed process"; cat "$tmp/k.out"; ls -la "$tmp/st" "$tmp/st/k"; fails=$((fails + 1)); }
+mkdir -p "$tmp/st/.k.partial-$$-LIVEXX"
+echo "liftcheck-staging pid $$ start $(sed 's/.*) //' "/proc/$$/stat" | cut -d' ' -f20)" >"$tmp/st/.k.partial-$$-LIVEXX/.liftcheck-staging"
+check rel-after-sigkill 1 "$bin" "${K[@]}" --out "$tmp/st/k"
+[ -z "$(find "$tmp/st" -maxdepth 1 -name ".k.partial-*" ! -name '*LIVEXX')" ] && [ -d "$tmp/st/.k.partial-$$-LIVEXX" ] \
+  && python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["summary"]["total"] == 4' "$tmp/st/k/results.json" \
+  && passes=$((passes + 1)) || { echo "FAIL staging folders after SIGKILL: the killed one left or the live one removed"; ls -la "$tmp/st"; fails=$((fails + 1)); }
+rm -rf "$tmp/st/.k.partial-$$-LIVEXX"
 long="$tmp/st/$(printf 'n%.0s' $(seq 250))"
 check rel-long-out 0 "$bin" "${V[@]}" --out "$long"
 [ -s "$long/results.json" ] && passes=$((passes + 1)) || { echo "FAIL long --out name"; fails=$((fails + 1)); }
@@ -584,12 +616,65 @@ check rel-baseline-unwritable 2 "$bin" validate --engines analytic --filter disk
 # The report renders in a process of its own: a renderer that dies (OSMesa under a memory
 # limit) costs the report, never the runs' results. Not under AddressSanitizer (make sanitize sets
 # ASAN_OPTIONS): its shadow memory cannot be mapped under ulimit -v at all.
+# Under ulimit -v 300000 the renderer fails (the report is not whole: exit 1, a REPORT line, the
+# problem in results.json) and the finished run's result is written all the same.
 if [ -z "${ASAN_OPTIONS:-}" ]; then
-  (ulimit -v 400000; "$bin" validate --engines analytic --filter car.circle --no-sweeps --jobs 1 --out "$tmp/ulim" >"$tmp/out" 2>"$tmp/err")
+  (ulimit -v 300000; "$bin" validate --engines analytic --filter car.circle --no-sweeps --jobs 1 --out "$tmp/ulim" >"$tmp/out" 2>"$tmp/err")
   st=$?
-  python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["summary"]["total"] == 1 and d["runs"][0]["verdict"] == "pass", d["summary"]' "$tmp/ulim/results.json" \
-    && passes=$((passes + 1)) || { echo "FAIL the runs' results lost with the report: exit $st"; cat "$tmp/err"; fails=$((fails + 1)); }
+  python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["summary"]["total"] == 1 and d["runs"][0]["verdict"] == "pass" and d["runs"][0]["metrics"], d["summary"]
+assert d["report"]["errors"], "the report did not fail: the test shows nothing"
+' "$tmp/ulim/results.json" && [ "$st" -eq 1 ] && grep -q '^REPORT ' "$tmp/out" && [ -s "$tmp/ulim/summary.md" ] && [ -s "$tmp/ulim/junit.xml" ] \
+    && passes=$((passes + 1)) || { echo "FAIL the runs' results lost with the report: exit $st"; cat "$tmp/out" "$tmp/err"; fails=$((fails + 1)); }
+  # Each worker has a memory limit: a run that allocates without bound (a test hook) is an error
+  # record naming the limit, and the rest of the suite runs.
+  check rel-memory-limit 1 env LIFTCHECK_TEST_ALLOCATE=disks.copy "$bin" validate --engines analytic --filter car.circle,disks.copy --no-sweeps --no-report \
+    --memory-limit 600 --jobs 1 --out "$tmp/mem"
+  python3 -c '
+import json, sys
+d = json.load(open(sys.argv[1]))
+r = {x["scenario"]: x for x in d["runs"]}
+assert r["car.circle"]["verdict"] == "pass", r["car.circle"]
+assert r["disks.copy"]["status"] == "error" and r["disks.copy"]["message"].startswith("out of memory: the run needed more than its limit of 600 MiB"), r["disks.copy"]["message"]
+assert d["context"]["memory_limit_mib"] == 600
+' "$tmp/mem/results.json" && grep -q '^error .*disks.copy .*out of memory' "$tmp/out" && passes=$((passes + 1)) \
+    || { echo "FAIL the memory limit"; cat "$tmp/out" "$tmp/err"; fails=$((fails + 1)); }
 fi
+bad_input rel-memory-limit-small "--memory-limit 100 must be at least 256 MiB" run car.circle --memory-limit 100
+# Names are escaped wherever they are printed: a line break, an ANSI escape or a stray byte in an
+# output folder's or a baseline's name, or in the names and messages of a results file, never
+# forges a console line nor reaches the terminal (they are '?').
+odd="$(printf 'x\nFAIL forged \033[31m|')"
+bad="$(printf '\377')"  # not UTF-8: refused in a name liftcheck records (the baseline read), printed as '?' elsewhere
+check rel-odd-names 0 "$bin" validate --engines analytic --filter disks.copy --no-sweeps --no-report --out "$tmp/o$odd$bad" --baseline "$tmp/b$odd.json" --update-baseline
+cat "$tmp/out" >"$tmp/odd.out"
+check rel-odd-baseline 0 "$bin" validate --engines analytic --filter disks.copy --no-sweeps --no-report --out "$tmp/o2$odd" --baseline "$tmp/b$odd.json"
+cat "$tmp/out" >>"$tmp/odd.out"
+python3 - "$tmp/o$odd$bad/results.json" "$tmp/odd-base.json" "$tmp/odd.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+d["runs"][0]["engine"] = "e\nREGRESSION forged \u001b[31m|"
+json.dump(d, open(sys.argv[2], "w"))
+d["runs"][0]["status"], d["runs"][0]["verdict"], d["runs"][0]["as_expected"] = "error", "error", False
+d["runs"][0]["message"] = "boom\nFAIL forged \u001b[2J"
+json.dump(d, open(sys.argv[3], "w"))
+PY
+check rel-odd-diff 1 "$bin" diff "$tmp/odd-base.json" "$tmp/odd.json"
+cat "$tmp/out" >>"$tmp/odd.out"
+python3 - "$tmp/odd.out" <<'PY' && passes=$((passes + 1)) || { echo "FAIL a name forged a console line"; cat -A "$tmp/odd.out"; fails=$((fails + 1)); }
+import sys
+text = open(sys.argv[1], "rb").read().decode("utf-8")  # strict: no stray byte reaches the terminal
+lines = text.splitlines()
+assert "\x1b" not in text, "an ANSI escape was printed"
+for line in lines:
+    assert not line.startswith(("FAIL", "REGRESSION forged")), line
+assert any(l.startswith("baseline written: ") and l.endswith("x?FAIL forged ?[31m|.json") for l in lines), text
+assert any(l.startswith("against the baseline ") and l.endswith("x?FAIL forged ?[31m|.json:") for l in lines), text
+assert any(l.startswith("validate: ") and "x?FAIL forged ?[31m|?/results.json" in l for l in lines), text
+assert "REGRESSION disks.copy on e?REGRESSION forged ?[31m|: pass -> error (boom?FAIL forged ?[2J)" in lines, text
+PY
 # --- end of the issue 23 block (output folder) ------------------------------------------------
 
 echo "$passes passed, $fails failed"

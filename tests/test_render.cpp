@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 
 #include <GL/osmesa.h>
 
@@ -133,3 +134,44 @@ TEST(Plots, QuotesNamesAsData) {
   EXPECT_EQ(liftcheck::gnuplot_quote("a\nb\r`c`"), "'a b `c`'");
   EXPECT_EQ(liftcheck::gnuplot_quote(""), "''");
 }
+
+#include "reports/ci.hpp"
+
+namespace {
+
+/// A configuration named with a '|' and an error message with a line break and an ANSI escape:
+/// summary.md keeps its lines and its table's columns, junit.xml holds no character XML forbids.
+nlohmann::json odd_results() {
+  nlohmann::json run = {{"scenario", "car.circle"}, {"engine", "a|b"},      {"status", "error"},       {"verdict", "error"},
+                        {"as_expected", false},     {"wall_s", 0.1},        {"metrics", nlohmann::json::object()},
+                        {"message", "boom\nFAIL forged | \x1b[2J"}};
+  return {{"summary", {{"total", 1}, {"error", 1}, {"unexpected", 1}}},
+          {"context", {{"engines", {{{"name", "a|b"}}}}}},
+          {"runs", {run}},
+          {"sweeps", nlohmann::json::array()}};
+}
+
+TEST(Escape, SummaryMarkdownKeepsItsLinesAndColumns) {
+  const std::string md = liftcheck::summary_markdown(odd_results(), "");
+  std::istringstream lines(md);
+  std::string line;
+  int bullets = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_NE(line.rfind("FAIL", 0), 0u) << line;
+    if (line.rfind("- **car.circle**", 0) == 0) {
+      ++bullets;
+      EXPECT_NE(line.find("boom?FAIL forged \\| ?\\[2J"), std::string::npos) << line;
+    }
+  }
+  EXPECT_EQ(bullets, 1);
+  EXPECT_NE(md.find("| scenario | a\\|b |\n|---|:-:|\n| car.circle | 💥 |\n"), std::string::npos) << md;
+  EXPECT_EQ(md.find('\x1b'), std::string::npos);
+}
+
+TEST(Escape, JunitHoldsNoControlCharacter) {
+  const std::string xml = liftcheck::junit_xml(odd_results());
+  for (char c : xml) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 && c != '\n') << static_cast<int>(c);
+  EXPECT_NE(xml.find("<error message=\"boom\nFAIL forged | ?[2J\"/>"), std::string::npos) << xml;  // a line break is allowed in XML
+}
+
+}  // namespace

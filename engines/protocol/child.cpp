@@ -4,6 +4,7 @@
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -78,7 +79,18 @@ ProtocolChild::ProtocolChild(std::string label, const std::vector<std::string>& 
   std::vector<char*> cargs;
   for (std::string& a : args) cargs.push_back(a.data());
   cargs.push_back(nullptr);
+  // A worker's memory limit (RLIMIT_AS, harness/suite.cpp) is for the engines compiled in: an
+  // outside engine's runtime starts without it (V8 reserves address space for WebAssembly far
+  // beyond any useful limit and would not start), bounded by its own heap limits and its reply timeout.
+  rlimit as{};
+  const bool lift = getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != as.rlim_max;
+  if (lift) {
+    rlimit open = as;
+    open.rlim_cur = as.rlim_max;
+    setrlimit(RLIMIT_AS, &open);
+  }
   const int rc = posix_spawnp(&pid_, args[0].c_str(), &fa, &attr, cargs.data(), environ);
+  if (lift) setrlimit(RLIMIT_AS, &as);
   posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&attr);
   ::close(in[0]), ::close(out[1]), ::close(err[1]);
