@@ -38,7 +38,9 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
   const std::filesystem::path out = staged.stage();
   try {
     if (o.report) {
-      write_report(results, out);
+      ReportDef def;
+      def.snapshots = o.snapshots;
+      write_report(results, out, def);
       std::cout << fmt::format("report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", results["report"]["report_s"].get<double>(),
                                results["report"]["snapshots"].size(), results["report"]["strips"].size(),
                                results["report"]["plots"].size(),
@@ -98,6 +100,15 @@ int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann
   print_summary(results, o, gates, staged);
   if (report_problems > 0) std::cout << fmt::format("the report has {} problems (listed above and in index.html)\n", report_problems);
   return all_pass && report_problems == 0 ? 0 : 1;
+}
+
+int render_again(nlohmann::json& results, const OutputOptions& o, StagedOutput& staged) {
+  write_outputs(results, o, staged);
+  Gates gates;
+  gates.total = results["summary"].value("sweep_gates", 0);
+  gates.failed = results["summary"].value("sweep_gates_failed", 0);
+  print_summary(results, o, gates, staged);
+  return results["summary"].value("unexpected", 0) == 0 && results["summary"].value("baseline_problems", 0) == 0 ? 0 : 1;
 }
 
 }  // namespace liftcheck::cli
