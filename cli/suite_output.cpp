@@ -1,5 +1,6 @@
 #include "cli/suite_output.hpp"
 
+#include <cstdlib>
 #include <fmt/format.h>
 #include <iostream>
 
@@ -32,6 +33,17 @@ Gates sweep_gates(const nlohmann::json& results) {
   return g;
 }
 
+/// Where summary.md points for the report: LIFTCHECK_REPORT_URL when set; on a CI run the run's
+/// page, whose artifacts hold the report (GITHUB_SERVER_URL/GITHUB_REPOSITORY/actions/runs/
+/// GITHUB_RUN_ID); otherwise the report beside it. A pull-request comment needs an absolute link.
+std::string report_link() {
+  const auto env = [](const char* k) { const char* v = std::getenv(k); return std::string(v ? v : ""); };
+  if (!env("LIFTCHECK_REPORT_URL").empty()) return env("LIFTCHECK_REPORT_URL");
+  if (!env("GITHUB_SERVER_URL").empty() && !env("GITHUB_REPOSITORY").empty() && !env("GITHUB_RUN_ID").empty())
+    return fmt::format("{}/{}/actions/runs/{}", env("GITHUB_SERVER_URL"), env("GITHUB_REPOSITORY"), env("GITHUB_RUN_ID"));
+  return "index.html";
+}
+
 /// The report, junit.xml, summary.md and results.json into the staged folder, which is then
 /// swapped in; the baseline rewritten last when asked.
 void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput& staged) {
@@ -47,7 +59,7 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
                                results["report"]["errors"].empty() ? "" : fmt::format("; {} problems, see index.html", results["report"]["errors"].size()));
     }
     write_file_atomic(out / "junit.xml", junit_xml(results));
-    write_file_atomic(out / "summary.md", summary_markdown(results, o.report ? "index.html" : ""));
+    write_file_atomic(out / "summary.md", summary_markdown(results, o.report ? report_link() : ""));
     write_file_atomic(out / "results.json", results.dump(1));
     throw_if_interrupted("while writing the outputs");
     staged.publish();

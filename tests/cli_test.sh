@@ -97,6 +97,15 @@ xmllint --noout --schema "$(dirname "$0")/junit-10.xsd" "$tmp/report/junit.xml" 
   || { echo "FAIL junit-10.xsd"; cat "$tmp/err"; fails=$((fails + 1)); }
 grep -q "all as expected" "$tmp/report/summary.md" && grep -q "^| car.cycle | ✅ |$" "$tmp/report/summary.md" && passes=$((passes + 1)) \
   || { echo "FAIL summary.md"; cat "$tmp/report/summary.md"; fails=$((fails + 1)); }
+# A known failure is a skipped case with its reason (the convention for an expected failure), the
+# file still valid; on a CI run summary.md links to the run's page, absolutely.
+GITHUB_SERVER_URL=https://ci.example GITHUB_REPOSITORY=o/r GITHUB_RUN_ID=42 \
+  check validate-known 0 "$bin" validate --engines ode --filter car.slip --no-sweeps --out "$tmp/known"
+xmllint --noout --schema "$(dirname "$0")/junit-10.xsd" "$tmp/known/junit.xml" 2>"$tmp/err" \
+  && grep -q '<testcase classname="car.slip" name="ode" time="[0-9.]*"><skipped message="known failure: negative control' "$tmp/known/junit.xml" \
+  && grep -q 'skipped="1"' "$tmp/known/junit.xml" && ! grep -q '<failure' "$tmp/known/junit.xml" \
+  && grep -q '\[Report\](https://ci.example/o/r/actions/runs/42)' "$tmp/known/summary.md" && passes=$((passes + 1)) \
+  || { echo "FAIL known failure as skipped, absolute report link"; cat "$tmp/err"; grep -o '<testcase classname="car.slip".\{0,120\}' "$tmp/known/junit.xml"; grep Report "$tmp/known/summary.md"; fails=$((fails + 1)); }
 check diff-same 0 "$bin" diff "$tmp/report/results.json" "$tmp/report/results.json"
 python3 - "$tmp/report/results.json" "$tmp/worse.json" <<'PY'
 import json, sys
