@@ -57,7 +57,9 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
         try {
           for (const auto& s : render::snapshots_for(r, ink_of(r))) {
             const std::string file = fmt::format("{}__{}.png", base, s.tag);
-            render::write_png(out / file, renderer.render(s.scene));
+            render::Image img = renderer.render(s.scene);
+            for (const auto& in : s.insets) render::paste(img, renderer.render(in.scene), in.x_px, in.y_px);
+            render::write_png(out / file, img);
             shots[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"tag", s.tag}, {"file", file}, {"caption", s.caption}});
           }
           const render::Strip st = render::strip_for(r, ink_of(r));
