@@ -10,6 +10,7 @@
 #include "cli/interrupts.hpp"
 #include "cli/lookup.hpp"
 #include "cli/progress.hpp"
+#include "cli/terminal.hpp"
 #include "cli/shard.hpp"
 #include "cli/suite_output.hpp"
 #include "harness/results.hpp"
@@ -64,7 +65,7 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
     if (it.kind != SuiteItem::kRun) return;
     progress.clear();
     const bool known = r["expectation"].is_object() && r["as_expected"].get<bool>();
-    std::cout << fmt::format("{:<15} {:<22} {:<16} {:8.3f} s  {}{}\n", r["verdict"].get<std::string>(), it.scenario->name, it.engine->name,
+    std::cout << fmt::format("{} {:<22} {:<16} {:8.3f} s  {}{}\n", coloured_verdict(r["verdict"].get<std::string>(), 15), it.scenario->name, it.engine->name,
                              r["wall_s"].get<double>(), r["message"].get<std::string>(),
                              known ? fmt::format(" (known: {})", r["expectation"]["reason"].get<std::string>()) : "");
   };

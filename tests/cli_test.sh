@@ -376,6 +376,9 @@ bad_input suggest-engine "did you mean 'ode-quick'?" run car.circle --engine ode
 bad_input suggest-param "unknown parameter 'speeed' for scenario 'car.circle'; did you mean 'speed'?" run car.circle --set speeed=1
 bad_input suggest-setting "did you mean 'iterations'?" run car.circle --engine ode-quick --set iteratons=5
 bad_input suggest-path-param "did you mean 'lambda'?" path disks.repel --set lamda=1
+bad_input suggest-command "did you mean 'run'?" runn car.circle
+bad_input suggest-option "did you mean '--engine'?" run car.circle --engin ode
+bad_input suggest-command-option "did you mean '--engines'?" validate --engnes ode --out "$tmp/never"
 bad_input suggest-choice "parameter 'path' must be one of line|circle|figure8, got 'circel'; did you mean 'circle'?" run disks.copy --set path=circel
 bad_input no-suggestion-far-off "unknown parameter 'zzzzzz' for scenario 'car.circle'" run car.circle --set zzzzzz=1
 grep -q "did you mean" "$tmp/err" && { echo "FAIL a far-off name got a suggestion"; fails=$((fails + 1)); }
