@@ -4,7 +4,7 @@
 // wheels: btHingeConstraint about the rear axle. Wheel-ground friction uses two friction rows
 // (SOLVER_USE_2_FRICTION_DIRECTIONS); with friction_dirs = wheel the first row lies along the
 // wheel's rolling direction, set on every contact point before each solve.
-// Signs (tests/test_engine_signs.cpp): the 6DOF angles are of body B relative to body A with the
+// Signs (tests/conformance.cpp, ForwardIsPositiveAlphaAndLeftIsPositiveBeta): the 6DOF angles are of body B relative to body A with the
 // chassis as A; the steering angle and spin rate are negated where marked.
 #include "engines/bullet/bullet_car.hpp"
 #include "engines/bullet/bullet_core.hpp"

@@ -3,7 +3,7 @@
 // axis 2 = axle), driven by the joint motors. Rear wheels: hinge joints on the rear axle.
 // Wheel-ground contacts: dContactApprox1 (mu is a coefficient, not a force cap), soft ERP/CFM,
 // and, with friction_dirs = wheel, the first friction direction along the wheel's rolling direction.
-// Signs (tests/test_engine_signs.cpp): ODE reports hinge-2 angles of body 1 (chassis) relative to
+// Signs (tests/conformance.cpp, ForwardIsPositiveAlphaAndLeftIsPositiveBeta): ODE reports hinge-2 angles of body 1 (chassis) relative to
 // body 2 (wheel), so the steering angle and the spin rate are negated.
 #include "engines/ode/ode_car.hpp"
 
