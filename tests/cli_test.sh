@@ -352,7 +352,7 @@ mkdir -p "$tmp/inj"
 evil="DIR'; touch FILE; echo '"
 (cd "$tmp/inj" && "$bin" validate --filter car.circle --engines analytic,ode --no-sweeps --out "$evil" >"$tmp/out" 2>"$tmp/err")
 status=$?
-if [ "$status" -eq 0 ] && [ ! -e "$tmp/inj/FILE" ] && [ ! -e "$tmp/inj/DIR" ] && [ -s "$tmp/inj/$evil/plots/car_circle-paths.svg" ] \
+if [ "$status" -eq 0 ] && [ ! -e "$tmp/inj/FILE" ] && [ ! -e "$tmp/inj/DIR" ] && [ -s "$tmp/inj/$evil/plots/car_circle-error.svg" ] \
   && python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["report"]["errors"] == [] and len(d["report"]["plots"]) == 1, d["report"]' "$tmp/inj/$evil/results.json"; then
   passes=$((passes + 1))
 else
@@ -363,7 +363,7 @@ tname="x', system('touch GNUPLOT'), '"
 mkdir -p "$tmp/inj/$tname"
 cp "$tmp/trace.csv" "$tmp/inj/$tname/car.circle.csv"
 (cd "$tmp/inj" && "$bin" validate --filter car.circle --engines analytic --no-sweeps --trace-dir "$tname" --out td >"$tmp/out" 2>"$tmp/err")
-[ $? -eq 0 ] && [ -z "$(find "$tmp/inj" -name GNUPLOT)" ] && [ -s "$tmp/inj/td/plots/car_circle-paths.svg" ] && grep -qF "<text>x', system('touch GNUPLOT'), '</text>" "$tmp/inj/td/plots/car_circle-paths.svg" \
+[ $? -eq 0 ] && [ -z "$(find "$tmp/inj" -name GNUPLOT)" ] && [ -s "$tmp/inj/td/plots/car_circle-error.svg" ] && grep -qF "<text>x', system('touch GNUPLOT'), '</text>" "$tmp/inj/td/plots/car_circle-error.svg" \
   && passes=$((passes + 1)) || { echo "FAIL configuration name ran in gnuplot"; cat "$tmp/inj/td/plots/gnuplot.log"; fails=$((fails + 1)); }
 # gnuplot missing: the report says so in its errors (and on the console), the rest is written.
 PATH=/nonexistent "$bin" validate --filter car.circle --engines analytic --no-sweeps --out "$tmp/nognuplot" >"$tmp/out" 2>"$tmp/err"

@@ -33,7 +33,7 @@ failing = sorted((m["rel_error" if m["tolerance_kind"] == "rel" else "abs_error"
 assert r["verdict"] == "fail" and failing, r["verdict"]
 worst = failing[-1][1]
 index = open(d + "/index.html").read()
-cell = re.search(r'<td class="c fail"[^>]*>.*?</td>', index).group(0)
+cell = re.search(r'<td class="c fail"[^>]*>.*?</td>', index, re.S).group(0)
 assert worst in cell, ("the cell does not name", worst, cell)
 top = index[:index.index('id="map"')] if 'id="map"' in index else index
 section = top[top.index('id="unexpected"'):]
