@@ -9,6 +9,9 @@ PACKAGES := cmake g++ make pkg-config git python3 \
             libbullet-dev libode-dev libosmesa6-dev libpng-dev libstb-dev fonts-dejavu-core gnuplot-nox \
             libbenchmark-dev libmujoco-dev libqhull-dev libdart-dev libdart-external-ikfast-dev libxml2-utils \
             libmd4c-dev libmd4c-html0-dev
+# Node and npm run the outside engines (engines/outside): Debian's packages, unless a node with its
+# npm is installed already (NodeSource's nodejs bundles npm and conflicts with Debian's npm).
+NODE_PACKAGES := nodejs npm
 BUILD_DIR ?= build
 REPORT_DIR ?= $(BUILD_DIR)/report
 JOBS ?= $(shell nproc 2>/dev/null || echo 2)
@@ -22,12 +25,17 @@ SANITIZE_ENV := ASAN_OPTIONS=detect_leaks=1:halt_on_error=1:abort_on_error=1 \
                 UBSAN_OPTIONS=halt_on_error=1:print_stacktrace=1:suppressions=$(CURDIR)/tests/sanitize/ubsan.supp \
                 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitize/lsan.supp:print_suppressions=0
 
-.PHONY: all deps install-packages configure build validate test report-check bench clean sanitize fuzz
+OUTSIDE_DIR := engines/outside
+# The outside engines' npm packages, exactly as package-lock.json pins them (npm writes this file
+# into node_modules at the end of every install; it is redone when the lock file changes).
+NODE_STAMP := $(OUTSIDE_DIR)/node_modules/.package-lock.json
+
+.PHONY: all deps install-packages configure build validate test report-check bench clean sanitize fuzz npm-deps
 
 all: build
 
 deps:
-	@$(MAKE) --no-print-directory install-packages PKGS="$(PACKAGES)"
+	@$(MAKE) --no-print-directory install-packages PKGS="$(PACKAGES) $$(command -v node >/dev/null && command -v npm >/dev/null || echo '$(NODE_PACKAGES)')"
 
 # Installs the Debian packages in PKGS that are missing (as root), or prints the apt-get line.
 install-packages:
@@ -49,8 +57,14 @@ install-packages:
 configure: deps
 	@cmake -S . -B $(BUILD_DIR) -DCMAKE_BUILD_TYPE=Release >/dev/null
 
-build: configure
+build: configure npm-deps
 	@cmake --build $(BUILD_DIR) -j $(JOBS)
+
+npm-deps: deps $(NODE_STAMP)
+
+$(NODE_STAMP): $(OUTSIDE_DIR)/package-lock.json $(OUTSIDE_DIR)/package.json
+	cd $(OUTSIDE_DIR) && npm ci --no-audit --no-fund --loglevel=error
+	@touch $@
 
 validate: build
 	./$(BUILD_DIR)/liftcheck validate --out $(REPORT_DIR) --baseline reports/baselines/default.json

@@ -15,6 +15,7 @@
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <ctime>
 #include <fmt/format.h>
@@ -22,6 +23,7 @@
 #include <string>
 
 #include "engines/engine.hpp"
+#include "engines/protocol/outside.hpp"
 #include "engines/raw_car.hpp"
 #include "engines/rigid_car.hpp"
 #include "models/lift.hpp"
@@ -132,5 +134,53 @@ const bool kRegistered = [] {
   }
   return true;
 }();
+
+}  // namespace
+
+namespace {
+
+/// The engine protocol's round trip per step: car.circle's drive on `ode` served by `liftcheck
+/// serve ode` (a child process, JSON lines over pipes) against the same drive on `ode` in process,
+/// wall clock (the engine runs in the other process). `protocol_us_per_step` is what the protocol
+/// adds to a step; `engine_us_per_step` the server's own stepping time as it reports it
+/// (engine_s, the cost the tables count for an outside engine).
+void BM_ProtocolRoundTrip(benchmark::State& state) {
+  static const EngineInfo served = outside_engine("ode-protocol", {LIFTCHECK_EXE, "serve", "ode"}, ".");
+  const EngineInfo* ode = find_engine("ode");
+  if (!served.unavailable.empty()) {
+    for (auto _ : state) state.SkipWithError(served.unavailable.c_str());
+    return;
+  }
+  const CarSetup setup = circle_setup();
+  const car::BasePath path({{kDrive_m / setup.car.R_m, 0.0}}, 0.0, kStart.beta_rad, setup.drive);
+  const auto wall_s = [](auto&& f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    f();
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  };
+  double best_protocol_s = INFINITY, best_direct_s = INFINITY, engine_s = 0.0, steps = 0.0, client_cpu_s = INFINITY;
+  for (auto _ : state) {
+    auto over = served.make_car(served.defaults("car"));
+    auto direct = ode->make_car(ode->defaults("car"));
+    over->reset(setup, kStart);
+    direct->reset(setup, kStart);
+    const double cpu0 = thread_cpu_s();
+    const double p = wall_s([&] { over->drive(path); });
+    client_cpu_s = std::min(client_cpu_s, thread_cpu_s() - cpu0);
+    const double d = wall_s([&] { direct->drive(path); });
+    state.SetIterationTime(p);
+    if (p < best_protocol_s) best_protocol_s = p, engine_s = over->reported_engine_s();
+    best_direct_s = std::min(best_direct_s, d);
+    steps = std::round(over->simulated_s() / setup.dt_s);
+  }
+  state.counters["steps"] = steps;
+  state.counters["protocol_us_per_step"] = 1e6 * (best_protocol_s - best_direct_s) / steps;
+  state.counters["in_process_us_per_step"] = 1e6 * best_direct_s / steps;
+  state.counters["engine_us_per_step"] = 1e6 * engine_s / steps;
+  // liftcheck's side of the round trip in CPU time (its servo and bookkeeping, the request's
+  // encoding and the reply's parsing), apart from the waits for the other process.
+  state.counters["client_cpu_us_per_step"] = 1e6 * client_cpu_s / steps;
+}
+BENCHMARK(BM_ProtocolRoundTrip)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(5);
 
 }  // namespace

@@ -13,7 +13,7 @@ namespace {
 
 int cmd_diff(const std::string& base_path, const std::string& head_path, double growth, bool json) {
   if (!(growth > 1.0)) throw InputError(fmt::format("--growth must be > 1 (got {})", growth));
-  const nlohmann::json base = read_results(base_path), head = read_results(head_path);
+  const auto [base, head] = read_results_pair(base_path, head_path);
   DiffDef def;
   def.growth = growth;
   nlohmann::json d;

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "cli/command.hpp"
+#include "engines/protocol/outside.hpp"
 #include "harness/results.hpp"
 
 namespace liftcheck::cli {
@@ -11,20 +12,24 @@ namespace {
 
 /// Every configuration: what it is, the fixed settings it applies and the ones --set may change.
 int cmd_engines(bool json) {
+  const std::vector<EngineInfo>& all_engines = described_engines();  // outside ones: their hello read
+  close_idle_children();
   if (json) {
-    std::cout << context_json([] {
+    std::cout << context_json([&] {
       std::vector<const EngineInfo*> all;
-      for (const auto& e : engines()) all.push_back(&e);
+      for (const auto& e : all_engines) all.push_back(&e);
       return all;
     }(), 0.0)["engines"].dump(2) << "\n";
     return 0;
   }
-  for (const auto& e : engines()) {
+  for (const auto& e : all_engines) {
     std::vector<std::string> vehicles;
     if (e.make_car) vehicles.push_back("car");
     if (e.make_disks) vehicles.push_back("disks");
-    std::cout << fmt::format("{}  [{} {}; {}{}; colour {}]\n  {}\n", e.name, e.library, e.version, fmt::join(vehicles, ", "),
-                             e.is_reference ? "; the reference" : "", e.color, e.description);
+    if (!e.unavailable.empty()) vehicles = {"UNAVAILABLE"};
+    std::cout << fmt::format("{}  [{} {}; {}{}; {}; colour {}{}]\n  {}\n", e.name, e.library, e.version, fmt::join(vehicles, ", "),
+                             e.is_reference ? "; the reference" : "", e.precision, e.color,
+                             e.registration.empty() ? "" : "; outside: " + e.registration, e.description);
     for (const auto& [k, v] : e.settings) std::cout << fmt::format("    {:<22} {}\n", k, v);
     for (const SettingSpec& k : e.knobs)
       std::cout << fmt::format("    --set {:<16} {} ({}): {}; default {}, {}\n", k.key, k.vehicle, k.kind == SettingSpec::kChoice ? "choice" : k.kind == SettingSpec::kInteger ? "integer" : "real",

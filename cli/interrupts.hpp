@@ -1,21 +1,17 @@
-// SIGINT and SIGTERM: the runner stops at its next event, the outputs are left as they were.
+// SIGINT, SIGTERM and SIGHUP: the runner stops at its next event, a file being read or parsed, a
+// score or a diff at its next check (input/interrupt.hpp holds the flag they all check); the
+// outputs are left as they were.
 #pragma once
 
-#include <stdexcept>
-#include <string>
+#include "input/interrupt.hpp"
 
 namespace liftcheck::cli {
 
-/// Installs the handlers that record the signal.
-void catch_interrupts();
-/// The signal received, 0 when none.
-int pending_signal();
+using liftcheck::catch_interrupts;
+using liftcheck::Interrupted;
+using liftcheck::throw_if_interrupted;
 
-/// Thrown when a signal stopped the work: exit 128 + the signal.
-struct Interrupted : std::runtime_error {
-  int sig;
-  Interrupted(int s, const std::string& where) : std::runtime_error(where), sig(s) {}
-};
-void throw_if_interrupted(const std::string& where);
+/// The signal received, 0 when none.
+inline int pending_signal() { return g_interrupt_signal; }
 
 }  // namespace liftcheck::cli

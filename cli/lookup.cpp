@@ -8,6 +8,7 @@
 
 #include "cli/interrupts.hpp"
 #include "cli/terminal.hpp"
+#include "engines/protocol/outside.hpp"
 #include "input/suggest.hpp"
 #include "reports/headline.hpp"
 
@@ -57,9 +58,12 @@ RunnerDef runner_def(int jobs, double timeout_s) {
   if (jobs < 1) throw InputError(fmt::format("--jobs {} must be at least 1", jobs));
   if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) throw InputError(fmt::format("--timeout {} must be a positive number of seconds", timeout_s));
   RunnerDef r;
-  r.jobs = jobs;
+  r.jobs = std::min(jobs, usable_cores());  // more would only queue for the same cores
   r.timeout_s = timeout_s;
   r.stop = [] { return pending_signal() != 0; };
+  // Outside engines' replies are bounded by the run's limit, here and in the worker processes.
+  set_protocol_timeout(timeout_s);
+  setenv("LIFTCHECK_RUN_TIMEOUT_S", fmt::format("{}", timeout_s).c_str(), 1);
   return r;
 }
 
@@ -98,6 +102,21 @@ void print_record(const nlohmann::json& r) {
                              tol > 0 ? short_number(err / tol) : "-", paint(verdict == "ok" ? "pass" : verdict == "info" ? "skip" : "fail", verdict));
   }
   if (!head.empty()) std::cout << fmt::format("  * the headline: {}\n", def.value("label", ""));
+}
+
+int run_one(const SuitePlan& plan, const RunnerDef& runner, bool json, const std::string& during) {
+  std::vector<nlohmann::json> records;
+  try {
+    records = run_items(plan, {0}, runner, [](size_t, const nlohmann::json&) {});
+  } catch (const RunnerStopped& e) {
+    throw Interrupted(pending_signal(), e.what());
+  }
+  throw_if_interrupted(during);
+  const nlohmann::json& r = records.at(0);
+  if (r.value("input_error", false)) throw InputError(r["message"].get<std::string>());
+  if (json) std::cout << r.dump() << "\n";
+  else print_record(r);
+  return r["as_expected"].get<bool>() ? 0 : 1;
 }
 
 }  // namespace liftcheck::cli

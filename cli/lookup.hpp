@@ -28,4 +28,8 @@ RunnerDef runner_def(int jobs, double timeout_s);
 /// A run record as a table of its metrics.
 void print_record(const nlohmann::json& r);
 
+/// Runs the plan's one item in a worker (a hang or a crash of the engine is an error record),
+/// prints its record (JSON or a table) and returns the exit status: 0 as expected, 1 otherwise.
+int run_one(const SuitePlan& plan, const RunnerDef& runner, bool json, const std::string& during);
+
 }  // namespace liftcheck::cli

@@ -98,8 +98,9 @@ int cmd_merge(const std::vector<std::string>& dirs, const OutputOptions& o) {
   context["timeout_s"] = def.timeout_s;
   nlohmann::json results = suite_results(plan, by_key, context);
   std::cout << fmt::format("merged {} shards: {} runs and points ({} run)\n", total, by_key.size(), ran);
-  StagedOutput staged(o.out_dir);
-  staged.refuse_inside(o.baseline_path, "--baseline");
+  std::vector<std::pair<std::string, std::string>> inputs{{o.baseline_path, "--baseline"}};
+  for (const auto& d : dirs) inputs.emplace_back(d, "shard folder");
+  StagedOutput staged(o.out_dir, inputs);
   return finish_suite(results, o, baseline, staged);
 }
 

@@ -5,6 +5,7 @@
 #include "cli/command.hpp"
 #include "cli/interrupts.hpp"
 #include "cli/lookup.hpp"
+#include "engines/protocol/outside.hpp"
 
 namespace liftcheck::cli {
 
@@ -12,7 +13,9 @@ namespace {
 
 int cmd_run(const std::string& scenario, const std::string& engine, const std::vector<std::string>& sets, bool json, double timeout_s) {
   const Scenario& s = scenario_or_throw(scenario);
+  const RunnerDef runner = runner_def(1, timeout_s);
   const EngineInfo& e = engine_or_throw(engine);
+  close_idle_children();  // its worker starts its own
   const Overrides ov = overrides_or_throw(sets, s, &e);
   // Bad names and values are input errors here, not error records.
   (void)Params::resolve(s.params, split_settings(s, e, ov).first, s.name);
@@ -22,18 +25,7 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   item.key = "run";
   item.scenario = &s, item.engine = &e, item.overrides = ov;
   plan.items.push_back(item);
-  std::vector<nlohmann::json> records;
-  try {
-    records = run_items(plan, {0}, runner_def(1, timeout_s), [](size_t, const nlohmann::json&) {});
-  } catch (const RunnerStopped& e) {
-    throw Interrupted(pending_signal(), e.what());
-  }
-  throw_if_interrupted("during the run");
-  const nlohmann::json& r = records.at(0);
-  if (r.value("input_error", false)) throw InputError(r["message"].get<std::string>());
-  if (json) std::cout << r.dump() << "\n";
-  else print_record(r);
-  return r["as_expected"].get<bool>() ? 0 : 1;
+  return run_one(plan, runner, json, "during the run");
 }
 
 }  // namespace
@@ -51,7 +43,7 @@ Command add_run(CLI::App& app) {
   run->add_option("--engine", o->engine, "engine configuration (see 'liftcheck engines')")->capture_default_str();
   run->add_option("--set", o->sets, "override a parameter, KEY=VALUE (repeatable)")->allow_extra_args(false);
   run->add_flag("--json", o->json, "print the run record as one JSON object");
-  run->add_option("--timeout", o->timeout_s, "wall-clock limit of the run in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
+  run->add_option("--timeout", o->timeout_s, "limit of the run's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
   return {run, [o] { return cmd_run(o->scenario, o->engine, o->sets, o->json, o->timeout_s); }};
 }
 

@@ -3,6 +3,7 @@
 #include <iostream>
 
 #include "cli/command.hpp"
+#include "cli/interrupts.hpp"
 #include "cli/lookup.hpp"
 
 namespace liftcheck::cli {
@@ -12,13 +13,18 @@ namespace {
 int cmd_score(const std::string& scenario, const std::string& trace_file, const std::vector<std::string>& sets, const std::string& name,
               bool json) {
   const Scenario& s = scenario_or_throw(scenario);
-  if (name.empty() || find_engine(name)) throw InputError(fmt::format("--name '{}' must be new (not a built-in configuration)", name));
+  if (name.empty() || find_engine(name)) throw InputError(fmt::format("--name '{}' must be new (not a built-in configuration)", printable(name)));
   const Overrides ov = overrides_or_throw(sets, s, nullptr);
-  const EngineInfo e = replay_engine(name, s, read_trace(trace_file, s.vehicle));
-  const RunRecord r = run_scenario(s, e, ov);
-  if (json) std::cout << r.to_json().dump() << "\n";
-  else print_record(nlohmann::json::parse(r.to_json().dump()));
-  return r.as_expected() ? 0 : 1;
+  // Read and checked here (a bad trace is exit 2 at once), scored in a worker like every run: an
+  // interruption stops it, the time limit holds.
+  SuitePlan plan;
+  SuiteItem item;
+  item.key = "score";
+  item.owned = std::make_shared<const EngineInfo>(replay_engine(name, s, read_trace(trace_file, s.vehicle)));
+  item.trace_file = trace_file;  // the worker reads it again, from the same working folder
+  item.scenario = &s, item.engine = item.owned.get(), item.overrides = ov;
+  plan.items.push_back(item);
+  return run_one(plan, runner_def(1, 120.0), json, "during the score");
 }
 
 }  // namespace

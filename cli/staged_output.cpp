@@ -1,91 +1,260 @@
 #include "cli/staged_output.hpp"
 
 #include <algorithm>
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
 #include <fmt/format.h>
 #include <fstream>
+#include <iostream>
 #include <nlohmann/json.hpp>
+#include <set>
+#include <signal.h>
+#include <fcntl.h>
 #include <unistd.h>
 
+#include "input/atomic_file.hpp"
 #include "input/params.hpp"  // InputError
+#include "input/read_file.hpp"
+#include "input/trace.hpp"   // printable
 
 namespace liftcheck::cli {
 
-StagedOutput::StagedOutput(const std::string& out_dir) : out_(out_dir) {
-  if (out_dir.empty()) throw InputError("--out names no folder");
-  out_ = std::filesystem::weakly_canonical(std::filesystem::absolute(out_));
-  if (!out_.has_filename()) out_ = out_.parent_path();
-  std::error_code ec;
-  // The working folder or one above it would be swapped away under the user's feet.
-  const std::filesystem::path cwd = std::filesystem::weakly_canonical(std::filesystem::current_path(ec));
-  const auto [o_end, c_it] = std::mismatch(out_.begin(), out_.end(), cwd.begin(), cwd.end());
-  if (o_end == out_.end()) throw InputError(fmt::format("--out '{}' is the working folder or one above it: give a folder of its own", out_dir));
-  if (std::filesystem::exists(out_, ec)) {
-    if (!std::filesystem::is_directory(out_, ec)) throw InputError(fmt::format("--out '{}' is a file, not a folder", out_dir));
-    if (!ours(out_))
-      throw InputError(fmt::format("--out '{}' holds files that liftcheck did not write: not a liftcheck output folder, left alone", out_dir));
-  }
-  std::filesystem::create_directories(out_.parent_path(), ec);
-  stage_ = out_.parent_path() / fmt::format(".{}.partial-{}", out_.filename().string(), getpid());
-  std::filesystem::remove_all(stage_, ec);
-  if (!std::filesystem::create_directory(stage_, ec) || ec) throw InputError(fmt::format("cannot create output folder '{}'", out_dir));
-  std::ofstream(stage_ / kMarker) << "written by liftcheck: replaced whole by its next run into this folder\n";
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kManifestHeader = "liftcheck output manifest 1";
+constexpr std::size_t kMaxManifestBytes = std::size_t{64} << 20;
+constexpr const char* kNewPrefix = ".liftcheck-new-";  ///< a mount point's entries being copied in
+
+/// The names liftcheck writes into an output folder (for folders written before manifests).
+bool known_name(const std::string& name) {
+  return name == "results.json" || name == "junit.xml" || name == "summary.md" || name == "screenshot.png" || name == "snapshots" ||
+         name == "plots" || name == StagedOutput::kMarker || (name.size() > 5 && name.compare(name.size() - 5, 5, ".html") == 0);
 }
 
-StagedOutput::~StagedOutput() {
+/// The manifest's entries, or nullopt-like false when the folder has none (or an older marker).
+bool read_manifest(const fs::path& dir, std::set<std::string>& listed) {
   std::error_code ec;
-  if (!published_) std::filesystem::remove_all(stage_, ec);
+  if (!fs::is_regular_file(dir / StagedOutput::kMarker, ec)) return false;
+  const std::string text = read_text_file(dir / StagedOutput::kMarker, kMaxManifestBytes, "output manifest");
+  std::size_t at = text.find('\n');
+  if (text.substr(0, at) != kManifestHeader) return false;
+  while (at != std::string::npos && at + 1 < text.size()) {
+    const std::size_t end = text.find('\n', at + 1);
+    listed.insert(text.substr(at + 1, end == std::string::npos ? std::string::npos : end - at - 1));
+    at = end;
+  }
+  return true;
 }
 
-void StagedOutput::refuse_inside(const std::string& file, const std::string& what) const {
-  if (file.empty()) return;
-  const std::filesystem::path f = std::filesystem::weakly_canonical(std::filesystem::absolute(file));
-  if (std::mismatch(out_.begin(), out_.end(), f.begin(), f.end()).first == out_.end())
-    throw InputError(fmt::format("{} '{}' must not be inside --out '{}': that folder is replaced whole", what, file, out_.string()));
-}
-
-void StagedOutput::publish() {
-  std::error_code ec;
-  const std::filesystem::path old = out_.parent_path() / fmt::format(".{}.old-{}", out_.filename().string(), getpid());
-  const bool had = std::filesystem::exists(out_, ec);
-  if (had) std::filesystem::rename(out_, old, ec);
-  if (ec) {
-    replace_entries();
-    return;
-  }
-  std::filesystem::rename(stage_, out_, ec);
-  if (ec) {
-    std::error_code ec2;
-    if (had) std::filesystem::rename(old, out_, ec2);
-    throw InputError(fmt::format("cannot write '{}': {} (the results are kept in '{}')", out_.string(), ec.message(), stage_.string()));
-  }
-  published_ = true;
-  if (had) std::filesystem::remove_all(old, ec);
-}
-
-bool StagedOutput::ours(const std::filesystem::path& dir) {
-  std::error_code ec;
-  if (std::filesystem::is_empty(dir, ec) || std::filesystem::exists(dir / kMarker, ec)) return true;
-  for (const auto& entry : std::filesystem::directory_iterator(dir, ec)) {
-    const std::string name = entry.path().filename().string(), ext = entry.path().extension().string();
-    const bool known = name == "results.json" || name == "junit.xml" || name == "summary.md" || name == "screenshot.png" ||
-                       name == "snapshots" || name == "plots" || ext == ".html";
-    if (!known) return false;
-  }
+/// A folder without a manifest is liftcheck's when it is empty, or holds only the names liftcheck
+/// writes and, without even the older marker, a results.json that says it is liftcheck's.
+bool legacy_results_say_ours(const fs::path& dir) {
   try {
-    std::ifstream in(dir / "results.json");
-    return nlohmann::json::parse(in).at("context").contains("liftcheck");
+    const std::string text = read_text_file(dir / "results.json", std::size_t{512} << 20, "results file");
+    return nlohmann::json::parse(text).at("context").contains("liftcheck");
   } catch (const std::exception&) {
     return false;
   }
 }
 
+std::string rel_name(const fs::directory_entry& e, const fs::path& dir) {
+  std::error_code ec;
+  std::string rel = e.path().lexically_relative(dir).generic_string();
+  if (fs::symlink_status(e.path(), ec).type() == fs::file_type::directory) rel += '/';
+  return rel;
+}
+
+/// The start time of process `pid` (/proc/PID/stat, field 22), or "" when it is not running.
+std::string process_start(long pid) {
+  std::ifstream in(fmt::format("/proc/{}/stat", pid));
+  std::string stat;
+  if (!std::getline(in, stat)) return "";
+  std::size_t at = stat.rfind(')');
+  if (at == std::string::npos) return "";
+  for (int field = 2; field < 22 && at != std::string::npos; ++field) at = stat.find(' ', at + 1);
+  return at == std::string::npos ? "" : stat.substr(at + 1, stat.find(' ', at + 1) - at - 1);
+}
+
+/// The first `limit` bytes of a folder name, for the staging folder's name (NAME_MAX is 255).
+std::string short_name(const std::string& name) { return name.substr(0, std::min<std::size_t>(name.size(), 200)); }
+
+/// Removes `dir`'s staging folders left by liftcheck processes that are gone (SIGKILL, a power
+/// cut): only those whose staging file names a dead process and that hold nothing but liftcheck's.
+void remove_stale_stages(const fs::path& parent, const std::string& prefix) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(parent, ec)) {
+    const std::string name = e.path().filename().string();
+    if (name.rfind(prefix, 0) != 0 || fs::symlink_status(e.path(), ec).type() != fs::file_type::directory) continue;
+    std::ifstream in(e.path() / StagedOutput::kStaging);
+    std::string tag, pid_word, start_word, start;
+    long pid = 0;
+    if (!(in >> tag >> pid_word >> pid >> start_word >> start) || tag != "liftcheck-staging" || pid <= 0) continue;
+    if (process_start(pid) == start) continue;  // its process still runs
+    if (!foreign_entries(e.path(), 1).empty()) continue;
+    fs::remove_all(e.path(), ec);
+  }
+}
+
+}  // namespace
+
+std::vector<std::string> foreign_entries(const fs::path& dir, std::size_t max) {
+  std::vector<std::string> foreign;
+  std::error_code ec;
+  std::set<std::string> listed;
+  const bool manifest = read_manifest(dir, listed);
+  if (!manifest) {
+    bool marked = fs::exists(dir / StagedOutput::kMarker, ec) || fs::exists(dir / StagedOutput::kStaging, ec), any = false;
+    for (const auto& e : fs::directory_iterator(dir, ec)) {
+      const std::string name = e.path().filename().string();
+      any = true;
+      if (!known_name(name) && name != StagedOutput::kStaging && name.rfind(kNewPrefix, 0) != 0) foreign.push_back(name);
+      if (foreign.size() >= max) return foreign;
+    }
+    if (ec) foreign.push_back(fmt::format("(unreadable: {})", ec.message()));
+    if (foreign.empty() && any && !marked && !legacy_results_say_ours(dir)) foreign.push_back("results.json (not liftcheck's)");
+    return foreign;
+  }
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    const std::string rel = rel_name(*it, dir);
+    if (rel == StagedOutput::kMarker || rel == StagedOutput::kStaging || rel.rfind(kNewPrefix, 0) == 0 || listed.count(rel)) {
+      if (rel.rfind(kNewPrefix, 0) == 0) it.disable_recursion_pending();
+      continue;
+    }
+    foreign.push_back(rel);
+    it.disable_recursion_pending();
+    if (foreign.size() >= max) break;
+  }
+  if (ec) foreign.push_back(fmt::format("(unreadable: {})", ec.message()));
+  return foreign;
+}
+
+StagedOutput::StagedOutput(const std::string& out_dir, const std::vector<std::pair<std::string, std::string>>& inputs) : out_(out_dir) {
+  if (out_dir.empty()) throw InputError("--out names no folder");
+  std::error_code ec;
+  // A symbolic link is followed to its folder; a dangling one is refused before anything runs.
+  if (fs::is_symlink(fs::symlink_status(out_, ec))) {
+    const fs::path target = fs::read_symlink(out_, ec);
+    if (!fs::exists(out_, ec))
+      throw InputError(fmt::format("--out '{}' is a symbolic link to '{}', which does not exist: give an existing folder or a new name",
+                                   printable(out_dir, 200), printable(target.string(), 200)));
+  }
+  out_ = fs::weakly_canonical(fs::absolute(out_));
+  if (!out_.has_filename()) out_ = out_.parent_path();
+  // The working folder or one above it would be swapped away under the user's feet.
+  const fs::path cwd = fs::weakly_canonical(fs::current_path(ec));
+  const auto [o_end, c_it] = std::mismatch(out_.begin(), out_.end(), cwd.begin(), cwd.end());
+  if (o_end == out_.end())
+    throw InputError(fmt::format("--out '{}' is the working folder or one above it: give a folder of its own", printable(out_dir, 200)));
+  for (const auto& [path, what] : inputs) refuse_inside(path, what);
+  if (fs::exists(out_, ec)) {
+    if (!fs::is_directory(out_, ec)) throw InputError(fmt::format("--out '{}' is a file, not a folder", printable(out_dir, 200)));
+    const std::vector<std::string> foreign = foreign_entries(out_);
+    if (!foreign.empty()) {
+      std::string names;
+      for (const auto& f : foreign) names += (names.empty() ? "'" : ", '") + printable(f, 80) + "'";
+      throw InputError(fmt::format("--out '{}' holds files that liftcheck did not write ({}{}): not a liftcheck output folder, left alone",
+                                   printable(out_dir, 200), names, foreign.size() >= 3 ? ", ..." : ""));
+    }
+  }
+  if (!fs::create_directories(out_.parent_path(), ec) && ec)
+    throw InputError(fmt::format("cannot create output folder '{}': {}", printable(out_.parent_path().string(), 200), ec.message()));
+  const std::string prefix = fmt::format(".{}.partial-", short_name(out_.filename().string()));
+  remove_stale_stages(out_.parent_path(), prefix);
+  // A fresh name: an existing folder is never taken over (nor deleted).
+  std::string tmpl = (out_.parent_path() / fmt::format("{}{}-XXXXXX", prefix, getpid())).string();
+  if (!::mkdtemp(tmpl.data()))
+    throw InputError(fmt::format("cannot create output folder '{}': {}", printable(tmpl, 200), std::strerror(errno)));
+  stage_ = tmpl;
+  try {
+    write_file_atomic(stage_ / kStaging, fmt::format("liftcheck-staging pid {} start {}\n", getpid(), process_start(getpid())));
+  } catch (const std::exception& e) {
+    fs::remove_all(stage_, ec);
+    throw InputError(fmt::format("cannot create output folder '{}': {}", printable(stage_.string(), 200), e.what()));
+  }
+}
+
+StagedOutput::~StagedOutput() {
+  std::error_code ec;
+  if (!keep_stage_ && fs::exists(stage_, ec)) fs::remove_all(stage_, ec);
+}
+
+void StagedOutput::refuse_inside(const std::string& path, const std::string& what) const {
+  if (path.empty()) return;
+  const fs::path f = fs::weakly_canonical(fs::absolute(path));
+  if (std::mismatch(out_.begin(), out_.end(), f.begin(), f.end()).first == out_.end())
+    throw InputError(fmt::format("{} '{}' must not be inside --out '{}': that folder is replaced whole", what, printable(path, 200),
+                                 printable(out_.string(), 200)));
+}
+
+void StagedOutput::fail_keeping(const std::string& why, bool old_intact) {
+  // Kept for the user: without its staging file no later run takes it for a stale one.
+  keep_stage_ = true;
+  std::error_code ec;
+  fs::remove(stage_ / kStaging, ec);
+  throw InputError(fmt::format("cannot write '{}': {} ({}the results are kept in '{}')", printable(out_.string(), 200), why,
+                               old_intact ? "the previous output is as it was; " : "", printable(stage_.string(), 200)));
+}
+
+void StagedOutput::publish() {
+  std::error_code ec;
+  // The manifest: every file and folder written, so that the next run knows what is liftcheck's.
+  std::string manifest = std::string(kManifestHeader) + "\n";
+  for (auto it = fs::recursive_directory_iterator(stage_, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+    const std::string rel = rel_name(*it, stage_);
+    if (rel != kStaging && rel != kMarker) manifest += rel + "\n";
+  }
+  if (ec) fail_keeping(fmt::format("cannot list '{}': {}", printable(stage_.string(), 200), ec.message()));
+  try {
+    write_file_atomic(stage_ / kMarker, manifest);
+  } catch (const std::exception& e) {
+    fail_keeping(e.what());
+  }
+  if (!fs::exists(out_, ec)) {
+    if (::rename(stage_.c_str(), out_.c_str()) != 0) fail_keeping(std::strerror(errno));
+  } else if (::renameat2(AT_FDCWD, stage_.c_str(), AT_FDCWD, out_.c_str(), RENAME_EXCHANGE) == 0) {
+    // stage_ now holds the previous output: removed unless something not liftcheck's got in.
+    if (foreign_entries(stage_, 1).empty()) fs::remove_all(stage_, ec);
+    else std::cerr << fmt::format("liftcheck: the previous output is kept in '{}': it holds files liftcheck did not write\n", printable(stage_.string(), 200));
+  } else if (errno == EBUSY || errno == EXDEV || errno == EINVAL) {
+    replace_entries();  // a mount point (or a file system without an atomic exchange)
+  } else {
+    fail_keeping(std::strerror(errno));
+  }
+  fs::remove(out_ / kStaging, ec);
+  keep_stage_ = true;  // nothing left to remove: stage_ is gone or kept on purpose
+}
+
 void StagedOutput::replace_entries() {
   std::error_code ec;
-  for (const auto& entry : std::filesystem::directory_iterator(out_, ec)) std::filesystem::remove_all(entry.path(), ec);
-  std::filesystem::copy(stage_, out_, std::filesystem::copy_options::recursive | std::filesystem::copy_options::overwrite_existing, ec);
-  if (ec) throw InputError(fmt::format("cannot write '{}': {} (the results are kept in '{}')", out_.string(), ec.message(), stage_.string()));
-  published_ = true;
-  std::filesystem::remove_all(stage_, ec);
+  // The new entries are copied in beside the old ones first: a full disk leaves the old output whole.
+  std::string tmpl = (out_ / fmt::format("{}XXXXXX", kNewPrefix)).string();
+  if (!::mkdtemp(tmpl.data())) fail_keeping(std::strerror(errno));
+  const fs::path incoming = tmpl;
+  fs::copy(stage_, incoming, fs::copy_options::recursive, ec);
+  if (ec) {
+    std::error_code ec2;
+    fs::remove_all(incoming, ec2);
+    fail_keeping(ec.message());
+  }
+  // Then the old entries go (only liftcheck's), and the new ones are renamed in, the manifest last.
+  std::set<std::string> foreign_top;
+  for (const auto& f : foreign_entries(out_, 1000)) foreign_top.insert(f.substr(0, f.find('/')));
+  for (const auto& e : fs::directory_iterator(out_, ec)) {
+    const std::string name = e.path().filename().string();
+    if (e.path() != incoming && !foreign_top.count(name)) fs::remove_all(e.path(), ec);
+  }
+  std::vector<fs::path> entries;
+  for (const auto& e : fs::directory_iterator(incoming, ec)) entries.push_back(e.path());
+  std::stable_partition(entries.begin(), entries.end(), [](const fs::path& p) { return p.filename() != StagedOutput::kMarker; });
+  for (const fs::path& p : entries)
+    if (::rename(p.c_str(), (out_ / p.filename()).c_str()) != 0)
+      fail_keeping(fmt::format("{} (moving the new entries in, the old ones removed)", std::strerror(errno)), false);
+  fs::remove(incoming, ec);
+  fs::remove_all(stage_, ec);
 }
 
 }  // namespace liftcheck::cli

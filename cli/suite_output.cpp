@@ -1,8 +1,15 @@
 #include "cli/suite_output.hpp"
 
 #include <cstdlib>
+#include <cerrno>
+#include <csignal>
+#include <cstdio>
+#include <cstring>
+#include <fcntl.h>
 #include <fmt/format.h>
 #include <iostream>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include "cli/baseline.hpp"
 #include "cli/interrupts.hpp"
@@ -44,15 +51,79 @@ std::string report_link() {
   return "index.html";
 }
 
+/// The report rendered in a child process (fork): a renderer that crashes or runs out of memory
+/// (OSMesa under a memory limit) takes only the child, and the runs' results are written anyway,
+/// with the renderer's end as a report error.
+void write_report_isolated(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def) {
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(fmt::format("cannot create a pipe for the report: {}", std::strerror(errno)));
+  std::cout.flush();
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid < 0) throw std::runtime_error(fmt::format("cannot start the report's process: {}", std::strerror(errno)));
+  if (pid == 0) {
+    ::close(fds[0]);
+    int status = 0;
+    try {
+      write_report(results, out, def);
+      const std::string text = results["report"].dump();
+      for (std::size_t done = 0; done < text.size();) {
+        const ssize_t put = ::write(fds[1], text.data() + done, text.size() - done);
+        if (put < 0 && errno == EINTR) continue;
+        if (put <= 0) break;
+        done += static_cast<std::size_t>(put);
+      }
+    } catch (const std::exception& e) {
+      std::cerr << "liftcheck: report: " << e.what() << "\n";
+      status = 3;
+    }
+    std::cout.flush();
+    std::fflush(nullptr);
+    ::_exit(status);
+  }
+  ::close(fds[1]);
+  std::string text;
+  char buf[65536];
+  for (;;) {
+    const ssize_t got = ::read(fds[0], buf, sizeof buf);
+    if (got > 0) {
+      text.append(buf, static_cast<std::size_t>(got));
+      if (text.size() > (std::size_t{256} << 20)) break;  // bounded: the report's own index of files
+      continue;
+    }
+    if (got < 0 && errno == EINTR) {
+      if (pending_signal()) ::kill(pid, SIGKILL);
+      continue;
+    }
+    break;
+  }
+  ::close(fds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  throw_if_interrupted("while rendering the report");
+  nlohmann::json report = nlohmann::json::parse(text, nullptr, false);
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && report.is_object()) {
+    results["report"] = std::move(report);
+    return;
+  }
+  const std::string how = WIFSIGNALED(status) ? fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
+                                              : fmt::format("exited with status {}", WEXITSTATUS(status));
+  results["report"] = {{"report_s", 0.0}, {"snapshots", nlohmann::json::array()}, {"strips", nlohmann::json::array()},
+                       {"plots", nlohmann::json::array()},
+                       {"errors", {fmt::format("report: the renderer's process {}; the runs' results are written, the report is not whole", how)}}};
+}
+
 /// The report, junit.xml, summary.md and results.json into the staged folder, which is then
-/// swapped in; the baseline rewritten last when asked.
+/// swapped in. A baseline to rewrite is written beside its place first and renamed in last, so
+/// each failure says truthfully what was written.
 void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput& staged) {
   const std::filesystem::path out = staged.stage();
   try {
     if (o.report) {
       ReportDef def;
       def.snapshots = o.snapshots;
-      write_report(results, out, def);
+      write_report_isolated(results, out, def);
       std::cout << fmt::format("report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", results["report"]["report_s"].get<double>(),
                                results["report"]["snapshots"].size(), results["report"]["strips"].size(),
                                results["report"]["plots"].size(),
@@ -62,10 +133,24 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
     write_file_atomic(out / "summary.md", summary_markdown(results, o.report ? report_link() : ""));
     write_file_atomic(out / "results.json", results.dump(1));
     throw_if_interrupted("while writing the outputs");
-    staged.publish();
-    // After the output folder is in place: a baseline inside it would go with the old folder.
+    const std::string pending = o.baseline_path + ".new";
     if (o.update_baseline) {
-      write_file_atomic(o.baseline_path, baseline_json(results).dump(1) + "\n");
+      try {
+        write_file_atomic(pending, baseline_json(results).dump(1) + "\n");
+      } catch (const std::runtime_error& e) {
+        throw InputError(fmt::format("{}; nothing is written (--out is as it was, the baseline too)", e.what()));
+      }
+    }
+    try {
+      staged.publish();
+    } catch (...) {
+      if (o.update_baseline) std::remove(pending.c_str());
+      throw;
+    }
+    if (o.update_baseline) {
+      if (std::rename(pending.c_str(), o.baseline_path.c_str()) != 0)
+        throw InputError(fmt::format("cannot write the baseline '{}': {}; the output folder '{}' is written, the baseline is as it was", o.baseline_path,
+                                     std::strerror(errno), staged.final_path().string()));
       std::cout << "baseline written: " << o.baseline_path << "\n";
     }
   } catch (const Interrupted&) {

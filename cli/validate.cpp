@@ -5,6 +5,7 @@
 #include <iostream>
 #include <thread>
 
+#include "engines/protocol/outside.hpp"
 #include "cli/baseline.hpp"
 #include "cli/command.hpp"
 #include "cli/interrupts.hpp"
@@ -31,10 +32,11 @@ struct ValidateOptions {
 SuiteDef suite_def(const ValidateOptions& v, const RunnerDef& runner) {
   SuiteDef def;
   if (v.engine_list.empty()) {
-    for (const auto& e : engines()) def.engines.push_back(&e);
+    for (const auto& e : described_engines()) def.engines.push_back(&e);
   } else {
     for (const auto& n : split_list(v.engine_list)) def.engines.push_back(&engine_or_throw(n));
   }
+  close_idle_children();  // the workers start their own
   def.globs = split_list(v.filter);
   def.sweeps = !v.no_sweeps;
   def.timeout_s = runner.timeout_s;
@@ -118,8 +120,7 @@ int cmd_validate(const ValidateOptions& v) {
     listed.push_back(&outside.engine);
   }
   const SuitePlan plan = plan_suite(def);
-  StagedOutput staged(o.out_dir);
-  staged.refuse_inside(o.baseline_path, "--baseline");
+  StagedOutput staged(o.out_dir, {{o.baseline_path, "--baseline"}, {v.trace_dir, "--trace-dir"}});
 
   const std::vector<size_t> which = shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
   Ran ran = run_share(plan, which, runner);
@@ -153,7 +154,7 @@ Command add_validate(CLI::App& app) {
   validate->add_flag("--no-sweeps", v->no_sweeps, "skip the parameter sweeps");
   validate->add_flag("--no-report", v->no_report, "write results.json only (no snapshots, plots or HTML)");
   validate->add_option("--jobs,-j", v->jobs, "runs at once (default: the number of cores)")->capture_default_str();
-  validate->add_option("--timeout", v->timeout_s, "wall-clock limit of each run or sweep point in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
+  validate->add_option("--timeout", v->timeout_s, "limit of each run's or sweep point's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
   validate->add_option("--shard", v->shard, "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");
   return {validate, [v] {
             v->out.report = !v->no_report;

@@ -1,5 +1,7 @@
 #include "engines/driven_disks.hpp"
 
+#include "models/disk_contact.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -17,7 +19,7 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
   DiskRun r;
   DiskContactLog log;
   State s = read();
-  double fastest_commanded_mps = 0.0;
+  double fastest_commanded_mps = 0.0, separation_m = kSeparation_m;
   r.min_distance = (s.cM - s.cN).norm();
   r.trace.push_back({0.0, s.cM, s.cN});
   for (long k = 0; k < steps; ++k) {
@@ -29,10 +31,15 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     fastest_commanded_mps = std::max({fastest_commanded_mps, vM_cmd.norm(), vN.norm()});
     stepped_s_ += h;
     // The collision pass ran on the state at t, whose distance is d.
-    const bool first = c.count > 0 && !r.t_contact_s;
-    if (c.count > 0) {
+    // Contact is what the engine's collision pass reports as touching: a speculative contact it
+    // generated ahead of touching (an outside engine reports its signed distance) is not one yet.
+    const bool touching = c.count > 0 && !(c.distance_min_m > touching_distance_m());
+    const bool first = touching && !r.t_contact_s;
+    if (touching) {
       if (first) {
         r.t_contact_s = t;
+        r.contact_state = disks::Sample{t, s.cM, s.cN};
+        separation_m = std::max(kSeparation_m, disks::kSeparationSteps * (vM_cmd - vN).norm() * dt);
         log.distance_at_first_m = d;
       }
       ++log.steps_in_contact;
@@ -53,6 +60,12 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
       throw EngineError(fmt::format("disk M speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {:g} m/s)", v, t + h, runaway_mps));
     const double d1 = (s.cM - s.cN).norm();
     r.min_distance = std::min(r.min_distance, d1);
+    if (!r.t_contact_s) {  // free: the engine's actuation and integrator alone moved M
+      if (const double e = ((s.cM - cM_before) - vM_cmd * h).norm(); e > log.step_displacement_error_max_m)
+        log.step_displacement_error_max_m = e, log.step_displacement_error_at_s = t;
+    } else if (!r.t_release_s && d1 - touch > separation_m) {
+      r.t_release_s = t + h;
+    }
     if (r.t_contact_s) log.penetration_max_m = std::max(log.penetration_max_m, touch - d1);
     if (first) log.overlap_growth_first_m = (touch - d1) - (touch - d);
     // N is moved by the engine along its known path: where the engine put it is checked too.

@@ -10,6 +10,8 @@
 namespace liftcheck {
 
 class DrivenDisks : public DiskEngine {
+  friend class ProtocolServer;  // `liftcheck serve`: these hooks over the engine protocol
+
  public:
   DiskRun run(const DiskSetup& setup, const DiskProblem& problem) final;
   double simulated_s() const final { return stepped_s_; }
@@ -22,6 +24,10 @@ class DrivenDisks : public DiskEngine {
   struct StepContacts {
     int count = 0;
     double depth_max_m = 0.0;  ///< deepest penetration among them (>= 0)
+    /// The smallest signed distance among them where the engine reports one (an outside engine:
+    /// positive for a speculative contact generated before the shapes touch); NaN: not reported
+    /// (the contacts touch).
+    double distance_min_m = NAN;
   };
   /// Builds the world: M a dynamic body at cM0 at rest, N a kinematic body at cN0.
   virtual void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) = 0;
@@ -29,6 +35,9 @@ class DrivenDisks : public DiskEngine {
   /// cN_next (velocity vN), collision detection runs on the state at the start of the step.
   virtual StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt_s) = 0;
   virtual State read() const = 0;
+  /// A step's contacts touch when their smallest reported distance is at most this (an engine
+  /// that reports distances stores positions with a rounding of about this much).
+  virtual double touching_distance_m() const { return 0.0; }
 
  private:
   double stepped_s_ = 0.0;

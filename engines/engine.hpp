@@ -60,6 +60,10 @@ struct CarSetup {
   /// Four wheels only: both front wheels at the virtual angle beta instead of their Ackermann
   /// angles (they fight and scrub: a negative control).
   bool parallel_steering = false;
+  /// The car's masses (car_params in harness/car_scenarios.cpp gives the defaults and why).
+  double chassis_mass_kg = 40.0;
+  double wheel_mass_kg = 2.0;     ///< each wheel
+  double knuckle_mass_kg = 2.0;   ///< each steering knuckle (between the chassis and a steered wheel)
 
   Eigen::Vector3d gravity_W() const { return gravity_mps2 * gravity_dir_W; }  ///< m/s^2
 };
@@ -98,6 +102,10 @@ class CarEngine {
   /// True for a trace read back from a simulator outside liftcheck: nothing inside it is known,
   /// so its whole path is compared with the exact lift at every sample.
   virtual bool replays_trace() const { return false; }
+  /// Seconds the engine itself spent stepping, as an outside engine's adapter reports them
+  /// (docs/protocol.md, `engine_s`): the cost per simulated second without the protocol's round
+  /// trip. NaN for an engine in liftcheck's process, whose run's wall clock is its cost.
+  virtual double reported_engine_s() const { return NAN; }
 };
 
 /// Two unit disks: N moves along a known path, M's velocity is commanded from a reaction rule.
@@ -129,13 +137,31 @@ struct DiskContactLog {
   long steps_in_contact = 0;         ///< steps whose collision pass reported contact
   double n_path_error_max_m = 0.0;   ///< largest distance of N from its path, every step
   bool apart_at_end = false;         ///< after contact, |c_M - c_N| > 2 at T (the disks separated)
+  /// Largest |(c_M after - c_M before) - v_cmd h| over the steps before the first reported contact:
+  /// an engine that realises its command moves M by exactly the commanded velocity times the step.
+  double step_displacement_error_max_m = 0.0;
+  double step_displacement_error_at_s = 0.0;  ///< the start of the step where it was largest
   /// Contact was reported by the engine's own collision pipeline. False for a trace from outside,
   /// whose "contact" is read off its positions: comparing those with themselves measures nothing.
   bool reported_by_engine = true;
 };
 
+/// Disks apart by no more than this are touching (the round-off of |c_M - c_N| = 2 at these scales).
+constexpr double kTouchRoundoff_m = 1e-9;
+/// A contact has ended when the disks are apart by at least this much more than touching: a
+/// micrometre, above the gaps of 0.2 um that Bullet's penetration recovery opens for a step while
+/// its contact holds (the larger threshold is a tenth of a step of relative travel, DiskRun).
+constexpr double kSeparation_m = 1e-6;
+
 struct DiskRun {
   std::optional<double> t_contact_s;  ///< analytic: root; engines: the state on which contact was first reported
+  /// M and N at t_contact_s (engines: the state their collision pass first reported contact on).
+  std::optional<disks::Sample> contact_state;
+  /// The end of the first contact: the first state after it with the disks apart by more than a
+  /// tenth of a step of M's travel relative to N at contact, and at least kSeparation_m
+  /// (models/disk_contact.hpp, kSeparationSteps; analytic: the root of the release); none while
+  /// they touch to T.
+  std::optional<double> t_release_s;
   double min_distance = 0.0;          ///< smallest |c_M - c_N| (analytic: refined on the dense output; engines: over their steps)
   std::vector<disks::Sample> trace;   ///< at t = i * sample_dt from 0 to T (and T)
   std::optional<DiskContactLog> contact_log;  ///< stepping engines only
@@ -147,6 +173,8 @@ class DiskEngine {
   virtual DiskRun run(const DiskSetup& setup, const DiskProblem& problem) = 0;
   /// Simulated time stepped since construction, s (the exact model: the problems' horizons).
   virtual double simulated_s() const = 0;
+  /// As CarEngine::reported_engine_s.
+  virtual double reported_engine_s() const { return NAN; }
 };
 
 /// A body has blown up when it is faster than kRunawayFactor times the fastest speed the run
@@ -190,6 +218,19 @@ struct EngineInfo {
   /// The benchmark's raw loop (engines/raw_car.hpp): its car stepped by direct calls to the engine
   /// (null: none; the reference has none, it does not step).
   RawCarFactory make_raw_car = nullptr;
+  /// The precision the engine stores positions in, "float64" or "float32": tolerances that check
+  /// bookkeeping (MetricDef::bookkeeping) scale with it (bookkeeping_factor). Every compiled-in
+  /// engine here is double precision.
+  std::string precision = "float64";
+  /// An engine outside liftcheck (engines/protocol/outside.hpp): its registration file and the
+  /// argument vector that starts it; empty for a compiled-in configuration.
+  std::string registration = {};
+  std::vector<std::string> command = {};
+  /// False until an outside configuration's hello has been read (find_engine reads it).
+  bool described = true;
+  /// Why an outside configuration cannot run (its command did not start, its hello was wrong);
+  /// its runs are error records saying so. Empty when it is available.
+  std::string unavailable = {};
 
   /// Every knob of `vehicle` at its default.
   Settings defaults(const std::string& vehicle) const;
@@ -208,9 +249,20 @@ Lack lacks(const EngineInfo& e, const Needs& needs);
 /// The lack as the end of a sentence about the configuration ("has no car").
 std::string lack_text(Lack lack, const Needs& needs);
 
-/// Every configuration compiled in, in a fixed order (the reference first).
+/// Every configuration compiled in, in a fixed order (the reference first), then every outside
+/// configuration registered (engines/protocol/outside.hpp), in folder and file name order. An
+/// outside configuration is described (its hello read) only once it is looked up by
+/// find_engine or all are by described_engines(): listing the names starts no process.
 const std::vector<EngineInfo>& engines();
+/// engines(), every outside configuration described first.
+const std::vector<EngineInfo>& described_engines();
+/// The configuration named `name`, described; nullptr if there is none.
 const EngineInfo* find_engine(const std::string& name);
+/// Registration files that could not be used (malformed, a name taken twice), one line each.
+const std::vector<std::string>& registration_problems();
+/// The tolerance factor of bookkeeping metrics for an engine of this precision: 1 for float64;
+/// 1e4 for float32 (docs/protocol.md, "precision").
+double bookkeeping_factor(const std::string& precision);
 /// The configuration marked is_reference (exactly one).
 const EngineInfo& reference_engine();
 

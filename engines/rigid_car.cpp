@@ -15,6 +15,9 @@ TricycleDef TricycleDef::from(const CarSetup& setup) {
   d.track_m = setup.track_m;
   d.wheels = setup.wheels;
   d.parallel_steering = setup.parallel_steering;
+  d.chassis_mass_kg = setup.chassis_mass_kg;
+  d.wheel_mass_kg = setup.wheel_mass_kg;
+  d.knuckle_mass_kg = setup.knuckle_mass_kg;
   d.wheel_width_m = 0.3 * setup.car.R_m;
   d.chassis_height_m = std::min(0.1, 0.5 * setup.car.R_m);
   return d;
@@ -63,6 +66,9 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   // A wheel hub faster than ten times the cruise speed (or 50 m/s) has blown up.
   const double runaway_mps = std::max(kRunawaySpeed_mps, kRunawayFactor * setup_.drive.speed_mps);
   // One step: servo towards (target_alpha, target_beta) with feed-forward rates, then read and check.
+  // The targets are the command at the start of the step, the instant of the realized angles they
+  // are compared with; the feed-forward is the command's rate at the step's middle, so the step
+  // carries the angle from the command at its start to (to second order) the command at its end.
   const auto advance = [&](double t_end, double target_alpha, double target_beta, double alpha_rate, double beta_rate) {
     FrontRates rates;
     const double roll_radps = alpha_rate + servo_.spin_gain_per_s * (target_alpha - alpha);
@@ -128,9 +134,9 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   const auto sample = [&](double t) { trace.push_back({t, car::Config{alpha, beta, s.x_m, s.y_m, phi}}); };
   sample(0.0);
   for (long k = 0; k < steps; ++k) {
-    const double t1 = (k + 1) * dt;
-    const car::BaseSample mid = path.at(t1 - 0.5 * dt), end = path.at(t1);
-    advance(t1, end.alpha_rad, end.beta_rad, mid.alpha_rate_radps, mid.beta_rate_radps);
+    const double t0 = k * dt, t1 = (k + 1) * dt;
+    const car::BaseSample start = path.at(t0), mid = path.at(t0 + 0.5 * dt);
+    advance(t1, start.alpha_rad, start.beta_rad, mid.alpha_rate_radps, mid.beta_rate_radps);
     book_slip();
     if ((k + 1) % sample_every == 0 || k + 1 == steps) sample(t1);
   }

@@ -24,6 +24,12 @@ struct TricycleDef {
   double wheel_width_m = 0.09;   ///< cylinder wheels only
   double chassis_mass_kg = 40.0;
   double wheel_mass_kg = 2.0;
+  /// Each steering knuckle: the body the steering joint turns and the spin joint carries the
+  /// wheel on. Its inertia is isotropic, with the squared radius of gyration below (a 7 cm solid
+  /// sphere; the 0.05 kg knuckle liftcheck built before it was a parameter had 1e-4 kg m^2).
+  double knuckle_mass_kg = 2.0;
+  static constexpr double kKnuckleGyrationSq_m2 = 2e-3;
+  double knuckle_inertia_kgm2() const { return knuckle_mass_kg * kKnuckleGyrationSq_m2; }
   double chassis_height_m = 0.1; ///< box thickness (the chassis does not collide)
 
   static TricycleDef from(const CarSetup& setup);
@@ -70,6 +76,8 @@ struct RigidCarState {
 };
 
 class RigidCar : public CarEngine {
+  friend class ProtocolServer;  // `liftcheck serve`: these hooks over the engine protocol
+
  public:
   explicit RigidCar(Settings settings) : settings_(std::move(settings)) {}
   void reset(const CarSetup& setup, const car::Config& q0) final;

@@ -1,6 +1,8 @@
 #include "harness/external.hpp"
 
+#include <algorithm>
 #include "harness/suite.hpp"  // matches_any
+#include "models/disk_contact.hpp"
 
 #include <cmath>
 #include <fmt/format.h>
@@ -8,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "input/read_file.hpp"
 #include "models/car.hpp"
 
 namespace liftcheck {
@@ -95,7 +98,11 @@ class RecordingDisks final : public DiskEngine {
   explicit RecordingDisks(std::string scenario) : scenario_(std::move(scenario)) {}
   DiskRun run(const DiskSetup& setup, const DiskProblem& pb) override {
     if (++runs_ > 1) throw single_run_only(scenario_, runs_);
-    // Every engine step: a disk trace is scored like a stepping engine's states.
+    // Every engine step: a disk trace is scored like a stepping engine's states (so the path lists
+    // every step, and the samples' limit holds for the steps).
+    if (!(pb.T_s / setup.dt_s <= kMaxRunSamples))
+      throw InputError(fmt::format("parameter 'dt' = {:g} s asks for {:.3g} rows of the path (one per engine step) over the run's {:g} s: at most {:g} (dt >= {:.3g} s here)",
+                                   setup.dt_s, pb.T_s / setup.dt_s, pb.T_s, kMaxRunSamples, pb.T_s / kMaxRunSamples));
     for (const double t : grid(pb.T_s, setup.dt_s)) {
       const disks::Vec2 c = pb.path.position(t);
       rows.push_back({t, c.x(), c.y()});
@@ -105,7 +112,11 @@ class RecordingDisks final : public DiskEngine {
     disks::LiftDef def;
     def.sample_dt_s = setup.sample_dt_s;
     const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);
-    return {r.t_contact_s, r.min_distance, r.trace, std::nullopt};
+    DiskRun out;
+    out.t_contact_s = r.t_contact_s;
+    out.min_distance = r.min_distance;
+    out.trace = r.trace;
+    return out;
   }
   double simulated_s() const override { return 0.0; }
 
@@ -158,14 +169,21 @@ class ReplayDisks final : public DiskEngine {
     DiskContactLog log;
     log.reported_by_engine = false;
     r.min_distance = INFINITY;
+    double separation_m = kSeparation_m;
     for (std::size_t k = 0; k < trace_.rows.size(); ++k) {
       const auto& row = trace_.rows[k];
       const disks::Vec2 cM(row[1], row[2]), cN(row[3], row[4]);
       const double d = (cM - cN).norm();
       r.min_distance = std::min(r.min_distance, d);
       log.n_path_error_max_m = std::max(log.n_path_error_max_m, (cN - pb.path.position(row[0])).norm());
-      if (!r.t_contact_s && d <= touch) {
+      // Touching to round-off is contact (an exact response holds |c_M - c_N| = 2 to round-off).
+      const bool touching = d <= touch + kTouchRoundoff_m;
+      if (r.t_contact_s && !r.t_release_s && d - touch > separation_m) r.t_release_s = row[0];
+      if (!r.t_contact_s && touching) {
         r.t_contact_s = row[0];
+        r.contact_state = disks::Sample{row[0], cM, cN};
+        const disks::Vec2 vN = pb.path.velocity(row[0]);
+        separation_m = std::max(kSeparation_m, disks::kSeparationSteps * (pb.rule(row[0], cM, cN, vN) - vN).norm() * setup.dt_s);
         log.distance_at_first_m = d;
         if (k + 1 < trace_.rows.size()) {
           const auto& nx = trace_.rows[k + 1];
@@ -174,7 +192,7 @@ class ReplayDisks final : public DiskEngine {
       }
       if (r.t_contact_s) {
         log.penetration_max_m = std::max(log.penetration_max_m, touch - d);
-        log.steps_in_contact += d <= touch ? 1 : 0;
+        log.steps_in_contact += touching ? 1 : 0;
       }
       if (k % sample_every == 0 || k + 1 == trace_.rows.size()) r.trace.push_back({row[0], cM, cN});
     }
@@ -238,6 +256,11 @@ namespace {
 
 /// A simulator outside liftcheck as a configuration, without its vehicles.
 EngineInfo outside_engine(const std::string& name, const std::string& description) {
+  // The name is printed on the console, in summary.md's table and the report, and recorded in JSON.
+  require_utf8(name, "configuration name");
+  if (std::any_of(name.begin(), name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
+    throw InputError(fmt::format("configuration name '{}' holds a control character (a line break?): it would forge lines of the console and the "
+                                 "summary; rename it", printable(name)));
   EngineInfo e;
   e.name = name;
   e.library = "external";
@@ -255,6 +278,8 @@ EngineInfo outside_engine(const std::string& name, const std::string& descriptio
 EngineInfo replay_engine(const std::string& name, const Scenario& scenario, const Trace& trace) {
   EngineInfo e = outside_engine(name, fmt::format("a simulator outside liftcheck, scored from its trace ({})", trace.file));
   e.settings = {{"trace", trace.file}};
+  e.precision = trace.precision;  // the trace header's, float64 unless it says otherwise
+  for (const auto& [k, v] : trace.settings) e.settings.emplace_back("setting " + k, v);
   const std::string sc = scenario.name;
   if (scenario.vehicle == "car") e.make_car = [sc, trace](const Settings&) { return std::make_unique<ReplayCar>(sc, trace); };
   else e.make_disks = [sc, trace](const Settings&) { return std::make_unique<ReplayDisks>(sc, trace); };

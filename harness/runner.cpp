@@ -73,7 +73,7 @@ double RunRecord::worst_rel_error() const {
 nlohmann::json RunRecord::to_json() const {
   nlohmann::json ms = nlohmann::json::object();
   for (const auto& m : metrics) ms[m.name] = m.to_json();
-  return {{"scenario", scenario}, {"engine", engine}, {"vehicle", vehicle}, {"params", params}, {"settings", settings},
+  nlohmann::json j = {{"scenario", scenario}, {"engine", engine}, {"vehicle", vehicle}, {"params", params}, {"settings", settings},
           {"status", to_string(status)}, {"message", message}, {"metrics", ms},
           {"worst_ratio", metrics.empty() ? nlohmann::json() : nlohmann::json(worst_ratio())},
           {"worst_rel_error", std::isnan(worst_rel_error()) ? nlohmann::json() : nlohmann::json(worst_rel_error())},
@@ -82,9 +82,11 @@ nlohmann::json RunRecord::to_json() const {
                                                  {"beyond", beyond_known()}}
                                 : nlohmann::json()},
           {"wall_s", wall_s}, {"simulated_s", simulated_s}, {"details", details}};
+  if (std::isfinite(engine_s)) j["engine_s"] = engine_s;
+  return j;
 }
 
-std::vector<Metric> score(const Scenario& scenario, const std::string& engine, const Outcome& outcome) {
+std::vector<Metric> score(const Scenario& scenario, const std::string& engine, const Outcome& outcome, double bookkeeping_factor) {
   std::vector<Metric> out;
   for (const MetricDef& def : scenario.metrics) {
     const auto it = outcome.values.find(def.name);
@@ -94,7 +96,7 @@ std::vector<Metric> score(const Scenario& scenario, const std::string& engine, c
     m.abs_error = std::abs(v.measured - v.expected);
     const double scale = v.scale > 0.0 ? v.scale : std::abs(v.expected);
     m.rel_error = scale > 0.0 ? m.abs_error / scale : (m.abs_error == 0.0 ? 0.0 : INFINITY);
-    m.tolerance = def.tolerance_for(engine) * v.tolerance_factor;
+    m.tolerance = def.tolerance_for(engine) * v.tolerance_factor * (def.bookkeeping ? bookkeeping_factor : 1.0);
     const double err = def.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
     m.floor = def.kind == TolKind::kRelative ? def.floor_for(engine) : 0.0;
     m.pass = (std::isfinite(err) && err <= m.tolerance) || (std::isfinite(m.abs_error) && m.abs_error <= m.floor);
@@ -182,12 +184,14 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
       auto d = engine.make_disks(settings);
       outcome = scenario.run_disks(params, *d);
       r.simulated_s = d->simulated_s();
+      r.engine_s = d->reported_engine_s();
     } else {
       auto car = engine.make_car(settings);
       outcome = scenario.run_car(params, *car);
       r.simulated_s = car->simulated_s();
+      r.engine_s = car->reported_engine_s();
     }
-    r.metrics = score(scenario, tolerance_key(engine), outcome);
+    r.metrics = score(scenario, tolerance_key(engine), outcome, liftcheck::bookkeeping_factor(engine.precision));
     r.details = outcome.details;
     // A pass needs at least one counted metric; informational ones neither pass nor fail a run.
     bool finite = true, pass = false, any_fail = false;

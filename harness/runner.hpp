@@ -26,6 +26,9 @@ struct RunRecord {
   nlohmann::json details = nlohmann::json::object();
   double wall_s = 0.0;
   double simulated_s = 0.0;  ///< simulated time the engine stepped (cost per simulated second)
+  /// The engine's own stepping time as an outside engine reports it (NaN: in process, wall_s is
+  /// the cost); written as "engine_s" only where it is known.
+  double engine_s = NAN;
   /// A reviewed known failure of this default run (harness/expectations.json), or null.
   const KnownFailure* known = nullptr;
 
@@ -60,7 +63,8 @@ std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const En
 
 /// Scores an outcome against the metric definitions' tolerances under `key`, falling back to
 /// "default" (the key of a configuration is tolerance_key()).
-std::vector<Metric> score(const Scenario& scenario, const std::string& key, const Outcome& outcome);
+/// Bookkeeping metrics' tolerances are multiplied by `bookkeeping_factor` (the engine's precision).
+std::vector<Metric> score(const Scenario& scenario, const std::string& key, const Outcome& outcome, double bookkeeping_factor = 1.0);
 
 /// "reference" for the exact model, the configuration's name otherwise (which the catalogue never
 /// lists: every engine is held to the same "default" tolerances).

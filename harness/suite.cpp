@@ -13,6 +13,9 @@
 #include <iostream>
 #include <poll.h>
 #include <sys/prctl.h>
+#include <sys/time.h>
+#include <sched.h>
+#include <cmath>
 #include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -251,16 +254,18 @@ void close_fd(int& fd) {
   fd = -1;
 }
 
-Worker spawn_worker(const std::string& exe) {
+/// Starts `liftcheck worker` from `exe` (a path; "/proc/self/fd/N" for the running binary's own
+/// open file), showing `shown` as its argv[0].
+Worker spawn_worker(const std::string& exe, const std::string& shown) {
   int in[2], out[2], err[2];
   if (pipe2(in, O_CLOEXEC) != 0 || pipe2(out, O_CLOEXEC) != 0 || pipe2(err, O_CLOEXEC) != 0)
-    throw std::runtime_error("cannot create pipes for a worker process");
+    throw std::runtime_error(fmt::format("cannot create pipes for a worker process: {}", std::strerror(errno)));
   posix_spawn_file_actions_t fa;
   posix_spawn_file_actions_init(&fa);
   posix_spawn_file_actions_adddup2(&fa, in[0], 0);
   posix_spawn_file_actions_adddup2(&fa, out[1], 1);
   posix_spawn_file_actions_adddup2(&fa, err[1], 2);
-  std::string arg0 = exe, arg1 = "worker";
+  std::string arg0 = shown, arg1 = "worker";
   char* argv[] = {arg0.data(), arg1.data(), nullptr};
   // Its own process group: a terminal's Ctrl-C reaches liftcheck, which stops its workers itself.
   posix_spawnattr_t attr;
@@ -274,7 +279,7 @@ Worker spawn_worker(const std::string& exe) {
   ::close(in[0]), ::close(out[1]), ::close(err[1]);
   if (rc != 0) {
     ::close(in[1]), ::close(out[0]), ::close(err[0]);
-    throw std::runtime_error(fmt::format("cannot start a worker process '{}': {}", exe, std::strerror(rc)));
+    throw std::runtime_error(fmt::format("cannot start a worker process '{}' ({}): {}", shown, exe, std::strerror(rc)));
   }
   w.in_fd = in[1], w.out_fd = out[0], w.err_fd = err[0];
   fcntl(w.out_fd, F_SETFL, O_NONBLOCK);
@@ -306,16 +311,19 @@ void pass_on_stderr(Worker& w) {
   if (w.err.size() > 8192) w.err.erase(0, w.err.size() - 8192);
 }
 
-/// Ends a worker (killed when `kill_it`, else by closing its input) and says how it ended.
-std::string end_worker(Worker& w, bool kill_it) {
+/// Ends a worker (killed when `kill_it`, else by closing its input) and says how it ended; the
+/// signal that ended it, if one did, in `signal`.
+std::string end_worker(Worker& w, bool kill_it, int* signal = nullptr) {
   close_fd(w.in_fd);
-  if (kill_it) ::kill(w.pid, SIGKILL);
+  // Its process group: the worker and any engine process it started (a hung outside engine).
+  if (kill_it) ::kill(-w.pid, SIGKILL), ::kill(w.pid, SIGKILL);
   int status = 0;
   while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
   }
   pass_on_stderr(w);  // its last words, all in the pipe now
   close_fd(w.out_fd), close_fd(w.err_fd);
   w.pid = -1;
+  if (signal) *signal = WIFSIGNALED(status) ? WTERMSIG(status) : 0;
   if (WIFSIGNALED(status)) return fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)));
   return fmt::format("exited with status {}", WEXITSTATUS(status));
 }
@@ -331,7 +339,45 @@ bool write_all(int fd, const std::string& text) {
   return true;
 }
 
+constexpr double kWallFactor = 4.0, kWallGrace_s = 30.0;
+
+std::string timed_out(double timeout_s) {
+  return fmt::format("timed out: still running after {:g} s of CPU time (--timeout), stopped", timeout_s);
+}
+
+/// The running executable's own file, kept open for the whole suite: workers start from it even
+/// when the file at its path is deleted or replaced by another build (which would otherwise run the
+/// rest of the suite under this build's name).
+struct RunningBinary {
+  int fd = -1;
+  std::string path, shown;
+  explicit RunningBinary(const std::string& exe) {
+    std::error_code ec;
+    shown = exe.empty() ? std::filesystem::read_symlink("/proc/self/exe", ec).string() : exe;
+    if (const auto del = shown.rfind(" (deleted)"); del != std::string::npos && del + 10 == shown.size()) shown.erase(del);
+    if (!exe.empty()) {
+      path = exe;
+      return;
+    }
+    fd = ::open("/proc/self/exe", O_RDONLY | O_CLOEXEC);  // closed at each worker's exec, once the kernel holds the file
+    if (fd < 0) throw std::runtime_error(fmt::format("cannot open the running executable /proc/self/exe: {}", std::strerror(errno)));
+    path = fmt::format("/proc/self/fd/{}", fd);
+  }
+  ~RunningBinary() {
+    if (fd >= 0) ::close(fd);
+  }
+  RunningBinary(const RunningBinary&) = delete;
+  RunningBinary& operator=(const RunningBinary&) = delete;
+};
+
 }  // namespace
+
+int usable_cores() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  if (sched_getaffinity(0, sizeof set, &set) == 0 && CPU_COUNT(&set) > 0) return CPU_COUNT(&set);
+  return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+}
 
 nlohmann::json item_request(const SuiteItem& item) {
   nlohmann::json ov = nlohmann::json::array();
@@ -341,6 +387,24 @@ nlohmann::json item_request(const SuiteItem& item) {
   if (item.owned) j["trace_file"] = item.trace_file;
   return j;
 }
+
+namespace {
+
+/// The item's CPU-time limit, counted by the worker itself from the moment it starts the item:
+/// neither the worker's start-up nor the time it waited for a core counts, so a verdict does not
+/// depend on --jobs or on what else the machine runs. SIGXCPU-like: SIGPROF ends the worker.
+void arm_cpu_limit(double seconds) {
+  itimerval t{};
+  if (seconds > 0.0 && std::isfinite(seconds)) {
+    const double whole = std::floor(seconds);
+    t.it_value.tv_sec = static_cast<time_t>(std::min(whole, 1e9));
+    t.it_value.tv_usec = static_cast<suseconds_t>((seconds - whole) * 1e6);
+    if (t.it_value.tv_sec == 0 && t.it_value.tv_usec == 0) t.it_value.tv_usec = 1;
+  }
+  setitimer(ITIMER_PROF, &t, nullptr);
+}
+
+}  // namespace
 
 SuiteItem item_from_request(const nlohmann::json& j) {
   SuiteItem it;
@@ -371,8 +435,11 @@ int worker_main() {
   std::string line;
   while (std::getline(std::cin, line)) {
     if (line.empty()) continue;
-    const SuiteItem it = item_from_request(nlohmann::json::parse(line));
+    const nlohmann::json request = nlohmann::json::parse(line);
+    const SuiteItem it = item_from_request(request);
+    arm_cpu_limit(request.value("cpu_limit_s", 0.0));
     const std::string text = run_item(it).dump() + "\n";
+    arm_cpu_limit(0.0);
     if (!write_all(records_fd, text)) return 3;
   }
   return 0;
@@ -393,9 +460,13 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
     const SuiteItem &x = plan.items[which[a]], &y = plan.items[which[b]];
     return x.kind != y.kind ? x.kind == SuiteItem::kRun : x.cost > y.cost;
   });
-  const std::string exe = runner.exe.empty() ? std::filesystem::read_symlink("/proc/self/exe").string() : runner.exe;
+  const RunningBinary binary(runner.exe);
   std::signal(SIGPIPE, SIG_IGN);  // a worker that died is seen at its pipe's end, not by a signal
-  std::vector<Worker> workers(static_cast<size_t>(std::max(1, std::min<int>(runner.jobs, static_cast<int>(std::max<size_t>(n, 1))))));
+  const int jobs = std::min({runner.jobs, usable_cores(), static_cast<int>(std::max<size_t>(n, 1))});
+  std::vector<Worker> workers(static_cast<size_t>(std::max(1, jobs)));
+  // The time limit is the run's own CPU time, counted by its worker; this wall-clock limit only
+  // catches a run that waits instead of computing (it is never reached by one that computes).
+  const double wall_limit_s = std::max(kWallFactor * runner.timeout_s, runner.timeout_s + kWallGrace_s);
   size_t next = 0, finished = 0, printed = 0;
   const auto finish = [&](Worker& w, nlohmann::json record) {
     records[static_cast<size_t>(w.slot)] = std::move(record);
@@ -414,10 +485,12 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
       // Hand out work.
       for (Worker& w : workers) {
         if (w.slot >= 0 || next >= n) continue;
-        if (w.pid < 0) w = spawn_worker(exe);
+        if (w.pid < 0) w = spawn_worker(binary.path, binary.shown);
         w.slot = static_cast<long>(order[next++]);
         w.started = clock::now();
-        if (!write_all(w.in_fd, item_request(plan.items[which[static_cast<size_t>(w.slot)]]).dump() + "\n")) {
+        nlohmann::json request = item_request(plan.items[which[static_cast<size_t>(w.slot)]]);
+        request["cpu_limit_s"] = runner.timeout_s;
+        if (!write_all(w.in_fd, request.dump() + "\n")) {
           const std::string how = end_worker(w, true);
           finish(w, error_record(plan.items[which[static_cast<size_t>(w.slot)]], fmt::format("the worker process {} before the run", how)));
         }
@@ -431,7 +504,7 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
         if (w.slot < 0) continue;
         fds.push_back({w.out_fd, POLLIN, 0}), whose.emplace_back(k, true);
         fds.push_back({w.err_fd, POLLIN, 0}), whose.emplace_back(k, false);
-        wait_s = std::min(wait_s, runner.timeout_s - std::chrono::duration<double>(clock::now() - w.started).count());
+        wait_s = std::min(wait_s, wall_limit_s - std::chrono::duration<double>(clock::now() - w.started).count());
       }
       if (!fds.empty() && poll(fds.data(), fds.size(), static_cast<int>(std::max(0.0, wait_s) * 1000.0) + 1) < 0 && errno != EINTR)
         throw std::runtime_error(fmt::format("poll: {}", std::strerror(errno)));
@@ -451,16 +524,19 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
           if (rec.is_discarded()) rec = error_record(item, "the worker process wrote a malformed record");
           finish(w, std::move(rec));
         } else if (!open) {
-          const std::string how = end_worker(w, false);
+          int sig = 0;
+          const std::string how = end_worker(w, false, &sig);
           const std::string said = last_line(w.err);
-          finish(w, error_record(item, fmt::format("the engine ended its process ({}){}", how, said.empty() ? "" : ": " + said)));
+          finish(w, error_record(item, sig == SIGPROF ? timed_out(runner.timeout_s)
+                                                      : fmt::format("the engine ended its process ({}){}", how, said.empty() ? "" : ": " + said)));
         }
       }
       for (Worker& w : workers)
-        if (w.slot >= 0 && std::chrono::duration<double>(clock::now() - w.started).count() > runner.timeout_s) {
+        if (w.slot >= 0 && std::chrono::duration<double>(clock::now() - w.started).count() > wall_limit_s) {
           const SuiteItem& item = plan.items[which[static_cast<size_t>(w.slot)]];
           end_worker(w, true);
-          finish(w, error_record(item, fmt::format("timed out: still running after {:g} s (--timeout), stopped", runner.timeout_s)));
+          finish(w, error_record(item, fmt::format("timed out: no record after {:g} s of wall-clock time ({:g} s of CPU time allowed by --timeout; "
+                                                   "the run waited rather than computed), stopped", wall_limit_s, runner.timeout_s)));
         }
       std::vector<size_t> now;
       while (printed < n && ready[printed]) now.push_back(printed++);

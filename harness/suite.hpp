@@ -74,12 +74,16 @@ nlohmann::json run_item(const SuiteItem& item);
 /// How items are run: each in a worker process (`liftcheck worker`), `jobs` at once, so an engine
 /// that hangs, crashes or ends the process is an error record and never takes the suite with it.
 struct RunnerDef {
-  int jobs = 1;
-  double timeout_s = 120.0;  ///< wall-clock limit of one item; the worker is killed beyond it
+  int jobs = 1;              ///< at most usable_cores() run at once
+  double timeout_s = 120.0;  ///< CPU-time limit of one item, counted by its worker from the item's start; a run that
+                             ///< waits is stopped after 4 times as long (at least 30 s more) of wall-clock time
   std::string exe;           ///< the liftcheck executable (empty: /proc/self/exe)
   /// Polled between events; true stops the runner (killing its workers) with RunnerStopped.
   std::function<bool()> stop = {};
 };
+/// The cores this process may run on (its CPU affinity): --jobs is capped at it.
+int usable_cores();
+
 struct RunnerStopped : std::runtime_error {
   using std::runtime_error::runtime_error;
 };

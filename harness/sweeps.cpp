@@ -79,8 +79,22 @@ bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
       if (f.kind == KnownSweepFailure::kFit) fit_known = &f;
     }
   int anywhere_failed = 0;
+  const EngineInfo* info = find_engine(engine);
+  const bool must_slide = sweep.slide_past_marker && info && info->contact_dynamics;
   for (auto& pt : entry["points"]) {
     const double x = pt["x"];
+    if (must_slide && x > sweep.marker && pt["status"] != "error") {
+      bool slid = false;
+      for (const auto& [name, err] : point_errors(pt))
+        slid = slid || (name == "front_radius" && err >= SweepDef::kSlideRadius) || (name == "slip_across_max" && err >= SweepDef::kSlideAcross_mps);
+      if (!slid) {
+        ++unexpected;
+        problems.push_back(fmt::format("{} = {}: past the grip limit ({}) the car must slide (front radius +{:g} or lateral slip {:g} m/s), but it kept its grip: {}",
+                                       sweep.param, x, sweep.marker_label, SweepDef::kSlideRadius, SweepDef::kSlideAcross_mps,
+                                       pt["status"] == "pass" ? "every metric passes" : pt.value("message", "")));
+        continue;
+      }
+    }
     const KnownSweepFailure* k = nullptr;
     for (const auto& f : known_sweep_failures())
       if (f.sweep == sweep.name && f.engine == engine && (f.kind == KnownSweepFailure::kPoint || f.kind == KnownSweepFailure::kError) && f.x == x) k = &f;
@@ -368,8 +382,11 @@ nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInf
         for (const auto& [name, m] : metrics.items())
           if (std::find(panel.error_metrics.begin(), panel.error_metrics.end(), name) != panel.error_metrics.end() && m["rel_error"].is_number())
             err = std::isnan(err) ? m["rel_error"].get<double>() : std::max(err, m["rel_error"].get<double>());
+        // An outside engine's cost is its own stepping time as its adapter reports it, so that the
+        // protocol's round trip does not count against it; in process, the run's wall clock.
         const double wall_s = r["wall_s"], simulated_s = r["simulated_s"];
-        const double cost = simulated_s > 0.0 ? wall_s / simulated_s : NAN;
+        const double spent_s = r.contains("engine_s") && r["engine_s"].is_number() ? r["engine_s"].get<double>() : wall_s;
+        const double cost = simulated_s > 0.0 ? spent_s / simulated_s : NAN;
         points.push_back({{"knob", g.knob}, {"value", g.value}, {"status", r["status"]}, {"message", r["message"]},
                           {"error", r["status"] == "error" || !std::isfinite(err) ? nlohmann::json() : nlohmann::json(err)},
                           {"wall_s", wall_s}, {"simulated_s", simulated_s},

@@ -5,6 +5,8 @@
 #include <fmt/format.h>
 #include <map>
 
+#include "input/interrupt.hpp"
+
 namespace liftcheck {
 
 namespace {
@@ -69,7 +71,9 @@ json diff_results(const json& base, const json& head, const DiffDef& def) {
   json d{{"regressions", json::array()}, {"fixed", json::array()}, {"worse", json::array()},
          {"better", json::array()}, {"added", json::array()}, {"removed", json::array()}};
   const auto b = index_runs(base), h = index_runs(head);
+  std::size_t compared = 0;
   for (const auto& [key, hr] : h) {
+    if ((++compared & 0xFFFF) == 0) throw_if_interrupted("while comparing the results");
     const auto it = b.find(key);
     const json id{{"scenario", key.first}, {"engine", key.second}};
     if (it == b.end()) {

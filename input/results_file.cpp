@@ -2,9 +2,12 @@
 
 #include <fmt/format.h>
 #include <fstream>
+#include <future>
 #include <sstream>
 
+#include "input/interrupt.hpp"
 #include "input/params.hpp"
+#include "input/read_file.hpp"
 #include "input/trace.hpp"
 
 namespace liftcheck {
@@ -57,7 +60,10 @@ class Fields {
     for (const char* s : values)
       if (*v == s) return;
     std::string list;
-    for (const char* s : values) list += (list.empty() ? "" : "|") + std::string(s);
+    for (const char* s : values) {
+      if (!list.empty()) list += '|';
+      list += s;
+    }
     fail(fmt::format("'{}' is '{}', not one of {}", key, printable(v->get<std::string>()), list));
   }
 
@@ -74,6 +80,7 @@ void check_results(const json& j, const std::string& name) {
   if (!j["runs"].is_array()) throw InputError(fmt::format("{}: 'runs' is {}, not an array", name, type_of(j["runs"])));
   std::size_t i = 0;
   for (const auto& r : j["runs"]) {
+    if ((i & 0xFFFF) == 0xFFFF) throw_if_interrupted_by([&] { return fmt::format("while checking '{}'", name); });
     const std::string where = fmt::format("runs[{}]", i++);
     const Fields run(r, name, where);
     run.string("scenario", true);
@@ -107,12 +114,26 @@ json parse_results(const std::string& text, const std::string& name) {
 }
 
 json read_results(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(fmt::format("cannot read '{}'", path));
-  std::stringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) throw InputError(fmt::format("cannot read '{}'", path));
-  return parse_results(buf.str(), path);
+  require_utf8(path, "results file name");
+  return parse_results(read_text_file(path, kMaxResultsBytes, "results file"), printable(path, 200));
+}
+
+std::pair<json, json> read_results_pair(const std::string& base, const std::string& head) {
+  // Read here (a blocking read is interrupted by a signal in this thread), parsed in two threads:
+  // parsing is most of a diff's time, and both threads check for an interruption as they go.
+  require_utf8(base, "results file name");
+  require_utf8(head, "results file name");
+  const std::string base_text = read_text_file(base, kMaxResultsBytes, "results file");
+  const std::string head_text = read_text_file(head, kMaxResultsBytes, "results file");
+  auto later = std::async(std::launch::async, [&] { return parse_results(head_text, printable(head, 200)); });
+  json b;
+  try {
+    b = parse_results(base_text, printable(base, 200));
+  } catch (...) {
+    later.wait();
+    throw;
+  }
+  return {std::move(b), later.get()};
 }
 
 }  // namespace liftcheck

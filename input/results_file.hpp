@@ -5,12 +5,17 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <utility>
 
 namespace liftcheck {
 
 /// Reads and checks a results or baseline file; InputError "FILE: runs[3].metrics.radius: missing
 /// 'rel_error'" and the like.
 nlohmann::json read_results(const std::string& path);
+
+/// Both files of a diff, read and checked at once (each in a thread of its own); the first
+/// file's error is reported when both have one.
+std::pair<nlohmann::json, nlohmann::json> read_results_pair(const std::string& base, const std::string& head);
 
 /// The same on text already read; `name` names it in errors.
 nlohmann::json parse_results(const std::string& text, const std::string& name);

@@ -9,6 +9,9 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "input/interrupt.hpp"
+#include "input/read_file.hpp"
+
 namespace liftcheck {
 
 namespace {
@@ -41,25 +44,117 @@ double number_at(const std::string& text, const std::string& file, int line, con
 
 std::string printable(const std::string& s, std::size_t max) {
   std::string o;
-  for (char c : s) {
+  const auto* p = reinterpret_cast<const unsigned char*>(s.data());
+  for (std::size_t i = 0; i < s.size();) {
     if (o.size() >= max) return o + "...";
-    o += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
+    const unsigned c = p[i];
+    // A well-formed UTF-8 sequence is kept; a control character or a stray byte is '?'.
+    const std::size_t len = c < 0x80 ? 1 : (c & 0xE0) == 0xC0 ? 2 : (c & 0xF0) == 0xE0 ? 3 : (c & 0xF8) == 0xF0 ? 4 : 0;
+    if (len > 1 && i + len <= s.size() && is_utf8(s.substr(i, len))) {
+      o.append(s, i, len);
+      i += len;
+      continue;
+    }
+    o += c < 0x20 || c >= 0x7f ? '?' : static_cast<char>(c);
+    ++i;
   }
   return o;
 }
 
-json parse_json_text(const std::string& text, const std::string& file, int max_depth) {
-  const json::parser_callback_t limit = [&](int depth, json::parse_event_t, json&) {
-    if (depth > max_depth) throw InputError(fmt::format("{}: JSON nested deeper than {} levels", file, max_depth));
+namespace {
+
+/// Builds the document in one pass (linear in the text: nlohmann's callback parser, which the
+/// depth limit used before, is quadratic) and checks on the way what the document cannot say
+/// afterwards: the nesting depth (copying or printing a document recurses that deep), a key repeated
+/// in one object (the last would silently win), an interruption.
+class CheckedDom {
+ public:
+  CheckedDom(json& root, const std::string& file, int max_depth) : root_(root), file_(file), max_depth_(max_depth) {
+    open_.reserve(static_cast<std::size_t>(max_depth) + 1);
+  }
+  bool null() { return put(json()); }
+  bool boolean(bool v) { return put(v); }
+  bool number_integer(json::number_integer_t v) { return put(v); }
+  bool number_unsigned(json::number_unsigned_t v) { return put(v); }
+  bool number_float(json::number_float_t v, const std::string&) { return put(v); }
+  bool string(std::string& v) { return put(std::move(v)); }
+  bool binary(json::binary_t& v) { return put(json::binary(std::move(v))); }
+  bool start_object(std::size_t) { return open(json::object()); }
+  bool start_array(std::size_t) { return open(json::array()); }
+  bool end_object() { return open_.pop_back(), true; }
+  bool end_array() { return open_.pop_back(), true; }
+  bool key(std::string& k) {
+    Open& o = open_.back();
+    if (o.value->contains(k))
+      throw InputError(fmt::format("{}: {}: the key '{}' appears twice in one object (which one is meant?)", file_, where(), printable(k)));
+    o.key = std::move(k);
     return true;
+  }
+  template <class Exception>
+  bool parse_error(std::size_t, const std::string&, const Exception& e) {
+    throw e;
+  }
+
+ private:
+  struct Open {
+    json* value;
+    std::string key;  ///< objects: the key being read
   };
+  /// Places `v` in the innermost open container (or as the document) and returns where it went.
+  json* place(json&& v) {
+    if ((++events_ & 0xFFFF) == 0) throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", printable(file_, 200)); });
+    if (open_.empty()) {
+      root_ = std::move(v);
+      return &root_;
+    }
+    json& c = *open_.back().value;
+    if (c.is_array()) {
+      c.push_back(std::move(v));
+      return &c.back();
+    }
+    return &(c[open_.back().key] = std::move(v));
+  }
+  bool put(json&& v) { return place(std::move(v)), true; }
+  bool open(json&& container) {
+    if (static_cast<int>(open_.size()) >= max_depth_) throw InputError(fmt::format("{}: JSON nested deeper than {} levels", file_, max_depth_));
+    json* at = place(std::move(container));
+    open_.push_back({at, {}});
+    return true;
+  }
+  /// "runs[3].metrics" for the innermost open object.
+  std::string where() const {
+    std::string w;
+    for (std::size_t i = 0; i + 1 < open_.size(); ++i) {
+      if (open_[i].value->is_array()) {
+        w += fmt::format("[{}]", open_[i].value->size() - 1);
+        continue;
+      }
+      if (!w.empty()) w += '.';
+      w += printable(open_[i].key, 60);
+    }
+    return w.empty() ? "the top level" : w;
+  }
+
+  json& root_;
+  const std::string& file_;
+  int max_depth_;
+  std::vector<Open> open_;
+  std::size_t events_ = 0;
+};
+
+}  // namespace
+
+json parse_json_text(std::string_view text, const std::string& file, int max_depth) {
+  json root;
+  CheckedDom dom(root, file, max_depth);
   try {
-    return json::parse(text, limit);
+    json::sax_parse(text, &dom);
   } catch (const json::exception& e) {
     std::string what = e.what();
     if (const auto k = what.find("] "); what.rfind("[json.exception", 0) == 0 && k != std::string::npos) what = what.substr(k + 2);
     throw InputError(fmt::format("{}: is not JSON ({})", file, printable(what, 200)));
   }
+  return root;
 }
 
 const std::vector<std::string>& trace_columns(const std::string& vehicle) {
@@ -68,17 +163,35 @@ const std::vector<std::string>& trace_columns(const std::string& vehicle) {
 }
 
 Trace read_trace(const std::filesystem::path& file, const std::string& vehicle) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw InputError(fmt::format("cannot read trace '{}'", file.string()));
-  std::stringstream buf;
-  buf << in.rdbuf();
-  if (in.bad()) throw InputError(fmt::format("cannot read trace '{}'", file.string()));
-  return parse_trace(buf.str(), file.string(), vehicle);
+  require_utf8(file.string(), "trace file name");
+  return parse_trace(read_text_file(file, kMaxTraceBytes, "trace"), file.string(), vehicle);
 }
 
-Trace parse_trace(const std::string& text, const std::string& file, const std::string& vehicle) {
+namespace {
+
+/// The text without a UTF-8 byte-order mark; InputError for UTF-16 or UTF-32 (or any NUL byte):
+/// the columns would never be found in it.
+std::string_view utf8_text(const std::string& text, const std::string& file) {
+  std::string_view v(text);
+  if (v.substr(0, 3) == "\xEF\xBB\xBF") v.remove_prefix(3);
+  if (v.substr(0, 2) == "\xFF\xFE" || v.substr(0, 2) == "\xFE\xFF")
+    throw InputError(fmt::format("{}: is UTF-16 or UTF-32 (it starts with that byte-order mark): save it as UTF-8", file));
+  if (const auto nul = v.find('\0'); nul != std::string_view::npos)
+    throw InputError(fmt::format("{}: holds a NUL byte (at byte {}): not UTF-8 text (UTF-16 without a byte-order mark?); save it as UTF-8", file,
+                                 nul + static_cast<std::size_t>(v.data() - text.data())));
+  return v;
+}
+
+std::string header_precision(const std::string& p, const std::string& where) {
+  if (p != "float32" && p != "float64") throw InputError(fmt::format("{}: precision '{}' must be float32 or float64", where, printable(p)));
+  return p;
+}
+}  // namespace
+
+Trace parse_trace(const std::string& whole, const std::string& file, const std::string& vehicle) {
   Trace tr;
-  tr.file = file;
+  tr.file = printable(file, 200);
+  const std::string_view text = utf8_text(whole, tr.file);
   const std::vector<std::string>& want = trace_columns(vehicle);
   const std::size_t first = text.find_first_not_of(" \t\r\n");
   if (first != std::string::npos && (text[first] == '[' || text[first] == '{')) {
@@ -87,6 +200,17 @@ Trace parse_trace(const std::string& text, const std::string& file, const std::s
     const auto it = j.is_object() ? j.find("rows") : j.end();
     const json& rows = !j.is_object() ? j : it != j.end() ? *it : kNone;  // a reference: no copy of the document
     if (!rows.is_array()) throw InputError(fmt::format("{}: JSON trace needs an array of rows (or {{\"rows\": [...]}})", tr.file));
+    if (j.is_object() && j.contains("precision")) {
+      if (!j["precision"].is_string()) throw InputError(fmt::format("{}: 'precision' must be \"float32\" or \"float64\"", tr.file));
+      tr.precision = header_precision(j["precision"].get<std::string>(), tr.file);
+    }
+    if (j.is_object() && j.contains("settings")) {
+      if (!j["settings"].is_object()) throw InputError(fmt::format("{}: 'settings' must be an object of strings", tr.file));
+      for (const auto& [k, v] : j["settings"].items()) {
+        if (!v.is_string()) throw InputError(fmt::format("{}: setting '{}' must be a string", tr.file, printable(k)));
+        tr.settings.emplace_back(printable(k), printable(v.get<std::string>()));
+      }
+    }
     int i = 0;
     for (const auto& r : rows) {
       ++i;
@@ -104,15 +228,26 @@ Trace parse_trace(const std::string& text, const std::string& file, const std::s
       tr.rows.push_back(std::move(row));
     }
   } else {
-    std::istringstream lines(text);
+    std::istringstream lines{std::string(text)};
     std::string line;
     int n = 0;
     std::vector<std::size_t> index;  // for each wanted column, its position in the header
     std::size_t width = 0;
     while (std::getline(lines, line)) {
-      ++n;
+      if ((++n & 0xFFFF) == 0) throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", tr.file); });
       const std::string t = trim(line);
-      if (t.empty() || t[0] == '#') continue;
+      if (!t.empty() && t[0] == '#') {
+        const std::string c = trim(t.substr(1));
+        if (c.rfind("precision:", 0) == 0) tr.precision = header_precision(trim(c.substr(10)), fmt::format("{}:{}", tr.file, n));
+        if (c.rfind("setting:", 0) == 0) {
+          const std::string kv = trim(c.substr(8));
+          const std::size_t eq = kv.find('=');
+          if (eq == std::string::npos || eq == 0) throw InputError(fmt::format("{}:{}: '# setting:' needs KEY=VALUE", tr.file, n));
+          tr.settings.emplace_back(printable(trim(kv.substr(0, eq))), printable(trim(kv.substr(eq + 1))));
+        }
+        continue;
+      }
+      if (t.empty()) continue;
       std::vector<std::string> cells;
       std::size_t from = 0;
       for (std::size_t comma; (comma = t.find(',', from)) != std::string::npos; from = comma + 1) cells.push_back(trim(t.substr(from, comma - from)));

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "input/params.hpp"
@@ -18,6 +19,11 @@ const std::vector<std::string>& trace_columns(const std::string& vehicle);
 struct Trace {
   std::string file;
   std::vector<std::vector<double>> rows;  ///< in trace_columns(vehicle) order
+  /// What the simulator says of itself, optional: CSV comment lines `# precision: float32` and
+  /// `# setting: KEY=VALUE`, or JSON {"precision": ..., "settings": {KEY: VALUE}} beside "rows".
+  /// The precision scales bookkeeping tolerances as for a stepped engine; settings are recorded.
+  std::string precision = "float64";
+  std::vector<std::pair<std::string, std::string>> settings;
 };
 
 /// Reads CSV (a header naming the columns, '#' comments) or JSON (an array of objects with the
@@ -30,7 +36,7 @@ Trace parse_trace(const std::string& text, const std::string& file, const std::s
 
 /// Parses a JSON document that liftcheck reads back; InputError "FILE: is not JSON (...)", or for a
 /// document nested deeper than `max_depth` levels (copying or printing one recurses that deep).
-nlohmann::json parse_json_text(const std::string& text, const std::string& file, int max_depth = 64);
+nlohmann::json parse_json_text(std::string_view text, const std::string& file, int max_depth = 64);
 
 /// `s` for a one-line message: control characters as '?', at most `max` characters.
 std::string printable(const std::string& s, std::size_t max = 80);

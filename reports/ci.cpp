@@ -135,26 +135,27 @@ std::string summary_markdown(const json& results, const std::string& report_link
     const json& d = results["baseline"]["diff"];
     std::string b;
     for (const auto& r : d["regressions"])
-      b += fmt::format("- REGRESSION **{}** on `{}`: {} → {} ({})\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(),
+      b += fmt::format("- REGRESSION **{}** on {}: {} → {} ({})\n", r["scenario"].get<std::string>(), markdown_code(r["engine"].get<std::string>()),
                        r["from"].get<std::string>(), r["to"].get<std::string>(), r["message"].get<std::string>());
     for (const auto& r : d["worse"])
-      b += fmt::format("- worse **{}** on `{}`: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", r["scenario"].get<std::string>(),
-                       r["engine"].get<std::string>(), r["metric"].get<std::string>(), r["head_measured"].dump(), r["base_measured"].dump(),
+      b += fmt::format("- worse **{}** on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", r["scenario"].get<std::string>(),
+                       markdown_code(r["engine"].get<std::string>()), r["metric"].get<std::string>(), r["head_measured"].dump(), r["base_measured"].dump(),
                        r["head_ratio"].get<double>(), r["base_ratio"].get<double>());
     md += fmt::format("### Against the baseline ({})\n\n{}{} regressions, {} metrics worse, {} fixed, {} better\n\n",
-                      results["baseline"]["file"].get<std::string>(), b, d["regressions"].size(), d["worse"].size(), d["fixed"].size(),
+                      escape_markdown(results["baseline"]["file"].get<std::string>()), b, d["regressions"].size(), d["worse"].size(), d["fixed"].size(),
                       d["better"].size());
   }
   // What is not as expected comes first.
   std::string bad;
   for (const auto& r : results["runs"])
-    if (!record_as_expected(r)) bad += fmt::format("- **{}** on `{}`: {}\n", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), failure_text(r));
+    if (!record_as_expected(r))
+      bad += fmt::format("- **{}** on {}: {}\n", r["scenario"].get<std::string>(), markdown_code(r["engine"].get<std::string>()), failure_text(r));
   for (const auto& sw : results.value("sweeps", json::array()))
     for (const auto& e : sw["engines"])
       if (!e["gate"]["pass"].get<bool>()) {
         std::string problems;
         for (const auto& p : e["gate"]["problems"]) problems += (problems.empty() ? "" : "; ") + p.get<std::string>();
-        bad += fmt::format("- sweep **{}** on `{}`: {}\n", sw["name"].get<std::string>(), e["engine"].get<std::string>(), problems);
+        bad += fmt::format("- sweep **{}** on {}: {}\n", sw["name"].get<std::string>(), markdown_code(e["engine"].get<std::string>()), problems);
       }
   if (!bad.empty()) md += "### Not as expected\n\n" + bad + "\n";
   // The matrix.
@@ -166,7 +167,7 @@ std::string summary_markdown(const json& results, const std::string& report_link
     runs[{r["scenario"].get<std::string>(), r["engine"].get<std::string>()}] = &r;
   }
   md += "| scenario |";
-  for (const auto& e : engines) md += " " + e + " |";
+  for (const auto& e : engines) md += " " + escape_markdown(e) + " |";
   md += "\n|---|";
   for (std::size_t i = 0; i < engines.size(); ++i) md += ":-:|";
   md += "\n";

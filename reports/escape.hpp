@@ -1,5 +1,6 @@
 #pragma once
 #include <string>
+#include <string_view>
 
 namespace liftcheck {
 
@@ -18,6 +19,27 @@ inline std::string escape_markup(const std::string& s) {
     }
   }
   return o;
+}
+
+/// A name in Markdown text or a table cell: control characters (a line break would end the line
+/// or the table) as '?', the punctuation that is Markdown inside a line ('|' ends a cell) escaped with a backslash.
+inline std::string escape_markdown(const std::string& s) {
+  std::string o;
+  o.reserve(s.size());
+  for (char c : s) {
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) o += '?';
+    else if (std::string_view("\\`*_[]<>|~").find(c) != std::string_view::npos) o += '\\', o += c;
+    else o += c;
+  }
+  return o;
+}
+
+/// A name inside a Markdown code span: it cannot hold a backtick (which would end the span) or a
+/// line break, and a '|' would still end a table cell.
+inline std::string markdown_code(const std::string& s) {
+  std::string o;
+  for (char c : s) o += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c == '`' ? '\'' : c == '|' ? '/' : c;
+  return "`" + o + "`";
 }
 
 }  // namespace liftcheck

@@ -43,6 +43,15 @@ std::vector<ParamSpec> car_params(const std::string& beta_default) {
       {"wheels", ParamKind::kChoice, "3", "", "3: the paper's tricycle; 4: two Ackermann-steered front wheels driven by an electronic differential (the reference is the same tricycle: average wheel angle, virtual steering angle)", -INFINITY, false, INFINITY, {"3", "4"}},
       number("track", "0.8", "m", "distance between the rear wheels (and between the front wheels of a four-wheel car)", 0.0, true, 100.0),
       {"steering", ParamKind::kChoice, "ackermann", "", "four wheels: each front wheel at its Ackermann angle, or both at beta (parallel: they fight and scrub)", -INFINITY, false, INFINITY, {"ackermann", "parallel"}},
+      // The masses in a real car's proportions: a passenger car's wheel with its tyre weighs 15 to
+      // 25 kg and its steering knuckle with hub and brake about as much, against 1200 to 1600 kg
+      // of body. The tricycle keeps a 40 kg chassis and 2 kg wheels (chassis/wheel 20, gentler on
+      // a solver than a real car's 60 to 80) and a knuckle as heavy as a wheel (ratio 1); the
+      // 0.05 kg knuckle it had before (ratios 40 and 800 along chassis-knuckle-wheel) is the
+      // extreme of the knuckle_mass sweep. The analytic lift does not depend on any mass.
+      number("chassis_mass", "40", "kg", "chassis mass (a box from the rear to the front axle, no collision)", 0.0, true, 1e5),
+      number("wheel_mass", "2", "kg", "mass of each wheel", 0.0, true, 1e4),
+      number("knuckle_mass", "2", "kg", "mass of each steering knuckle (the body between the chassis and a steered wheel)", 0.0, true, 1e4),
   };
 }
 
@@ -62,6 +71,9 @@ CarSetup setup_from(const Params& p) {
   s.wheels = p.str("wheels") == "4" ? 4 : 3;
   s.track_m = p.num("track");
   s.parallel_steering = p.str("steering") == "parallel";
+  s.chassis_mass_kg = p.num("chassis_mass");
+  s.wheel_mass_kg = p.num("wheel_mass");
+  s.knuckle_mass_kg = p.num("knuckle_mass");
   if (s.parallel_steering && s.wheels != 4)
     throw InputError("steering=parallel needs wheels=4: the tricycle has one steered wheel");
   return s;
@@ -72,6 +84,7 @@ Config start_from(const Params& p) { return {0.0, p.num("beta"), p.num("x"), p.n
 /// Drives `path` and checks the trace: non-empty and finite, or the engine failed.
 std::vector<car::TimedConfig> drive_checked(CarEngine& engine, const CarSetup& setup, const Config& q0,
                                             const car::BasePath& path) {
+  check_run_budget(path.duration_s(), setup.dt_s, setup.sample_dt_s);
   engine.reset(setup, q0);
   auto trace = engine.drive(path);
   if (trace.empty()) throw EngineError("engine returned an empty trace");
@@ -83,15 +96,18 @@ std::vector<car::TimedConfig> drive_checked(CarEngine& engine, const CarSetup& s
 
 /// A simulator outside liftcheck shows only its trace: its whole path is compared with the exact
 /// lift of the commanded path at every sample (front-axle position), and its realized shape with
-/// the commanded one. An engine liftcheck runs is checked through its own states instead.
+/// the commanded one. An engine liftcheck runs is judged by the same comparisons of its own trace
+/// (up to the path's end, as a trace written back covers it), so that its verdict does not depend
+/// on the road its results took. A model that reports the commanded shape and its exact lift (the
+/// analytic engine) compares them with themselves: informational.
 void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup, const car::BasePath& path, const Config& q0,
                      const std::vector<car::TimedConfig>& trace) {
-  if (!engine.replays_trace()) return;
   double pos = 0.0, shape = 0.0;
   car::LiftDef def;
   def.sample_dt_s = setup.sample_dt_s;
   const auto exact = car::lift(setup.car, path, q0, def);
   for (const auto& s : trace) {
+    if (s.t_s > path.duration_s() + 1e-9) break;  // the hold after the path's end is no part of a trace
     // The exact lift at the same time: on the path's sample grid (which the trace was checked to
     // cover) it is a sample of the lift; a row in between is compared with the chord between the
     // neighbouring samples (off the arc by (v h)^2 / 8r, a micrometre at 1 m/s, h = 10 ms, r = 1 m).
@@ -112,8 +128,8 @@ void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup,
     const car::BaseSample cmd = path.at(std::min(s.t_s, path.duration_s()));
     shape = std::max({shape, std::abs(s.q.alpha_rad - cmd.alpha_rad), std::abs(s.q.beta_rad - cmd.beta_rad)});
   }
-  o.values["trace_path_error"] = {0.0, pos};
-  o.values["trace_shape_error"] = {0.0, shape};
+  o.values["trace_path_error"] = {0.0, pos, 0.0, 1.0, !engine.realizes_shape()};
+  o.values["trace_shape_error"] = {0.0, shape, 0.0, 1.0, !engine.realizes_shape()};
 }
 
 /// At most ~400 rows [t, alpha, beta, x, y, phi] for plots and snapshots.
@@ -176,6 +192,63 @@ void add_slip(Outcome& o, const CarEngine& engine) {
   o.details["wheel_slip"] = wheels;
 }
 
+/// The connection (3.3) at every sample: the pose the engine reports at sample k against the lift
+/// of the (alpha, beta) its own wheels realized over samples 0..k (lift_of_samples, each interval
+/// composed of exact flows; exact where only one of alpha and beta changes between two samples:
+/// on car.circle the front-axle centre's arc is R times the wheel angle turned). The largest
+/// distance of the front-axle centre, in m. A pose read late, before the step that turned the
+/// wheels, or interpolated between steps, is off by its lag's travel at every moving sample.
+/// A model that reports the commanded shape as its realized one compares its lift with itself:
+/// informational.
+/// The tolerance (data at the default 0.5 m/s and 1 ms) scales with one step's travel, v dt.
+void add_realized_lift(Outcome& o, const CarEngine& engine, const CarSetup& setup, const std::vector<car::TimedConfig>& trace) {
+  const car::CarDef& c = setup.car;
+  Config q = trace.front().q;
+  double worst = 0.0;
+  for (std::size_t i = 1; i < trace.size(); ++i) {
+    const Config& b = trace[i].q;
+    q = car::flow_beta(q, 0.5 * (b.beta_rad - q.beta_rad));
+    q = car::flow_alpha(c, q, b.alpha_rad - q.alpha_rad);
+    q = car::flow_beta(q, b.beta_rad - q.beta_rad);
+    worst = std::max(worst, std::hypot(b.x_m - q.x_m, b.y_m - q.y_m));
+  }
+  const double step_travel_factor = setup.drive.speed_mps * setup.dt_s / (0.5 * 1e-3);
+  o.values["realized_lift_error"] = {0.0, worst, 0.0, step_travel_factor, !engine.realizes_shape()};
+}
+
+/// The car's centre of mass in the chassis frame (x forward from the front-axle centre, y left):
+/// the chassis box l/2 behind the front axle, the front wheels with their knuckles, the rear wheels.
+Eigen::Vector2d com_in_chassis(const CarSetup& s) {
+  const double l = s.car.l_m, mc = s.chassis_mass_kg, mw = s.wheel_mass_kg, mk = s.knuckle_mass_kg;
+  const int n_front = s.wheels == 4 ? 2 : 1;
+  const double M = mc + (n_front + 2) * mw + n_front * mk;
+  // The front wheels sit at y = 0 (one) or +-track/2 (two), the rear ones at +-track/2: no y offset.
+  return {(mc * -0.5 * l + 2.0 * mw * -l) / M, 0.0};
+}
+
+/// Coulomb's law for the whole car on flat ground: the ground pushes it horizontally by at most mu
+/// times its weight, so its centre of mass never accelerates horizontally by more than mu g. The
+/// centre of mass from each sample's pose (the chassis frame's point com_in_chassis), its
+/// acceleration by second differences of the samples (the mean over two sample intervals, which
+/// also averages the normal load's fluctuations); the excess of the largest over mu g, as a
+/// fraction of mu g (0 within the bound). A car that follows a lift needing more, as a kinematic
+/// one or one that keeps its grip past the limit does, is not doing physics.
+double com_accel_excess(const CarSetup& s, const std::vector<car::TimedConfig>& trace) {
+  const Eigen::Vector2d cB = com_in_chassis(s);
+  const auto com = [&](const Config& q) {
+    const double c = std::cos(q.phi_rad), sn = std::sin(q.phi_rad);
+    return Eigen::Vector2d(q.x_m + c * cB.x() - sn * cB.y(), q.y_m + sn * cB.x() + c * cB.y());
+  };
+  double worst = 0.0;
+  for (std::size_t i = 1; i + 1 < trace.size(); ++i) {
+    const double h0 = trace[i].t_s - trace[i - 1].t_s, h1 = trace[i + 1].t_s - trace[i].t_s;
+    if (!(h0 > 0.0 && h1 > 0.0)) continue;
+    const Eigen::Vector2d a = 2.0 * ((com(trace[i + 1].q) - com(trace[i].q)) / h1 - (com(trace[i].q) - com(trace[i - 1].q)) / h0) / (h0 + h1);
+    worst = std::max(worst, a.norm());
+  }
+  return std::max(0.0, worst / (s.mu * s.gravity_mps2) - 1.0);
+}
+
 // ---- car.circle ----------------------------------------------------------------------------
 
 Outcome run_circle(const Params& p, CarEngine& engine) {
@@ -218,6 +291,8 @@ Outcome run_circle(const Params& p, CarEngine& engine) {
   // Engines integrate the heading step by step: first order in dt, so the tolerance (data at
   // 1 ms) scales with dt / 1 ms.
   o.values["heading_residual"] = {0.0, heading_residual, 0.0, setup.dt_s / 1e-3};
+  add_realized_lift(o, engine, setup, trace);
+  o.values["com_accel_excess"] = {0.0, com_accel_excess(setup, trace), 0.0, 1.0, !engine.realizes_shape()};
   // Lateral acceleration of the front wheel against the friction limit: the kinematic model holds
   // only while v^2 / (r g) is well below mu.
   const double grip_use = setup.drive.speed_mps * setup.drive.speed_mps / (fe.radius_m * setup.gravity_mps2) / setup.mu;
@@ -232,9 +307,35 @@ Outcome run_circle(const Params& p, CarEngine& engine) {
   return o;
 }
 
+/// car.beyond-grip: the circle driven faster than the grip allows (v^2/(r g) > mu). Coulomb's law
+/// bounds the centre of mass's horizontal acceleration by mu g, so the car must slide off the lift:
+/// the fitted front circle opens by at least kRequiredOpening (the lift's circle needs more than
+/// mu g; the least circle the friction can hold at the same speed is wider by the ratio).
+constexpr double kRequiredOpening = 0.01;
+Outcome run_beyond_grip(const Params& p, CarEngine& engine) {
+  const CarSetup setup = setup_from(p);
+  const Config q0 = start_from(p);
+  const car::Circle fe = car::front_circle(setup.car, q0);
+  const double need = setup.drive.speed_mps * setup.drive.speed_mps / fe.radius_m / (setup.mu * setup.gravity_mps2);
+  if (!(need > 1.2))
+    throw InputError(fmt::format("car.beyond-grip needs v^2/(r g) > 1.2 mu to be past the grip limit: it is {:.3g} mu", need));
+  Outcome o = run_circle(p, engine);
+  const double opening = (o.values.at("front_radius").measured - fe.radius_m) / fe.radius_m;
+  Outcome b;
+  b.values["com_accel_excess"] = o.values.at("com_accel_excess");
+  b.values["com_accel_excess"].informational = false;
+  b.values["slide_shortfall"] = {0.0, std::max(0.0, 1.0 - opening / kRequiredOpening)};
+  b.details = o.details;
+  b.details["front_radius_opening"] = opening;
+  b.details["lift_needs_mu_g"] = need;
+  for (const char* k : {"slip_along_max", "slip_across_max", "slip_rms"})
+    if (o.values.count(k)) b.values[k] = o.values.at(k), b.values[k].informational = true;  // sliding is the point here
+  return b;
+}
+
 Outcome run_slip(const Params& p, CarEngine& engine) {
   Outcome o = run_circle(p, engine);
-  for (const char* keep_out : {"center_x", "center_y", "final_heading_error", "heading_residual"}) o.values.erase(keep_out);
+  for (const char* keep_out : {"center_x", "center_y", "final_heading_error", "heading_residual", "realized_lift_error", "com_accel_excess"}) o.values.erase(keep_out);
   return o;
 }
 
@@ -339,6 +440,7 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   o.values["lo_dx"] = {predicted[car::kX], d[car::kX], lo_size, lo_factor};
   o.values["lo_dy"] = {predicted[car::kY], d[car::kY], lo_size, lo_factor};
   o.values["lo_dphi"] = {predicted[car::kPhi], d[car::kPhi], lo_size / l, lo_factor};
+  add_realized_lift(o, engine, setup, trace);
   o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
                {"steps", steps.size()}, {"holonomy_size_m", size},
                {"measured_size_m", rod_shift(setup.car, trace.front().q, trace.back().q)},
@@ -518,6 +620,68 @@ Outcome run_slope(const Params& p, CarEngine& engine) {
   return o;
 }
 
+// ---- car.coulomb ---------------------------------------------------------------------------
+
+/// Least-squares s(t) = s0 + v0 t + a t^2 / 2 over the samples: the fitted a, m/s^2.
+double fit_accel(const std::vector<double>& t, const std::vector<double>& s) {
+  Eigen::MatrixXd A(t.size(), 3);
+  Eigen::VectorXd b(t.size());
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    A.row(i) << 1.0, t[i], 0.5 * t[i] * t[i];
+    b[i] = s[i];
+  }
+  return A.colPivHouseholderQr().solve(b)[2];
+}
+
+/// Coulomb's law on a slope steeper than the friction angle (tan(slope) > mu): the car, its wheels
+/// held by their servos (locked: zero commanded rates) and its axles across the slope, slides
+/// downhill like a block, s(t) = s0 + v0 t + g (sin(slope) - mu cos(slope)) t^2 / 2 (the friction of
+/// every sliding contact is mu times its normal load, which sum to the weight's normal part). The
+/// acceleration measures the engine's clock (a step of the wrong length scales it by the square of
+/// the ratio), its gravity (tilted) and its effective friction coefficient at once. It slides
+/// from the start of the settle (the exact acceleration is constant from the first contact), so
+/// the fit takes s0 and v0 free, over the samples from `fit_from` on.
+Outcome run_coulomb(const Params& p, CarEngine& engine) {
+  CarSetup setup = setup_from(p);
+  const Config q0 = start_from(p);
+  const double slope = p.num("slope"), slope_dir = p.num("slope_dir"), T = p.num("slide"), fit_from = p.num("fit_from");
+  if (!(std::tan(slope) > setup.mu * 1.05))
+    throw InputError(fmt::format("car.coulomb needs tan(slope) > 1.05 mu for the car to slide: tan({:g}) = {:.3g}, mu = {:g}", slope, std::tan(slope), setup.mu));
+  if (!(fit_from + 0.2 < T)) throw InputError(fmt::format("car.coulomb needs fit_from + 0.2 s < slide: {:g} and {:g} s", fit_from, T));
+  setup.gravity_dir_W = tilted_gravity_dir(slope, slope_dir);
+  const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
+  const car::BasePath path({{0.0, 0.0, T}}, 0.0, q0.beta_rad, setup.drive);
+  const auto trace = drive_checked(engine, setup, q0, path);
+  const Eigen::Vector2d cB = com_in_chassis(setup);
+  std::vector<double> ts, s_down, s_across;
+  for (const auto& smp : trace) {
+    if (smp.t_s < fit_from - 1e-9 || smp.t_s > T + 1e-9) continue;
+    const double c = std::cos(smp.q.phi_rad), sn = std::sin(smp.q.phi_rad);
+    const Eigen::Vector2d com(smp.q.x_m + c * cB.x() - sn * cB.y(), smp.q.y_m + sn * cB.x() + c * cB.y());
+    ts.push_back(smp.t_s);
+    s_down.push_back(com.dot(downhill));
+    s_across.push_back(com.x() * downhill.y() - com.y() * downhill.x());
+  }
+  if (ts.size() < 8)
+    throw InputError(fmt::format("car.coulomb needs at least 8 samples to fit the slide: sample_dt = {:g} s is too coarse", setup.sample_dt_s));
+  const double g = setup.gravity_mps2, a_exact = g * (std::sin(slope) - setup.mu * std::cos(slope));
+  const double a = fit_accel(ts, s_down), a_across = fit_accel(ts, s_across);
+  Outcome o;
+  o.values["slide_accel"] = {a_exact, a};
+  // Straight down: sliding friction opposes the slide, so nothing pushes the car across it.
+  o.values["slide_accel_across"] = {0.0, a_across, a_exact};
+  o.values["heading_change"] = {0.0, std::abs(e2::wrap_angle(trace.back().q.phi_rad - trace.front().q.phi_rad))};
+  o.details = {{"trace", trace_json(trace)},
+               {"reference", reference_json(setup, path, q0)},
+               {"gravity_W_mps2", {setup.gravity_W().x(), setup.gravity_W().y(), setup.gravity_W().z()}},
+               {"effective_mu", (g * std::sin(slope) - a) / (g * std::cos(slope))},
+               {"clock_ratio_if_mu_exact", std::sqrt(a / a_exact)}};
+  add_slip(o, engine);
+  for (const char* k : {"slip_along_max", "slip_across_max", "slip_rms"})
+    if (o.values.count(k)) o.values[k].informational = true;  // the car slides: that is the point here
+  return o;
+}
+
 MetricDef rel(std::string name, std::string unit, double analytic, double engines, std::string help) {
   return {std::move(name), std::move(unit), TolKind::kRelative, {{"reference", analytic}, {"default", engines}},
           std::move(help)};
@@ -537,9 +701,18 @@ MetricDef abs_(std::string name, std::string unit, double analytic, double engin
 const MetricDef SLIP_ALONG = abs_("slip_along_max", "m/s", 0.0, 1e-4, "largest contact-point speed along a wheel's rolling direction (worst wheel)");
 const MetricDef SLIP_ACROSS = abs_("slip_across_max", "m/s", 0.0, 1e-4, "largest contact-point speed along a wheel's axle (worst wheel)");
 const MetricDef SLIP_RMS = abs_("slip_rms", "m/s", 0.0, 1e-4, "RMS contact-point speed over the drive (worst wheel)");
-// A trace from a simulator outside liftcheck (liftcheck score): every sample against the exact lift.
-const MetricDef TRACE_PATH = abs_("trace_path_error", "m", 0.0, 1e-3, "outside simulator's trace: largest distance of the front-axle centre from the exact lift at any sample");
-const MetricDef TRACE_SHAPE = abs_("trace_shape_error", "rad", 0.0, 1e-3, "outside simulator's trace: largest difference of its (alpha, beta) from the commanded path, or of its heading from the exact lift's, at any sample");
+// Every sample of the trace (an engine's, or an outside simulator's from liftcheck score) against
+// the exact lift and the command.
+const MetricDef TRACE_PATH = abs_("trace_path_error", "m", 0.0, 1e-3, "the trace up to the path's end: largest distance of the front-axle centre from the exact lift at any sample");
+const MetricDef TRACE_SHAPE = abs_("trace_shape_error", "rad", 0.0, 1e-3, "the trace up to the path's end: largest difference of its (alpha, beta) from the commanded path, or of its heading from the exact lift's, at any sample");
+
+// The connection (3.3) at every sample: the pose against the lift of the engine's own realized
+// (alpha, beta). 0.1 mm is a fifth of one engine step's travel at the default 0.5 m/s and 1 ms;
+// the tolerance scales with v dt (a pose one step late is off by one step's travel).
+const MetricDef REALIZED_LIFT = abs_("realized_lift_error", "m", 1e-9, 1e-4, "largest distance, at any sample, of the front-axle centre from the lift of the wheel and steering angles the engine realized up to that sample (a pose reported late or early; tolerance at 0.5 m/s and dt = 1 ms, x v dt / 0.5 mm)");
+// Coulomb: the ground pushes the car by at most mu times its weight. 5% for the normal load's
+// fluctuation over two sample intervals and the second differences.
+const MetricDef COM_ACCEL = abs_("com_accel_excess", "1", 1e-9, 0.05, "largest horizontal acceleration of the car's centre of mass beyond mu g, as a fraction of mu g (0: within Coulomb's bound)");
 
 std::vector<MetricDef> cycle_metrics() {
   const std::string size = ", relative to the size of the holonomy (rms shift of the rod's ends)";
@@ -551,7 +724,7 @@ std::vector<MetricDef> cycle_metrics() {
     m.floor = {{"reference", 5e-11}};
     return m;
   };
-  return {SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE,
+  return {SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE, REALIZED_LIFT,
       floored(rel("dx", "m", 1e-9, 0.02, "net x change against the exact holonomy" + size)),
       floored(rel("dy", "m", 1e-9, 0.02, "net y change against the exact holonomy" + size)),
       floored(rel("dphi", "rad", 1e-9, 0.02, "net heading change against the exact holonomy" + size + " / l")),
@@ -579,7 +752,7 @@ std::vector<Scenario> car_scenarios() {
                 abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact arc"),
                 abs_("final_heading_error", "rad", 1e-9, 1e-3, "heading at the end against the exact arc"),
                 abs_("heading_residual", "rad", 1e-9, 1e-5, "largest difference between the heading and the one the exact circle gives at the sampled position (tolerance at dt = 1 ms, x dt / 1 ms)"),
-                SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
+                REALIZED_LIFT, COM_ACCEL, SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
                run_circle});
   v.back().headline = {{"front_radius", "rear_radius"}, "radius", "", 1.0};
   v.push_back({"car.cycle", "car",
@@ -668,6 +841,52 @@ std::vector<Scenario> car_scenarios() {
                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
                  run_slope});
     v.back().headline = {{"creep_speed"}, "creep", "µm/s", 1e6};
+  }
+  {
+    // Default: a 0.5 rad slope (tan 0.546) with mu = 0.3 (friction angle 0.29 rad): a = 2.12 m/s^2;
+    // the car heads along +x, across the slope falling towards +y, so it slides along its axles.
+    auto params = with(car_params("0.0"), {number("slope", "0.5", "rad", "tilt of gravity against the ground's normal (tan(slope) > mu)", 0.0, false, 1.4),
+                                           number("slope_dir", "0", "rad", "direction of the tilt axis in the ground plane (downhill is this turned by +90 degrees)"),
+                                           number("slide", "2", "s", "time held with the wheels locked after the settle", 0.5, false, 100.0),
+                                           number("fit_from", "0.2", "s", "first sample of the fit (the settle's landing transient before it)", 0.0, false, 100.0)});
+    for (auto& ps : params)
+      if (ps.key == "mu") ps.default_text = "0.3";
+    Scenario coulomb{"car.coulomb", "car",
+                     "Coulomb's law: on a slope steeper than the friction angle the car, wheels locked, slides down like a block "
+                     "with s(t) = g (sin(slope) - mu cos(slope)) t^2 / 2, which measures the engine's clock, its tilted gravity and its "
+                     "effective friction coefficient at once (the no-slip lift does not apply: the analytic engine is skipped).",
+                     "Coulomb friction; (3.3) does not hold",
+                     params,
+                     {rel("slide_accel", "m/s^2", 1e-9, 2e-3, "downhill acceleration of the centre of mass, fitted over the slide, against g (sin(slope) - mu cos(slope))"),
+                      rel("slide_accel_across", "m/s^2", 1e-9, 5e-3, "acceleration across the slope, relative to the exact downhill one (0: the slide goes straight down)"),
+                      abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
+                      SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
+                     run_coulomb};
+    coulomb.needs_contact_dynamics = true;
+    coulomb.headline = {{"slide_accel"}, "slide acceleration", "", 1.0};
+    v.push_back(coulomb);
+  }
+  {
+    auto params = with(car_params("0.3"), {number("drive", "10", "m", "front-wheel path length", 0.0, true, 1e4)});
+    for (auto& ps : params) {
+      if (ps.key == "mu") ps.default_text = "0.1";
+      if (ps.key == "speed") ps.default_text = "3.0";
+    }
+    Scenario beyond{"car.beyond-grip", "car",
+                    "Past the grip limit (car.slip's drive: 3 m/s on the 3.4 m circle, mu = 0.1, the lift needs 2.7 mu g): the "
+                    "ground pushes the car by at most mu times its weight, so its centre of mass may not accelerate horizontally "
+                    "by more than mu g, and the car must slide off the lift (its front circle opens by at least 1%).",
+                    "Coulomb friction bounds (4.1)",
+                    params,
+                    {COM_ACCEL,
+                     abs_("slide_shortfall", "1", 1e-9, 0.0, "1 - (front circle's opening)/(1%), or 0 when it opened by 1% or more: the car kept grip the friction cannot give"),
+                     SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
+                    run_beyond_grip};
+    beyond.needs_contact_dynamics = true;
+    // Both halves of the engine's error: grip the friction cannot give (as a fraction of mu g, and
+    // as the share of the 1% opening the circle failed to make).
+    beyond.headline = {{"com_accel_excess", "slide_shortfall"}, "excess grip", "", 1.0};
+    v.push_back(beyond);
   }
   {
     auto params = with(car_params("0.3"), {number("drive", "10", "m", "front-wheel path length", 0.0, true, 1e4)});

@@ -2,6 +2,8 @@
 // paper's closed forms where it has them, otherwise from the lift (21) integrated in models/.
 #include "scenarios/disk_scenarios.hpp"
 
+#include "models/disk_contact.hpp"
+
 #include <cmath>
 #include <fmt/format.h>
 #include <numbers>
@@ -65,6 +67,7 @@ DiskSetup setup_from(const Params& p) {
     throw InputError(fmt::format("parameter 'dt' must be < T = {:g} s (the duration), got '{:g}'", p.num("T"), dt));
   if (!(p.num("sample_dt") <= p.num("T")))
     throw InputError(fmt::format("parameter 'sample_dt' must be <= T = {:g} s (the duration), got '{:g}'", p.num("T"), p.num("sample_dt")));
+  check_run_budget(p.num("T"), dt, p.num("sample_dt"));
   return {1.0, dt, dt * std::max(1L, std::lround(p.num("sample_dt") / dt))};
 }
 
@@ -170,6 +173,79 @@ std::function<Vec2(double)> at_samples(const disks::LiftResult& ref) {
   };
 }
 
+/// penetration_max's tolerance: contact is first seen up to one step of closing travel deep; a
+/// Baumgarte-stabilised response (ERP 0.2) holds a sustained push at up to 1 / ERP = 5 such steps.
+constexpr double kPenetrationSteps = 5.0;
+
+/// The trace sample of `trace` at time t (the traces compared share the grid i * sample spacing).
+const disks::Sample& sample_at(const std::vector<disks::Sample>& trace, double t) {
+  const auto it = std::lower_bound(trace.begin(), trace.end(), t - 1e-9, [](const disks::Sample& s, double x) { return s.t_s < x; });
+  if (it == trace.end() || std::abs(it->t_s - t) > 1e-9) throw std::logic_error(fmt::format("the reference has no sample at t = {} s", t));
+  return *it;
+}
+
+/// The contact-time shift of the zero-order hold itself: M stepped by its command held over each
+/// step (the forward Euler of the lift (21) at dt, which is what an engine that realises its
+/// command does, to round-off) first overlaps N in some step; that step's midpoint against the
+/// exact time. It depends on the problem and dt only, never on the engine judged.
+double zoh_contact_shift_s(const DiskProblem& pb, double dt, double t_exact) {
+  const long steps = static_cast<long>(std::ceil(pb.T_s / dt - 1e-9));
+  Vec2 cM = pb.cM0;
+  for (long k = 0; k <= steps; ++k) {
+    const double t = std::min(k * dt, pb.T_s);
+    const Vec2 cN = pb.path.position(t);
+    if ((cM - cN).norm() <= disks::kContactDistance) return std::abs(std::max(0.0, t - 0.5 * dt) - t_exact);
+    cM += std::min(dt, pb.T_s - t) * pb.rule(t, cM, cN, pb.path.velocity(t));
+  }
+  return std::abs(pb.T_s - t_exact);  // the held command misses N within T: it is late by at least this
+}
+
+/// After the first contact (class of faults: contacts that stick, stop M dead or bounce). The
+/// frictionless, inelastic response is exact (models/disk_contact.hpp); it is integrated from the
+/// state on which the engine first reported contact (its own positions, so the comparison starts
+/// where the engine's contact did) to T: M's path against it at every trace sample after
+/// contact, and the time the first contact lasts against the reference's. Tolerances in steps:
+/// of M's travel relative to N at contact (path), of dt (duration).
+void after_contact(Outcome& o, const DiskProblem& pb, const DiskRun& run, const DiskSetup& setup) {
+  if (!run.contact_state) return;
+  const disks::Sample& c = *run.contact_state;
+  disks::LiftDef def;
+  def.method = disks::LiftMethod::kBulirschStoer;
+  def.sample_dt_s = setup.sample_dt_s;
+  disks::ResponseResult ref;
+  try {
+    ref = disks::lift_with_response(pb.rule, pb.path, c.cM, c.t_s, pb.T_s, def);
+  } catch (const disks::LiftStalled& e) {
+    throw InputError(std::string(e.what()) + " (the reference after contact has no exact solution here; choose another T)");
+  }
+  double err = 0.0;
+  for (const auto& s : run.trace)
+    if (s.t_s > c.t_s + 1e-12) err = std::max(err, (s.cM - sample_at(ref.trace, s.t_s).cM).norm());
+  const bool stepping = run.contact_log.has_value();
+  const Vec2 vN = pb.path.velocity(c.t_s);
+  const double rel_speed = (pb.rule(c.t_s, c.cM, c.cN, vN) - vN).norm();
+  // A step of relative travel, at least the round-off of a touching distance (a command equal to N's velocity).
+  o.values["contact_path_error"] = {0.0, err, 0.0, stepping ? std::max(rel_speed * setup.dt_s, kTouchRoundoff_m) : 1.0};
+  // The contact must last while the command presses M into N and end when it points away; where
+  // the command comes to rest against N (n.(v_cmd - v_N) = 0) it may end anywhere in between (at
+  // rest, touching and a push-out's gap of a micrometre are both the inelastic answer).
+  const double press_end = ref.t_press_end_s.value_or(pb.T_s), release = ref.t_release_s.value_or(pb.T_s);
+  const double end_run = run.t_release_s.value_or(pb.T_s);
+  const double closing = std::max(0.0, -(c.cM - c.cN).normalized().dot(pb.rule(c.t_s, c.cM, c.cN, vN) - vN));
+  // An engine's release is seen up to a step late, and an engine holding the disks delta deep
+  // (penetration_max allows kPenetrationSteps steps of closing travel) separates only once M has
+  // gone on along the tangent far enough to clear it, 2 sqrt(delta) / |v_rel| later.
+  const double bound_s = 2.0 * setup.dt_s + 2.0 * std::sqrt(kPenetrationSteps * closing * setup.dt_s) / std::max(rel_speed, 1e-9);
+  o.values["contact_duration"] = {std::clamp(end_run, press_end, release) - c.t_s, end_run - c.t_s, 0.0, stepping ? bound_s : 1.0};
+  o.details["after_contact"] = {{"from_t_s", c.t_s},
+                                {"relative_speed_mps", rel_speed},
+                                {"reference_release_s", ref.t_release_s ? nlohmann::json(*ref.t_release_s) : nlohmann::json()},
+                                {"reference_press_end_s", ref.t_press_end_s ? nlohmann::json(*ref.t_press_end_s) : nlohmann::json()},
+                                {"duration_bound_s", stepping ? bound_s : 1.0},
+                                {"release_s", run.t_release_s ? nlohmann::json(*run.t_release_s) : nlohmann::json()},
+                                {"reference", trace_json(ref.trace)}};
+}
+
 /// What every disk scenario measures. Before contact the engine must follow the lift: its path
 /// against `cM_ref`, and, where the disks never touch, the closest approach and the final
 /// distance. Contact: collision and its time (in steps), and, from the engine's own contact log,
@@ -198,11 +274,11 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
   if (expected_t && run.t_contact_s) {
     // A stepping engine's contact happened between its last state reported free of contact and its
     // first reported in contact: the midpoint of that step is compared. The tolerance is that step
-    // plus the time the engine's own measured path error (gated by path_error) shifts the contact
-    // by at the closing speed: an engine integrating a zero-order-held command is first-order late
-    // or early, and a contact later than its own path explains is a fault.
+    // plus the shift of the zero-order hold itself (an engine integrating its held command is
+    // first-order early or late by that much and no more); it is computed from the problem and dt,
+    // not from the engine judged.
     const double t = run.contact_log ? std::max(0.0, *run.t_contact_s - 0.5 * dt) : *run.t_contact_s;
-    const double shift_s = run.contact_log && closing > 0.0 ? path_err / closing : 0.0;
+    const double shift_s = run.contact_log ? zoh_contact_shift_s(pb, dt, *expected_t) : 0.0;
     o.values["t_contact"] = {*expected_t, t, 0.0, dt + shift_s};
     o.details["t_contact_shift_allowed_s"] = shift_s;
   }
@@ -210,8 +286,15 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
     o.values["min_distance"] = {ref.min_distance, run.min_distance, 0.0, f};
     o.values["final_distance"] = {ref.final_distance, final_distance(run), 0.0, f};
   }
+  after_contact(o, pb, run, setup_from(p));
   if (const auto& log = run.contact_log) {
     o.values["n_path_error"] = {0.0, log->n_path_error_max_m};
+    // Before contact each step moves M by its command times the step (a trace from outside is not
+    // known to hold its command over a step: it may integrate otherwise).
+    if (log->reported_by_engine) {
+      o.values["step_displacement"] = {0.0, log->step_displacement_error_max_m};
+      o.details["step_displacement_at_s"] = log->step_displacement_error_at_s;
+    }
     if (log->reported_by_engine) o.values["contact_missed"] = {0.0, std::max(0.0, log->overlap_unreported_m)};
     if (run.t_contact_s) {
       if (log->reported_by_engine) {
@@ -464,18 +547,29 @@ std::vector<Scenario> disk_scenarios() {
       kCollision, kTContact,
       abs_("path_error", "m", 1e-8, 1e-2, "largest distance of c_M from the reference up to the first contact"),
       // The engine's own contact log against its own reported positions: exact for any engine.
-      {"n_path_error", "m", TolKind::kAbsolute, {{"default", 1e-9}}, "largest distance of N, as the engine moved it, from its path"},
+      {"n_path_error", "m", TolKind::kAbsolute, {{"default", 1e-9}}, "largest distance of N, as the engine moved it, from its path", {}, true},
       {"contact_missed", "m", TolKind::kAbsolute, {{"default", 1e-9}},
-       "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact"},
+       "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact", {}, true},
       {"contact_report_gap", "m", TolKind::kAbsolute, {{"default", 1e-9}},
-       "largest gap |c_M - c_N| - 2 on a state the engine's collision pass reported in contact"},
+       "largest gap |c_M - c_N| - 2 on a state the engine's collision pass reported in contact", {}, true},
       {"contact_depth_error", "m", TolKind::kAbsolute, {{"default", 1e-9}},
-       "largest difference between the depth the engine's contacts report and the overlap of its bodies"},
+       "largest difference between the depth the engine's contacts report and the overlap of its bodies", {}, true},
       abs_("overlap_growth", "m", 0.0, 0.1, "growth of the overlap over the step after the first contact; tolerance in steps of closing travel"),
-      // Contact is first seen up to one step of closing travel deep; a Baumgarte-stabilised response
-      // (ERP 0.2) holds a sustained push at up to 1 / ERP = 5 such steps.
-      abs_("penetration_max", "m", 0.0, 5.0, "largest overlap 2 - |c_M - c_N| after the first contact; tolerance in steps of closing travel at the lift's closing speed"),
-      min_d, final_d};
+      abs_("penetration_max", "m", 0.0, kPenetrationSteps, "largest overlap 2 - |c_M - c_N| after the first contact; tolerance in steps of closing travel at the lift's closing speed"),
+      min_d, final_d,
+      // Round-off: positions of at most 100 m carry 1.4e-14 m of it per step; a motor one step late
+      // is off by the change of its command times dt (2 mm on the first step from rest at 2 m/s).
+      {"step_displacement", "m", TolKind::kAbsolute, {{"default", 1e-9}},
+       "largest |step displacement of M - v_cmd dt| over the steps before the first contact"},
+      // Engines: the penetration penetration_max allows (kPenetrationSteps steps of closing travel, along n)
+      // plus one step of travel along the tangent (contact is seen up to a step late, M went straight on).
+      abs_("contact_path_error", "m", 1e-8, kPenetrationSteps + 1.0,
+           "largest distance of M after the first contact from the exact frictionless, inelastic response started at that contact; "
+           "tolerance in steps of M's travel relative to N"),
+      // Engines: 1 x the bound of after_contact (two steps, and the time to clear an allowed penetration).
+      abs_("contact_duration", "s", 1e-6, 1.0,
+           "how long the first contact lasts (to a separation of 1 um, or T) against the exact response's; tolerance a multiple "
+           "of two steps plus the time M takes to clear an allowed penetration after release")};
   const auto metrics = [&](std::vector<MetricDef> extra, double analytic_path_tol = 1e-8) {
     std::vector<MetricDef> all = common;
     for (auto& m : all)
@@ -519,6 +613,15 @@ std::vector<Scenario> disk_scenarios() {
                                                           number("b", "0", "1", "coefficient b (the paper's beta)", -100.0, false, 100.0)}),
       metrics({abs_("cM_end_error", "m", 1e-8, 1e-2, "c_M at T against (43) (runs without contact)")}), run_linear,
       Headline{{"penetration_max"}, "penetration", "mm", 1e3});
+  // Oblique: the relative command u = B v_N = (1, 0) carries M past N at an offset of 1, so it meets
+  // N at 150 degrees (t = 4 - sqrt 3), slides over it frictionlessly and leaves it on the tangent at
+  // 90 degrees, (2/|u|) ln tan 75 deg = 2.63 s later (models/disk_contact.hpp).
+  add("disks.oblique", "Oblique contact under the linear mechanism: M meets N off its line of approach, slides over it "
+      "(frictionless, inelastic) and leaves it along the tangent when its command points away.", "(41)-(43), (34)",
+      with(disk_params("0,1", "4,0", "1,0", "line", "7"), {number("a", "2", "1", "coefficient a (the paper's alpha)", -100.0, false, 100.0),
+                                                          number("b", "0", "1", "coefficient b (the paper's beta)", -100.0, false, 100.0)}),
+      metrics({abs_("cM_end_error", "m", 1e-8, 1e-2, "c_M at T against (43) (runs without contact)")}), run_linear,
+      Headline{{"contact_path_error"}, "after-contact path", "mm", 1e3});
   add("disks.forced", "Forced collision: N drives straight at the centre of D and contact follows when it enters D, "
       "whatever linear mechanism (a, b) != (1, 0) M uses.", "Corollary 6.3, Lemma 6.1, (46)",
       with(disk_params("0,0", "6,-2", "1.5,0", "line", "20", false),

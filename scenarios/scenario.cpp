@@ -4,6 +4,16 @@
 
 namespace liftcheck {
 
+void check_run_budget(double duration_s, double dt_s, double sample_dt_s) {
+  const auto check = [&](const char* key, double step, double limit, const char* what) {
+    if (!(duration_s / step <= limit))
+      throw InputError(fmt::format("parameter '{}' = {:g} s asks for {:.3g} {} over the run's {:g} s: at most {:g} ({} >= {:.3g} s here)", key,
+                                   step, duration_s / step, what, duration_s, limit, key, duration_s / limit));
+  };
+  check("dt", dt_s, kMaxRunSteps, "engine steps");
+  check("sample_dt", sample_dt_s, kMaxRunSamples, "recorded samples");
+}
+
 double MetricDef::tolerance_for(const std::string& engine) const {
   if (auto it = tolerance.find(engine); it != tolerance.end()) return it->second;
   if (auto it = tolerance.find("default"); it != tolerance.end()) return it->second;

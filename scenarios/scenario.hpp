@@ -26,6 +26,10 @@ struct MetricDef {
   /// Absolute floor by role (relative metrics only): an absolute error at or below it
   /// passes, for quantities that can be tiny (round-off of a 1e-9 m holonomy is not an error).
   std::map<std::string, double> floor = {};
+  /// Checks an engine's bookkeeping against itself (where it put N, what its contacts report
+  /// against its bodies), not physics: the tolerance scales with the precision the engine
+  /// declares (bookkeeping_factor in engines/engine.hpp).
+  bool bookkeeping = false;
   /// A check of a paper's approximation (a leading-order formula against the exact model): the
   /// reference's business, shown for the other engines but not counted for them.
   bool reference_only = false;
@@ -101,6 +105,16 @@ struct Scenario {
   const MetricDef* metric(const std::string& name) const;
   nlohmann::json to_json() const;
 };
+
+/// What one run may ask for: engine steps (a run's time) and recorded samples (its memory: each
+/// is kept, the exact lift's too). dt and sample_dt are bounded below by the run's duration over
+/// these, so that no parameter makes a step count overflow or a trace outgrow memory.
+constexpr double kMaxRunSteps = 1e8;
+constexpr double kMaxRunSamples = 1e6;
+
+/// InputError naming dt or sample_dt, the count it asks for and its lower bound for this
+/// duration, when duration_s / dt_s > kMaxRunSteps or duration_s / sample_dt_s > kMaxRunSamples.
+void check_run_budget(double duration_s, double dt_s, double sample_dt_s);
 
 /// The catalogue, in a fixed order.
 const std::vector<Scenario>& scenarios();

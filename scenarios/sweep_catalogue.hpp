@@ -39,6 +39,11 @@ struct SweepDef {
   std::vector<std::string> param_keys = {};
   /// Exact curves drawn under the points: a gnuplot expression in x and its title.
   std::vector<std::pair<std::string, std::string>> curves = {};
+  /// Past the marker (the grip limit) a configuration with contact dynamics must slide: each point
+  /// there must fail with the front circle opened by kSlideRadius or more, or a lateral contact
+  /// slip of kSlideAcross_mps or more. A pass, or a failure in other metrics only, kept its grip.
+  bool slide_past_marker = false;
+  static constexpr double kSlideRadius = 0.01, kSlideAcross_mps = 0.1;
 };
 
 const std::vector<SweepDef>& sweep_catalogue();

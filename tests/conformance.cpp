@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 #include <iostream>
 
+#include "harness/external.hpp"
 #include "harness/runner.hpp"
 
 using namespace liftcheck;
@@ -124,6 +125,82 @@ TEST_P(PerEngine, TiltedGravityIsFelt) {
   const double coulomb_m = 0.5 * setup.gravity_mps2 * (std::sin(slope) - setup.mu * std::cos(slope)) * hold_s * hold_s;
   EXPECT_GT(moved.dot(downhill), 0.25 * coulomb_m) << GetParam() << " did not slide down a slope steeper than its friction";
   EXPECT_GT(moved.dot(downhill), 0.9 * moved.norm()) << GetParam() << " moved, but not downhill";
+}
+
+/// Wraps a configuration's car and keeps the full trace of its (single) drive and the path's length.
+class KeepTrace final : public CarEngine {
+ public:
+  KeepTrace(std::unique_ptr<CarEngine> inner, std::vector<car::TimedConfig>* trace, double* T_s, int* drives)
+      : inner_(std::move(inner)), trace_(trace), T_s_(T_s), drives_(drives) {}
+  void reset(const CarSetup& setup, const car::Config& q0) override { inner_->reset(setup, q0); }
+  std::vector<car::TimedConfig> drive(const car::BasePath& path) override {
+    *trace_ = inner_->drive(path);
+    *T_s_ = path.duration_s();
+    ++*drives_;
+    return *trace_;
+  }
+  std::vector<WheelSlip> slip() const override { return inner_->slip(); }
+  bool realizes_shape() const override { return inner_->realizes_shape(); }
+  double simulated_s() const override { return inner_->simulated_s(); }
+
+ private:
+  std::unique_ptr<CarEngine> inner_;
+  std::vector<car::TimedConfig>* trace_;
+  double* T_s_;
+  int* drives_;
+};
+
+// An engine's verdict does not depend on the road its results took: for every car scenario with a
+// single path, `liftcheck score` on the trace of the configuration's own run (its samples up to
+// the path's end T, the state at T interpolated linearly between the two samples around it, as
+// the trace of an engine stepping past T would be) fails exactly the metrics the run fails, but
+// the contact-point slip, which a trace does not carry.
+TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
+  const EngineInfo* e = find_engine(GetParam());
+  ASSERT_NE(e, nullptr);
+  if (!e->make_car) GTEST_SKIP() << GetParam() << " has no car";
+  int scored = 0;
+  for (const Scenario& s : scenarios()) {
+    if (s.vehicle != "car" || s.needs_contact_dynamics) continue;
+    std::vector<car::TimedConfig> full;
+    double T_s = 0.0;
+    int drives = 0;
+    EngineInfo keep = *e;
+    keep.make_car = [&, e](const Settings& st) { return std::make_unique<KeepTrace>(e->make_car(st), &full, &T_s, &drives); };
+    const RunRecord run = run_scenario(s, keep);
+    if (drives != 1) continue;  // several runs: no single path to score (liftcheck score refuses it)
+    ASSERT_NE(run.status, Status::kError) << s.name << ": " << run.message;
+    Trace tr{"own-" + GetParam() + ".csv", {}};
+    for (std::size_t i = 0; i < full.size(); ++i) {
+      const auto& a = full[i];
+      if (a.t_s <= T_s + 1e-9) tr.rows.push_back({a.t_s, a.q.alpha_rad, a.q.beta_rad, a.q.x_m, a.q.y_m, a.q.phi_rad});
+      if (a.t_s < T_s - 1e-9 && i + 1 < full.size() && full[i + 1].t_s > T_s + 1e-9) {
+        const auto& b = full[i + 1];
+        const double w = (T_s - a.t_s) / (b.t_s - a.t_s);
+        const car::Vec5 q = (1.0 - w) * a.q.vec() + w * b.q.vec();
+        tr.rows.push_back({T_s, q[car::kAlpha], q[car::kBeta], q[car::kX], q[car::kY], q[car::kPhi]});
+      }
+    }
+    const RunRecord score = run_scenario(s, replay_engine("own-" + GetParam(), s, tr));
+    ASSERT_NE(score.status, Status::kError) << s.name << ": " << score.message;
+    // A trace carries no wheel states: the run's contact-point slip is the one thing score cannot
+    // see. Where the run shows a metric without counting it (a configuration whose wheel angle is
+    // derived from its pose, whose realized shape compared with its pose compares a value with
+    // itself), the trace, which cannot say so, is not judged on it either.
+    std::vector<std::string> run_failed, score_failed;
+    for (const std::string& m : run.failed_metrics())
+      if (m.rfind("slip_", 0) != 0) run_failed.push_back(m);
+    for (const Metric& m : score.metrics)
+      if (!m.pass && !m.informational &&
+          std::any_of(run.metrics.begin(), run.metrics.end(), [&](const Metric& r) { return r.name == m.name && !r.informational; }))
+        score_failed.push_back(m.name);
+    EXPECT_EQ(score_failed, run_failed)
+        << s.name << " on " << GetParam() << ": the run " << (run.status == Status::kPass ? "passes" : "fails: " + run.message)
+        << "; its trace scored " << (score.status == Status::kPass ? "passes" : "fails: " + score.message);
+    EXPECT_EQ(score_failed.empty(), run_failed.empty()) << s.name << ": " << score.message;
+    ++scored;
+  }
+  EXPECT_GE(scored, 6) << "fewer car scenarios with a single path than car.circle, the three cycles, steer-in-place and slope";
 }
 
 // Honest settings: every setting the engine declares changes some result when changed (a setting

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "input/read_file.hpp"
 #include "input/results_file.hpp"
 #include "input/suggest.hpp"
 #include "input/trace.hpp"
@@ -127,6 +128,25 @@ TEST(Trace, CsvNamesLineColumnAndProblem) {
   EXPECT_EQ(tr.rows[1], (std::vector<double>{0.01, 1, 2, 3, 4, 5}));
 }
 
+// The trace header may say the simulator's precision and settings (the road of a trace learns
+// what a stepped engine's hello says); without one a trace is float64 with no settings.
+TEST(Trace, HeaderCarriesPrecisionAndSettings) {
+  const std::string rows = "t,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.01,0,0,0,0,0\n";
+  const Trace plain = parse_trace(rows, "trace.csv", "car");
+  EXPECT_EQ(plain.precision, "float64");
+  EXPECT_TRUE(plain.settings.empty());
+  const Trace csv = parse_trace("# precision: float32\n# setting: iterations=20\n" + rows, "trace.csv", "car");
+  EXPECT_EQ(csv.precision, "float32");
+  EXPECT_EQ(csv.settings, (std::vector<std::pair<std::string, std::string>>{{"iterations", "20"}}));
+  EXPECT_EQ(trace_error("# precision: half\n" + rows), "trace.csv:1: precision 'half' must be float32 or float64");
+  EXPECT_EQ(trace_error("# setting: iterations\n" + rows), "trace.csv:1: '# setting:' needs KEY=VALUE");
+  const Trace js = parse_trace(R"({"precision": "float32", "settings": {"solver": "pgs"}, "rows": [
+      {"t": 0, "alpha": 0, "beta": 0, "x": 0, "y": 0, "phi": 0}, {"t": 0.01, "alpha": 0, "beta": 0, "x": 0, "y": 0, "phi": 0}]})",
+                               "trace.json", "car");
+  EXPECT_EQ(js.precision, "float32");
+  EXPECT_EQ(js.settings, (std::vector<std::pair<std::string, std::string>>{{"solver", "pgs"}}));
+}
+
 TEST(Trace, JsonNamesRowColumnAndProblem) {
   EXPECT_EQ(trace_error(R"([{"t": 0, "cMx": 0, "cMy": 0, "cNx": 3, "cNy": 0}, {"t": 1, "cMx": "0", "cMy": 0, "cNx": 3, "cNy": 0}])", "disks"),
             "trace.csv: row 2: column 'cMx' is not a finite number");
@@ -145,4 +165,58 @@ TEST(Trace, DeepJsonIsRefusedNotACrash) {
   EXPECT_EQ(results_error("{\"runs\": " + deep + "}"), "base.json: JSON nested deeper than 64 levels");
   const std::string ok = std::string(60, '[') + std::string(60, ']');
   EXPECT_EQ(trace_error(ok, "disks"), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
+}
+
+// Reliability (issue 23). The JSON reader is linear (one pass of nlohmann's own DOM builder) and
+// keeps the depth limit; a key repeated in one object is refused (the last would silently win, so
+// a baseline ending in "runs": [] compared nothing and passed).
+TEST(JsonReader, DuplicateKeysAreRefusedWithTheirPlace) {
+  EXPECT_EQ(results_error(results_with(kMetric) + "x").rfind("base.json: is not JSON", 0), 0u);
+  const std::string text = results_with(kMetric);
+  const std::string twice = text.substr(0, text.size() - 1) + R"(, "runs": []})";
+  EXPECT_EQ(results_error(twice), "base.json: the top level: the key 'runs' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(results_error(R"({"runs": [{}, {"scenario": "a", "engine": "e", "status": "pass", "metrics": {"m": {"unit": "m", "unit": "s"}}}]})"),
+            "base.json: runs[1].metrics.m: the key 'unit' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(trace_error(R"([{"t": 0, "t": 1}])", "disks"), "trace.csv: [0]: the key 't' appears twice in one object (which one is meant?)");
+  // The same key in two objects is no repetition.
+  EXPECT_EQ(results_error(R"({"runs": [], "context": {"runs": 1}})"), "");
+  const std::string ok = std::string(64, '[') + std::string(64, ']');
+  EXPECT_EQ(error_of([&] { parse_json_text(ok, "f"); }), "");
+  EXPECT_EQ(error_of([&] { parse_json_text("[" + ok + "]", "f"); }), "f: JSON nested deeper than 64 levels");
+}
+
+// A CSV trace with a UTF-8 byte-order mark is read (as results.json is); UTF-16 and NUL bytes are
+// refused naming the encoding, not "no column 't'".
+TEST(Trace, ByteOrderMarksAndUtf16) {
+  const std::string csv = "t,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.01,0,0,1,0,0\n";
+  EXPECT_EQ(parse_trace("\xEF\xBB\xBF" + csv, "trace.csv", "car").rows.size(), 2u);
+  EXPECT_EQ(parse_trace("\xEF\xBB\xBF[{\"t\": 0, \"cMx\": 0, \"cMy\": 0, \"cNx\": 3, \"cNy\": 0}, {\"t\": 1, \"cMx\": 0, \"cMy\": 0, \"cNx\": 3, \"cNy\": 0}]", "trace.json", "disks").rows.size(), 2u);
+  std::string utf16 = "\xFF\xFE";
+  for (char c : csv) utf16 += std::string{c, '\0'};
+  EXPECT_EQ(trace_error(utf16), "trace.csv: is UTF-16 or UTF-32 (it starts with that byte-order mark): save it as UTF-8");
+  EXPECT_EQ(trace_error(utf16.substr(2)), "trace.csv: holds a NUL byte (at byte 1): not UTF-8 text (UTF-16 without a byte-order mark?); save it as UTF-8");
+}
+
+// Every file is read with a limit, a folder is named as one, an OS error with its reason.
+TEST(ReadFile, BoundedAndWithReasons) {
+  EXPECT_EQ(error_of([] { read_text_file("/dev/zero", 1 << 20, "trace"); }),
+            "trace '/dev/zero' is larger than the limit of 1 MiB for a trace (stopped reading there)");
+  // (the CLI test reads /dev/zero as a trace and as a baseline at the real limits)
+  EXPECT_EQ(error_of([] { read_trace("/tmp", "car"); }), "trace '/tmp' is a folder, not a file");
+  EXPECT_EQ(error_of([] { read_results("/nonexistent/r.json"); }), "cannot read results file '/nonexistent/r.json': No such file or directory");
+  EXPECT_EQ(read_text_file("/dev/null", 10, "trace"), "");
+}
+
+// Names reach JSON, which holds UTF-8 only: anything else is refused up front, never an encoding
+// error after the suite; messages show a stray byte as '?'.
+TEST(Names, Utf8) {
+  EXPECT_TRUE(is_utf8("caf\xC3\xA9 \xE2\x9C\x85"));
+  EXPECT_FALSE(is_utf8("caf\xE9"));
+  EXPECT_FALSE(is_utf8("\xC0\xAF"));       // overlong '/'
+  EXPECT_FALSE(is_utf8("\xED\xA0\x80"));   // a surrogate
+  EXPECT_EQ(printable("a\xE9" "b\n\xC3\xA9"), "a?b?\xC3\xA9");
+  EXPECT_EQ(error_of([] { require_utf8("x\xFFy", "--name"); }),
+            "--name 'x?y' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only (rename it)");
+  EXPECT_EQ(error_of([] { read_trace("/tmp/\xFF.csv", "car"); }),
+            "trace file name '/tmp/?.csv' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only (rename it)");
 }

@@ -92,6 +92,34 @@ TEST(Runner, ScoringUsesPerEngineToleranceData) {
   EXPECT_THROW(score(s, "a", o), std::logic_error);
 }
 
+// Precision declared, not assumed: a bookkeeping metric's tolerance scales with the engine's
+// precision (1e-9 m becomes 1e-5 m for float32), a physics metric's does not.
+TEST(Runner, BookkeepingTolerancesScaleWithDeclaredPrecision) {
+  EXPECT_EQ(bookkeeping_factor("float64"), 1.0);
+  EXPECT_EQ(bookkeeping_factor("float32"), 1e4);
+  Scenario s;
+  s.name = "t";
+  s.metrics = {{"n_path", "m", TolKind::kAbsolute, {{"default", 1e-9}}, "", {}, true},
+               {"penetration", "m", TolKind::kAbsolute, {{"default", 1e-9}}, ""}};
+  Outcome o;
+  o.values["n_path"] = {0.0, 3e-7};       // float32 storage of N's position at a few metres
+  o.values["penetration"] = {0.0, 3e-7};
+  const auto f64 = score(s, "default", o, bookkeeping_factor("float64"));
+  const auto f32 = score(s, "default", o, bookkeeping_factor("float32"));
+  EXPECT_FALSE(f64[0].pass);
+  EXPECT_TRUE(f32[0].pass);
+  EXPECT_DOUBLE_EQ(f32[0].tolerance, 1e-5);
+  EXPECT_FALSE(f32[1].pass);  // physics: the same tolerance whatever the precision
+  EXPECT_DOUBLE_EQ(f32[1].tolerance, 1e-9);
+  o.values["n_path"] = {0.0, 2e-5};  // beyond rounding: still a failure in float32
+  EXPECT_FALSE(score(s, "default", o, bookkeeping_factor("float32"))[0].pass);
+  // The disk scenarios mark exactly their bookkeeping of the engine against itself.
+  std::set<std::string> marked;
+  for (const MetricDef& m : find_scenario("disks.linear")->metrics)
+    if (m.bookkeeping) marked.insert(m.name);
+  EXPECT_EQ(marked, (std::set<std::string>{"n_path_error", "contact_missed", "contact_report_gap", "contact_depth_error"}));
+}
+
 TEST(Runner, CycleRecordMatchesExactHolonomy) {
   // The run of the README: measured and expected against a direct composition of the exact flows.
   const Overrides ov{{"R", "0.3"}, {"l", "1.2"}, {"beta", "0.4"}, {"phi", "0.7"}, {"eps_alpha", "0.01"}, {"eps_beta", "0.01"}};
@@ -139,6 +167,8 @@ TEST(Runner, RecordsAreDeterministic) {
 // The reference passes every scenario at every parameter value its ranges allow: each numeric
 // parameter at the ends of its range (durations capped for time), one at a time. A value the
 // scenario rejects as non-physical or ill-posed is an InputError; anything else must pass.
+// (car.coulomb and car.beyond-grip are Coulomb's law, which the no-slip lift does not obey: they
+// need contact dynamics and are skipped, as car.slip is.)
 TEST(Runner, AnalyticPassesAcrossParameterRanges) {
   const EngineInfo& analytic = *find_engine("analytic");
   int runs = 0;
@@ -157,6 +187,16 @@ TEST(Runner, AnalyticPassesAcrossParameterRanges) {
           const RunRecord r = run_scenario(s, analytic, {{p.key, text}});
           ++runs;
           EXPECT_EQ(r.status, Status::kPass) << s.name << " " << p.key << "=" << text << ": " << r.message;
+          // The per-sample metrics are measured on the reference too (shown: it reports the
+          // commanded shape and its exact lift, so they compare the lift with itself).
+          std::vector<std::string> per_sample;
+          if (s.name == "car.circle") per_sample = {"realized_lift_error", "com_accel_excess", "trace_path_error", "trace_shape_error"};
+          if (s.name == "car.cycle") per_sample = {"realized_lift_error", "trace_path_error", "trace_shape_error"};
+          for (const std::string& name : per_sample) {
+            const auto m = std::find_if(r.metrics.begin(), r.metrics.end(), [&](const Metric& x) { return x.name == name; });
+            ASSERT_NE(m, r.metrics.end()) << s.name << " " << p.key << "=" << text << ": no " << name;
+            EXPECT_TRUE(m->informational) << name;
+          }
         } catch (const InputError&) {
         }
       }
@@ -192,7 +232,19 @@ TEST(Sweeps, GateNamesEveryProblem) {
   EXPECT_FALSE(gate_sweep_entry(sw, entry));  // listed, but passes: the file is no longer true
   entry["points"][1]["status"] = "error";
   EXPECT_FALSE(gate_sweep_entry(sw, entry));
+  // Past the grip limit the car must slide: a listed point failing only in its heading (a car that
+  // kept its grip) is not the listed failure.
   entry["points"][1]["status"] = "fail";
+  entry["points"][1]["failed"] = {"heading_residual"};
+  entry["points"][1]["errors"] = {{"heading_residual", 1.0}};
+  SweepDef speed_sweep = sw;
+  speed_sweep.marker = 3.155, speed_sweep.slide_past_marker = true;
+  EXPECT_TRUE(gate_sweep_entry(sw, entry));  // without the rule, any listed failure would do
+  EXPECT_FALSE(gate_sweep_entry(speed_sweep, entry));
+  EXPECT_NE(entry["gate"]["problems"].dump().find("kept its grip"), std::string::npos) << entry["gate"].dump();
+  entry["points"][1]["failed"] = {"front_radius"};
+  entry["points"][1]["errors"] = {{"front_radius", 4.0}};
+  EXPECT_TRUE(gate_sweep_entry(speed_sweep, entry)) << entry["gate"].dump();
   entry["points"][0]["status"] = "fail";
   EXPECT_FALSE(gate_sweep_entry(sw, entry));  // 0.5 m/s is not listed
   EXPECT_EQ(entry["gate"]["points_unexpected"], 1);

@@ -1,5 +1,7 @@
 #include "engines/analytic/analytic.hpp"
 
+#include "models/disk_contact.hpp"
+
 namespace liftcheck {
 
 namespace {
@@ -33,7 +35,18 @@ class AnalyticDisks final : public DiskEngine {
     def.sample_dt_s = setup.sample_dt_s;
     const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);
     simulated_s_ += pb.T_s;
-    return {r.t_contact_s, r.min_distance, r.trace, std::nullopt};
+    DiskRun out;
+    out.t_contact_s = r.t_contact_s;
+    out.min_distance = r.min_distance;
+    out.trace = r.trace;
+    if (!r.t_contact_s) return out;
+    // Past the first contact the lift goes on with the frictionless, inelastic contact response.
+    const disks::ResponseResult c = disks::lift_with_response(pb.rule, pb.path, pb.cM0, 0.0, pb.T_s, def);
+    out.t_contact_s = c.t_contact_s;
+    out.contact_state = disks::Sample{*c.t_contact_s, c.cM_contact, pb.path.position(*c.t_contact_s)};
+    out.t_release_s = c.t_release_s;
+    out.trace = c.trace;
+    return out;
   }
   double simulated_s() const override { return simulated_s_; }
 
@@ -54,7 +67,7 @@ EngineInfo analytic_engine() {
           .make_disks = [](const Settings&) { return std::make_unique<AnalyticDisks>(); },
           .contact_dynamics = false,
           .settings = {{"car integrator", "Boost.Odeint runge_kutta_dopri5, dense output, abs and rel tolerance 1e-13"},
-                       {"disk integrator", "Boost.Odeint runge_kutta_dopri5 at 1e-12; first contact by TOMS 748 on the dense output"},
+                       {"disk integrator", "Boost.Odeint runge_kutta_dopri5 at 1e-12; first contact by TOMS 748 on the dense output; after contact the frictionless, inelastic response (M on |c_M - c_N| = 2 until its command points away from N)"},
                        {"wheels", "3 or 4: the lift of the commanded (alpha, beta) is the reference for both (a four-wheel car's alpha is its front-axle centre's rolling angle, beta its virtual steering angle); gravity and its tilt do not enter the kinematics"}},
           .four_wheels = true};
 }

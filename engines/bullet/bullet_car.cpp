@@ -119,6 +119,12 @@ class BulletCar final : public RigidCar {
       const double y_k = n_front_ == 1 ? 0.0 : (k == 0 ? 0.5 : -0.5) * d.track_m;
       front_[k] = add_body(d.wheel_mass_kg, wheel_shape,
                            btTransform(btQuaternion(btVector3(0, 0, 1), q0.phi_rad + beta0_[k]), to_world(0, y_k, d.R_m)), kGroupWheel, kGroupGround);
+      // No knuckle body: the hinge-2 constraint steers the wheel body itself, so the knuckle's
+      // mass rides on it (at the wheel centre, its isotropic inertia added to the wheel's).
+      btVector3 inertia;
+      wheel_shape->calculateLocalInertia(d.wheel_mass_kg, inertia);
+      front_[k]->setMassProps(d.wheel_mass_kg + d.knuckle_mass_kg, inertia + btVector3(1, 1, 1) * d.knuckle_inertia_kgm2());
+      front_[k]->updateInertiaTensor();
     }
     rear_[0] = add_body(d.wheel_mass_kg, wheel_shape, btTransform(yaw_chassis, to_world(-d.l_m, 0.5 * d.track_m, d.R_m)), kGroupWheel, kGroupGround);
     rear_[1] = add_body(d.wheel_mass_kg, wheel_shape, btTransform(yaw_chassis, to_world(-d.l_m, -0.5 * d.track_m, d.R_m)), kGroupWheel, kGroupGround);
@@ -279,7 +285,7 @@ EngineInfo bullet_engine() {
           .contact_dynamics = true,
           .settings = {{"precision", "double (bullet-float64)"},
            {"stepper", "btDiscreteDynamicsWorld, stepSimulation(dt, 1, dt), sequential impulse solver"},
-           {"front wheel", "btHinge2Constraint, linear suspension locked, spring off; motors on angular x (spin) and z (steering)"},
+           {"front wheel", "btHinge2Constraint, linear suspension locked, spring off; motors on angular x (spin) and z (steering); no knuckle body: the knuckle's mass and inertia ride on the wheel body"},
            {"rear wheels", "btHingeConstraint each"},
            {"contact", "friction = mu x 1 (Bullet multiplies both bodies' coefficients)"},
            {"friction directions", "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},

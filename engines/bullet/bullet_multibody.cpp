@@ -131,7 +131,6 @@ class MultiBodyScene {
 
 constexpr int kGroupWheel = 1, kGroupGround = 2;
 constexpr int kKnuckle = 0, kFront = 1, kRearLeft = 2, kRearRight = 3, kLinks = 4;
-constexpr double kKnuckleMass_kg = 0.05, kKnuckleInertia_kgm2 = 1e-4;
 constexpr double kDefaultDamping = 0.04;  // btMultiBody's own default, linear and angular
 constexpr int kDefaultIterations = 10;    // btContactSolverInfo's default
 
@@ -160,13 +159,13 @@ class MultiBodyCar final : public RigidCar {
     auto* wheel_shape = scene_->shape<btSphereShape>(d.R_m);
     btVector3 wheel_inertia(0, 0, 0);
     wheel_shape->calculateLocalInertia(d.wheel_mass_kg, wheel_inertia);
-    const btVector3 knuckle_inertia(kKnuckleInertia_kgm2, kKnuckleInertia_kgm2, kKnuckleInertia_kgm2);
+    const btVector3 knuckle_inertia(d.knuckle_inertia_kgm2(), d.knuckle_inertia_kgm2(), d.knuckle_inertia_kgm2());
     const btQuaternion same(0, 0, 0, 1);
     const btVector3 zero(0, 0, 0), up(0, 0, 1), axle(0, 1, 0);
 
     auto mb = std::make_unique<btMultiBody>(kLinks, d.chassis_mass_kg, box_inertia, /*fixedBase=*/false, /*canSleep=*/false);
     // Pivot offsets are from the parent's centre of mass: the base's is the middle of the tie rod.
-    mb->setupRevolute(kKnuckle, kKnuckleMass_kg, knuckle_inertia, -1, same, up, btVector3(0.5 * d.l_m, 0, 0), zero, true);
+    mb->setupRevolute(kKnuckle, d.knuckle_mass_kg, knuckle_inertia, -1, same, up, btVector3(0.5 * d.l_m, 0, 0), zero, true);
     mb->setupRevolute(kFront, d.wheel_mass_kg, wheel_inertia, kKnuckle, same, axle, zero, zero, true);
     mb->setupRevolute(kRearLeft, d.wheel_mass_kg, wheel_inertia, -1, same, axle, btVector3(-0.5 * d.l_m, 0.5 * d.track_m, 0), zero, true);
     mb->setupRevolute(kRearRight, d.wheel_mass_kg, wheel_inertia, -1, same, axle, btVector3(-0.5 * d.l_m, -0.5 * d.track_m, 0), zero, true);
@@ -346,7 +345,7 @@ EngineInfo bullet_multibody_engine() {
           .contact_dynamics = true,
           .settings = {{"precision", "double (bullet-float64)"},
            {"stepper", "btMultiBodyDynamicsWorld, btMultiBodyConstraintSolver (sequential impulse), stepSimulation(dt, 1, dt)"},
-           {"joints", "floating-base btMultiBody (chassis box, no collider); revolute links: steering knuckle (0.05 kg, carries a 0.01 m collider that collides with nothing, so its motor enters an island), front wheel on the knuckle, two rear wheels on the base"},
+           {"joints", "floating-base btMultiBody (chassis box, no collider); revolute links: steering knuckle (knuckle_mass, isotropic inertia knuckle_mass x 2e-3 m^2; carries a 0.01 m collider that collides with nothing, so its motor enters an island), front wheel on the knuckle, two rear wheels on the base"},
            {"motors", "btMultiBodyJointMotor velocity targets on the knuckle (steering) and the front wheel (spin), max impulse per step = torque limit x dt"},
            {"contact", "btMultiBodyLinkCollider spheres on a static plane; friction = mu x 1 (Bullet multiplies both bodies' coefficients); other btContactSolverInfo fields at Bullet's defaults"},
            {"friction directions", "two (SOLVER_USE_2_FRICTION_DIRECTIONS, set by btMultiBodyDynamicsWorld): world plane-space axes of the contact normal; custom directions are ignored by btMultiBodyConstraintSolver, so they cannot follow the wheel"},

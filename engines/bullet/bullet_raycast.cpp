@@ -103,7 +103,7 @@ class BulletRaycastCar final : public RigidCar {
     heading_angle_ = setting("wheel_angle") == "heading";
     const double k = std::stod(setting("suspension_stiffness"));
     R_ = d.R_m;
-    mass_ = d.chassis_mass_kg + 3 * d.wheel_mass_kg;
+    mass_ = d.chassis_mass_kg + 3 * d.wheel_mass_kg + d.knuckle_mass_kg;  // one body: the whole car
     mu_ = setup.mu;
 
     // Ground plane z = 0: a static btRigidBody (the raycaster accepts rigid bodies only).
@@ -352,7 +352,7 @@ EngineInfo bullet_raycast_engine() {
               {{"precision", "double (bullet-float64)"},
                {"stepper", "btDiscreteDynamicsWorld, stepSimulation(dt, 1, dt); the vehicle is an action run after integration"},
                {"vehicle", "btRaycastVehicle with btDefaultVehicleRaycaster, setCoordinateSystem(1, 2, 0); 3 wheels: front (steered, driven) at the front-axle centre, rear (passive) at the rear axle +-track/2; wheel direction -z, axle -y"},
-               {"chassis", "box l x track x height of the car's total mass (chassis + 3 wheels), centre of mass at the middle of the tie rod at axle height, collides with nothing; ground: static btRigidBody plane"},
+               {"chassis", "box l x track x height of the car's total mass (chassis + 3 wheels + knuckle), centre of mass at the middle of the tie rod at axle height, collides with nothing; ground: static btRigidBody plane"},
                {"suspension", "stiffness k per unit chassis mass (knob), damping sqrt(3k) per unit mass in compression and relaxation (173 at k = 1e4), max force 1e6 N; connection points R/3 above the centre of mass, rest lengths R/3 + static sag (g/(2k) front, g/(4k) rear), so the chassis starts level and at rest with wheel centres at z = R; max travel rest + R (never binds)"},
                {"friction", "one Jacobi side-impulse pass per wheel per step (resolveSingleBilateral with Bullet's hard-coded 0.2 damping, 0.2 of the impulse that cancels the wheel's lateral velocity): not a no-slip model, the lateral slip carries the centripetal force; m_frictionSlip = mu caps the combined impulse at mu x suspension force x dt; roll influence 0.1 (Bullet default)"},
                {"speed", "engine force on the front wheel F = M x 160/s x (spin command x R - forward speed of the front wheel centre along the wheel's heading), capped at torque limit / R = 500 N m / R; no feed-forward; 160/s = 4 x the 40/s angle servo: the cascade is critically damped"},

@@ -74,7 +74,6 @@ enum class Detector {
   kDart,     ///< DARTCollisionDetector: analytic spheres and boxes
 };
 
-constexpr double kKnuckleMass_kg = 0.05, kKnuckleInertia_kgm2 = 1e-4;
 constexpr double kGroundSize_m = 200.0, kGroundThickness_m = 1.0;
 constexpr double kDiskMass_kg = 1.0;
 constexpr double kDiskServoForceMax_N = 1e5;  // enough to reach any commanded velocity within one step
@@ -152,8 +151,8 @@ class DartCar final : public RigidCar {
     steer_p.mName = "steer";
     steer_p.mAxis = Eigen::Vector3d::UnitZ();
     auto [sj, knuckle] = car_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(chassis, steer_p, named("knuckle"));
-    knuckle->setMass(kKnuckleMass_kg);
-    knuckle->setMomentOfInertia(kKnuckleInertia_kgm2, kKnuckleInertia_kgm2, kKnuckleInertia_kgm2);
+    knuckle->setMass(d.knuckle_mass_kg);
+    knuckle->setMomentOfInertia(d.knuckle_inertia_kgm2(), d.knuckle_inertia_kgm2(), d.knuckle_inertia_kgm2());
     steer_ = sj;
 
     dart::dynamics::RevoluteJoint::Properties spin_p;
@@ -310,7 +309,7 @@ std::vector<std::pair<std::string, std::string>> settings_for(Detector det) {
       {"collision detector", detector},
       {"friction", "Coulomb, wheel and ground shapes both set to mu (so the pair has mu whichever way DART combines them), friction pyramid with two directions; the first one is set by friction_dirs"},
       {"friction directions", "world (DART's default): derived from the contact normal alone, so fixed to the world axes; wheel: DynamicsAspect first friction direction x of the knuckle (front) or chassis (rear), the rolling direction"},
-      {"joints", "Skeleton: FreeJoint chassis (frame at the front-axle centre, 40 kg box, centre of mass l/2 behind, no collision shape); RevoluteJoint steering knuckle (0.05 kg) about the chassis z; RevoluteJoint front wheel about the knuckle's y; RevoluteJoint rear wheels about the chassis y; sphere wheels 2 kg"},
+      {"joints", "Skeleton: FreeJoint chassis (frame at the front-axle centre, a box of the scenario's chassis_mass, centre of mass l/2 behind, no collision shape); RevoluteJoint steering knuckle (knuckle_mass, isotropic inertia knuckle_mass x 2e-3 m^2) about the chassis z; RevoluteJoint front wheel about the knuckle's y; RevoluteJoint rear wheels about the chassis y; sphere wheels of wheel_mass"},
       {"ground", "static skeleton (WeldJoint, not mobile): a 200 x 200 x 1 m BoxShape with its top face at z = 0"},
       {"servo", "Joint::SERVO actuators on steering and spin (command = joint velocity, solved with the contacts), force limits +-500 N m; rate = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s"},
       {"disks", "M: skeleton on a TranslationalJoint with SERVO actuators (radius 1, 1 kg, frictionless, no gravity), commands = the commanded velocity (z 0), force limits +-1e5 N; N: skeleton on a TranslationalJoint with VELOCITY actuators (kinematic) commanded to land on its path each step; contact from World::getLastCollisionResult() (the collision pass at the start of the step), depth >= 0"},

@@ -58,13 +58,12 @@ struct Variant {
   double impratio = 1.0;      ///< MuJoCo's default 1
 };
 
-constexpr double kKnuckleMass_kg = 0.05, kKnuckleInertia_kgm2 = 1e-4;
 // Velocity actuator gains: MuJoCo's Euler step treats an actuator's velocity term explicitly, so
 // kv dt / I must stay well below 2 for the joint's own inertia I (a wheel that loses grip turns on
 // that alone). kv = I / dt makes one step deadbeat for the unloaded joint: 72 N m s on the spin at
 // R = 0.3 m and dt = 1 ms. Stiffer gains (kv dt / I = 2.8) made a sliding wheel's servo oscillate.
 double spin_inertia(const TricycleDef& d) { return 0.4 * d.wheel_mass_kg * d.R_m * d.R_m; }
-double steer_inertia(const TricycleDef& d) { return spin_inertia(d) + kKnuckleInertia_kgm2; }
+double steer_inertia(const TricycleDef& d) { return spin_inertia(d) + d.knuckle_inertia_kgm2(); }
 constexpr double kDiskMass_kg = 1.0;
 constexpr int kDefaultNoslip = 10;
 constexpr double kDefaultImpratio = 10.0;
@@ -207,7 +206,7 @@ class MujocoCar final : public RigidCar {
         fmt::arg("half_track", num(0.5 * d.track_m)), fmt::arg("half_track_neg", num(-0.5 * d.track_m)),
         fmt::arg("half_h", num(0.5 * d.chassis_height_m)), fmt::arg("mc", num(d.chassis_mass_kg)),
         fmt::arg("bw", num(std::cos(0.5 * q0.beta_rad))), fmt::arg("bz", num(std::sin(0.5 * q0.beta_rad))),
-        fmt::arg("mk", num(kKnuckleMass_kg)), fmt::arg("ik", num(kKnuckleInertia_kgm2)), fmt::arg("wheel", wheel_geom),
+        fmt::arg("mk", num(d.knuckle_mass_kg)), fmt::arg("ik", num(d.knuckle_inertia_kgm2())), fmt::arg("wheel", wheel_geom),
         fmt::arg("l_neg", num(-d.l_m)), fmt::arg("kv_spin", num(spin_inertia(d) / setup.dt_s)), fmt::arg("kv_steer", num(steer_inertia(d) / setup.dt_s)),
         fmt::arg("tspin", num(servo_.spin_torque_max_Nm)), fmt::arg("tspin_neg", num(-servo_.spin_torque_max_Nm)),
         fmt::arg("tsteer", num(servo_.steer_torque_max_Nm)), fmt::arg("tsteer_neg", num(-servo_.steer_torque_max_Nm)));
@@ -349,7 +348,7 @@ const char* const kServo =
     "for the joint's own inertia I (deadbeat when unloaded: 72 N m s at R = 0.3 m, dt = 1 ms), force limited to 500 N m; "
     "ctrl = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s";
 const char* const kJoints =
-    "chassis: free joint at the front-axle centre (box 40 kg l/2 behind it, no collision); steering knuckle (0.05 kg) hinged "
+    "chassis: free joint at the front-axle centre (box of the scenario's chassis_mass l/2 behind it, no collision); steering knuckle (knuckle_mass, isotropic inertia knuckle_mass x 2e-3 m^2) hinged "
     "about the chassis z at the front-axle centre; front wheel hinged about the knuckle's y; rear wheels hinged about the chassis y";
 const char* const kStepping = "mj_step1 / set ctrl / mj_step2 (equal to mj_step); Euler integrator (MuJoCo's default), Newton solver, 100 iterations, tolerance 1e-8";
 const char* const kDisks =

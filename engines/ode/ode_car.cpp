@@ -32,7 +32,7 @@ OdeStepper OdeStepper::quick_from(const Settings& s) {
   OdeStepper st;
   st.quick = true;
   st.iterations = std::stoi(s.at("iterations"));
-  st.w = std::stod(s.at("w"));
+  st.w = s.count("w") ? std::stod(s.at("w")) : 1.3;  // the disks: no w (see ode_quick_engine)
   st.cfm = 0.0;
   st.surface_layer_m = 0.001;
   st.max_correcting_vel_mps = 100.0;
@@ -89,7 +89,7 @@ void OdeWorld::step(double dt_s) {
 namespace {
 
 const char* const kServo = "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s";
-const char* const kDisks = "M: dynamic sphere (radius 1, 1 kg) driven by a dJointLMotor (force limit 1e5 N) to the commanded velocity; N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless";
+const char* const kDisks = "M: dynamic sphere (radius 1, 1 kg) whose linear velocity is set to the command before each step (dBodySetLinearVel); N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless";
 
 SettingSpec wheel_knob() { return {"wheel", "car", "sphere", "wheel collision shape", SettingSpec::kChoice, 0, 0, {"sphere", "cylinder"}}; }
 SettingSpec friction_dirs_knob(const char* default_text) {
@@ -101,10 +101,11 @@ SettingSpec friction_dirs_knob(const char* default_text) {
 
 EngineInfo ode_quick_engine() {
   std::vector<SettingSpec> knobs;
-  for (const char* vehicle : {"car", "disks"}) {
+  for (const char* vehicle : {"car", "disks"})
     knobs.push_back({"iterations", vehicle, "50", "quick-step iterations (dWorldSetQuickStepNumIterations; Gazebo's default 50)", SettingSpec::kInteger, 1, 10000, {}});
-    knobs.push_back({"w", vehicle, "1.3", "successive over-relaxation factor (dWorldSetQuickStepW; Gazebo's sor 1.3)", SettingSpec::kReal, 0.0, 2.0, {}, true});
-  }
+  // The disk M is velocity-set: its one frictionless contact row converges at any over-relaxation,
+  // so w changes nothing for the disks and is a car setting only (an ignored setting is refused).
+  knobs.push_back({"w", "car", "1.3", "successive over-relaxation factor (dWorldSetQuickStepW; Gazebo's sor 1.3)", SettingSpec::kReal, 0.0, 2.0, {}, true});
   knobs.push_back(wheel_knob());
   knobs.push_back(friction_dirs_knob("world"));
   return {.name = "ode-quick",
@@ -116,7 +117,7 @@ EngineInfo ode_quick_engine() {
           .make_disks = [](const Settings& s) { return make_ode_disks(OdeStepper::quick_from(s)); },
           .contact_dynamics = true,
           .settings = {{"stepper", "dWorldQuickStep (iterative SOR/PGS), Gazebo's SDF physics defaults: global ERP 0.2, CFM 0, contact_max_correcting_vel 100 m/s, contact_surface_layer 0.001 m"},
-           {"front wheel", "dHinge2Joint, suspension CFM 1e-10; velocity motors on steering and spin"},
+           {"front wheel", "dHinge2Joint, suspension CFM 1e-10; velocity motors on steering and spin; no knuckle body: the knuckle's mass and inertia ride on the wheel body"},
            {"rear wheels", "dHingeJoint each"},
            {"contact", "dContactApprox1 | SoftERP 0.2 | SoftCFM 1e-9, up to 4 points per wheel"},
            {"friction directions", "world (Gazebo's default, no fdir1): ODE's axes from the normal; wheel: dContactFDir1 along the rolling direction"},

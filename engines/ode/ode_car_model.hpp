@@ -47,7 +47,7 @@ class OdeCar : public RigidCar {
     dBodySetPosition(chassis_, cc[0], cc[1], cc[2]);
     dBodySetRotation(chassis_, R_chassis);
 
-    const auto make_wheel = [&](const std::array<double, 3>& p, double yaw) {
+    const auto make_wheel = [&](const std::array<double, 3>& p, double yaw, bool steered) {
       dBodyID b = dBodyCreate(world_);
       dMass wm;
       dGeomID g;
@@ -64,6 +64,14 @@ class OdeCar : public RigidCar {
         dMassSetSphereTotal(&wm, d.wheel_mass_kg, d.R_m);
         g = dCreateSphere(space_, d.R_m);
         dRFromAxisAndAngle(Rw, 0, 0, 1, yaw);
+      }
+      if (steered) {
+        // No knuckle body: the hinge-2 joint steers the wheel body itself, so the knuckle's mass
+        // rides on it (at the wheel centre, its inertia isotropic: a solid sphere with the
+        // knuckle's radius of gyration).
+        dMass km;
+        dMassSetSphereTotal(&km, d.knuckle_mass_kg, std::sqrt(d.kKnuckleGyrationSq_m2 / 0.4));
+        dMassAdd(&wm, &km);
       }
       dBodySetMass(b, &wm);
       dBodySetPosition(b, p[0], p[1], p[2]);
@@ -83,7 +91,7 @@ class OdeCar : public RigidCar {
         beta0_[k] = car::ackermann_wheel_angle(q0.beta_rad, d.l_m, d.track_m, k == 0 ? car::Side::kLeft : car::Side::kRight);
       const double steer_yaw = q0.phi_rad + beta0_[k];
       const auto p = to_world(0.0, y_k, d.R_m);
-      front_[k] = make_wheel(p, steer_yaw);
+      front_[k] = make_wheel(p, steer_yaw, true);
       // Hinge-2: axis 1 vertical (steering), axis 2 the axle (left of the wheel).
       steer_joint_[k] = dJointCreateHinge2(world_, nullptr);
       dJointAttach(steer_joint_[k], chassis_, front_[k]);
@@ -94,8 +102,8 @@ class OdeCar : public RigidCar {
       dJointSetHinge2Param(steer_joint_[k], dParamSuspensionERP, 0.2);
       dJointSetHinge2Param(steer_joint_[k], dParamSuspensionCFM, 1e-10);  // rigid: no suspension
     }
-    rear_[0] = make_wheel(to_world(-d.l_m, 0.5 * d.track_m, d.R_m), q0.phi_rad);
-    rear_[1] = make_wheel(to_world(-d.l_m, -0.5 * d.track_m, d.R_m), q0.phi_rad);
+    rear_[0] = make_wheel(to_world(-d.l_m, 0.5 * d.track_m, d.R_m), q0.phi_rad, false);
+    rear_[1] = make_wheel(to_world(-d.l_m, -0.5 * d.track_m, d.R_m), q0.phi_rad, false);
 
 
     // Rear: plain hinges about the rear axle.

@@ -8,7 +8,6 @@ namespace liftcheck {
 
 namespace {
 constexpr double kMassM_kg = 1.0;
-constexpr double kMotorForceMax_N = 1e5;  // enough to reach any commanded velocity within one step
 }  // namespace
 
 OdeDisks::~OdeDisks() { destroy(); }
@@ -30,14 +29,10 @@ void OdeDisks::build(const DiskSetup& setup, const disks::Vec2& cM0, const disks
     dGeomSetBody(dCreateSphere(space_, setup.radius_m), *body[i]);
   }
   dBodySetKinematic(N_);
-  // M's actuator: a linear motor on the world axes; z is held at rest (the plane).
-  motor_ = dJointCreateLMotor(world_, nullptr);
-  dJointAttach(motor_, M_, nullptr);
-  dJointSetLMotorNumAxes(motor_, 3);
-  dJointSetLMotorAxis(motor_, 0, 0, 1, 0, 0);
-  dJointSetLMotorAxis(motor_, 1, 0, 0, 1, 0);
-  dJointSetLMotorAxis(motor_, 2, 0, 0, 0, 1);
-  for (int p : {dParamFMax1, dParamFMax2, dParamFMax3}) dJointSetLMotorParam(motor_, p, kMotorForceMax_N);
+  // M is velocity-commanded: its linear velocity is set to the command before each step (as Bullet's
+  // is) and ODE's integrator and contact joints take it from there. A dJointLMotor would not do: its
+  // three world-axis rows are force-bounded each on its own, so against a contact (unbounded) the
+  // row that saturates yields while the others hold their command, and M sticks to N along them.
 }
 
 void OdeDisks::near_callback(void* data, dGeomID o1, dGeomID o2) {
@@ -57,9 +52,7 @@ void OdeDisks::near_callback(void* data, dGeomID o1, dGeomID o2) {
 }
 
 DrivenDisks::StepContacts OdeDisks::step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2&, double dt_s) {
-  dJointSetLMotorParam(motor_, dParamVel1, vM_cmd.x());
-  dJointSetLMotorParam(motor_, dParamVel2, vM_cmd.y());
-  dJointSetLMotorParam(motor_, dParamVel3, 0.0);
+  dBodySetLinearVel(M_, vM_cmd.x(), vM_cmd.y(), 0.0);
   // N is kinematic: ODE integrates the velocity that lands it on its path at the end of the step.
   const dReal* p = dBodyGetPosition(N_);
   dBodySetLinearVel(N_, (cN_next.x() - p[0]) / dt_s, (cN_next.y() - p[1]) / dt_s, 0.0);

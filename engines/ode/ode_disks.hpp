@@ -1,5 +1,5 @@
-// Two disks in ODE: M a dynamic sphere driven by a linear motor (dJointLMotor) towards its
-// commanded velocity, N a kinematic sphere moved along its path; contact joints from dCollide in
+// Two disks in ODE: M a dynamic sphere whose linear velocity is set to its command before each
+// step, N a kinematic sphere moved along its path; contact joints from dCollide in
 // the near callback of each step (frictionless, the world's ERP and CFM).
 #pragma once
 
@@ -25,6 +25,8 @@ class OdeDisks : public DrivenDisks {
   /// Last word on an M-N contact before its joint is made: false makes none (the fault-injection
   /// suite changes contacts here); liftcheck's model keeps every contact as built.
   virtual bool keep_contact(dContact&) { return true; }
+  dWorldID world() const { return world_; }
+  dBodyID body_M() const { return M_; }
 
  private:
   static void near_callback(void* data, dGeomID o1, dGeomID o2);
@@ -34,7 +36,6 @@ class OdeDisks : public DrivenDisks {
   dSpaceID space_ = nullptr;
   dJointGroupID contacts_ = nullptr;
   dBodyID M_ = nullptr, N_ = nullptr;
-  dJointID motor_ = nullptr;
   StepContacts seen_;
   OdeStepper stepper_;
 };

@@ -1,0 +1,274 @@
+// Havok (@babylonjs/havok on npm, the WASM build Babylon.js ships, single precision) served over
+// liftcheck's engine protocol (docs/protocol.md). Two configurations, chosen with --config:
+//   default   as Babylon.js users run it: the world's defaults, among them the ideal step time
+//             1/60 s from which Havok adapts its solver parameters to the step it is given.
+//   accurate  what the API documents: HP_World_SetIdealStepTime "configure the ideal delta time
+//             which you intend to call HP_World_Step()" (HavokPhysics.d.ts), so the solver is
+//             tuned for the step liftcheck runs. This build exposes no solver iterations.
+// Car: a chassis box (collides with nothing), per front wheel (one for the tricycle, two for the
+// four-wheel car) a steering knuckle on a 6-DOF constraint with only ANGULAR_X free about the
+// vertical through the wheel centre, the wheel on one with only
+// ANGULAR_X free about the knuckle's y (Babylon.js's HingeConstraint), both with VELOCITY motors
+// limited to the servo's torques; the rear wheels on passive ones about the chassis y. Joint
+// angles are read from the bodies' orientations (Havok has no joint-angle query).
+// Disks: M a dynamic sphere whose linear velocity is set before each step, N a kinematic sphere
+// moved with HP_Body_SetTargetQTransform; contacts from the collision events of the step
+// (COLLISION_STARTED, COLLISION_CONTINUED), each with its points on M and N and the normal, so the
+// signed distance is (p_B - p_A) . n_A (positive for Havok's contacts ahead of touching).
+// Every build releases the previous world with all its bodies, shapes and constraints.
+import { serve, timed } from './protocol.mjs';
+import { apply_settings, car_reply, WHEEL_KNOB, wheel_shape_of, check_car, chassis_to_world, front_rates, front_wheels, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, twist_angle, yaw_quat } from './frames.mjs';
+import { readFileSync } from 'node:fs';
+
+const PKG = new URL('./node_modules/@babylonjs/havok/', import.meta.url);
+const VERSION = JSON.parse(readFileSync(new URL('package.json', PKG))).version;
+// Under Node the WASM file is not found by the module itself: it is handed in.
+const HK = await (await import(new URL('lib/esm/HavokPhysics_es.js', PKG))).default({ wasmBinary: readFileSync(new URL('lib/esm/HavokPhysics.wasm', PKG)) });
+
+// Collision filters [membership, collides with]: ground and wheels collide, ghosts (chassis,
+// knuckle) collide with nothing, disks with each other.
+const F_GROUND = [1, 2], F_WHEEL = [2, 1], F_GHOST = [4, 0], F_DISK = [8, 8];
+const A = HK.ConstraintAxis, LOCKED = HK.ConstraintAxisLimitMode.LOCKED;
+// Babylon.js's PhysicsMaterial combines friction with MINIMUM unless told otherwise; both
+// materials use it, so the pair's coefficient is min(f_wheel, f_ground) (measured: a box sliding
+// on the ground decelerates at min(f1, f2) g; of two materials with different modes the one
+// later in GEOMETRIC_MEAN, MINIMUM, MAXIMUM, ARITHMETIC_MEAN, MULTIPLY wins).
+const COMBINE = HK.MaterialCombine.MINIMUM, RESTITUTION_COMBINE = HK.MaterialCombine.MAXIMUM;
+
+const PRESETS = { default: '1/60', accurate: 'dt' };
+const CONFIG = (() => {
+  const i = process.argv.indexOf('--config');
+  const name = i >= 0 ? process.argv[i + 1] : 'default';
+  if (!PRESETS[name]) {
+    process.stderr.write(`havok.mjs: --config '${name}' is not one of ${Object.keys(PRESETS).join(' | ')}\n`);
+    process.exit(2);
+  }
+  return name;
+})();
+const SETTINGS = ['car', 'disks'].map((vehicle) => ({
+  key: 'ideal_step_time', vehicle, kind: 'choice', choices: ['1/60', 'dt', 'off'], default: PRESETS[CONFIG],
+  help: 'HP_World_SetIdealStepTime: 1/60 s (Havok\'s default), the run\'s dt, or off (0: no adaptation of the solver to the step)',
+}));
+SETTINGS.splice(1, 0, WHEEL_KNOB);
+
+let world = null;  // { id, bodies, shapes, constraints, kind, ... }
+
+function ok(result, what) {
+  const r = Array.isArray(result) ? result[0] : result;
+  if (r !== HK.Result.RESULT_OK) throw new Error(`Havok: ${what} failed`);
+  return Array.isArray(result) ? result[1] : undefined;
+}
+
+function drop_world() {
+  if (!world) return;
+  for (const c of world.constraints) HK.HP_Constraint_Release(c);
+  for (const b of world.bodies) {
+    HK.HP_World_RemoveBody(world.id, b);
+    HK.HP_Body_Release(b);
+  }
+  for (const s of world.shapes) HK.HP_Shape_Release(s);
+  HK.HP_World_Release(world.id);
+  world = null;
+}
+
+function new_world(gravity_W, knob, dt_s) {
+  drop_world();
+  const id = ok(HK.HP_World_Create(), 'HP_World_Create');
+  ok(HK.HP_World_SetGravity(id, gravity_W), 'HP_World_SetGravity');
+  const ideal_s = { '1/60': 1 / 60, dt: dt_s, off: 0 }[knob.ideal_step_time];
+  ok(HK.HP_World_SetIdealStepTime(id, ideal_s), 'HP_World_SetIdealStepTime');
+  world = { id, bodies: [], shapes: [], constraints: [] };
+}
+
+function shape(made, filter, friction) {
+  const s = ok(made, 'shape creation');
+  world.shapes.push(s);
+  ok(HK.HP_Shape_SetFilterInfo(s, filter), 'HP_Shape_SetFilterInfo');
+  ok(HK.HP_Shape_SetMaterial(s, [friction, friction, 0, COMBINE, RESTITUTION_COMBINE]), 'HP_Shape_SetMaterial');
+  return s;
+}
+
+/// A body of shape s at pose (p_W, q_W); mass_kg > 0: dynamic, with the inertia Havok computes for
+/// the shape scaled to that mass; else the given motion type.
+function add_body(s, p_W, q_W, motion, mass_kg) {
+  const b = ok(HK.HP_Body_Create(), 'HP_Body_Create');
+  world.bodies.push(b);
+  ok(HK.HP_Body_SetShape(b, s), 'HP_Body_SetShape');
+  ok(HK.HP_Body_SetMotionType(b, motion), 'HP_Body_SetMotionType');
+  if (mass_kg > 0) {
+    const mp = ok(HK.HP_Shape_BuildMassProperties(s), 'HP_Shape_BuildMassProperties');  // inertia per unit mass
+    mp[1] = mass_kg;
+    ok(HK.HP_Body_SetMassProperties(b, mp), 'HP_Body_SetMassProperties');
+  }
+  ok(HK.HP_Body_SetQTransform(b, [p_W, q_W]), 'HP_Body_SetQTransform');
+  HK.HP_Body_SetLinearDamping(b, 0);
+  HK.HP_Body_SetAngularDamping(b, 0);
+  ok(HK.HP_World_AddBody(world.id, b, false), 'HP_World_AddBody');
+  HK.HP_Body_SetActivationControl(b, HK.ActivationControl.ALWAYS_ACTIVE);
+  return b;
+}
+
+/// A hinge (6-DOF constraint, ANGULAR_X free) between parent and child: pivot and axes in each
+/// body's own frame (axis_x the hinge axis, axis_y where both bodies' angle is zero);
+/// motor_Nm > 0 gives it a velocity motor.
+function add_hinge(parent, child, pivot_P, axis_x_P, axis_y_P, pivot_C, axis_x_C, axis_y_C, motor_Nm) {
+  const c = ok(HK.HP_Constraint_Create(), 'HP_Constraint_Create');
+  world.constraints.push(c);
+  HK.HP_Constraint_SetParentBody(c, parent);
+  HK.HP_Constraint_SetChildBody(c, child);
+  HK.HP_Constraint_SetAnchorInParent(c, pivot_P, axis_x_P, axis_y_P);
+  HK.HP_Constraint_SetAnchorInChild(c, pivot_C, axis_x_C, axis_y_C);
+  for (const axis of [A.LINEAR_X, A.LINEAR_Y, A.LINEAR_Z, A.ANGULAR_Y, A.ANGULAR_Z]) HK.HP_Constraint_SetAxisMode(c, axis, LOCKED);
+  if (motor_Nm > 0) {
+    HK.HP_Constraint_SetAxisMotorType(c, A.ANGULAR_X, HK.ConstraintMotorType.VELOCITY);
+    HK.HP_Constraint_SetAxisMotorMaxForce(c, A.ANGULAR_X, motor_Nm);
+    HK.HP_Constraint_SetAxisMotorTarget(c, A.ANGULAR_X, 0);
+  }
+  HK.HP_Constraint_SetCollisionsEnabled(c, 0);
+  ok(HK.HP_Constraint_SetEnabled(c, 1), 'HP_Constraint_SetEnabled');
+  return c;
+}
+
+function build_car(req) {
+  check_car(req);
+  const knob = apply_settings(SETTINGS, 'car', req.settings);
+  new_world(req.gravity_W, knob, req.dt_s);
+  world.kind = 'car';
+  const c = req.car, q0 = req.q0, R = c.R_m, DYN = HK.MotionType.DYNAMIC;
+  const at = chassis_to_world(q0);
+  const q_chassis = yaw_quat(q0.phi_rad);
+  const side = 2 * ground_half_m(c);
+  // Havok's pair coefficient is min(mu, mu) = mu.
+  add_body(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [side, side, 1]), F_GROUND, req.mu), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1],
+           HK.MotionType.STATIC, 0);
+  const chassis = add_body(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [c.l_m, c.track_m, c.chassis_height_m]), F_GHOST, 0),
+                           at(-0.5 * c.l_m, 0, R), q_chassis, DYN, c.chassis_mass_kg);
+  const wheel_shape = () => shape(wheel_shape_of(req, knob) === 'cylinder'
+    ? HK.HP_Shape_CreateCylinder([0, -0.5 * c.wheel_width_m, 0], [0, 0.5 * c.wheel_width_m, 0], R)  // axis along local y
+    : HK.HP_Shape_CreateSphere([0, 0, 0], R), F_WHEEL, req.mu);
+  const Z = [0, 0, 1], Y = [0, 1, 0], X = [1, 0, 0], O = [0, 0, 0];
+  // Each front wheel on its own knuckle, both yawed by the wheel's start steering angle b0. The
+  // steering hinge's zero direction is the chassis x: (1, 0, 0) in the chassis frame, the same
+  // direction (cos b0, -sin b0, 0) in the knuckle's.
+  world.fronts = front_wheels(c, q0.beta_rad).map(({ y_m, beta0_rad: b0 }) => {
+    const q_front = yaw_quat(q0.phi_rad + b0), hub = at(0, y_m, R);
+    const knuckle = add_body(shape(HK.HP_Shape_CreateSphere(O, KNUCKLE_RADIUS_M), F_GHOST, 0), hub, q_front, DYN, c.knuckle_mass_kg);
+    const body = add_body(wheel_shape(), hub, q_front, DYN, c.wheel_mass_kg);
+    const steer = add_hinge(chassis, knuckle, [0.5 * c.l_m, y_m, 0], Z, X, O, Z, [Math.cos(b0), -Math.sin(b0), 0], req.servo.steer_torque_max_Nm);
+    const spin = add_hinge(knuckle, body, O, Y, Z, O, Y, Z, req.servo.spin_torque_max_Nm);
+    return { knuckle, body, steer, spin };
+  });
+  world.rear = [0.5, -0.5].map((y) => {
+    const body = add_body(wheel_shape(), at(-c.l_m, y * c.track_m, R), q_chassis, DYN, c.wheel_mass_kg);
+    add_hinge(chassis, body, [-0.5 * c.l_m, y * c.track_m, 0], Y, Z, O, Y, Z, 0);
+    return body;
+  });
+  world.chassis = chassis;
+  return car_state();
+}
+
+function pose(b) {
+  const [p, q] = HK.HP_Body_GetQTransform(b)[1];
+  return { p, q };
+}
+
+function wheel_state(b) {
+  const { p, q } = pose(b);
+  return { v_hub_W: HK.HP_Body_GetLinearVelocity(b)[1], omega_W: HK.HP_Body_GetAngularVelocity(b)[1], axle_W: rotate(q, [0, 1, 0]), hub_z_m: p[2] };
+}
+
+function car_state() {
+  const q_chassis = pose(world.chassis).q;
+  // The joints' angles from the bodies: the knuckle's twist about the chassis z (the steering angle
+  // itself: the hinge's zero is the chassis x), the wheel's about the knuckle y.
+  const fronts = world.fronts.map((f) => {
+    const knuckle = pose(f.knuckle).q, wheel = pose(f.body);
+    return { spin_rad: twist_angle(knuckle, wheel.q, [0, 1, 0]), steer_rad: twist_angle(q_chassis, knuckle, [0, 0, 1]), p: wheel.p };
+  });
+  const wheels = [...world.fronts.map((f) => f.body), ...world.rear].map(wheel_state);
+  return car_reply(fronts, heading(q_chassis), wheels);
+}
+
+function step_car(req) {
+  front_rates(req, world.fronts.length).forEach(({ spin, steer }, k) => {
+    HK.HP_Constraint_SetAxisMotorTarget(world.fronts[k].spin, A.ANGULAR_X, spin);
+    HK.HP_Constraint_SetAxisMotorTarget(world.fronts[k].steer, A.ANGULAR_X, steer);
+  });
+  const engine_s = timed(() => HK.HP_World_Step(world.id, req.dt_s));
+  return { engine_s, ...car_state() };
+}
+
+function build_disks(req) {
+  if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
+  const knob = apply_settings(SETTINGS, 'disks', req.settings);
+  new_world([0, 0, 0], knob, req.dt_s);
+  world.kind = 'disks';
+  const ball = () => shape(HK.HP_Shape_CreateSphere([0, 0, 0], req.radius_m), F_DISK, 0);
+  world.M = add_body(ball(), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], HK.MotionType.DYNAMIC, 1);
+  HK.HP_Body_SetGravityFactor(world.M, 0);
+  world.N = add_body(ball(), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], HK.MotionType.KINEMATIC, 0);
+  HK.HP_Body_SetEventMask(world.M, HK.EventType.COLLISION_STARTED.value | HK.EventType.COLLISION_CONTINUED.value);
+  return disk_state();
+}
+
+function disk_state() {
+  const m = pose(world.M).p, n = pose(world.N).p;
+  return { cM: [m[0], m[1]], cN: [n[0], n[1]] };
+}
+
+/// The M-N collision events of the last step: their count and smallest signed distance.
+function disk_contacts() {
+  const out = { count: 0, distance_min_m: Infinity };
+  const m = world.M[0], n = world.N[0];
+  let ev = HK.HP_World_GetCollisionEvents(world.id)[1];
+  while (ev) {
+    const [, on_a, on_b] = HK.HP_Event_AsCollision(ev)[1];
+    const a = on_a[0][0], b = on_b[0][0];
+    if ((a === m && b === n) || (a === n && b === m)) {
+      const [pa, na, pb] = [on_a[3], on_a[4], on_b[3]];
+      const d = (pb[0] - pa[0]) * na[0] + (pb[1] - pa[1]) * na[1] + (pb[2] - pa[2]) * na[2];
+      out.count += 1;
+      out.distance_min_m = Math.min(out.distance_min_m, d);
+    }
+    ev = HK.HP_World_GetNextCollisionEvent(Number(world.id[0]), ev);
+  }
+  return out;
+}
+
+function step_disks(req) {
+  HK.HP_Body_SetLinearVelocity(world.M, [req.vM_cmd[0], req.vM_cmd[1], 0]);  // in the plane: no out-of-plane velocity
+  HK.HP_Body_SetTargetQTransform(world.N, [[req.cN_next[0], req.cN_next[1], 0], [0, 0, 0, 1]]);
+  const engine_s = timed(() => HK.HP_World_Step(world.id, req.dt_s));
+  const c = disk_contacts();
+  const contacts = c.count > 0
+    ? { count: c.count, depth_max_m: Math.max(0, -c.distance_min_m), distance_min_m: c.distance_min_m }
+    : { count: 0, depth_max_m: 0, distance_min_m: 0 };
+  return { engine_s, ...disk_state(), contacts };
+}
+
+serve({
+  hello() {
+    return {
+      engine: 'Havok', version: VERSION, precision: 'float32',
+      vehicles: ['car', 'disks'], four_wheels: true, settings: SETTINGS,
+      fixed: [
+        ['configuration', CONFIG === 'default'
+          ? 'Havok as Babylon.js ships it: world defaults (ideal step time 1/60 s, from which Havok adapts its solver to the step it is given); no solver iterations are exposed'
+          : 'Havok with the ideal step time set to the step it is called with (HP_World_SetIdealStepTime, as its API documents); everything else as shipped; no solver iterations are exposed'],
+        ['joints', '6-DOF constraints with only ANGULAR_X free (Babylon.js HingeConstraint): steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y) with VELOCITY motors, max torque the servo torque; passive ones for the rear wheels; joint angles from the bodies\' orientations'],
+        ['bodies', `chassis box of the chassis mass (filter colliding with nothing); knuckle a ${KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg, colliding with nothing; wheels spheres of radius R (or y-axis cylinders) of wheel_mass_kg; inertias HP_Shape_BuildMassProperties gives for the shapes at those masses; no damping, always active`],
+        ['ground', 'static box, top face z = 0, 60 m square (or 20 l) centred under the start (float32 contact precision degrades on large shapes)'],
+        ['friction', 'each material names its combine mode; measured: GEOMETRIC_MEAN, MINIMUM, MAXIMUM, ARITHMETIC_MEAN, MULTIPLY do what they say, and of two different modes the later in that list wins. Both materials MINIMUM (Babylon.js PhysicsMaterial default), wheel and ground both mu: min(mu, mu) = mu; restitution 0'],
+        ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, linear velocity set to the command (z = 0) before each step; N kinematic, HP_Body_SetTargetQTransform to its next position; contacts from the step\'s COLLISION_STARTED/CONTINUED events, distance (p_N - p_M) . n'],
+        ['four wheels', 'two front wheels at +-track/2, each on its own knuckle and hinges as above, built at its Ackermann angle (or at beta when steered in parallel)'],
+      ],
+    };
+  },
+  car: build_car,
+  disks: build_disks,
+  step(req) {
+    if (!world) throw new Error('step before any car or disks build');
+    if (!(req.dt_s > 0)) throw new Error('step needs dt_s > 0');
+    return world.kind === 'car' ? step_car(req) : step_disks(req);
+  },
+});

@@ -1,0 +1,314 @@
+// Jolt Physics (jolt-physics on npm, the WASM build, single precision) served over liftcheck's
+// engine protocol (docs/protocol.md). Two configurations, chosen with --config:
+//   default   Jolt's PhysicsSettings as shipped: 10 velocity steps, 2 position steps, 2 cm
+//             penetration slop (Jolt/Physics/PhysicsSettings.h).
+//   accurate  what Jolt's author recommends where light bodies carry heavy ones: "increasing the
+//             iteration count a lot (PhysicsSettings::mNumVelocitySteps, mNumPositionSteps)"
+//             (jrouwe/JoltPhysics issue 151), here 100 and 20, and a 1 mm penetration slop
+//             (PhysicsSettings::mPenetrationSlop, "how much bodies are allowed to sink into each
+//             other").
+// Car: a chassis box (collides with nothing), per front wheel (one for the tricycle, two for the
+// four-wheel car) a steering knuckle on a HingeConstraint about the vertical through the wheel
+// centre and the wheel on a HingeConstraint about the knuckle's y,
+// both with velocity motors (EMotorState_Velocity) limited to the servo's torques; the rear wheels
+// on passive HingeConstraints about the chassis y. Disks: M a dynamic sphere whose linear velocity
+// is set before each step (Plane2D degrees of freedom), N a kinematic sphere moved with
+// MoveKinematic; contacts from a ContactListener (OnContactAdded/OnContactPersisted), speculative
+// manifolds included with their negative penetration depth.
+// Every build makes a new JoltInterface and destroys the previous one with all its bodies and
+// constraints (one process serves many runs).
+import { serve, timed } from './protocol.mjs';
+import { apply_settings, car_reply, WHEEL_KNOB, wheel_shape_of, check_car, chassis_to_world, front_rates, front_wheels, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, wrap, yaw_quat } from './frames.mjs';
+import { readFileSync } from 'node:fs';
+
+const Jolt = await (await import('jolt-physics')).default();
+const VERSION = JSON.parse(readFileSync(new URL('./node_modules/jolt-physics/package.json', import.meta.url))).version;
+
+const PRESETS = {
+  default: { velocity_steps: 10, position_steps: 2, penetration_slop_m: 0.02 },
+  accurate: { velocity_steps: 100, position_steps: 20, penetration_slop_m: 0.001 },
+};
+const CONFIG = (() => {
+  const i = process.argv.indexOf('--config');
+  const name = i >= 0 ? process.argv[i + 1] : 'default';
+  if (!PRESETS[name]) {
+    process.stderr.write(`jolt.mjs: --config '${name}' is not one of ${Object.keys(PRESETS).join(' | ')}\n`);
+    process.exit(2);
+  }
+  return name;
+})();
+
+function knobs(vehicle) {
+  const p = PRESETS[CONFIG];
+  return [
+    { key: 'velocity_steps', vehicle, kind: 'integer', min: 2, max: 1000, default: String(p.velocity_steps),
+      help: 'PhysicsSettings::mNumVelocitySteps, solver velocity iterations per step (Jolt needs >= 2 for friction)' },
+    { key: 'position_steps', vehicle, kind: 'integer', min: 0, max: 1000, default: String(p.position_steps),
+      help: 'PhysicsSettings::mNumPositionSteps, position (drift) iterations per step' },
+    { key: 'penetration_slop_m', vehicle, kind: 'real', min: 0, max: 0.1, default: String(p.penetration_slop_m),
+      help: 'PhysicsSettings::mPenetrationSlop, m: how far bodies may sink into each other before the position solver pushes them out' },
+  ];
+}
+const SETTINGS = [...knobs('car'), WHEEL_KNOB, ...knobs('disks')];
+
+// Object layers: the ground, wheels (collide with the ground only), ghosts (chassis and knuckle,
+// collide with nothing), disks (collide with each other).
+const L_GROUND = 0, L_WHEEL = 1, L_GHOST = 2, L_DISK = 3, N_LAYERS = 4;
+
+let world = null;  // { jolt, system, bodies: Body[], constraints: Constraint[], listener, kind, ... }
+
+function vec3(v) { return new Jolt.Vec3(v[0], v[1], v[2]); }
+function rvec3(v) { return new Jolt.RVec3(v[0], v[1], v[2]); }
+function quat(q) { return new Jolt.Quat(q[0], q[1], q[2], q[3]); }
+function destroy_all(...objs) { for (const o of objs) Jolt.destroy(o); }
+
+/// A JoltInterface with the four layers and the knob values applied.
+function make_system(knob, gravity_W) {
+  const settings = new Jolt.JoltSettings();
+  const pairs = new Jolt.ObjectLayerPairFilterTable(N_LAYERS);
+  pairs.EnableCollision(L_GROUND, L_WHEEL);
+  pairs.EnableCollision(L_DISK, L_DISK);
+  const bp_static = new Jolt.BroadPhaseLayer(0), bp_moving = new Jolt.BroadPhaseLayer(1);
+  const bp = new Jolt.BroadPhaseLayerInterfaceTable(N_LAYERS, 2);
+  bp.MapObjectToBroadPhaseLayer(L_GROUND, bp_static);
+  for (const l of [L_WHEEL, L_GHOST, L_DISK]) bp.MapObjectToBroadPhaseLayer(l, bp_moving);
+  settings.mObjectLayerPairFilter = pairs;
+  settings.mBroadPhaseLayerInterface = bp;
+  settings.mObjectVsBroadPhaseLayerFilter = new Jolt.ObjectVsBroadPhaseLayerFilterTable(bp, 2, pairs, N_LAYERS);
+  const jolt = new Jolt.JoltInterface(settings);  // owns the filters from here on
+  destroy_all(settings, bp_static, bp_moving);
+  const system = jolt.GetPhysicsSystem();
+  const ps = new Jolt.PhysicsSettings();  // Jolt's defaults, then the knobs
+  ps.mNumVelocitySteps = knob.velocity_steps;
+  ps.mNumPositionSteps = knob.position_steps;
+  ps.mPenetrationSlop = knob.penetration_slop_m;
+  system.SetPhysicsSettings(ps);
+  Jolt.destroy(ps);
+  const g = vec3(gravity_W);
+  system.SetGravity(g);
+  Jolt.destroy(g);
+  return { jolt, system, bi: system.GetBodyInterface(), bodies: [], constraints: [], listener: null, owned: [] };
+}
+
+function drop_world() {
+  if (!world) return;
+  const { jolt, system, bi } = world;
+  for (const c of world.constraints) system.RemoveConstraint(c);
+  for (const b of world.bodies) {
+    const id = b.GetID();
+    bi.RemoveBody(id);
+    bi.DestroyBody(id);
+  }
+  if (world.listener) {
+    system.SetContactListener(null);
+    Jolt.destroy(world.listener);
+  }
+  for (const o of world.owned) Jolt.destroy(o);
+  Jolt.destroy(jolt);
+  world = null;
+}
+
+/// Adds a body: shape (owned by the body from here on), pose, motion type and layer; mass_kg
+/// sets the mass with the inertia Jolt computes from the shape for it.
+function add_body(shape, p_W, q_W, motion, layer, opts = {}) {
+  const pos = rvec3(p_W), rot = quat(q_W);
+  const s = new Jolt.BodyCreationSettings(shape, pos, rot, motion, layer);
+  destroy_all(pos, rot);
+  s.mAllowSleeping = false;
+  s.mLinearDamping = 0;
+  s.mAngularDamping = 0;
+  s.mFriction = opts.friction ?? 0;
+  s.mRestitution = 0;
+  if (opts.gravity_factor !== undefined) s.mGravityFactor = opts.gravity_factor;
+  if (opts.dofs !== undefined) s.mAllowedDOFs = opts.dofs;
+  if (opts.mass_kg !== undefined) {
+    s.mOverrideMassProperties = Jolt.EOverrideMassProperties_CalculateInertia;
+    s.mMassPropertiesOverride.mMass = opts.mass_kg;
+  }
+  const body = world.bi.CreateBody(s);
+  Jolt.destroy(s);
+  world.bi.AddBody(body.GetID(), Jolt.EActivation_Activate);
+  world.bodies.push(body);
+  return body;
+}
+
+/// A hinge between body1 and body2 about the world axis through p_W (normal: a world direction
+/// perpendicular to it, where both bodies' angle is zero); motor_Nm > 0 gives it a velocity motor.
+function add_hinge(body1, body2, p_W, axis_W, normal_W, motor_Nm) {
+  const s = new Jolt.HingeConstraintSettings();
+  s.mSpace = Jolt.EConstraintSpace_WorldSpace;
+  const p1 = rvec3(p_W), p2 = rvec3(p_W), a1 = vec3(axis_W), a2 = vec3(axis_W), n1 = vec3(normal_W), n2 = vec3(normal_W);
+  s.mPoint1 = p1; s.mPoint2 = p2; s.mHingeAxis1 = a1; s.mHingeAxis2 = a2; s.mNormalAxis1 = n1; s.mNormalAxis2 = n2;
+  if (motor_Nm > 0) {
+    s.mMotorSettings.mMinTorqueLimit = -motor_Nm;
+    s.mMotorSettings.mMaxTorqueLimit = motor_Nm;
+  }
+  const c = s.Create(body1, body2);
+  destroy_all(s, p1, p2, a1, a2, n1, n2);
+  world.system.AddConstraint(c);
+  world.constraints.push(c);
+  const hinge = Jolt.castObject(c, Jolt.HingeConstraint);
+  if (motor_Nm > 0) hinge.SetMotorState(Jolt.EMotorState_Velocity);
+  return hinge;
+}
+
+function build_car(req) {
+  check_car(req);
+  const knob = apply_settings(SETTINGS, 'car', req.settings);
+  drop_world();
+  world = make_system(knob, req.gravity_W);
+  world.kind = 'car';
+  const c = req.car, q0 = req.q0, R = c.R_m;
+  const at = chassis_to_world(q0);
+  const q_chassis = yaw_quat(q0.phi_rad);
+  const half = ground_half_m(c);
+  const ext = vec3([half, half, 0.5]);
+  add_body(new Jolt.BoxShape(ext, 0.05, null), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1], Jolt.EMotionType_Static, L_GROUND,
+           { friction: req.mu });  // Jolt combines friction as sqrt(f_wheel f_ground): both mu give mu
+  Jolt.destroy(ext);
+  const box = vec3([0.5 * c.l_m, 0.5 * c.track_m, 0.5 * c.chassis_height_m]);
+  const chassis = add_body(new Jolt.BoxShape(box, 0, null), at(-0.5 * c.l_m, 0, R), q_chassis, Jolt.EMotionType_Dynamic, L_GHOST,
+                           { mass_kg: c.chassis_mass_kg });
+  Jolt.destroy(box);
+  const wheel_shape = () => wheel_shape_of(req, knob) === 'cylinder'
+    ? new Jolt.CylinderShape(0.5 * c.wheel_width_m, R, Math.min(0.05, 0.25 * c.wheel_width_m), null)  // axis along local y
+    : new Jolt.SphereShape(R, null);
+  const wheel = (p, q) => add_body(wheel_shape(), p, q, Jolt.EMotionType_Dynamic, L_WHEEL, { mass_kg: c.wheel_mass_kg, friction: req.mu });
+  // Each front wheel on its own knuckle, both yawed by the wheel's start steering angle.
+  world.fronts = front_wheels(c, q0.beta_rad).map(({ y_m, beta0_rad }) => {
+    const q_front = yaw_quat(q0.phi_rad + beta0_rad), hub = at(0, y_m, R);
+    const knuckle = add_body(new Jolt.SphereShape(KNUCKLE_RADIUS_M, null), hub, q_front, Jolt.EMotionType_Dynamic, L_GHOST,
+                             { mass_kg: c.knuckle_mass_kg });
+    const body = wheel(hub, q_front);
+    const steer = add_hinge(chassis, knuckle, hub, [0, 0, 1], rotate(q_front, [1, 0, 0]), req.servo.steer_torque_max_Nm);
+    const spin = add_hinge(knuckle, body, hub, rotate(q_front, [0, 1, 0]), [0, 0, 1], req.servo.spin_torque_max_Nm);
+    return { body, steer, spin, beta0_rad };
+  });
+  const axle_chassis = rotate(q_chassis, [0, 1, 0]);
+  world.rear = [0.5, -0.5].map((y) => {
+    const body = wheel(at(-c.l_m, y * c.track_m, R), q_chassis);
+    add_hinge(chassis, body, at(-c.l_m, y * c.track_m, R), axle_chassis, [0, 0, 1], 0);
+    return body;
+  });
+  world.chassis = chassis;
+  return car_state();
+}
+
+function pose(body) {
+  const p = body.GetPosition(), q = body.GetRotation();
+  return { p: [p.GetX(), p.GetY(), p.GetZ()], q: [q.GetX(), q.GetY(), q.GetZ(), q.GetW()] };
+}
+
+function wheel_state(body) {
+  const { p, q } = pose(body);
+  const v = body.GetLinearVelocity(), v_hub_W = [v.GetX(), v.GetY(), v.GetZ()];
+  const w = body.GetAngularVelocity(), omega_W = [w.GetX(), w.GetY(), w.GetZ()];
+  return { v_hub_W, omega_W, axle_W: rotate(q, [0, 1, 0]), hub_z_m: p[2] };
+}
+
+function car_state() {
+  // Hinge angles are zero at the build pose: the steering angle is the start angle plus it.
+  const fronts = world.fronts.map((f) => ({ spin_rad: wrap(f.spin.GetCurrentAngle()), steer_rad: f.beta0_rad + f.steer.GetCurrentAngle(), p: pose(f.body).p }));
+  const wheels = [...world.fronts.map((f) => f.body), ...world.rear].map(wheel_state);
+  return car_reply(fronts, heading(pose(world.chassis).q), wheels);
+}
+
+function step_car(req) {
+  front_rates(req, world.fronts.length).forEach(({ spin, steer }, k) => {
+    world.fronts[k].spin.SetTargetAngularVelocity(spin);
+    world.fronts[k].steer.SetTargetAngularVelocity(steer);
+  });
+  const engine_s = timed(() => world.jolt.Step(req.dt_s, 1));
+  return { engine_s, ...car_state() };
+}
+
+/// Counts the M-N contact points of one narrow-phase manifold and keeps the smallest signed
+/// distance (Jolt's mPenetrationDepth is negative for a speculative manifold).
+function contact_listener() {
+  const listener = new Jolt.ContactListenerJS();
+  const seen = (b1, b2, manifold_ptr) => {
+    const pair = [Jolt.getPointer(world.M), Jolt.getPointer(world.N)];
+    if (!((b1 === pair[0] && b2 === pair[1]) || (b1 === pair[1] && b2 === pair[0]))) return;
+    const m = Jolt.wrapPointer(manifold_ptr, Jolt.ContactManifold);
+    world.contacts.count += m.mRelativeContactPointsOn1.size();
+    world.contacts.distance_min_m = Math.min(world.contacts.distance_min_m, -m.mPenetrationDepth);
+  };
+  listener.OnContactValidate = () => Jolt.ValidateResult_AcceptAllContactsForThisBodyPair;
+  listener.OnContactAdded = (b1, b2, manifold) => seen(b1, b2, manifold);
+  listener.OnContactPersisted = (b1, b2, manifold) => seen(b1, b2, manifold);
+  listener.OnContactRemoved = () => {};
+  return listener;
+}
+
+function build_disks(req) {
+  if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
+  const knob = apply_settings(SETTINGS, 'disks', req.settings);
+  drop_world();
+  world = make_system(knob, [0, 0, 0]);
+  world.kind = 'disks';
+  world.M = add_body(new Jolt.SphereShape(req.radius_m, null), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Dynamic, L_DISK,
+                     { mass_kg: 1, gravity_factor: 0, dofs: Jolt.EAllowedDOFs_Plane2D });
+  world.N = add_body(new Jolt.SphereShape(req.radius_m, null), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Kinematic, L_DISK);
+  world.listener = contact_listener();
+  world.system.SetContactListener(world.listener);
+  world.identity = new Jolt.Quat(0, 0, 0, 1);
+  world.owned.push(world.identity);
+  return disk_state();
+}
+
+// A by-value result of the binding is one object reused by every call of that method: copy it out
+// before the next call.
+function xy(body) {
+  const p = body.GetPosition();
+  return [p.GetX(), p.GetY()];
+}
+
+function disk_state() {
+  return { cM: xy(world.M), cN: xy(world.N) };
+}
+
+function step_disks(req) {
+  const v = vec3([req.vM_cmd[0], req.vM_cmd[1], 0]);
+  world.bi.SetLinearVelocity(world.M.GetID(), v);
+  Jolt.destroy(v);
+  const target = rvec3([req.cN_next[0], req.cN_next[1], 0]);
+  world.bi.MoveKinematic(world.N.GetID(), target, world.identity, req.dt_s);
+  Jolt.destroy(target);
+  world.contacts = { count: 0, distance_min_m: Infinity };
+  const engine_s = timed(() => world.jolt.Step(req.dt_s, 1));
+  const c = world.contacts;
+  const contacts = c.count > 0
+    ? { count: c.count, depth_max_m: Math.max(0, -c.distance_min_m), distance_min_m: c.distance_min_m }
+    : { count: 0, depth_max_m: 0, distance_min_m: 0 };
+  return { engine_s, ...disk_state(), contacts };
+}
+
+const FIXED = {
+  default: 'Jolt as shipped: PhysicsSettings defaults (10 velocity steps, 2 position steps, 2 cm penetration slop, 2 cm speculative contact distance, Baumgarte 0.2), one collision step per step',
+  accurate: 'the iteration counts raised as Jolt\'s author recommends for light bodies carrying heavy ones (issue 151: PhysicsSettings::mNumVelocitySteps 100, mNumPositionSteps 20) and mPenetrationSlop 1 mm; everything else as shipped',
+};
+
+serve({
+  hello() {
+    return {
+      engine: 'Jolt Physics', version: VERSION, precision: 'float32',
+      vehicles: ['car', 'disks'], four_wheels: true, settings: SETTINGS,
+      fixed: [
+        ['configuration', FIXED[CONFIG]],
+        ['joints', 'HingeConstraint steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y), both EMotorState_Velocity with torque limits +-servo torque; passive HingeConstraints for the rear wheels'],
+        ['bodies', `chassis box of the chassis mass (layer colliding with nothing); knuckle a ${KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg (inertia 0.4 m r^2: 1e-4 kg m^2 at 0.05 kg), colliding with nothing; wheels spheres of radius R (or Y-axis cylinders) of wheel_mass_kg; inertias Jolt computes for the shapes at those masses; no damping, no sleeping`],
+        ['ground', 'static BoxShape, top face z = 0, 60 m square (or 20 l) centred under the start'],
+        ['friction', 'Jolt combines friction as the geometric mean sqrt(f1 f2): wheel and ground both mu'],
+        ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, EAllowedDOFs_Plane2D, linear velocity set to the command before each step; N kinematic, MoveKinematic to its next position; contacts from ContactListener OnContactAdded/OnContactPersisted (speculative manifolds within 2 cm included, distance = -mPenetrationDepth)'],
+        ['four wheels', 'two front wheels at +-track/2, each on its own knuckle and hinges as above, built at its Ackermann angle (or at beta when steered in parallel)'],
+      ],
+    };
+  },
+  car: build_car,
+  disks: build_disks,
+  step(req) {
+    if (!world) throw new Error('step before any car or disks build');
+    if (!(req.dt_s > 0)) throw new Error('step needs dt_s > 0');
+    return world.kind === 'car' ? step_car(req) : step_disks(req);
+  },
+});

@@ -1,0 +1,106 @@
+// Tests of the adapters' side of the protocol (node --test test.mjs, or npm test): every
+// registered configuration's hello, the refusal of bad knobs and of a step without a world, and
+// the two faults of cannon.mjs, each against the clean adapter stepped the same way.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { spawn } from 'node:child_process';
+import { readFileSync, readdirSync } from 'node:fs';
+import { createInterface } from 'node:readline';
+import { fileURLToPath } from 'node:url';
+import { dirname } from 'node:path';
+
+const DIR = dirname(fileURLToPath(import.meta.url));
+const REGISTERED = readdirSync(DIR).filter((f) => f.endsWith('.json') && !f.startsWith('package'))
+  .map((f) => JSON.parse(readFileSync(`${DIR}/${f}`, 'utf8')));
+
+/// An adapter child and a function sending one request and returning its reply (10 s at most).
+function start(argv) {
+  const child = spawn(argv[0], argv.slice(1), { cwd: DIR, stdio: ['pipe', 'pipe', 'ignore'] });
+  const lines = createInterface({ input: child.stdout })[Symbol.asyncIterator]();
+  const request = async (msg) => {
+    child.stdin.write(JSON.stringify(msg) + '\n');
+    let timer;
+    const timeout = new Promise((_, fail) => { timer = setTimeout(() => fail(new Error(`no reply to ${msg.op}`)), 10000); });
+    const next = await Promise.race([lines.next(), timeout]).finally(() => clearTimeout(timer));
+    assert.ok(!next.done, `the adapter exited after ${msg.op}`);
+    return JSON.parse(next.value);
+  };
+  const stop = async () => { await request({ op: 'bye' }); };
+  return { request, stop };
+}
+
+const CAR = { R_m: 0.3, l_m: 1, track_m: 0.8, wheels: 3, parallel_steering: false, wheel_width_m: 0.09, wheel_shape: 'sphere',
+  chassis_height_m: 0.1, chassis_mass_kg: 40, wheel_mass_kg: 2, knuckle_mass_kg: 2 };
+const carRequest = (settings) => ({ op: 'car', settings, dt_s: 0.001, mu: 1, gravity_W: [0, 0, -9.81], car: CAR,
+  q0: { x_m: 0, y_m: 0, phi_rad: 0, beta_rad: 0.35 }, servo: { spin_torque_max_Nm: 500, steer_torque_max_Nm: 500 } });
+
+for (const reg of REGISTERED) {
+  test(`${reg.name}: hello declares protocol 1, a precision and knobs with their defaults in range`, async () => {
+    const a = start(reg.command);
+    const h = await a.request({ op: 'hello', protocol: 1 });
+    assert.equal(h.ok, true);
+    assert.equal(h.protocol, 1);
+    assert.ok(['float32', 'float64'].includes(h.precision));
+    assert.deepEqual(h.vehicles, ['car', 'disks']);
+    for (const k of h.settings) assert.ok(Number(k.default) >= k.min && Number(k.default) <= k.max, k.key);
+    assert.equal((await a.request({ op: 'hello', protocol: 2 })).ok, false);
+    await a.stop();
+  });
+
+  test(`${reg.name}: bad knobs and a step without a world are refused`, async () => {
+    const a = start(reg.command);
+    const h = await a.request({ op: 'hello', protocol: 1 });
+    const refused = async (msg, why) => {
+      const r = await a.request(msg);
+      assert.equal(r.ok, false, why);
+      assert.equal(typeof r.error, 'string');
+    };
+    await refused({ op: 'step', spin_radps: [0, 0], steer_radps: [0, 0], dt_s: 0.001 }, 'a step before any build');
+    await refused(carRequest({ no_such_knob: '1' }), 'an unknown knob');
+    for (const k of h.settings) await refused(carRequest({ [k.key]: String(k.max + 1) }), `${k.key} above its range`);
+    assert.equal((await a.request(carRequest({}))).ok, true);
+    await refused({ ...carRequest({}), car: { ...CAR, wheels: 5 } }, 'a car with five wheels');
+    await refused({ op: 'step', spin_radps: [0, 0], steer_radps: [0, 0], dt_s: 0.001 }, 'a step after a failed build (it drops the car before it)');
+    await a.stop();
+  });
+}
+
+/// x of the front-axle centre after each of n steps of a car driven at 1 rad/s.
+async function drive(argv, n) {
+  const a = start(argv);
+  await a.request({ op: 'hello', protocol: 1 });
+  await a.request(carRequest({}));
+  const xs = [];
+  for (let k = 0; k < n; k++) xs.push((await a.request({ op: 'step', spin_radps: [1, 0], steer_radps: [0, 0], dt_s: 0.001 })).x_m);
+  await a.stop();
+  return xs;
+}
+
+/// The first step with a reported contact, disks closing at 1 m/s from 1 m apart.
+async function firstContact(argv) {
+  const a = start(argv);
+  await a.request({ op: 'hello', protocol: 1 });
+  await a.request({ op: 'disks', settings: {}, radius_m: 1, dt_s: 0.001, cM0: [0, 0], cN0: [2.0105, 0] });
+  for (let k = 1; k <= 100; k++) {
+    const r = await a.request({ op: 'step', vM_cmd: [1, 0], cN_next: [2.0105, 0], vN: [0, 0], dt_s: 0.001 });
+    if (r.contacts.count > 0) {
+      await a.stop();
+      return k;
+    }
+  }
+  await a.stop();
+  return null;
+}
+
+test('cannon --fault stale-pose reports the previous step\'s front-axle position', async () => {
+  const clean = await drive(['node', 'cannon.mjs', '--config', 'default'], 50);
+  const stale = await drive(['node', 'cannon.mjs', '--config', 'default', '--fault', 'stale-pose'], 50);
+  assert.ok(clean[49] - clean[0] > 1e-3, 'the car moves');
+  for (let k = 1; k < 50; k++) assert.equal(stale[k], clean[k - 1]);
+});
+
+test('cannon --fault late-contact reports the disks\' first contact one step late', async () => {
+  const clean = await firstContact(['node', 'cannon.mjs', '--config', 'default']);
+  assert.equal(clean, 12);  // the gap of 10.5 mm is closed during step 11: the state step 12 starts from overlaps
+  assert.equal(await firstContact(['node', 'cannon.mjs', '--config', 'default', '--fault', 'late-contact']), clean + 1);
+});

@@ -1,0 +1,480 @@
+#include "engines/protocol/outside.hpp"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fmt/format.h>
+#include <fmt/ranges.h>
+#include <fstream>
+#include <memory>
+#include <mutex>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <sstream>
+
+#include "engines/driven_disks.hpp"
+#include "engines/protocol/child.hpp"
+#include "engines/rigid_car.hpp"
+
+#ifndef LIFTCHECK_OUTSIDE_DIR
+#define LIFTCHECK_OUTSIDE_DIR "engines/outside"
+#endif
+
+namespace liftcheck {
+
+using nlohmann::json;
+
+namespace {
+
+std::atomic<double> g_timeout_s{100.5};  // set_protocol_timeout(120), the default --timeout
+
+/// An outside configuration's command and its idle child processes (one serves many runs).
+struct Outside {
+  std::string name;
+  std::vector<std::string> argv;
+  std::string cwd;  ///< the registration's folder: relative paths in the command resolve there
+  bool four_wheels = false;
+  std::string precision = "float64";
+  std::mutex m;
+  std::vector<std::unique_ptr<ProtocolChild>> idle;
+};
+
+std::mutex g_all_m;
+std::vector<std::weak_ptr<Outside>> g_all;  ///< for close_idle_children
+
+double now_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+
+/// The hello of a child just started: the protocol version must be 1.
+json hello(ProtocolChild& c, double deadline_s) {
+  json r = c.call({{"op", "hello"}, {"protocol", 1}}, std::max(0.05, deadline_s - now_s()));
+  const auto p = r.find("protocol");
+  if (p == r.end() || !p->is_number_integer() || p->get<long>() != 1)
+    c.fail(fmt::format("speaks protocol {}, liftcheck speaks 1", p == r.end() ? "(none given)" : p->dump()));
+  return r;
+}
+
+std::unique_ptr<ProtocolChild> start(Outside& o) { return std::make_unique<ProtocolChild>(o.name, o.argv, o.cwd); }
+
+/// A child for one engine object: an idle one, or a new one past its hello.
+std::unique_ptr<ProtocolChild> take(Outside& o, double deadline_s) {
+  {
+    std::lock_guard<std::mutex> lock(o.m);
+    while (!o.idle.empty()) {
+      std::unique_ptr<ProtocolChild> c = std::move(o.idle.back());
+      o.idle.pop_back();
+      if (c->healthy()) return c;
+    }
+  }
+  std::unique_ptr<ProtocolChild> c = start(o);
+  hello(*c, deadline_s);
+  return c;
+}
+
+void give_back(Outside& o, std::unique_ptr<ProtocolChild> c) {
+  if (!c || !c->healthy()) return;
+  std::lock_guard<std::mutex> lock(o.m);
+  o.idle.push_back(std::move(c));
+}
+
+/// The child an engine object uses for its run, back to the idle ones when it is done. Every
+/// reply must come before the run's deadline (protocol_timeout_s from the engine object's making).
+class Lease {
+ public:
+  explicit Lease(std::shared_ptr<Outside> o) : o_(std::move(o)), deadline_s_(now_s() + protocol_timeout_s()) {}
+  ~Lease() { give_back(*o_, std::move(child_)); }
+  ProtocolChild& get() {
+    if (!child_ || !child_->healthy()) child_ = take(*o_, deadline_s_);
+    return *child_;
+  }
+  json call(const json& request) {
+    ProtocolChild& c = get();
+    return c.call(request, std::max(0.05, deadline_s_ - now_s()));
+  }
+  const Outside& outside() const { return *o_; }
+
+ private:
+  std::shared_ptr<Outside> o_;
+  double deadline_s_;
+  std::unique_ptr<ProtocolChild> child_;
+};
+
+json settings_json(const Settings& s) {
+  json j = json::object();
+  for (const auto& [k, v] : s) j[k] = v;
+  return j;
+}
+
+json vec(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
+json vec(const disks::Vec2& v) { return json::array({v.x(), v.y()}); }
+Eigen::Vector3d vec3(ProtocolChild& c, const json& j, const char* key, const char* where) {
+  const std::vector<double> v = c.numbers(j, key, 3, where);
+  return {v[0], v[1], v[2]};
+}
+
+/// RigidCarState from a car reply (docs/protocol.md, "step (car)").
+RigidCarState car_state(ProtocolChild& c, const json& r, int wheels) {
+  RigidCarState s{};
+  const std::vector<double> spin = c.numbers(r, "spin_joint_rad", 0), steer = c.numbers(r, "steer_rad", 0);
+  const size_t n_front = wheels == 4 ? 2 : 1;
+  if (spin.size() < n_front || steer.size() < n_front)
+    c.fail(fmt::format("'spin_joint_rad' and 'steer_rad' need {} entries for a {}-wheel car", n_front, wheels));
+  for (size_t k = 0; k < 2; ++k) {
+    s.spin_joint_rad[k] = k < spin.size() ? spin[k] : 0.0;
+    s.steer_rad[k] = k < steer.size() ? steer[k] : 0.0;
+  }
+  s.x_m = c.number(r, "x_m"), s.y_m = c.number(r, "y_m"), s.z_m = c.number(r, "z_m");
+  s.phi_rad = c.number(r, "phi_rad"), s.rear_z_m = c.number(r, "rear_z_m");
+  const auto w = r.find("wheels");
+  if (w == r.end() || !w->is_array() || w->size() != static_cast<size_t>(wheels))
+    c.fail(fmt::format("'wheels' must be an array of the {} wheels' states", wheels));
+  for (int k = 0; k < wheels; ++k) {
+    const json& ws = (*w)[static_cast<size_t>(k)];
+    if (!ws.is_object()) c.fail(fmt::format("wheels[{}] is not an object", k));
+    const std::string where = fmt::format("wheels[{}].", k);
+    s.wheels[k].v_hub_W = vec3(c, ws, "v_hub_W", where.c_str());
+    s.wheels[k].omega_W = vec3(c, ws, "omega_W", where.c_str());
+    s.wheels[k].axle_W = vec3(c, ws, "axle_W", where.c_str());
+    s.wheels[k].hub_z_m = c.number(ws, "hub_z_m", where.c_str());
+  }
+  return s;
+}
+
+double engine_seconds(ProtocolChild& c, const json& r) {
+  const double s = c.number(r, "engine_s");
+  if (s < 0.0) c.fail("'engine_s' is negative");
+  return s;
+}
+
+/// A car stepped by an outside engine: RigidCar's servo and bookkeeping over the protocol.
+class ProtocolCar final : public RigidCar {
+ public:
+  ProtocolCar(std::shared_ptr<Outside> o, Settings s) : RigidCar(std::move(s)), lease_(std::move(o)) {}
+  double reported_engine_s() const override { return engine_s_; }
+
+ protected:
+  void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
+    const auto shape = settings_.find("wheel");
+    const json car{{"R_m", d.R_m}, {"l_m", d.l_m}, {"track_m", d.track_m}, {"wheels", d.wheels},
+                   {"parallel_steering", d.parallel_steering}, {"wheel_width_m", d.wheel_width_m},
+                   {"wheel_shape", shape == settings_.end() ? "sphere" : shape->second}, {"chassis_height_m", d.chassis_height_m},
+                   {"chassis_mass_kg", d.chassis_mass_kg}, {"wheel_mass_kg", d.wheel_mass_kg}, {"knuckle_mass_kg", d.wheel_mass_kg}};
+    const json req{{"op", "car"}, {"settings", settings_json(settings_)}, {"dt_s", setup.dt_s}, {"mu", setup.mu},
+                   {"gravity_W", vec(setup.gravity_W())}, {"car", car},
+                   {"q0", {{"x_m", q0.x_m}, {"y_m", q0.y_m}, {"phi_rad", q0.phi_rad}, {"beta_rad", q0.beta_rad}}},
+                   {"servo", {{"spin_torque_max_Nm", servo_.spin_torque_max_Nm}, {"steer_torque_max_Nm", servo_.steer_torque_max_Nm}}}};
+    const json r = lease_.call(req);
+    state_ = car_state(lease_.get(), r, d.wheels);
+  }
+  void actuate(const FrontRates& rates, const ServoDef&) override { rates_ = rates; }
+  void step(double dt_s) override {
+    const json req{{"op", "step"}, {"spin_radps", {rates_.spin_radps[0], rates_.spin_radps[1]}},
+                   {"steer_radps", {rates_.steer_radps[0], rates_.steer_radps[1]}}, {"dt_s", dt_s}};
+    const json r = lease_.call(req);
+    ProtocolChild& c = lease_.get();
+    engine_s_ += engine_seconds(c, r);
+    state_ = car_state(c, r, def_.wheels);
+  }
+  bool four_wheels() const override { return lease_.outside().four_wheels; }
+  RigidCarState read() const override { return state_; }
+
+ private:
+  Lease lease_;
+  FrontRates rates_;
+  RigidCarState state_{};
+  double engine_s_ = 0.0;
+};
+
+/// Two disks in an outside engine: DrivenDisks' control loop and contact bookkeeping over the protocol.
+class ProtocolDisks final : public DrivenDisks {
+ public:
+  ProtocolDisks(std::shared_ptr<Outside> o, Settings s) : lease_(std::move(o)), settings_(std::move(s)) {}
+  double reported_engine_s() const override { return engine_s_; }
+
+ protected:
+  void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
+    const json req{{"op", "disks"}, {"settings", settings_json(settings_)}, {"radius_m", setup.radius_m}, {"dt_s", setup.dt_s},
+                   {"cM0", vec(cM0)}, {"cN0", vec(cN0)}};
+    const json r = lease_.call(req);
+    state_ = positions(lease_.get(), r);
+  }
+  StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt_s) override {
+    const json req{{"op", "step"}, {"vM_cmd", vec(vM_cmd)}, {"cN_next", vec(cN_next)}, {"vN", vec(vN)}, {"dt_s", dt_s}};
+    const json r = lease_.call(req);
+    ProtocolChild& c = lease_.get();
+    engine_s_ += engine_seconds(c, r);
+    state_ = positions(c, r);
+    const auto ct = r.find("contacts");
+    if (ct == r.end() || !ct->is_object()) c.fail("the reply has no object 'contacts'");
+    const auto n = ct->find("count");
+    if (n == ct->end() || !n->is_number_integer() || n->get<long>() < 0) c.fail("'contacts.count' is not a whole number >= 0");
+    StepContacts out;
+    out.count = static_cast<int>(std::min<long>(n->get<long>(), 1000000));
+    if (out.count > 0) {
+      out.depth_max_m = c.number(*ct, "depth_max_m", "contacts.");
+      out.distance_min_m = c.number(*ct, "distance_min_m", "contacts.");
+      if (out.depth_max_m < 0.0) c.fail("'contacts.depth_max_m' is negative");
+    }
+    return out;
+  }
+  State read() const override { return state_; }
+  /// A contact reported within the precision's bookkeeping tolerance of touching (1e-9 m, 1e-5 m
+  /// for float32) touches; one further apart is speculative.
+  double touching_distance_m() const override { return 1e-9 * bookkeeping_factor(lease_.outside().precision); }
+
+ private:
+  static State positions(ProtocolChild& c, const json& r) {
+    const std::vector<double> m = c.numbers(r, "cM", 2), n = c.numbers(r, "cN", 2);
+    return {disks::Vec2(m[0], m[1]), disks::Vec2(n[0], n[1])};
+  }
+  Lease lease_;
+  Settings settings_;
+  State state_;
+  double engine_s_ = 0.0;
+};
+
+// ---- the hello: what the configuration is ----
+
+std::string text_field(ProtocolChild& c, const json& j, const char* key, const std::string& where, bool required = true) {
+  const auto it = j.find(key);
+  if (it == j.end() && !required) return "";
+  if (it == j.end() || !it->is_string()) c.fail(fmt::format("hello: '{}{}' must be a string", where, key));
+  return it->get<std::string>();
+}
+
+SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
+  const std::string where = fmt::format("settings[{}].", i);
+  if (!j.is_object()) c.fail(fmt::format("hello: settings[{}] is not an object", i));
+  SettingSpec k;
+  k.key = text_field(c, j, "key", where);
+  if (k.key.empty() || k.key.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
+    c.fail(fmt::format("hello: {}key '{}' must be lower-case letters, digits and '_'", where, k.key));
+  k.vehicle = text_field(c, j, "vehicle", where);
+  if (k.vehicle != "car" && k.vehicle != "disks") c.fail(fmt::format("hello: {}vehicle must be 'car' or 'disks'", where));
+  const std::string kind = text_field(c, j, "kind", where);
+  k.kind = kind == "integer" ? SettingSpec::kInteger : kind == "real" ? SettingSpec::kReal : SettingSpec::kChoice;
+  if (kind != "integer" && kind != "real" && kind != "choice") c.fail(fmt::format("hello: {}kind must be integer, real or choice", where));
+  const auto d = j.find("default");
+  if (d == j.end() || !(d->is_string() || d->is_number())) c.fail(fmt::format("hello: {}default is missing", where));
+  k.default_text = d->is_string() ? d->get<std::string>() : fmt::format("{:g}", d->get<double>());
+  k.help = text_field(c, j, "help", where, false);
+  if (k.numeric()) {
+    k.min = c.number(j, "min", where.c_str()), k.max = c.number(j, "max", where.c_str());
+    if (j.contains("min_exclusive") && !j["min_exclusive"].is_boolean()) c.fail(fmt::format("hello: {}min_exclusive must be true or false", where));
+    k.min_exclusive = j.value("min_exclusive", false);
+    char* end = nullptr;
+    const double v = std::strtod(k.default_text.c_str(), &end);
+    const bool whole = k.kind != SettingSpec::kInteger || v == std::floor(v);
+    if (end == k.default_text.c_str() || *end || !(v >= k.min && v <= k.max) || (k.min_exclusive && v == k.min) || !whole)
+      c.fail(fmt::format("hello: {}default '{}' is outside its range {}", where, k.default_text, k.range_text()));
+  } else {
+    const auto ch = j.find("choices");
+    if (ch == j.end() || !ch->is_array() || ch->empty()) c.fail(fmt::format("hello: {}choices must be a non-empty array", where));
+    for (const auto& v : *ch) {
+      if (!v.is_string()) c.fail(fmt::format("hello: {}choices must be strings", where));
+      k.choices.push_back(v.get<std::string>());
+    }
+    if (std::find(k.choices.begin(), k.choices.end(), k.default_text) == k.choices.end())
+      c.fail(fmt::format("hello: {}default '{}' is not one of its choices", where, k.default_text));
+  }
+  return k;
+}
+
+/// Fills `e` from the hello reply `r` of child `c` (fail() on anything malformed).
+void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shared_ptr<Outside>& o) {
+  e.library = text_field(c, r, "engine", "");
+  e.version = text_field(c, r, "version", "");
+  e.precision = text_field(c, r, "precision", "");
+  if (e.precision != "float32" && e.precision != "float64") c.fail(fmt::format("hello: precision '{}' must be float32 or float64", e.precision));
+  o->precision = e.precision;
+  const auto v = r.find("vehicles");
+  if (v == r.end() || !v->is_array()) c.fail("hello: 'vehicles' must be an array of \"car\" and \"disks\"");
+  std::set<std::string> vehicles;
+  for (const auto& x : *v) {
+    if (!x.is_string() || (x != "car" && x != "disks")) c.fail("hello: 'vehicles' must hold \"car\" and/or \"disks\"");
+    vehicles.insert(x.get<std::string>());
+  }
+  if (vehicles.empty()) c.fail("hello: 'vehicles' names no vehicle");
+  if (r.contains("four_wheels") && !r["four_wheels"].is_boolean()) c.fail("hello: 'four_wheels' must be true or false");
+  e.four_wheels = o->four_wheels = r.value("four_wheels", false);
+  e.knobs.clear();
+  if (const auto s = r.find("settings"); s != r.end()) {
+    if (!s->is_array()) c.fail("hello: 'settings' must be an array");
+    for (size_t i = 0; i < s->size(); ++i) e.knobs.push_back(knob(c, (*s)[i], i));
+  }
+  std::set<std::pair<std::string, std::string>> seen;
+  for (const SettingSpec& k : e.knobs)
+    if (!seen.insert({k.key, k.vehicle}).second) c.fail(fmt::format("hello: setting '{}' declared twice for {}", k.key, k.vehicle));
+  e.settings.clear();
+  if (const auto f = r.find("fixed"); f != r.end()) {
+    if (!f->is_array()) c.fail("hello: 'fixed' must be an array of [name, value] pairs");
+    for (const auto& p : *f) {
+      if (!p.is_array() || p.size() != 2 || !p[0].is_string() || !p[1].is_string()) c.fail("hello: 'fixed' must be an array of [name, value] pairs");
+      e.settings.emplace_back(p[0].get<std::string>(), p[1].get<std::string>());
+    }
+  }
+  e.settings.insert(e.settings.begin(), {"protocol", fmt::format("{} (docs/protocol.md), precision {}", fmt::join(e.command, " "), e.precision)});
+  if (vehicles.count("car")) e.make_car = [o](const Settings& s) { return std::make_unique<ProtocolCar>(o, s); };
+  if (vehicles.count("disks")) e.make_disks = [o](const Settings& s) { return std::make_unique<ProtocolDisks>(o, s); };
+}
+
+/// A configuration whose hello failed: every run of it is an error record saying why.
+void make_unavailable(EngineInfo& e, const std::string& why) {
+  e.unavailable = why;
+  e.library = "unavailable";
+  e.version = "-";
+  e.knobs.clear();
+  e.settings = {{"unavailable", why}};
+  e.make_car = [why](const Settings&) -> std::unique_ptr<CarEngine> { throw EngineError(why); };
+  e.make_disks = [why](const Settings&) -> std::unique_ptr<DiskEngine> { throw EngineError(why); };
+}
+
+std::string registration_problem(const std::filesystem::path& file, const std::string& what) {
+  return fmt::format("engine registration '{}': {}", file.string(), what);
+}
+
+/// One registration file, or a problem.
+bool read_registration(const std::filesystem::path& file, EngineInfo& e, std::string& problem) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(file, ec);
+  if (ec || size > kProtocolLineMax) {
+    problem = registration_problem(file, ec ? ec.message() : "larger than 1 MiB");
+    return false;
+  }
+  std::ifstream in(file);
+  const json j = json::parse(in, nullptr, false);
+  const auto str = [&](const char* key) { return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string(); };
+  if (j.is_discarded() || !j.is_object()) return problem = registration_problem(file, "not a JSON object"), false;
+  e.name = str("name");
+  if (e.name.empty() || e.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789.-_") != std::string::npos)
+    return problem = registration_problem(file, "'name' must be lower-case letters, digits, '.', '-' and '_'"), false;
+  if (e.name != file.stem().string()) return problem = registration_problem(file, fmt::format("'name' '{}' must be the file's name", e.name)), false;
+  if (!j.contains("command") || !j["command"].is_array() || j["command"].empty())
+    return problem = registration_problem(file, "'command' must be a non-empty array of strings (an argument vector)"), false;
+  for (const auto& a : j["command"]) {
+    if (!a.is_string() || a.get<std::string>().empty()) return problem = registration_problem(file, "'command' must hold non-empty strings"), false;
+    e.command.push_back(a.get<std::string>());
+  }
+  e.description = str("description");
+  e.color = str("color");
+  const bool hex = e.color.size() == 7 && e.color[0] == '#' && e.color.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos;
+  if (!hex) return problem = registration_problem(file, "'color' must be \"#rrggbb\""), false;
+  e.registration = std::filesystem::absolute(file).lexically_normal().string();
+  return true;
+}
+
+}  // namespace
+
+void set_protocol_timeout(double run_timeout_s) {
+  // The replies of a run may take most of the run's time limit, not all of it: before the engine
+  // object is made, the worker process has started and read the configuration's hello (about a
+  // second on a loaded machine), and after a hang it must still write the error record before
+  // its own limit stops it.
+  g_timeout_s = std::max(0.5, 0.85 * run_timeout_s - 1.5);
+}
+double protocol_timeout_s() { return g_timeout_s; }
+
+std::vector<std::string> engine_dirs() {
+  std::vector<std::string> dirs{LIFTCHECK_OUTSIDE_DIR};
+  if (const char* path = std::getenv("LIFTCHECK_ENGINE_PATH")) {
+    std::stringstream ss(path);
+    std::string d;
+    while (std::getline(ss, d, ':'))
+      if (!d.empty()) dirs.push_back(d);
+  }
+  return dirs;
+}
+
+std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled_names, std::vector<std::string>& problems) {
+  std::vector<EngineInfo> out;
+  std::set<std::string> taken(compiled_names.begin(), compiled_names.end());
+  std::set<std::string> dirs_seen;
+  for (const std::string& dir : engine_dirs()) {
+    std::error_code ec;
+    const std::filesystem::path d = std::filesystem::weakly_canonical(std::filesystem::absolute(dir), ec);
+    if (!dirs_seen.insert(d.string()).second) continue;
+    if (!std::filesystem::is_directory(d, ec)) {
+      if (dir != LIFTCHECK_OUTSIDE_DIR) problems.push_back(fmt::format("engine folder '{}' (--engine-dir or LIFTCHECK_ENGINE_PATH) is not a folder", dir));
+      continue;
+    }
+    std::vector<std::filesystem::path> files;
+    for (const auto& entry : std::filesystem::directory_iterator(d, ec)) {
+      const std::string name = entry.path().filename().string();
+      if (entry.path().extension() == ".json" && name != "package.json" && name != "package-lock.json") files.push_back(entry.path());
+    }
+    std::sort(files.begin(), files.end());
+    for (const auto& f : files) {
+      EngineInfo e;
+      std::string problem;
+      if (!read_registration(f, e, problem)) {
+        problems.push_back(problem);
+        continue;
+      }
+      if (!taken.insert(e.name).second) {
+        problems.push_back(registration_problem(f, fmt::format("the name '{}' is taken (by a compiled-in configuration or another registration)", e.name)));
+        continue;
+      }
+      e.library = "outside";
+      e.version = "?";
+      e.contact_dynamics = true;
+      e.described = false;
+      out.push_back(std::move(e));
+    }
+  }
+  return out;
+}
+
+void describe_outside(EngineInfo& e) {
+  static std::mutex m;
+  std::lock_guard<std::mutex> lock(m);
+  if (e.described) return;
+  auto o = std::make_shared<Outside>();
+  o->name = e.name;
+  o->argv = e.command;
+  o->cwd = std::filesystem::path(e.registration).parent_path().string();
+  try {
+    std::unique_ptr<ProtocolChild> c = start(*o);
+    const json r = hello(*c, now_s() + protocol_timeout_s());
+    apply_hello(e, *c, r, o);
+    give_back(*o, std::move(c));
+    std::lock_guard<std::mutex> all(g_all_m);
+    g_all.push_back(o);
+  } catch (const EngineError& err) {
+    make_unavailable(e, err.what());
+  } catch (const std::exception& err) {  // a mistyped optional field of the hello
+    make_unavailable(e, fmt::format("engine '{}' (hello): malformed: {}", e.name, err.what()));
+  }
+  e.described = true;
+}
+
+EngineInfo outside_engine(const std::string& name, const std::vector<std::string>& command, const std::string& dir) {
+  EngineInfo e;
+  e.name = name;
+  e.command = command;
+  e.registration = (std::filesystem::path(dir) / (name + ".json")).string();
+  e.color = "#7f7f7f";
+  e.contact_dynamics = true;
+  e.described = false;
+  describe_outside(e);
+  return e;
+}
+
+void close_idle_children() {
+  std::vector<std::shared_ptr<Outside>> all;
+  {
+    std::lock_guard<std::mutex> lock(g_all_m);
+    for (const auto& w : g_all)
+      if (auto o = w.lock()) all.push_back(o);
+  }
+  for (const auto& o : all) {
+    std::vector<std::unique_ptr<ProtocolChild>> idle;
+    {
+      std::lock_guard<std::mutex> lock(o->m);
+      idle.swap(o->idle);
+    }
+    for (auto& c : idle) c->close(1.0);
+  }
+}
+
+}  // namespace liftcheck

@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""An adapter that lies, for the tests of liftcheck's engine protocol (docs/protocol.md): it says
+hello and builds like an honest one (a car that stands where it was put, disks that stay put),
+then breaks the protocol in the way its mode names, at the first step:
+  version    hello answers protocol 2
+  malformed  a reply that is not JSON
+  nan        a reply with NaN in it (Python writes the bare word, which is not JSON)
+  missing    a reply without the field x_m
+  die        exits with status 7, a last word on stderr
+  hang       never replies (liftcheck's --timeout must end it)
+  flood      a line longer than 1 MiB"""
+import json
+import sys
+import time
+
+mode = sys.argv[1]
+
+
+def out(obj):
+    sys.stdout.write(json.dumps(obj) + "\n")
+    sys.stdout.flush()
+
+
+def car_state(req):
+    R, q0 = req["car"]["R_m"], req["q0"]
+    wheel = {"v_hub_W": [0, 0, 0], "omega_W": [0, 0, 0], "axle_W": [0, 1, 0], "hub_z_m": R}
+    return {"ok": True, "spin_joint_rad": [0, 0], "steer_rad": [q0["beta_rad"], q0["beta_rad"]], "x_m": q0["x_m"], "y_m": q0["y_m"],
+            "z_m": R, "phi_rad": q0["phi_rad"], "rear_z_m": R, "wheels": [wheel] * req["car"]["wheels"]}
+
+
+built = None
+for line in sys.stdin:
+    req = json.loads(line)
+    op = req["op"]
+    if op == "hello":
+        out({"ok": True, "protocol": 2 if mode == "version" else 1, "engine": "Fake", "version": "0", "precision": "float64",
+             "vehicles": ["car", "disks"], "settings": [], "fixed": [["lies", mode]]})
+    elif op == "car":
+        built = car_state(req)
+        out(built)
+    elif op == "disks":
+        built = {"ok": True, "cM": req["cM0"], "cN": req["cN0"], "contacts": {"count": 0}, "engine_s": 0.0}
+        out({"ok": True, "cM": req["cM0"], "cN": req["cN0"]})
+    elif op == "step":
+        if mode == "malformed":
+            sys.stdout.write("step done, x = 1.0\n")
+            sys.stdout.flush()
+        elif mode == "nan":
+            out(dict(built, engine_s=1e-6, x_m=float("nan")) if "x_m" in built else dict(built, cM=[float("nan"), 0.0]))
+        elif mode == "missing":
+            out({k: v for k, v in dict(built, engine_s=1e-6).items() if k not in ("x_m", "cM")})
+        elif mode == "die":
+            sys.stderr.write("fake adapter: giving up\n")
+            sys.exit(7)
+        elif mode == "hang":
+            time.sleep(3600)
+        elif mode == "flood":
+            sys.stdout.write("[" + "0," * (1 << 20) + "0]\n")
+            sys.stdout.flush()
+        else:
+            out(dict(built, engine_s=1e-6))
+    elif op == "bye":
+        out({"ok": True})
+        break

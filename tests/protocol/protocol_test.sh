@@ -1,0 +1,64 @@
+#!/bin/sh
+# The engine protocol end to end (docs/protocol.md), with liftcheck's own engine on the other side
+# and with adapters that lie:
+#  1. `ode` served over the protocol (`liftcheck serve ode`, registered from a temporary folder as
+#     `ode-protocol`) gives the same records as `ode` compiled in, on every car and disk scenario
+#     of the default catalogue (check_records.py: field by field, the configuration's name, its
+#     expectations and the timings aside);
+#  2. each lying adapter (tests/protocol/fake_adapter.py) gives error records with a one-line
+#     reason naming what went wrong, and the suite goes on (ode's runs beside them pass).
+set -eu
+LIFTCHECK=$1
+HERE=$(cd "$(dirname "$0")" && pwd)
+TMP=$(mktemp -d)
+trap 'rm -rf "$TMP"' EXIT
+
+mkdir "$TMP/reg"
+python3 - "$LIFTCHECK" "$TMP/reg/ode-protocol.json" <<'PY'
+import json, os, sys
+json.dump({"name": "ode-protocol", "command": [os.path.abspath(sys.argv[1]), "serve", "ode"],
+           "description": "ode served over the engine protocol by liftcheck serve", "color": "#aec7e8"}, open(sys.argv[2], "w"))
+PY
+
+# The registration is listed without starting it; `engines` reads its hello.
+"$LIFTCHECK" --engine-dir "$TMP/reg" list | grep -q "ode-protocol"
+"$LIFTCHECK" engines --engine-dir "$TMP/reg" | grep -q "^ode-protocol  \[ODE "
+# Its knobs are validated like a compiled-in configuration's.
+if "$LIFTCHECK" run car.circle --engine ode-protocol --engine-dir "$TMP/reg" --set iterations=5 2>"$TMP/err"; then exit 1; else test $? -eq 2; fi
+grep -q "has no setting 'iterations'" "$TMP/err"
+if "$LIFTCHECK" run car.circle --engine ode-protocol --engine-dir "$TMP/reg" --set wheel=square 2>"$TMP/err"; then exit 1; else test $? -eq 2; fi
+test "$(wc -l < "$TMP/err")" -eq 1
+
+# A registration whose command cannot start is reported, not a crash: `engines` says why, its
+# runs are error records (exit 1).
+printf '{"name": "no-node", "command": ["no-such-command-for-liftcheck", "x.mjs"], "description": "missing", "color": "#000000"}\n' > "$TMP/reg/no-node.json"
+"$LIFTCHECK" engines --engine-dir "$TMP/reg" | grep -A2 "^no-node  \[unavailable" | grep -q "cannot start 'no-such-command-for-liftcheck'"
+if "$LIFTCHECK" run car.circle --engine no-node --engine-dir "$TMP/reg" >"$TMP/out"; then exit 1; else test $? -eq 1; fi
+grep -q "error (engine 'no-node': cannot start" "$TMP/out"
+rm "$TMP/reg/no-node.json"
+# A malformed registration is bad input: one line, exit 2.
+mkdir "$TMP/bad" && printf '{"name": "Bad Name", "command": []}\n' > "$TMP/bad/bad.json"
+if "$LIFTCHECK" list --engine-dir "$TMP/bad" >/dev/null 2>"$TMP/err"; then exit 1; else test $? -eq 2; fi
+test "$(wc -l < "$TMP/err")" -eq 1 && grep -q "bad.json" "$TMP/err"
+
+# 1. The same records.
+status=0
+"$LIFTCHECK" validate --engine-dir "$TMP/reg" --engines ode,ode-protocol --no-sweeps --no-report --out "$TMP/same" >"$TMP/same.log" || status=$?
+test "$status" -le 1 || { cat "$TMP/same.log"; exit 1; }
+python3 "$HERE/check_records.py" same "$TMP/same/results.json" ode ode-protocol
+
+# 2. Adapters that lie: error records, one line each, and the suite goes on. Each is registered
+# with the Python running this test (no wrapper script to start on a loaded machine).
+mkdir "$TMP/fakes"
+python3 - "$HERE/fake_adapter.py" "$TMP/fakes" <<'PY'
+import json, sys
+for mode in ["version", "malformed", "nan", "missing", "die", "hang", "flood"]:
+    json.dump({"name": f"fake-{mode}", "command": [sys.executable, sys.argv[1], mode],
+               "description": f"an adapter that lies ({mode})", "color": "#7f7f7f"}, open(f"{sys.argv[2]}/fake-{mode}.json", "w"))
+PY
+status=0
+"$LIFTCHECK" validate --engine-dir "$TMP/fakes" --engines ode,fake-version,fake-malformed,fake-nan,fake-missing,fake-die,fake-hang,fake-flood \
+  --filter 'car.circle,disks.linear' --no-sweeps --no-report --timeout 20 --jobs 2 --out "$TMP/lies" >"$TMP/lies.log" || status=$?
+test "$status" -eq 1 || { cat "$TMP/lies.log"; exit 1; }
+python3 "$HERE/check_records.py" lies "$TMP/lies/results.json"
+echo "protocol: ok"
