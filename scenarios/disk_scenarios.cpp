@@ -577,6 +577,10 @@ std::vector<Scenario> disk_scenarios() {
     all.insert(all.end(), extra.begin(), extra.end());
     return all;
   };
+  // Headlines: the engine's own error. Before contact it is how far each step of M falls from its
+  // command (path_error and end_error are mostly the zero-order hold of the command, the same for
+  // every engine that realises it); after contact, M against the exact response from the engine's
+  // own contact state (t_contact's error is the hold's shift too).
   std::vector<Scenario> v;
   auto add = [&](std::string name, std::string summary, std::string eq, std::vector<ParamSpec> params,
                  std::vector<MetricDef> metrics, std::function<Outcome(const Params&, DiskEngine&)> fn, Headline headline) {
@@ -593,20 +597,20 @@ std::vector<Scenario> disk_scenarios() {
   };
   add("disks.copy", "M copies N's velocity: c_M - c_N stays constant, the disks never touch.", "(36), section 5.3",
       disk_params("0,0", "3,0", "1,0", "figure8", "6"), metrics({spread, dir}), run_copy,
-      Headline{{"path_error"}, "path", "mm", 1e3});
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   add("disks.actuated", "Actuated no-reaction: M stays put until N comes within 3, then follows it more and more.",
       "(37), Figure 6", disk_params("0,0", "6,0.5", "-1,0", "line", "8"), metrics({}), run_actuated,
-      Headline{{"path_error"}, "path", "mm", 1e3});
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   add("disks.repel", "Repel/attract: d(t) = e^{lambda t} d(0) with constant direction for any motion of N; "
       "for lambda < 0 the disks touch at ln(2/d(0))/lambda.", "(38), (39), Lemma 5.1",
       with(disk_params("0,0", "5,0", "1,0", "line", "4"), {number("lambda", "-0.5", "1/s", "rate lambda of (38)", -100.0, false, 100.0)}),
       metrics({dir}), run_repel,
-      Headline{{"t_contact"}, "contact time", "steps", 1.0, true});
+      Headline{{"contact_path_error"}, "after-contact path", "mm", 1e3});
   add("disks.orbit", "Rotation: M circles N at constant distance with angular velocity omega (the paper's mu).",
       "(40), section 5.6",
       with(disk_params("0,0", "3,0", "1,0", "circle", "6"), {number("omega", "0.8", "rad/s", "angular velocity of (40)", -100.0, false, 100.0)}),
       metrics({spread, abs_("turned_angle", "rad", 1e-8, 5e-3, "angle turned by c_M - c_N")}), run_orbit,
-      Headline{{"path_error"}, "path", "mm", 1e3});
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   add("disks.linear", "Linear mechanism with constant coefficients: c_M(t) = A c_N(t) - c0 for any motion of N; "
       "contact when N enters the ball D.", "(41)-(46), Lemma 6.1",
       with(disk_params("0,0", "3,0", "1,0", "line", "4"), {number("a", "2", "1", "coefficient a (the paper's alpha)", -100.0, false, 100.0),
@@ -629,21 +633,21 @@ std::vector<Scenario> disk_scenarios() {
       metrics({
        {"contact_on_D", "m", TolKind::kAbsolute, {{"reference", 1e-6}, {"default", 1.0}},
         "|c_N - c^0| at contact against the radius of D (tolerance in steps of N's travel)"}}),
-      run_forced, Headline{{"t_contact"}, "contact time", "steps", 1.0, true});
+      run_forced, Headline{{"contact_path_error"}, "after-contact path", "mm", 1e3});
   add("disks.moving-away", "The linear mechanism a = 2 meets N at t = 1 s; adding the moving-away reaction form (31) "
       "keeps the disks apart.", "(31), Corollary 4.5, Corollary 4.8",
       with(disk_params("0,0", "3,0", "1,0", "line", "6"),
            {number("a", "2", "1", "base mechanism (41): a", -100.0, false, 100.0), number("b", "0", "1", "base mechanism (41): b", -100.0, false, 100.0),
             number("k_away", "2", "1", "gain of the moving-away form", 0.0, false, 100.0)}),
       metrics({}), run_moving_away,
-      Headline{{"path_error"}, "path", "mm", 1e3});
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   add("disks.extended", "Extended algorithm for a known motion of N: a plan in the fibre around N, lifted by the copy "
       "mechanism, ends at the lift of the target.", "(11), (14)",
       with(disk_params("-4,0.1", "0,0", "0.6,0.2", "line", "8", true, kPlannerTmax),
            {vec2("target", "4,-0.3", "m", "target position of M over N's start"),
             number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, true, 100.0)}),
       metrics({abs_("end_error", "m", 1e-6, 1e-2, "c_M(T) against L(e', gamma)(T)")}, kPlanTol), run_extended,
-      Headline{{"end_error"}, "end", "mm", 1e3});
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   add("disks.target", "Navigation to a moving target that circles N with its own mechanism: M ends on the target.",
       "(16), (17)",
       with(disk_params("-4,0", "1,0", "1,0", "figure8", "8", true, kPlannerTmax),
@@ -651,7 +655,7 @@ std::vector<Scenario> disk_scenarios() {
             number("target_omega", "0.4", "rad/s", "the target's rotation about N (40)", -10.0, false, 10.0),
             number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, true, 100.0)}),
       metrics({abs_("end_error", "m", 1e-6, 1e-2, "c_M(T) against the target v(T)")}, kPlanTol), run_target,
-      Headline{{"end_error"}, "end", "mm", 1e3});
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   return v;
 }
 
