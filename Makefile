@@ -77,7 +77,7 @@ test: build
 report-check:
 	@$(MAKE) --no-print-directory install-packages PKGS="chromium python3"
 	@test -f $(REPORT_DIR)/index.html || $(MAKE) --no-print-directory validate
-	python3 tests/screenshot_check.py $(REPORT_DIR) $(REPORT_DIR)/screenshot.png
+	python3 tests/screenshot_check.py $(REPORT_DIR) $(BUILD_DIR)/report-screenshot.png
 
 # The unit tests and a short validate under ASan and UBSan (the slow conformance and fault suites
 # are left to `make test`). -O1 -g1: line numbers in reports at half the compile time of -O2 -g.
