@@ -22,6 +22,7 @@ Command add_worker(CLI::App& app);    // cli/worker.cpp
 Command add_path(CLI::App& app);      // cli/path.cpp
 Command add_score(CLI::App& app);     // cli/score.cpp
 Command add_diff(CLI::App& app);      // cli/diff.cpp
+Command add_report(CLI::App& app);    // cli/report.cpp
 Command add_serve(CLI::App& app);     // cli/serve.cpp
 
 }  // namespace liftcheck::cli

@@ -7,8 +7,10 @@
 #include <sstream>
 
 #include "cli/interrupts.hpp"
+#include "cli/terminal.hpp"
 #include "engines/protocol/outside.hpp"
 #include "input/suggest.hpp"
+#include "reports/headline.hpp"
 
 namespace liftcheck::cli {
 
@@ -70,21 +72,39 @@ RunnerDef runner_def(int jobs, double timeout_s, double memory_limit_mib) {
 
 void print_record(const nlohmann::json& r) {
   const std::string message = r["message"];
-  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(), printable(r["engine"].get<std::string>(), 200), r["verdict"].get<std::string>(),
+  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(), printable(r["engine"].get<std::string>(), 200), coloured_verdict(r["verdict"]),
                            message.empty() ? "" : " (" + printable(message, 1000) + ")");
   if (r["expectation"].is_object())
     std::cout << fmt::format("  {}: {}\n  measured when reviewed: {}\n",
                              r["as_expected"].get<bool>() ? "known failure" : "listed as a known failure (harness/expectations.json)",
                              r["expectation"]["reason"].get<std::string>(), r["expectation"]["measured"].get<std::string>());
-  std::cout << fmt::format("  {:<20} {:>14} {:>14} {:>10} {:>10} {:>10}  {}\n", "metric", "expected", "measured",
-                           "abs_err", "rel_err", "tolerance", "");
-  const auto num = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  // The headline's metrics first, then the rest from the worst ratio to its tolerance down.
+  const nlohmann::json def = headline_def(nlohmann::json::object(), r["scenario"]);
+  const std::vector<std::string> head = def.is_object() ? def["metrics"].get<std::vector<std::string>>() : std::vector<std::string>{};
   const nlohmann::json metrics = r["metrics"];
-  for (const auto& [name, m] : metrics.items())
-    std::cout << fmt::format("  {:<20} {:>14.8g} {:>14.8g} {:>10.3g} {:>10.3g} {:>6.3g} {:<3} {} {}\n", name,
-                             num(m["expected"]), num(m["measured"]), num(m["abs_error"]), num(m["rel_error"]), num(m["tolerance"]),
-                             m["tolerance_kind"].get<std::string>(), m["unit"].get<std::string>(),
-                             m.value("informational", false) ? "info" : m["pass"].get<bool>() ? "ok" : "FAIL");
+  const auto num = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  std::vector<std::pair<double, std::string>> order;
+  for (const auto& [name, m] : metrics.items()) {
+    const bool rel = m["tolerance_kind"] == "rel";
+    const double err = num(m[rel ? "rel_error" : "abs_error"]), tol = num(m["tolerance"]);
+    const auto it = std::find(head.begin(), head.end(), name);
+    double key = it != head.end() ? 1e300 - static_cast<double>(it - head.begin()) : tol > 0 ? err / tol : 0.0;
+    order.emplace_back(std::isfinite(key) ? key : 1e299, name);
+  }
+  std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::cout << fmt::format("  {:<22} {:>14} {:>14} {:>13} {:>10} {:<5} {:>9}  {}\n", "metric", "expected", "measured", "error", "tolerance", "unit",
+                           "err/tol", "result");
+  for (const auto& [key, name] : order) {
+    const nlohmann::json& m = metrics[name];
+    const bool rel = m["tolerance_kind"] == "rel";
+    const double err = num(m[rel ? "rel_error" : "abs_error"]), tol = num(m["tolerance"]);
+    const std::string verdict = m.value("informational", false) ? "info" : m["pass"].get<bool>() ? "ok" : "FAIL";
+    const bool is_head = std::find(head.begin(), head.end(), name) != head.end();
+    std::cout << fmt::format("  {:<22} {:>14.8g} {:>14.8g} {:>9.3g} {:<3} {:>10.3g} {:<5} {:>9}  {}\n", is_head ? name + " *" : name,
+                             num(m["expected"]), num(m["measured"]), err, rel ? "rel" : "abs", tol, rel ? "1" : m["unit"].get<std::string>(),
+                             tol > 0 ? short_number(err / tol) : "-", paint(verdict == "ok" ? "pass" : verdict == "info" ? "skip" : "fail", verdict));
+  }
+  if (!head.empty()) std::cout << fmt::format("  * the headline: {}\n", def.value("label", ""));
 }
 
 int run_one(const SuitePlan& plan, const RunnerDef& runner, bool json, const std::string& during) {

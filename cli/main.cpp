@@ -13,6 +13,7 @@
 #include "engines/engine.hpp"
 #include <fmt/ranges.h>
 #include "input/params.hpp"  // InputError
+#include "input/suggest.hpp"
 #include "input/trace.hpp"   // printable: a message stays one line, whatever names it holds
 #include "liftcheck_version.hpp"
 
@@ -20,6 +21,32 @@ using namespace liftcheck;
 using namespace liftcheck::cli;
 
 namespace {
+
+/// "; did you mean 'run'?" for a mistyped subcommand, or "; did you mean '--engine'?" for a
+/// mistyped option of the given subcommand ("" when nothing is near).
+std::string suggestion(const CLI::App& app, int argc, char** argv) {
+  int first_at = 1;  // the subcommand's place: after any --engine-dir DIR before it
+  while (first_at < argc && std::string(argv[first_at]) == "--engine-dir") first_at += 2;
+  if (first_at >= argc) return "";
+  const std::string first = argv[first_at];
+  std::vector<std::string> names;
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) names.push_back(sub->get_name());
+  const CLI::App* sub = nullptr;
+  for (const CLI::App* s : app.get_subcommands([](const CLI::App*) { return true; }))
+    if (s->get_name() == first) sub = s;
+  if (!sub) return first.rfind("-", 0) == 0 ? "" : did_you_mean(first, names);
+  std::vector<std::string> options;
+  for (const CLI::App* a : {sub, &app})
+    for (const CLI::Option* o : a->get_options())
+      for (const auto& n : o->get_lnames()) options.push_back("--" + n);
+  for (int i = first_at + 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a.rfind("--", 0) != 0) continue;
+    const std::string key = a.substr(0, a.find('='));
+    if (std::find(options.begin(), options.end(), key) == options.end()) return did_you_mean(key, options);
+  }
+  return "";
+}
 
 /// Every write to standard output is checked (a full disk, a closed pipe): the output that was
 /// asked for is the command's result, so losing it is an error, exit 2 with the reason.
@@ -61,7 +88,7 @@ int main(int argc, char** argv) {
   app.add_option("--engine-dir", engine_dir_args, "a folder of outside engine registrations, NAME.json (docs/protocol.md; also LIFTCHECK_ENGINE_PATH)");
   app.set_version_flag("--version", std::string(LIFTCHECK_VERSION_STRING));
   const std::vector<Command> commands = {add_list(app), add_engines(app), add_run(app),   add_validate(app), add_merge(app),
-                                         add_worker(app), add_path(app),  add_score(app), add_diff(app),
+                                         add_worker(app), add_path(app),  add_score(app), add_diff(app), add_report(app),
                                          add_serve(app)};
   try {
     app.parse(argc, argv);
@@ -72,7 +99,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "liftcheck: error: " << printable(e.what(), 2000) << "\n";
+    std::cerr << "liftcheck: error: " << printable(e.what(), 2000) << printable(suggestion(app, argc, argv), 2000) << "\n";
     return 2;
   }
   try {

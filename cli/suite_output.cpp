@@ -1,5 +1,6 @@
 #include "cli/suite_output.hpp"
 
+#include <cstdlib>
 #include <cerrno>
 #include <csignal>
 #include <cstdio>
@@ -40,10 +41,21 @@ Gates sweep_gates(const nlohmann::json& results) {
   return g;
 }
 
+/// Where summary.md points for the report: LIFTCHECK_REPORT_URL when set; on a CI run the run's
+/// page, whose artifacts hold the report (GITHUB_SERVER_URL/GITHUB_REPOSITORY/actions/runs/
+/// GITHUB_RUN_ID); otherwise the report beside it. A pull-request comment needs an absolute link.
+std::string report_link() {
+  const auto env = [](const char* k) { const char* v = std::getenv(k); return std::string(v ? v : ""); };
+  if (!env("LIFTCHECK_REPORT_URL").empty()) return env("LIFTCHECK_REPORT_URL");
+  if (!env("GITHUB_SERVER_URL").empty() && !env("GITHUB_REPOSITORY").empty() && !env("GITHUB_RUN_ID").empty())
+    return fmt::format("{}/{}/actions/runs/{}", env("GITHUB_SERVER_URL"), env("GITHUB_REPOSITORY"), env("GITHUB_RUN_ID"));
+  return "index.html";
+}
+
 /// The report rendered in a child process (fork): a renderer that crashes or runs out of memory
 /// (OSMesa under a memory limit) takes only the child, and the runs' results are written anyway,
 /// with the renderer's end as a report error.
-void write_report_isolated(nlohmann::json& results, const std::filesystem::path& out) {
+void write_report_isolated(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(fmt::format("cannot create a pipe for the report: {}", std::strerror(errno)));
   std::cout.flush();
@@ -54,7 +66,7 @@ void write_report_isolated(nlohmann::json& results, const std::filesystem::path&
     ::close(fds[0]);
     int status = 0;
     try {
-      write_report(results, out);
+      write_report(results, out, def);
       const std::string text = results["report"].dump();
       for (std::size_t done = 0; done < text.size();) {
         const ssize_t put = ::write(fds[1], text.data() + done, text.size() - done);
@@ -110,14 +122,16 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
   const std::filesystem::path out = staged.stage();
   try {
     if (o.report) {
-      write_report_isolated(results, out);
+      ReportDef def;
+      def.snapshots = o.snapshots;
+      write_report_isolated(results, out, def);
       std::cout << fmt::format("report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", results["report"]["report_s"].get<double>(),
                                results["report"]["snapshots"].size(), results["report"]["strips"].size(),
                                results["report"]["plots"].size(),
                                results["report"]["errors"].empty() ? "" : fmt::format("; {} problems, see index.html", results["report"]["errors"].size()));
     }
     write_file_atomic(out / "junit.xml", junit_xml(results));
-    write_file_atomic(out / "summary.md", summary_markdown(results, o.report ? "index.html" : ""));
+    write_file_atomic(out / "summary.md", summary_markdown(results, o.report ? report_link() : ""));
     write_file_atomic(out / "results.json", results.dump(1));
     throw_if_interrupted("while writing the outputs");
     const std::string pending = o.baseline_path + ".new";
@@ -184,6 +198,15 @@ int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann
   print_summary(results, o, gates, staged);
   if (report_problems > 0) std::cout << fmt::format("the report has {} problems (listed above and in index.html)\n", report_problems);
   return all_pass && report_problems == 0 ? 0 : 1;
+}
+
+int render_again(nlohmann::json& results, const OutputOptions& o, StagedOutput& staged) {
+  write_outputs(results, o, staged);
+  Gates gates;
+  gates.total = results["summary"].value("sweep_gates", 0);
+  gates.failed = results["summary"].value("sweep_gates_failed", 0);
+  print_summary(results, o, gates, staged);
+  return results["summary"].value("unexpected", 0) == 0 && results["summary"].value("baseline_problems", 0) == 0 ? 0 : 1;
 }
 
 }  // namespace liftcheck::cli

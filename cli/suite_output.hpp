@@ -15,10 +15,15 @@ struct OutputOptions {
   bool report = true;
   std::string baseline_path;  ///< compare with it (or rewrite it)
   bool update_baseline = false;
+  bool snapshots = true;  ///< the report's snapshots (off: the pages and plots only)
 };
 
 /// The sweeps' gates, the baseline comparison (of the runs made only: a filtered or sharded run
 /// compares its share), then results.json, junit.xml, summary.md and the report; the exit status.
 int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann::json& baseline, StagedOutput& staged);
+
+/// A results file's outputs written again (report, junit.xml, summary.md, results.json) with
+/// this liftcheck's report code; nothing is run or judged again. The exit status is the file's.
+int render_again(nlohmann::json& results, const OutputOptions& o, StagedOutput& staged);
 
 }  // namespace liftcheck::cli

@@ -11,6 +11,7 @@
 #include "cli/interrupts.hpp"
 #include "cli/lookup.hpp"
 #include "cli/progress.hpp"
+#include "cli/terminal.hpp"
 #include "cli/shard.hpp"
 #include "cli/suite_output.hpp"
 #include "harness/results.hpp"
@@ -68,7 +69,7 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
     if (it.kind != SuiteItem::kRun) return;
     progress.clear();
     const bool known = r["expectation"].is_object() && r["as_expected"].get<bool>();
-    std::cout << fmt::format("{:<15} {:<22} {:<16} {:8.3f} s  {}{}\n", r["verdict"].get<std::string>(), it.scenario->name, printable(it.engine->name, 200),
+    std::cout << fmt::format("{} {:<22} {:<16} {:8.3f} s  {}{}\n", coloured_verdict(r["verdict"].get<std::string>(), 15), it.scenario->name, printable(it.engine->name, 200),
                              r["wall_s"].get<double>(), printable(r["message"].get<std::string>(), 1000),
                              known ? fmt::format(" (known: {})", r["expectation"]["reason"].get<std::string>()) : "");
   };

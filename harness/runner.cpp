@@ -100,7 +100,9 @@ std::vector<Metric> score(const Scenario& scenario, const std::string& engine, c
     const double err = def.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
     m.floor = def.kind == TolKind::kRelative ? def.floor_for(engine) : 0.0;
     m.pass = (std::isfinite(err) && err <= m.tolerance) || (std::isfinite(m.abs_error) && m.abs_error <= m.floor);
-    m.informational = v.informational;
+    // A check of the paper's approximation measures the paper, not the engine: counted for the
+    // reference alone.
+    m.informational = v.informational || (def.reference_only && engine != "reference");
     out.push_back(m);
   }
   for (const auto& [name, v] : outcome.values)

@@ -23,6 +23,17 @@ std::string metric_text(const json& m) {
                      m["tolerance"].get<double>(), m.value("informational", false) ? " (shown, not counted)" : "");
 }
 
+/// "known failure: reason; ..." for the known-failure points of a sweep entry, one reason each.
+std::string known_points_text(const json& entry) {
+  std::vector<std::string> reasons;
+  for (const auto& pt : entry.value("points", json::array()))
+    if (pt.contains("known_failure") && std::find(reasons.begin(), reasons.end(), pt["known_failure"].get<std::string>()) == reasons.end())
+      reasons.push_back(pt["known_failure"]);
+  std::string out;
+  for (const auto& r : reasons) out += (out.empty() ? "known failure: " : "; ") + r;
+  return out;
+}
+
 /// A failure's message: what went wrong and, for each metric out of tolerance, its figures.
 std::string failure_text(const json& r) {
   std::string msg = r.value("verdict", r["status"].get<std::string>()) + ": " + r.value("message", "");
@@ -70,7 +81,9 @@ std::string junit_xml(const json& results) {
         cases += fmt::format("<failure type=\"{}\" message=\"{}\"/>", xml(r->value("verdict", "fail")), xml(failure_text(*r)));
         ++f;
       } else if (st == "fail" && r->contains("expectation") && (*r)["expectation"].is_object()) {
-        cases += fmt::format("<system-out>known failure: {}</system-out>", xml((*r)["expectation"]["reason"]));
+        // An expected failure is the skip convention's: a CI page shows it apart from the passes.
+        cases += fmt::format("<skipped message=\"known failure: {}\"/>", xml((*r)["expectation"]["reason"]));
+        ++s;
       }
       cases += "</testcase>\n";
     }
@@ -80,7 +93,7 @@ std::string junit_xml(const json& results) {
   }
   // The sweeps' gates: a suite per sweep, a case per engine.
   for (const auto& sw : results.value("sweeps", json::array())) {
-    int f = 0;
+    int f = 0, sk = 0;
     std::string cases;
     for (const auto& entry : sw["engines"]) {
       const json& gate = entry["gate"];
@@ -90,12 +103,15 @@ std::string junit_xml(const json& results) {
         for (const auto& p : gate["problems"]) msg += (msg.empty() ? "" : "; ") + p.get<std::string>();
         cases += fmt::format("<failure message=\"{}\"/>", xml(msg));
         ++f;
+      } else if (entry["gate"].value("points_known_failure", 0) > 0 && entry["gate"].value("points_pass", 0) == 0) {
+        cases += fmt::format("<skipped message=\"{}\"/>", xml(known_points_text(entry)));
+        ++sk;
       }
       cases += "</testcase>\n";
     }
     tests += static_cast<int>(sw["engines"].size()), failures += f;
-    suites += fmt::format("  <testsuite name=\"sweep.{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"0\">\n{}  </testsuite>\n",
-                          xml(sw["name"]), sw["engines"].size(), f, cases);
+    suites += fmt::format("  <testsuite name=\"sweep.{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"{}\">\n{}  </testsuite>\n",
+                          xml(sw["name"]), sw["engines"].size(), f, sk, cases);
   }
   // junit-10.xsd (Jenkins' xunit plugin) allows no "skipped" on <testsuites>: it is per suite.
   return fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"liftcheck\" tests=\"{}\" failures=\"{}\" "
@@ -105,13 +121,15 @@ std::string junit_xml(const json& results) {
 
 std::string summary_markdown(const json& results, const std::string& report_link) {
   const json& sum = results["summary"];
-  std::string md = "## liftcheck validation\n\n";
+  // The marker lets CI find and update its own comment on a pull request instead of adding one.
+  std::string md = "<!-- liftcheck-summary -->\n## liftcheck validation\n\n";
   const int unexpected = sum.value("unexpected", 0);
   md += fmt::format("**{}** — {} runs: {} pass, {} known failures, {} unexpected passes, {} fail, {} error, {} skip; {} sweep gates, {} failed.{}\n\n",
                     unexpected == 0 ? "all as expected" : fmt::format("{} unexpected", unexpected), sum.value("total", 0), sum.value("pass", 0),
                     sum.value("known failure", 0), sum.value("unexpected pass", 0), sum.value("fail", 0), sum.value("error", 0),
                     sum.value("skip", 0), sum.value("sweep_gates", 0), sum.value("sweep_gates_failed", 0),
-                    report_link.empty() ? "" : fmt::format(" [Report]({})", report_link));
+                    report_link.empty() ? "" : fmt::format(" [Report]({}){}", report_link,
+                                                           report_link.find("/actions/runs/") != std::string::npos ? " (the run's artifact `report`)" : ""));
   // Against the baseline, regressions and worsened metrics first.
   if (results.contains("baseline") && results["baseline"].is_object()) {
     const json& d = results["baseline"]["diff"];

@@ -475,6 +475,21 @@ Image Renderer::render(const Scene& s) {
   return img;
 }
 
+void paste(Image& image, const Image& inset, int x, int y) {
+  for (int j = -2; j < inset.height + 2; ++j)
+    for (int i = -2; i < inset.width + 2; ++i) {
+      const int X = x + i, Y = y + j;
+      if (X < 0 || Y < 0 || X >= image.width || Y >= image.height) continue;
+      std::uint8_t* d = image.pixel(X, Y);
+      if (i < 0 || j < 0 || i >= inset.width || j >= inset.height) {
+        d[0] = d[1] = d[2] = 40, d[3] = 255;
+      } else {
+        const std::uint8_t* s = inset.pixel(i, j);
+        for (int c = 0; c < 4; ++c) d[c] = s[c];
+      }
+    }
+}
+
 Image tile(const std::vector<Image>& frames, int per_row) {
   Image out;
   if (frames.empty()) return out;

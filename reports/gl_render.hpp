@@ -45,6 +45,9 @@ void write_png(const std::filesystem::path& path, const Image& image);
 /// Pastes images side by side in rows of `per_row`, on white.
 Image tile(const std::vector<Image>& frames, int per_row);
 
+/// Pastes `inset` onto `image` with its top-left corner at (x, y), framed by a dark border.
+void paste(Image& image, const Image& inset, int x, int y);
+
 /// Draws UTF-8 text onto the image with DejaVu Sans (top-left of the text at x, y).
 void draw_text(Image& image, const std::string& text, int x, int y, float size_px, const Color& color);
 /// Width in pixels of the text at this size.

@@ -1,147 +1,15 @@
+// index.html (sections in reading order) and the errata's Markdown; the scenario pages are
+// reports/html_scenario.cpp.
 #include "reports/html.hpp"
 
-#include "reports/escape.hpp"
+#include <md4c-html.h>
 
-#include <fmt/format.h>
-#include <sstream>
+#include "reports/headline.hpp"
+#include "reports/html_common.hpp"
 
 namespace liftcheck {
 
-namespace {
-
-using json = nlohmann::json;
-
-std::string esc(const std::string& s) { return escape_markup(s); }
-
-std::string num(const json& v) { return v.is_number() ? fmt::format("{:.6g}", v.get<double>()) : "&ndash;"; }
-
-constexpr const char* kCss =
-    "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:0 auto;padding:1em 1.5em;max-width:78em;color:#222;line-height:1.4}"
-    "h1{font-size:1.6em;margin:.3em 0}h2{margin-top:1.6em;border-bottom:1px solid #ccc}"
-    "table{border-collapse:collapse;margin:.6em 0}td,th{border:1px solid #bbb;padding:.25em .6em;text-align:right;vertical-align:top}"
-    "th{background:#eee}td.l,th.l{text-align:left}"
-    ".pass{background:#c6efce;color:#0b5a17}.fail{background:#ffc7ce;color:#8a0010}.error{background:#ffe09a;color:#6b4300}"
-    ".skip{background:#e4e4e4;color:#555}.xfail{background:#d6e8f7;color:#104a7a}"
-    "td.st{font-weight:bold;text-align:center;white-space:nowrap}"
-    ".shots{display:flex;flex-wrap:wrap;gap:10px}.shots figure{margin:0;width:380px}.shots img{width:380px;border:1px solid #ccc}"
-    "figure.wide img{max-width:100%;border:1px solid #ccc}figcaption{font-size:.85em;color:#555}"
-    "img.plot{max-width:100%;border:1px solid #ddd}code{background:#f3f3f3;padding:0 .2em}"
-    ".meta{color:#555;font-size:.92em}.note{font-size:.9em;color:#444}";
-
-std::string head(const std::string& title) {
-  return fmt::format("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-                     "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n"
-                     "<style>{}</style>\n</head>\n<body>\n",
-                     esc(title), kCss);
-}
-
-/// CSS class and word for a run's verdict (a reviewed known failure has its own colour; a listed
-/// failure that passes is as unexpected as a failure).
-std::pair<std::string, std::string> status_of(const json& r) {
-  const std::string st = r.value("verdict", r["status"].get<std::string>());
-  if (st == "known failure") return {"xfail", "KNOWN FAILURE"};
-  if (st == "unexpected pass") return {"fail", "UNEXPECTED PASS"};
-  std::string word = st;
-  for (auto& c : word) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return {st, word};
-}
-
-/// "front_radius ≤ 0.006, slip_rms ≤ 0.002": a known failure's metrics with their ceilings.
-std::string ceilings_text(const json& metrics) {
-  std::string out;
-  for (const auto& [name, c] : metrics.items()) out += fmt::format("{}{} ≤ {:.2g}", out.empty() ? "" : ", ", name, c.get<double>());
-  return out;
-}
-
-std::vector<std::string> scenario_order(const json& results) {
-  std::vector<std::string> v;
-  for (const auto& r : results["runs"])
-    if (std::find(v.begin(), v.end(), r["scenario"].get<std::string>()) == v.end()) v.push_back(r["scenario"]);
-  return v;
-}
-
-std::vector<std::string> engine_order(const json& results) {
-  std::vector<std::string> v;
-  for (const auto& e : results["context"]["engines"]) v.push_back(e["name"]);
-  return v;
-}
-
-const json* find_run(const json& results, const std::string& sc, const std::string& eng) {
-  for (const auto& r : results["runs"])
-    if (r["scenario"] == sc && r["engine"] == eng) return &r;
-  return nullptr;
-}
-
-const json* scenario_info(const json& results, const std::string& sc) {
-  if (!results.contains("scenarios")) return nullptr;
-  for (const auto& s : results["scenarios"])
-    if (s["name"] == sc) return &s;
-  return nullptr;
-}
-
-std::string inline_md(const std::string& s) {
-  std::string o, t = esc(s);
-  bool code = false;
-  for (char c : t) {
-    if (c == '`') {
-      o += code ? "</code>" : "<code>";
-      code = !code;
-    } else {
-      o += c;
-    }
-  }
-  if (code) o += "</code>";
-  // **bold**
-  std::string b;
-  bool bold = false;
-  for (std::size_t i = 0; i < o.size(); ++i) {
-    if (o.compare(i, 2, "**") == 0) {
-      b += bold ? "</b>" : "<b>";
-      bold = !bold;
-      ++i;
-    } else {
-      b += o[i];
-    }
-  }
-  if (bold) b += "</b>";
-  return b;
-}
-
-std::vector<std::string> split_row(const std::string& line) {
-  std::vector<std::string> cells;
-  std::string cur;
-  for (std::size_t i = 1; i < line.size(); ++i) {
-    if (line[i] == '\\' && i + 1 < line.size() && line[i + 1] == '|') {
-      cur += '|';
-      ++i;
-    } else if (line[i] == '|') {
-      cells.push_back(cur);
-      cur.clear();
-    } else {
-      cur += line[i];
-    }
-  }
-  for (auto& c : cells) {
-    const auto b = c.find_first_not_of(' '), e = c.find_last_not_of(' ');
-    c = b == std::string::npos ? "" : c.substr(b, e - b + 1);
-  }
-  return cells;
-}
-
-std::string metric_table(const json& r) {
-  std::string h = "<table><tr><th class=\"l\">metric</th><th>expected</th><th>measured</th><th>abs error</th>"
-                  "<th>rel error</th><th>tolerance</th><th>unit</th><th>result</th></tr>\n";
-  for (const auto& [name, m] : r["metrics"].items()) {
-    const bool ok = m["pass"].get<bool>(), info = m.value("informational", false);
-    h += fmt::format("<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{} ({})</td><td>{}</td>"
-                     "<td class=\"st {}\">{}</td></tr>\n",
-                     esc(name), num(m["expected"]), num(m["measured"]), num(m["abs_error"]), num(m["rel_error"]),
-                     num(m["tolerance"]), esc(m["tolerance_kind"]), esc(m["unit"]), info ? "skip" : ok ? "pass" : "fail", info ? "info (not counted)" : ok ? "ok" : "FAIL");
-  }
-  return h + "</table>\n";
-}
-
-}  // namespace
+using namespace html;
 
 std::string scenario_page(const std::string& scenario) {
   std::string s;
@@ -150,285 +18,224 @@ std::string scenario_page(const std::string& scenario) {
 }
 
 std::string markdown_html(const std::string& md) {
-  std::istringstream in(md);
-  std::string line, h;
-  bool in_table = false, header_done = false;
-  std::string para;
-  const auto flush = [&] {
-    if (!para.empty()) h += "<p class=\"note\">" + inline_md(para) + "</p>\n";
-    para.clear();
-  };
-  while (std::getline(in, line)) {
-    if (!line.empty() && line[0] == '|') {
-      flush();
-      const auto cells = split_row(line);
-      if (!cells.empty() && cells[0].find("---") == 0) continue;
-      if (!in_table) h += "<table>\n", in_table = true, header_done = false;
-      const char* tag = header_done ? "td" : "th";
-      h += "<tr>";
-      for (const auto& c : cells) h += fmt::format("<{0} class=\"l\">{1}</{0}>", tag, inline_md(c));
-      h += "</tr>\n";
-      header_done = true;
-      continue;
-    }
-    if (in_table) h += "</table>\n", in_table = false;
-    if (line.rfind("## ", 0) == 0) flush(), h += "<h3>" + inline_md(line.substr(3)) + "</h3>\n";
-    else if (line.rfind("# ", 0) == 0) flush(), h += "<h3>" + inline_md(line.substr(2)) + "</h3>\n";
-    else if (line.empty()) flush();
-    else para += (para.empty() ? "" : " ") + line;
-  }
-  if (in_table) h += "</table>\n";
-  flush();
-  return h;
+  std::string out;
+  const auto sink = [](const MD_CHAR* text, MD_SIZE size, void* user) { static_cast<std::string*>(user)->append(text, size); };
+  if (md_html(md.data(), static_cast<MD_SIZE>(md.size()), sink, &out, MD_DIALECT_GITHUB, 0) != 0)
+    return "<pre>" + esc(md) + "</pre>\n";
+  return out;
 }
 
 namespace {
 
 /// The comparison with the baseline, when there is one.
 std::string baseline_section(const json& results) {
-  std::string h;
-  // Against the baseline: regressions and worsened metrics lead, before and after side by side.
-  if (results.contains("baseline") && results["baseline"].is_object()) {
-    const json& d = results["baseline"]["diff"];
-    h += fmt::format("<h2 id=\"baseline\">Against the baseline <code>{}</code></h2>\n<p>{} regressions, {} metrics worse, {} fixed, {} better, "
-                     "{} runs added, {} removed.</p>\n",
-                     esc(results["baseline"]["file"]), d["regressions"].size(), d["worse"].size(), d["fixed"].size(), d["better"].size(),
-                     d["added"].size(), d["removed"].size());
-    std::string rows;
-    for (const auto& r : d["regressions"])
-      rows += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">verdict</td><td>{}</td><td class=\"st fail\">{}</td><td class=\"l\">{}</td></tr>\n",
-                          esc(r["scenario"]), esc(r["engine"]), esc(r["from"]), esc(r["to"]), esc(r["message"]));
-    for (const char* kind : {"worse", "better"})
-      for (const auto& r : d[kind])
-        rows += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{} ({:.3g} of tol.)</td>"
-                            "<td class=\"st {}\">{} ({:.3g} of tol.)</td><td class=\"l\">{}</td></tr>\n",
-                            esc(r["scenario"]), esc(r["engine"]), esc(r["metric"]), esc(r["base_measured"].dump()), r["base_ratio"].get<double>(),
-                            std::string(kind) == "worse" ? "fail" : "pass", esc(r["head_measured"].dump()), r["head_ratio"].get<double>(), kind);
-    if (!rows.empty())
-      h += "<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th class=\"l\">what</th><th>before</th><th>after</th>"
-           "<th class=\"l\"></th></tr>\n" + rows + "</table>\n";
-  }
+  if (!results.contains("baseline") || !results["baseline"].is_object()) return "";
+  const json& d = results["baseline"]["diff"];
+  std::string h = fmt::format("<h2 id=\"baseline\">Against the baseline <code>{}</code></h2>\n<p>{} regressions, {} metrics worse, {} fixed, {} better, "
+                              "{} runs added, {} removed.</p>\n",
+                              esc(results["baseline"]["file"]), d["regressions"].size(), d["worse"].size(), d["fixed"].size(), d["better"].size(),
+                              d["added"].size(), d["removed"].size());
+  std::string rows;
+  for (const auto& r : d["regressions"])
+    rows += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">verdict</td><td>{}</td><td class=\"st fail\">{}</td><td class=\"l\">{}</td></tr>\n",
+                        esc(r["scenario"]), esc(r["engine"]), esc(r["from"]), esc(r["to"]), esc(r["message"]));
+  for (const char* kind : {"worse", "better"})
+    for (const auto& r : d[kind])
+      rows += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{} ({:.3g} of tol.)</td>"
+                          "<td class=\"st {}\">{} ({:.3g} of tol.)</td><td class=\"l\">{}</td></tr>\n",
+                          esc(r["scenario"]), esc(r["engine"]), esc(r["metric"]), esc(r["base_measured"].dump()), r["base_ratio"].get<double>(),
+                          std::string(kind) == "worse" ? "fail" : "pass", esc(r["head_measured"].dump()), r["head_ratio"].get<double>(), kind);
+  if (!rows.empty())
+    h += "<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th class=\"l\">what</th><th>before</th><th>after</th>"
+         "<th class=\"l\"></th></tr>\n" + rows + "</table>\n";
   return h;
 }
 
-/// The summary matrix (scenario x configuration) and the known failures of this run.
+/// The short mark of a verdict in the matrix: quiet symbols for what was expected, loud words for
+/// what was not.
+std::string mark_of(const std::string& cls, const std::string& word) {
+  if (cls == "pass") return "&#10003;";     // ✓
+  if (cls == "xfail") return "&#10007;";    // ✗ (reviewed known failure)
+  if (cls == "skip") return "&ndash;";
+  if (word == "UNEXPECTED PASS") return "UNEXP. PASS";
+  return word;
+}
+
+/// One cell of the matrix: the verdict's mark and the headline figure, a link to the engine's
+/// section of the scenario page; the verdict, the figure's metric and any reason in its tooltip.
+std::string matrix_cell(const json& r, const json& def) {
+  const auto [cls, word] = status_of(r);
+  const std::string sc = r["scenario"], eng = r["engine"];
+  const auto fig = cls == "skip" || cls == "error" ? std::nullopt : headline_figure(r, def);
+  std::string tip = word;
+  if (fig) tip += fmt::format(": {} {} ({}, {:.2g} of tolerance)", def.value("label", ""), fig->text(), fig->metric, fig->ratio);
+  if (has_expectation(r)) tip += "\nknown failure: " + r["expectation"].value("reason", "");
+  if (!r.value("message", "").empty()) tip += "\n" + r["message"].get<std::string>();
+  std::string body = mark_of(cls, word);
+  std::string attrs;
+  if (fig) {
+    body += "&nbsp;" + short_number(fig->value);
+    attrs = fmt::format(" data-metric=\"{}\" data-value=\"{:.17g}\"", esc(fig->metric), fig->value);
+  }
+  if (!r.value("as_expected", true))
+    if (const auto w = worst_failing(r)) body += fmt::format("<br><small>{} {:.2g}&times;tol</small>", esc(w->metric), w->ratio);
+  return fmt::format("<td class=\"c {}\"{}><a href=\"{}#{}\" title=\"{}\">{}</a></td>", cls, attrs, scenario_page(sc), esc(eng), esc(tip), body);
+}
+
+/// The break points of a configuration's name in a narrow header: after each hyphen.
+std::string header_name(const std::string& e) {
+  std::string o;
+  for (char c : e) o += c == '-' ? std::string("-<wbr>") : esc(std::string(1, c));
+  return o;
+}
+
+/// The summary matrix: a row per scenario, a column per configuration.
 std::string matrix_section(const json& results) {
-  std::string h;
-  // Summary matrix.
   const auto engines = engine_order(results);
-  h += "<h2 id=\"summary\">Summary</h2>\n<table id=\"matrix\"><tr><th class=\"l\">scenario</th><th class=\"l\">checks</th>";
-  for (const auto& e : engines) h += "<th>" + esc(e) + "</th>";
+  std::string h = "<table id=\"matrix\" class=\"matrix\"><tr><th class=\"l\">scenario</th><th class=\"l\">headline</th>";
+  for (const auto& e : engines) h += "<th class=\"eng\">" + header_name(e) + "</th>";
   h += "</tr>\n";
   for (const auto& sc : scenario_order(results)) {
     const json* info = scenario_info(results, sc);
-    h += fmt::format("<tr><td class=\"l\"><a href=\"{}\">{}</a></td><td class=\"l\">{}</td>", scenario_page(sc), esc(sc),
-                     info ? esc((*info)["equations"]) : "");
+    const json def = headline_def(results, sc);
+    std::string label = def.is_object() ? def.value("label", "") : "";
+    if (def.is_object() && !def.value("unit", "").empty()) label += ", " + def["unit"].get<std::string>();
+    else if (def.is_object()) label += " (rel.)";
+    h += fmt::format("<tr><th class=\"l\"><a href=\"{}\" title=\"{}\">{}</a></th><td class=\"l hl\">{}</td>", scenario_page(sc),
+                     info ? esc((*info).value("equations", "")) : "", esc(sc), esc(label));
     for (const auto& e : engines) {
       const json* r = find_run(results, sc, e);
-      if (!r) {
-        h += "<td>&ndash;</td>";
-        continue;
-      }
-      const auto [cls, word] = status_of(*r);
-      std::string ratio;
-      if (cls != "skip") {
-        if (r->contains("worst_rel_error") && (*r)["worst_rel_error"].is_number())
-          ratio += fmt::format("<br><small>worst rel. error {:.2g}</small>", (*r)["worst_rel_error"].get<double>());
-        if ((*r)["worst_ratio"].is_number()) ratio += fmt::format("<br><small>{:.2g} of tolerance</small>", (*r)["worst_ratio"].get<double>());
-      }
-      if (r->contains("expectation") && (*r)["expectation"].is_object())
-        ratio += fmt::format("<br><small>{}</small>", esc((*r)["expectation"]["reason"]));
-      h += fmt::format("<td class=\"st {}\" title=\"{}\">{}{}</td>", cls, esc((*r)["message"]), word, ratio);
+      h += r ? matrix_cell(*r, def) : "<td class=\"c\"></td>";
     }
     h += "</tr>\n";
   }
-  h += "</table>\n<p class=\"note\">Each cell: the run's verdict; its worst relative error over the metrics compared "
-       "relatively; and its worst error as a fraction of its tolerance (below 1 passes). A known failure is listed, "
-       "with its reason and measured figure, in the reviewed expectations (harness/expectations.json): it must fail, and "
-       "only in its listed metrics; negative controls are listed there too. "
-       "Click a scenario for its metrics, snapshots and plots.</p>\n";
-  // The known failures of this run, with their reasons and figures.
-  std::string known;
-  for (const auto& r : results["runs"])
-    if (r.contains("expectation") && r["expectation"].is_object()) {
-      const auto [cls, word] = status_of(r);
-      known += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"st {}\">{}</td><td class=\"l\">{}</td>"
-                           "<td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n",
-                           esc(r["scenario"]), esc(r["engine"]), cls, word,
-                           esc(ceilings_text(r["expectation"]["metrics"])),
-                           esc(r["expectation"]["reason"]), esc(r["expectation"]["measured"]));
-    }
-  if (!known.empty())
-    h += "<h3 id=\"known\">Known failures</h3>\n<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th>verdict</th>"
-         "<th class=\"l\">metrics that may fail, error ceilings</th><th class=\"l\">reason</th><th class=\"l\">measured when reviewed</th></tr>\n" +
-         known + "</table>\n";
+  h += "</table>\n<p class=\"legend\">&#10003; pass &middot; <span class=\"xfail\">&#10007;</span> known failure (reviewed; its reason in the "
+       "tooltip and on the scenario page) &middot; <span class=\"fail\">FAIL</span>, <span class=\"error\">ERROR</span>, "
+       "<span class=\"fail\">UNEXP. PASS</span>: not as expected (below) &middot; &ndash; not run. The number is the scenario's headline: the "
+       "engine's own error on what the scenario is about. Each cell links to the engine's section of the scenario page.</p>\n";
   return h;
 }
 
-/// The sweeps' plots, their gates, the collision outcomes and the fitted slopes.
-std::string sweeps_section(const json& results) {
+/// The counts at the top: runs by verdict, sweep gates, the settings of the run.
+std::string counts_line(const json& results) {
+  const auto& sum = results["summary"];
+  const int unexpected = sum.value("unexpected", 0);
+  std::string set = settings_text(results["context"].value("set", json::object()));
+  return fmt::format("<p id=\"counts\" class=\"counts\">{} <b>{} runs</b>: {} pass, <span class=\"xfail\">&nbsp;{} known failures&nbsp;</span>, "
+                     "{} fail, {} unexpected passes, {} error, {} skip &middot; <b>{} sweep gates</b>, {} failed{}</p>\n",
+                     unexpected == 0 ? "<span class=\"st pass\">&nbsp;ALL AS EXPECTED&nbsp;</span>"
+                                     : fmt::format("<a class=\"st fail\" href=\"#unexpected\">&nbsp;{} NOT AS EXPECTED&nbsp;</a>", unexpected),
+                     sum.value("total", 0), sum.value("pass", 0), sum.value("known failure", 0), sum.value("fail", 0),
+                     sum.value("unexpected pass", 0), sum.value("error", 0), sum.value("skip", 0), sum.value("sweep_gates", 0),
+                     sum.value("sweep_gates_failed", 0), set.empty() ? "" : " &middot; settings of this run: <code>" + esc(set) + "</code>");
+}
+
+/// What is not as expected, each with its failing metrics and their figures.
+std::string unexpected_section(const json& results) {
+  std::string rows;
+  const std::string set = settings_text(results["context"].value("set", json::object()));
+  for (const auto& r : results["runs"]) {
+    if (r.value("as_expected", true)) continue;
+    const auto [cls, word] = status_of(r);
+    std::string why;
+    std::vector<std::pair<double, std::string>> failing;
+    for (const auto& [name, m] : r["metrics"].items())
+      if (!m.value("pass", true) && !m.value("informational", false)) {
+        const auto w = worst_failing(json{{"metrics", {{name, m}}}});
+        failing.emplace_back(w ? w->ratio : 0.0, "<li>" + metric_figures(name, m) + "</li>");
+      }
+    std::sort(failing.begin(), failing.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (const auto& f : failing) why += f.second;
+    if (!r.value("message", "").empty()) why += "<li>" + esc(r["message"]) + "</li>";
+    const std::string applied = settings_text(r.value("settings", json::object()));
+    rows += fmt::format("<tr><td class=\"l\"><a href=\"{}#{}\">{}</a></td><td class=\"l\">{}</td><td class=\"st {}\">{}</td><td class=\"l\"><ul>{}</ul></td>"
+                        "<td class=\"l\">{}</td></tr>\n",
+                        scenario_page(r["scenario"]), esc(r["engine"]), esc(r["scenario"]), esc(r["engine"]), cls, word, why,
+                        applied.empty() ? "defaults" : "<code>" + esc(applied) + "</code>");
+  }
+  for (const auto& sw : results.value("sweeps", json::array()))
+    for (const auto& e : sw["engines"])
+      if (!e["gate"]["pass"].get<bool>()) {
+        std::string why;
+        for (const auto& p : e["gate"]["problems"]) why += "<li>" + esc(p) + "</li>";
+        rows += fmt::format("<tr><td class=\"l\"><a href=\"#sweep-{}\">sweep {}</a></td><td class=\"l\">{}</td><td class=\"st fail\">FAIL</td>"
+                            "<td class=\"l\"><ul>{}</ul></td><td class=\"l\"></td></tr>\n",
+                            esc(sw["name"]), esc(sw["name"]), esc(e["engine"]), why);
+      }
+  std::string h = "<h2 id=\"unexpected\">Not as expected</h2>\n";
+  if (rows.empty()) return h + "<p>Nothing: every run and every sweep gate is as expected.</p>\n";
+  return h + (set.empty() ? "" : "<p>Settings of this run: <code>" + esc(set) + "</code> (a run with a changed setting is judged on its own, "
+                                "without the known failures listed for the defaults).</p>\n") +
+         "<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th>verdict</th><th class=\"l\">failing metrics, worst first</th>"
+         "<th class=\"l\">settings applied</th></tr>\n" + rows + "</table>\n";
+}
+
+/// The speed-accuracy map, the one picture worth seeing first.
+std::string map_section(const json& results) {
   std::string h;
-  const json& rep = results.value("report", json::object());
-  // Sweeps.
-  h += "<h2 id=\"sweeps\">Sweeps</h2>\n";
-  for (const auto& p : rep.value("plots", json::array()))
-    if (p["group"] == "sweeps")
+  for (const auto& p : results.value("report", json::object()).value("plots", json::array()))
+    if (p["file"].get<std::string>().rfind("plots/map-", 0) == 0)
       h += fmt::format("<figure class=\"wide\"><img class=\"plot\" src=\"{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>\n",
                        esc(p["file"]), esc(p["caption"]), esc(p["caption"]));
-  // The sweeps' gates: each engine's points pass, fail as listed known failures (with the reason
-  // from the reviewed expectations), or are unexpected; fitted slopes lie in their bands.
-  h += "<h3>Sweep gates</h3>\n<table><tr><th class=\"l\">sweep</th><th class=\"l\">engine</th><th>gate</th><th>points passing</th>"
-       "<th>known failures</th><th>unexpected</th><th>errors</th><th class=\"l\">problems and known failures</th></tr>\n";
-  for (const auto& sw : results.value("sweeps", json::array()))
-    for (const auto& e : sw["engines"]) {
-      const json& g = e["gate"];
-      std::string notes;
-      for (const auto& p : g["problems"]) notes += "<li>" + esc(p) + "</li>";
-      for (const auto& pt : e.value("points", json::array()))
-        if (pt.contains("known_failure"))
-          notes += fmt::format("<li class=\"xfail\">{} = {}: known failure: {}</li>", esc(sw["param"]), pt["x"].dump(), esc(pt["known_failure"]));
-      const bool pass = g["pass"].get<bool>();
-      h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"st {}\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td>"
-                       "<td class=\"l\"><ul>{}</ul></td></tr>\n",
-                       esc(sw["name"]), esc(e["engine"]), pass ? "pass" : "fail", pass ? "pass" : "FAIL", g.value("points_pass", 0),
-                       g.value("points_known_failure", 0), g.value("points_unexpected", 0), g.value("points_error", e.value("errors", 0)), notes);
-    }
-  h += "</table>\n";
-  for (const auto& sw : results.value("sweeps", json::array())) {
-    if (sw.value("kind", "") == "outcomes") {
-      h += "<h3>Collision outcomes against the reference</h3>\n<table><tr><th class=\"l\">configuration</th><th>both collide</th>"
-           "<th>neither</th><th>engine only</th><th>reference only</th><th>near boundary</th><th>unexplained</th><th>worst |t| error [steps]</th></tr>\n";
-      for (const auto& e : sw["engines"]) {
-        const auto& c = e["confusion"];
-        h += fmt::format("<tr><td class=\"l\">{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td class=\"st {}\">{}</td><td>{:.3f}</td></tr>\n",
-                         esc(e["engine"]), c["both_collide"].get<int>(), c["neither"].get<int>(), c["engine_only"].get<int>(),
-                         c["reference_only"].get<int>(), e["near_boundary_cases"].get<int>(),
-                         e["unexplained_disagreements"].get<int>() == 0 ? "pass" : "fail", e["unexplained_disagreements"].get<int>(),
-                         e["worst_t_error_steps"].get<double>());
-      }
-      h += fmt::format("</table>\n<p class=\"note\">{} over the grid a &isin; {}, b &isin; {} and N's paths {}; near boundary: "
-                       "the reference closest approach is within {} m of contact.</p>\n",
-                       esc(sw["scenario"]), esc(sw["grid"]["a"].dump()), esc(sw["grid"]["b"].dump()), esc(sw["grid"]["path"].dump()),
-                       sw["near_boundary_m"].get<double>());
-    } else if (sw.contains("engines")) {
-      for (const auto& e : sw["engines"])
-        if (e.contains("fit") && e["fit"]["slope"].is_number())
-          h += fmt::format("<p class=\"note\">{}: {} fitted log-log slope {:.3f} over {} points above its noise floor.</p>\n",
-                           esc(sw["name"]), esc(e["engine"]), e["fit"]["slope"].get<double>(), e["fit"]["points"].get<int>());
-    }
-  }
-  return h;
+  return h.empty() ? "" : "<h2 id=\"map\">Speed and accuracy</h2>\n" + h;
 }
 
-/// The configurations with their settings, the machine and the report's own problems.
-std::string engines_section(const json& results) {
-  std::string h;
-  const auto& ctx = results["context"];
-  const json& rep = results.value("report", json::object());
-  // Engines and machine.
-  h += "<h2 id=\"engines\">Engines and settings</h2>\n<table><tr><th class=\"l\">engine</th><th class=\"l\">version</th><th class=\"l\">settings</th></tr>\n";
-  for (const auto& e : ctx["engines"]) {
-    std::string settings = esc(e["description"]) + "<ul>";
-    const json engine_settings = e.value("settings", json::object());
-    for (const auto& [k, v] : engine_settings.items()) settings += fmt::format("<li><b>{}</b>: {}</li>", esc(k), esc(v));
-    settings += "</ul>";
-    h += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n", esc(e["name"]),
-                     esc(e["version"]), settings);
+std::string contents_section(const json& results) {
+  std::string h = "<h2 id=\"contents\">Contents</h2>\n<ul class=\"toc\">";
+  if (results.contains("baseline") && results["baseline"].is_object()) h += "<li><a href=\"#baseline\">Against the baseline</a></li>";
+  h += "<li><a href=\"#known\">Known failures</a></li><li><a href=\"#sweeps\">Sweeps and their gates</a></li>"
+       "<li><a href=\"#engines\">Engines and settings</a></li><li><a href=\"#errata\">Errata found in the papers</a></li>";
+  for (const auto& sc : scenario_order(results)) h += fmt::format("<li><a href=\"{}\">{}</a></li>", scenario_page(sc), esc(sc));
+  return h + "</ul>\n";
+}
+
+/// The known failures of this run: one row each, the reason folded.
+std::string known_section(const json& results) {
+  std::string rows;
+  for (const auto& r : results["runs"]) {
+    if (!has_expectation(r)) continue;
+    const auto [cls, word] = status_of(r);
+    std::string metrics;
+    for (const auto& [name, c] : r["expectation"]["metrics"].items()) metrics += fmt::format("{}{} &le; {:.2g}", metrics.empty() ? "" : ", ", esc(name), c.get<double>());
+    const std::string reason = r["expectation"].value("reason", "");
+    const bool fold = reason.size() > 90;
+    rows += fmt::format("<tr><td class=\"l\"><a href=\"{}#{}\">{}</a></td><td class=\"l\">{}</td><td class=\"st {}\">{}</td><td class=\"l\">{}</td>"
+                        "<td class=\"l\"><details><summary>{}</summary>{}<br><i>measured when reviewed:</i> {}</details></td></tr>\n",
+                        scenario_page(r["scenario"]), esc(r["engine"]), esc(r["scenario"]), esc(r["engine"]), cls, word, metrics,
+                        fold ? esc(reason.substr(0, reason.rfind(' ', 90))) + " &hellip;" : esc(reason), fold ? esc(reason) : "",
+                        esc(r["expectation"].value("measured", "")));
   }
-  h += "</table>\n";
-  h += fmt::format("<p class=\"meta\">Machine: {} ({}), {} CPUs; renderer: {}.</p>\n", esc(ctx["machine"]["host"]),
-                   esc(ctx["machine"]["os"]), ctx["machine"]["cpus"].get<int>(), esc(rep.value("gl_version", "none")));
-  for (const auto& err : rep.value("errors", json::array())) h += "<p class=\"st error\">report: " + esc(err) + "</p>\n";
-  return h;
+  if (rows.empty()) return "<h2 id=\"known\">Known failures</h2>\n<p>None in this run.</p>\n";
+  return "<h2 id=\"known\">Known failures</h2>\n<p class=\"note\">Reviewed in harness/expectations.json: each must fail, only in its listed "
+         "metrics and below their ceilings. Click a reason for the whole of it.</p>\n<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th>"
+         "<th>verdict</th><th class=\"l\">metrics that may fail, error ceilings</th><th class=\"l\">reason</th></tr>\n" + rows + "</table>\n";
 }
 
 }  // namespace
 
+std::string sweeps_section(const json& results);
+std::string engines_section(const json& results);
+
 std::string index_html(const json& results) {
   const auto& ctx = results["context"];
-  const auto& sum = results["summary"];
   std::string h = head("liftcheck validation report");
-  h += "<h1>liftcheck validation report</h1>\n";
-  h += fmt::format("<p class=\"meta\">liftcheck {} (commit <code>{}</code>) &middot; {} &middot; {} &middot; {} CPUs &middot; {}<br>"
+  h += "<h1>liftcheck: is each engine right, and where not?</h1>\n";
+  h += counts_line(results);
+  h += matrix_section(results);
+  h += fmt::format("<p class=\"meta\">liftcheck {} (commit <code>{}</code>) &middot; {} &middot; {} &middot; {} CPUs &middot; {} &middot; "
                    "{:.1f} s wall on {} threads (engine time: runs {:.1f} s, sweep and map points {:.1f} s), report {:.1f} s</p>\n",
                    esc(ctx["liftcheck"]["version"]), esc(ctx["liftcheck"]["commit"]), esc(ctx["date"]), esc(ctx["machine"]["os"]),
                    ctx["machine"]["cpus"].get<int>(), esc(ctx["machine"]["compiler"]), ctx.value("wall_s", 0.0), ctx.value("jobs", 1), ctx.value("runs_s", 0.0),
                    ctx.value("points_s", 0.0), results.value("report", json::object()).value("report_s", 0.0));
-  h += fmt::format("<p><b>{} runs</b>: {} pass, <span class=\"st xfail\">&nbsp;{} known failures&nbsp;</span> (reviewed, "
-                   "<a href=\"#known\">listed below</a> with their reasons), {} unexpected passes, {} fail, {} error, {} skip; "
-                   "<b>{} <a href=\"#sweeps\">sweep gates</a></b>, {} failed. {}</p>\n",
-                   sum["total"].get<int>(), sum.value("pass", 0), sum.value("known failure", 0), sum.value("unexpected pass", 0),
-                   sum.value("fail", 0), sum.value("error", 0), sum.value("skip", 0), sum.value("sweep_gates", 0), sum.value("sweep_gates_failed", 0),
-                   sum["unexpected"].get<int>() == 0 ? "<span class=\"st pass\">&nbsp;ALL AS EXPECTED&nbsp;</span>"
-                                                     : fmt::format("<span class=\"st fail\">&nbsp;{} UNEXPECTED&nbsp;</span>", sum["unexpected"].get<int>()));
-
+  h += unexpected_section(results);
+  h += map_section(results);
+  h += contents_section(results);
   h += baseline_section(results);
-  h += matrix_section(results);
+  h += known_section(results);
   h += sweeps_section(results);
   h += engines_section(results);
-
-  // Errata.
   h += "<h2 id=\"errata\">Errata found in the papers</h2>\n";
   h += markdown_html(ctx.value("errata", std::string()));
-  h += "</body>\n</html>\n";
-  return h;
-}
-
-std::string scenario_html(const json& results, const std::string& sc) {
-  const json* info = scenario_info(results, sc);
-  std::string h = head("liftcheck: " + sc);
-  h += "<p><a href=\"index.html\">&larr; summary</a></p>\n";
-  h += fmt::format("<h1>{}</h1>\n", esc(sc));
-  if (info) {
-    h += fmt::format("<p>{}</p>\n<p class=\"meta\">Equations: {}</p>\n", esc((*info)["summary"]), esc((*info)["equations"]));
-    if ((*info).value("negative_control", false))
-      h += "<p class=\"note\"><b>Negative control</b>: meant to fail on every configuration with contact dynamics "
-           "(listed as such in the expectations).</p>\n";
-  }
-  const json& rep = results.value("report", json::object());
-  for (const auto& p : rep.value("plots", json::array()))
-    if (p["group"] == sc)
-      h += fmt::format("<figure class=\"wide\"><img class=\"plot\" src=\"{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>\n",
-                       esc(p["file"]), esc(p["caption"]), esc(p["caption"]));
-  bool params_done = false;
-  for (const auto& e : engine_order(results)) {
-    const json* r = find_run(results, sc, e);
-    if (!r) continue;
-    if (!params_done && (*r)["params"].is_object()) {
-      h += "<h2>Parameters</h2>\n<table><tr><th class=\"l\">parameter</th><th>value</th><th class=\"l\">unit</th><th class=\"l\">meaning</th></tr>\n";
-      for (const auto& [k, v] : (*r)["params"].items()) {
-        std::string unit, help;
-        if (info)
-          for (const auto& p : (*info)["params"])
-            if (p["key"] == k) unit = p["unit"], help = p["help"];
-        h += fmt::format("<tr><td class=\"l\">{}</td><td>{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td></tr>\n", esc(k),
-                         esc(v.is_string() ? v.get<std::string>() : v.dump()), esc(unit), esc(help));
-      }
-      h += "</table>\n";
-      params_done = true;
-    }
-    const auto [cls, word] = status_of(*r);
-    h += fmt::format("<h2 id=\"{0}\">{0}: <span class=\"st {1}\">&nbsp;{2}&nbsp;</span></h2>\n", esc(e), cls, word);
-    if (!(*r)["message"].get<std::string>().empty()) h += "<p>" + esc((*r)["message"]) + "</p>\n";
-    if (!(*r)["metrics"].empty()) h += metric_table(*r);
-    const auto& d = (*r)["details"];
-    if (d.is_object() && d.contains("errors")) {
-      const auto& er = d["errors"];
-      h += fmt::format("<p class=\"note\">Actuation error (lift of the realized (alpha, beta) against the commanded lift): {:.3g} m; "
-                       "contact error (engine pose against the lift of its realized path): {:.3g} m.</p>\n",
-                       er["actuation_error_m"].get<double>(), er["contact_error_m"].get<double>());
-    }
-    h += "<div class=\"shots\">\n";
-    for (const auto& s : rep.value("snapshots", json::array()))
-      if (s["scenario"] == sc && s["engine"] == e)
-        h += fmt::format("<figure><a href=\"{0}\"><img src=\"{0}\" alt=\"{1}\"></a><figcaption>{1}</figcaption></figure>\n",
-                         esc(s["file"]), esc(s["caption"]));
-    h += "</div>\n";
-    for (const auto& s : rep.value("strips", json::array()))
-      if (s["scenario"] == sc && s["engine"] == e)
-        h += fmt::format("<figure class=\"wide\"><img src=\"{0}\" alt=\"frame strip\"><figcaption>{1}</figcaption></figure>\n",
-                         esc(s["file"]), esc(s["caption"]));
-  }
   h += "</body>\n</html>\n";
   return h;
 }

@@ -7,13 +7,16 @@
 
 namespace liftcheck {
 
-/// index.html: summary matrix, context, sweeps, errata.
+/// index.html: first the counts and the summary matrix (a headline figure per cell), then what is
+/// not as expected, the speed-accuracy map, a table of contents, and the rest (baseline, known
+/// failures, sweeps, engines, errata).
 std::string index_html(const nlohmann::json& results);
-/// scenario-<name>.html: what it checks, parameters, metric tables, snapshots, plots.
+/// scenario-<name>.html: what it checks, the run's settings, every configuration's headline and
+/// failing metrics with known-failure reasons, plots, parameters, each configuration's section.
 std::string scenario_html(const nlohmann::json& results, const std::string& scenario);
 /// File name of a scenario's page.
 std::string scenario_page(const std::string& scenario);
-/// The small Markdown subset of ERRATA.md (headings, pipe tables, paragraphs, `code`).
+/// ERRATA.md's Markdown as HTML (md4c, GitHub dialect: pipe tables).
 std::string markdown_html(const std::string& md);
 
 }  // namespace liftcheck

@@ -67,7 +67,7 @@ struct Script {
   /// `svg` is a file name inside the plots folder, where gnuplot runs.
   void begin(const std::string& svg, const std::string& title, int w = 760, int h = 440) {
     gp << fmt::format("reset\nset terminal svg size {},{} dynamic font 'DejaVu Sans,12' background '#ffffff'\n", w, h)
-       << fmt::format("set output {}\nset title {}\nset grid lc rgb '#dddddd'\nset key outside right top\n",
+       << fmt::format("set output {}\nset title {} font ',11'\nset grid lc rgb '#dddddd'\nset key outside right top noenhanced\n",
                       gnuplot_quote(svg), gnuplot_quote(title));
   }
 };
@@ -106,9 +106,27 @@ void run_gnuplot(const std::filesystem::path& dir) {
 
 using ColorOf = std::function<std::string(const std::string&)>;
 
-/// A plot per scenario of its runs' traces: front-axle paths, or the distance between the disks.
+/// Distance at each sample of `trace` from `ref` at the same time (the nearest reference sample):
+/// the front-axle centre (x, y) for a car, c_M for the disks. Rows {t, distance}, floored at 1e-16
+/// for a log scale.
+std::vector<std::vector<double>> error_rows(const json& trace, const json& ref) {
+  std::vector<std::vector<double>> rows;
+  std::size_t j = 0;
+  for (const auto& row : trace) {
+    const double t = row[0].get<double>();
+    while (j + 1 < ref.size() && std::abs(ref[j + 1][0].get<double>() - t) <= std::abs(ref[j][0].get<double>() - t)) ++j;
+    if (ref.empty()) break;
+    const bool car = row.size() >= 6;
+    const int ix = car ? 3 : 1, iy = car ? 4 : 2;
+    const double d = std::hypot(row[ix].get<double>() - ref[j][ix].get<double>(), row[iy].get<double>() - ref[j][iy].get<double>());
+    rows.push_back({t, std::max(d, 1e-16)});
+  }
+  return rows;
+}
+
+/// A plot per scenario of its runs' errors against time: each engine's distance from the exact
+/// lift (log scale), where paths drawn over each other would hide errors of 1e-7 and 1e-2 alike.
 void plot_runs(Script& S, std::vector<PlotFile>& files, const json& results, const ColorOf& color_of) {
-  // Runs by scenario, in catalogue order.
   std::vector<std::string> order;
   std::map<std::string, std::vector<const json*>> by_scenario;
   for (const auto& r : results["runs"]) {
@@ -117,38 +135,22 @@ void plot_runs(Script& S, std::vector<PlotFile>& files, const json& results, con
     by_scenario[sc].push_back(&r);
   }
   for (const auto& sc : order) {
-    std::vector<std::string> plots;
     const bool disks = by_scenario[sc].front()->value("vehicle", "") == "disks";
-    const std::string file = fmt::format("plots/{}-{}.svg", safe(sc), disks ? "distance" : "paths");
+    const std::string file = fmt::format("plots/{}-error.svg", safe(sc));
     std::string cmd;
-    bool any = false, reference_done = false;
     for (const json* r : by_scenario[sc]) {
       const auto& d = (*r)["details"];
-      if (!d.is_object() || !d.contains("trace")) continue;
+      if (!d.is_object() || !d.contains("trace") || !d.contains("reference") || d["trace"].empty()) continue;
       const std::string eng = (*r)["engine"];
-      const auto rows_of = [&](const json& tr) {
-        std::vector<std::vector<double>> rows;
-        for (const auto& row : tr) {
-          if (disks) rows.push_back({row[0].get<double>(), std::hypot(row[1].get<double>() - row[3].get<double>(), row[2].get<double>() - row[4].get<double>())});
-          else rows.push_back({row[3].get<double>(), row[4].get<double>()});
-        }
-        return rows;
-      };
-      if (!reference_done && d.contains("reference")) {
-        const std::string b = S.block(rows_of(d["reference"]));
-        cmd += fmt::format("{} u 1:2 w l lw 7 lc rgb '#b0b0b0' t {}, ", b, gnuplot_quote(disks ? "exact lift (21)" : "exact lift (front axle)"));
-        reference_done = true;
-      }
-      const std::string b = S.block(rows_of(d["trace"]));
-      cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb {} t {} noenhanced, ", b, gnuplot_quote(color_of(eng)), gnuplot_quote(eng));
-      any = true;
+      cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb {} t {} noenhanced, ", S.block(error_rows(d["trace"], d["reference"])),
+                         gnuplot_quote(color_of(eng)), gnuplot_quote(eng));
     }
-    if (!any) continue;
-    S.begin(file_name(file), disks ? sc + ": distance between the centres" : sc + ": front-axle paths");
-    if (disks) S.gp << "set xlabel 'time [s]'\nset ylabel '|c_M - c_N| [m]'\nset arrow from graph 0, first 2 to graph 1, first 2 nohead lc rgb '#cc0000' dt 2\n";
-    else S.gp << "set size ratio -1\nset xlabel 'x [m]'\nset ylabel 'y [m]'\n";
+    if (cmd.empty()) continue;
+    S.begin(file_name(file), sc + (disks ? ": c_M against the exact lift (21)" : ": front-axle centre against the exact lift (4.1)"));
+    S.gp << "set xlabel 'time [s]'\nset ylabel 'distance [m]'\nset logscale y\nset format y '10^{%T}'\n";
     S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
-    files.push_back({sc, file, disks ? "distance |c_M - c_N| against time; contact at 2 (dashed)" : "front-axle paths, engines over the exact lift"});
+    files.push_back({sc, file, disks ? "each engine's c_M against the exact lift at the same time (log scale)"
+                                     : "each engine's front-axle centre against the exact lift of the commanded path at the same time (log scale)"});
   }
 }
 
@@ -194,13 +196,14 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
   const json plot = sw.value("plot", json::object());
   const std::string kind = plot.value("kind", "errors");
   const bool values = kind == "values", holonomy = kind == "sizes";
-  S.gp << fmt::format("set xlabel {}\nset ylabel {}\n", gnuplot_quote(plot.value("x_label", param)), gnuplot_quote(plot.value("y_label", "")));
-  if (values) S.gp << "set logscale y\n";
+  S.gp << fmt::format("set xlabel {}\nset ylabel {}\n", gnuplot_quote(plot.value("x_label", param)),
+                      gnuplot_quote(plot.value("y_label", "")));
+  if (values) S.gp << "set logscale y\nset format y '10^{%T}'\n";
   else if (holonomy) S.gp << "set logscale xy\nset format y '10^{%T}'\n";
   else S.gp << "set logscale y\nset format y '10^{%T}'\n";
   if (plot.value("log_x", false)) S.gp << "set logscale x\n";
   int shade = 0;
-  for (const auto& c : plot.value("curves", json::array()))
+  for (const auto& c : values ? json::array() : plot.value("curves", json::array()))
     cmd += fmt::format("{} w l lw 6 lc rgb '{}' t {}, ", c["expr"].get<std::string>(), shade++ == 0 ? "#c8c8c8" : "#e0e0e0",
                        gnuplot_quote(c["title"].get<std::string>()));
   if (sw.contains("marker")) {
@@ -213,11 +216,11 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
     std::vector<std::vector<double>> a, b2, exact;
     for (const auto& pt : e["points"]) {
       const double x = pt["x"].get<double>();
-      if (values) {
+      if (values) {  // the error of each value, not the value: every engine's radius would overlap
         const auto& f = pt[rec[0].get<std::string>()];
         const auto& r = pt[rec[1].get<std::string>()];
-        if (f.is_object() && f["measured"].is_number()) a.push_back({x, f["measured"].get<double>()});
-        if (r.is_object() && r["measured"].is_number()) b2.push_back({x, r["measured"].get<double>()});
+        if (f.is_object() && f["rel_error"].is_number()) a.push_back({x, std::max(f["rel_error"].get<double>(), 1e-16)});
+        if (r.is_object() && r["rel_error"].is_number()) b2.push_back({x, std::max(r["rel_error"].get<double>(), 1e-16)});
       } else if (holonomy) {
         const auto& ex = pt["detail:holonomy_size_m"];
         const auto& me = pt["detail:measured_size_m"];
@@ -255,7 +258,7 @@ void plot_map(Script& S, std::vector<PlotFile>& files, const json& map, const Co
   const auto& panels = map["panels"];
   S.begin(file_name(file), "", 1200, 520);
   S.gp << fmt::format("set multiplot layout 1,{} title {} font ',11'\nset logscale xy\nset format x '10^{{%T}}'\nset format y '10^{{%T}}'\n"
-                      "set xlabel 'wall-clock cost [s per simulated s]'\nset key inside top right font ',8'\n",
+                      "set xlabel 'wall-clock cost [s per simulated s]'\nset key below font ',8' maxrows 4\n",
                       panels.size(), gnuplot_quote(map["title"].get<std::string>()));
   for (const auto& panel : panels) {
     std::string cmd;

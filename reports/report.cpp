@@ -7,6 +7,7 @@
 
 #include "input/atomic_file.hpp"
 #include "reports/gl_render.hpp"
+#include "reports/headline.hpp"
 #include "reports/html.hpp"
 #include "reports/plots.hpp"
 #include "reports/scene_build.hpp"
@@ -56,7 +57,9 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
         try {
           for (const auto& s : render::snapshots_for(r, ink_of(r))) {
             const std::string file = fmt::format("{}__{}.png", base, s.tag);
-            render::write_png(out / file, renderer.render(s.scene));
+            render::Image img = renderer.render(s.scene);
+            for (const auto& in : s.insets) render::paste(img, renderer.render(in.scene), in.x_px, in.y_px);
+            render::write_png(out / file, img);
             shots[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"tag", s.tag}, {"file", file}, {"caption", s.caption}});
           }
           const render::Strip st = render::strip_for(r, ink_of(r));
@@ -99,6 +102,13 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
   report["report_s"] = seconds_since(t0);
   results["report"] = report;
 
+  // A results file from before headlines were declared gets the catalogue's (what the pages show).
+  if (results.contains("scenarios") && results["scenarios"].is_array())
+    for (auto& s : results["scenarios"])
+      if (!s.contains("headline")) {
+        const json def = headline_def(json{{"scenarios", json::array()}}, s.value("name", ""));
+        if (!def.is_null()) s["headline"] = def;
+      }
   std::vector<std::string> scenarios;
   for (const auto& r : results["runs"])
     if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end()) scenarios.push_back(r["scenario"]);

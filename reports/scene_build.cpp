@@ -39,17 +39,6 @@ void frame(Scene& s, const Bounds& b, double margin = 0.12) {
   s.grid_step_m = nice_step(2.0 * s.camera.half_height_m);
 }
 
-void perspective_of(Scene& s, const Bounds& b) {
-  const Vec2 c(0.5 * (b.x0 + b.x1), 0.5 * (b.y0 + b.y1));
-  const double D = std::max({b.x1 - b.x0, b.y1 - b.y0, 2.0});
-  s.camera.kind = Camera::Kind::kPerspective;
-  s.camera.target = Vec3(c.x(), c.y(), 0.0);
-  s.camera.eye = Vec3(c.x() - 0.55 * D, c.y() - 1.0 * D, 0.75 * D);
-  s.camera.fov_y_deg = 45.0;
-  s.grid_step_m = nice_step(D);
-  s.scale_bar = false;
-}
-
 Color lighten(const Color& c, float k) { return {c.r + (1 - c.r) * k, c.g + (1 - c.g) * k, c.b + (1 - c.b) * k, c.a}; }
 
 /// Row of a trace nearest to time t (traces are sorted by time in column 0).
@@ -237,7 +226,49 @@ Scene covariance_scene(const json& run, const Color& ink) {
   return s;
 }
 
+/// The tie rod's line and the front wheel's heading through the front-axle centre of `row`, long
+/// enough to cross a view `half_m` high, and a cross at the centre.
+void add_pose_marks(Scene& s, const json& row, double half_m, const Color& c, float width) {
+  const Vec2 f = front_of(row);
+  const double phi = row[5].get<double>(), beta = row[2].get<double>();
+  const double L = 4.0 * half_m;
+  s.lines.push_back({{f - L * Vec2(std::cos(phi), std::sin(phi)), f}, c, width});
+  s.lines.push_back({{f - 0.5 * L * Vec2(std::cos(phi + beta), std::sin(phi + beta)), f + 0.5 * L * Vec2(std::cos(phi + beta), std::sin(phi + beta))},
+                     c, std::max(1.0f, width * 0.5f), true});
+  s.markers.push_back({f, 0.12 * half_m, c});
+}
+
 }  // namespace
+
+Inset end_pose_inset(const json& run, const Color& ink, const Scene& main) {
+  Inset in;
+  Scene& s = in.scene;
+  s.width_px = 300, s.height_px = 225;
+  in.x_px = main.width_px - s.width_px - 14, in.y_px = 14;
+  const json& tr = run["details"]["trace"];
+  const json& ref = run["details"].contains("reference") ? run["details"]["reference"] : tr;
+  const Vec2 fe = front_of(tr.back()), fx = front_of(ref.back());
+  const double offset = (fe - fx).norm();
+  // The offset spans a third of the height: 1 mm is then 225 / 6 = 37 px (at least 1 µm shown).
+  const double half = std::max(1.5 * offset, 1e-6);
+  s.camera.kind = Camera::Kind::kTopDown;
+  s.camera.centre = 0.5 * (fe + fx);
+  s.camera.half_height_m = half;
+  s.grid_step_m = nice_step(2.0 * half);
+  const auto tail = [&](const json& t, const Color& c, float w) {
+    Polyline p{{}, c, w};
+    for (std::size_t i = t.size() > 40 ? t.size() - 40 : 0; i < t.size(); ++i) p.points.push_back(front_of(t[i]));
+    s.lines.push_back(p);
+  };
+  tail(ref, Color{0.55f, 0.55f, 0.55f, 0.55f}, 9.0f);
+  tail(tr, ink, 2.0f);
+  add_pose_marks(s, ref.back(), half, Color{0.45f, 0.45f, 0.45f, 0.9f}, 6.0f);
+  add_pose_marks(s, tr.back(), half, ink, 2.5f);
+  s.labels.push_back({fmt::format("end pose, offset {}", offset >= 1e-3 ? fmt::format("{:.3g} mm", offset * 1e3) : fmt::format("{:.3g} µm", offset * 1e6)),
+                      Vec2(8, 6), true, 13.0f});
+  s.labels.push_back({"grey: exact, colour: engine", Vec2(8, 24), true, 11.0f});
+  return in;
+}
 
 std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
   std::vector<Snapshot> out;
@@ -257,23 +288,12 @@ std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
       out.push_back({"contact", fmt::format("first contact, t = {:.3f} s", tc), disk_scene(run, ink, tc, "contact")});
     }
     out.push_back({"end", "end", disk_scene(run, ink, t1, "end")});
-    Snapshot p{"perspective", "end, perspective view", disk_scene(run, ink, t1, "end")};
-    Bounds b;
-    b.add(Vec2(tr.back()[1].get<double>(), tr.back()[2].get<double>()), 2.5);
-    b.add(Vec2(tr.back()[3].get<double>(), tr.back()[4].get<double>()), 2.5);
-    perspective_of(p.scene, b);
-    out.push_back(p);
     return out;
   }
   out.push_back({"start", "start", car_scene(run, ink, t0, false)});
-  out.push_back({"end", "end, with the whole paths", car_scene(run, ink, t1, true)});
-  Snapshot p{"perspective", "end, perspective view", car_scene(run, ink, t1, true)};
-  const CarGeom g = geom_of(run);
-  Bounds b;
-  b.add(front_of(tr.back()), 1.5 * g.l);
-  b.add(rear_of(tr.back(), g.l), 1.5 * g.l);
-  perspective_of(p.scene, b);
-  out.push_back(p);
+  Snapshot end{"end", "end, with the whole paths; inset: the end pose magnified, the engine's over the exact one", car_scene(run, ink, t1, true)};
+  end.insets.push_back(end_pose_inset(run, ink, end.scene));
+  out.push_back(end);
   return out;
 }
 
@@ -306,10 +326,14 @@ Strip strip_for(const json& run, const Color& ink) {
   const double shift = (p1 - p0).norm();
   const json& ex = run["details"]["errors"]["commanded_lift_end"];
   const Vec2 pe(ex[0].get<double>(), ex[1].get<double>());
+  // The magnification is a power of ten that keeps the longer arrow (exact or engine) within half
+  // the tie rod, so that both stay in the frame.
+  const double longest = std::max(shift, (pe - p0).norm());
   double mag = 1.0;
-  if (shift > 0) mag = std::pow(10.0, std::round(std::log10(0.5 * g.l / shift)));
+  if (longest > 0) mag = std::pow(10.0, std::floor(std::log10(0.5 * g.l / longest)));
   s.arrows.push_back({p0, p0 + mag * (pe - p0), Color{0.5f, 0.5f, 0.5f, 0.8f}, 7.0f});
   s.arrows.push_back({p0, p0 + mag * (p1 - p0), ink, 3.0f});
+  b.add(p0 + mag * (pe - p0), 0.1 * g.l), b.add(p0 + mag * (p1 - p0), 0.1 * g.l);
   frame(s, b, 0.05);
   s.labels.push_back({fmt::format("shift {:.3g} mm, arrows ×{:g}", shift * 1e3, mag), Vec2(8, 6), true, 13.0f});
   st.frames.push_back(std::move(s));

@@ -10,11 +10,23 @@
 
 namespace liftcheck::render {
 
+/// A magnified view pasted onto a snapshot, its top-left corner at (x_px, y_px) of the snapshot.
+struct Inset {
+  Scene scene;
+  int x_px = 0, y_px = 0;
+};
+
 struct Snapshot {
-  std::string tag;      ///< start | contact | end | perspective
+  std::string tag;      ///< start | contact | end
   std::string caption;
   Scene scene;
+  std::vector<Inset> insets = {};
 };
+
+/// The inset of a car's end snapshot: the engine's end pose over the exact one (front-axle centre,
+/// tie rod, front wheel's heading), magnified about the exact front-axle centre so that the offset
+/// between them spans about a third of the inset's height, with its own scale bar.
+Inset end_pose_inset(const nlohmann::json& run, const Color& ink, const Scene& main);
 
 struct Strip {
   std::string caption;

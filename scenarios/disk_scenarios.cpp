@@ -577,9 +577,13 @@ std::vector<Scenario> disk_scenarios() {
     all.insert(all.end(), extra.begin(), extra.end());
     return all;
   };
+  // Headlines: the engine's own error. Before contact it is how far each step of M falls from its
+  // command (path_error and end_error are mostly the zero-order hold of the command, the same for
+  // every engine that realises it); after contact, M against the exact response from the engine's
+  // own contact state (t_contact's error is the hold's shift too).
   std::vector<Scenario> v;
   auto add = [&](std::string name, std::string summary, std::string eq, std::vector<ParamSpec> params,
-                 std::vector<MetricDef> metrics, std::function<Outcome(const Params&, DiskEngine&)> fn) {
+                 std::vector<MetricDef> metrics, std::function<Outcome(const Params&, DiskEngine&)> fn, Headline headline) {
     Scenario s;
     s.name = std::move(name);
     s.vehicle = "disks";
@@ -588,25 +592,31 @@ std::vector<Scenario> disk_scenarios() {
     s.params = std::move(params);
     s.metrics = std::move(metrics);
     s.run_disks = std::move(fn);
+    s.headline = std::move(headline);
     v.push_back(std::move(s));
   };
   add("disks.copy", "M copies N's velocity: c_M - c_N stays constant, the disks never touch.", "(36), section 5.3",
-      disk_params("0,0", "3,0", "1,0", "figure8", "6"), metrics({spread, dir}), run_copy);
+      disk_params("0,0", "3,0", "1,0", "figure8", "6"), metrics({spread, dir}), run_copy,
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   add("disks.actuated", "Actuated no-reaction: M stays put until N comes within 3, then follows it more and more.",
-      "(37), Figure 6", disk_params("0,0", "6,0.5", "-1,0", "line", "8"), metrics({}), run_actuated);
+      "(37), Figure 6", disk_params("0,0", "6,0.5", "-1,0", "line", "8"), metrics({}), run_actuated,
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   add("disks.repel", "Repel/attract: d(t) = e^{lambda t} d(0) with constant direction for any motion of N; "
       "for lambda < 0 the disks touch at ln(2/d(0))/lambda.", "(38), (39), Lemma 5.1",
       with(disk_params("0,0", "5,0", "1,0", "line", "4"), {number("lambda", "-0.5", "1/s", "rate lambda of (38)", -100.0, false, 100.0)}),
-      metrics({dir}), run_repel);
+      metrics({dir}), run_repel,
+      Headline{{"contact_path_error"}, "after-contact path", "mm", 1e3});
   add("disks.orbit", "Rotation: M circles N at constant distance with angular velocity omega (the paper's mu).",
       "(40), section 5.6",
       with(disk_params("0,0", "3,0", "1,0", "circle", "6"), {number("omega", "0.8", "rad/s", "angular velocity of (40)", -100.0, false, 100.0)}),
-      metrics({spread, abs_("turned_angle", "rad", 1e-8, 5e-3, "angle turned by c_M - c_N")}), run_orbit);
+      metrics({spread, abs_("turned_angle", "rad", 1e-8, 5e-3, "angle turned by c_M - c_N")}), run_orbit,
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   add("disks.linear", "Linear mechanism with constant coefficients: c_M(t) = A c_N(t) - c0 for any motion of N; "
       "contact when N enters the ball D.", "(41)-(46), Lemma 6.1",
       with(disk_params("0,0", "3,0", "1,0", "line", "4"), {number("a", "2", "1", "coefficient a (the paper's alpha)", -100.0, false, 100.0),
                                                           number("b", "0", "1", "coefficient b (the paper's beta)", -100.0, false, 100.0)}),
-      metrics({abs_("cM_end_error", "m", 1e-8, 1e-2, "c_M at T against (43) (runs without contact)")}), run_linear);
+      metrics({abs_("cM_end_error", "m", 1e-8, 1e-2, "c_M at T against (43) (runs without contact)")}), run_linear,
+      Headline{{"penetration_max"}, "penetration", "mm", 1e3});
   // Oblique: the relative command u = B v_N = (1, 0) carries M past N at an offset of 1, so it meets
   // N at 150 degrees (t = 4 - sqrt 3), slides over it frictionlessly and leaves it on the tangent at
   // 90 degrees, (2/|u|) ln tan 75 deg = 2.63 s later (models/disk_contact.hpp).
@@ -614,7 +624,8 @@ std::vector<Scenario> disk_scenarios() {
       "(frictionless, inelastic) and leaves it along the tangent when its command points away.", "(41)-(43), (34)",
       with(disk_params("0,1", "4,0", "1,0", "line", "7"), {number("a", "2", "1", "coefficient a (the paper's alpha)", -100.0, false, 100.0),
                                                           number("b", "0", "1", "coefficient b (the paper's beta)", -100.0, false, 100.0)}),
-      metrics({abs_("cM_end_error", "m", 1e-8, 1e-2, "c_M at T against (43) (runs without contact)")}), run_linear);
+      metrics({abs_("cM_end_error", "m", 1e-8, 1e-2, "c_M at T against (43) (runs without contact)")}), run_linear,
+      Headline{{"contact_path_error"}, "after-contact path", "mm", 1e3});
   add("disks.forced", "Forced collision: N drives straight at the centre of D and contact follows when it enters D, "
       "whatever linear mechanism (a, b) != (1, 0) M uses.", "Corollary 6.3, Lemma 6.1, (46)",
       with(disk_params("0,0", "6,-2", "1.5,0", "line", "20", false),
@@ -622,26 +633,29 @@ std::vector<Scenario> disk_scenarios() {
       metrics({
        {"contact_on_D", "m", TolKind::kAbsolute, {{"reference", 1e-6}, {"default", 1.0}},
         "|c_N - c^0| at contact against the radius of D (tolerance in steps of N's travel)"}}),
-      run_forced);
+      run_forced, Headline{{"contact_path_error"}, "after-contact path", "mm", 1e3});
   add("disks.moving-away", "The linear mechanism a = 2 meets N at t = 1 s; adding the moving-away reaction form (31) "
       "keeps the disks apart.", "(31), Corollary 4.5, Corollary 4.8",
       with(disk_params("0,0", "3,0", "1,0", "line", "6"),
            {number("a", "2", "1", "base mechanism (41): a", -100.0, false, 100.0), number("b", "0", "1", "base mechanism (41): b", -100.0, false, 100.0),
             number("k_away", "2", "1", "gain of the moving-away form", 0.0, false, 100.0)}),
-      metrics({}), run_moving_away);
+      metrics({}), run_moving_away,
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   add("disks.extended", "Extended algorithm for a known motion of N: a plan in the fibre around N, lifted by the copy "
       "mechanism, ends at the lift of the target.", "(11), (14)",
       with(disk_params("-4,0.1", "0,0", "0.6,0.2", "line", "8", true, kPlannerTmax),
            {vec2("target", "4,-0.3", "m", "target position of M over N's start"),
             number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, true, 100.0)}),
-      metrics({abs_("end_error", "m", 1e-6, 1e-2, "c_M(T) against L(e', gamma)(T)")}, kPlanTol), run_extended);
+      metrics({abs_("end_error", "m", 1e-6, 1e-2, "c_M(T) against L(e', gamma)(T)")}, kPlanTol), run_extended,
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   add("disks.target", "Navigation to a moving target that circles N with its own mechanism: M ends on the target.",
       "(16), (17)",
       with(disk_params("-4,0", "1,0", "1,0", "figure8", "8", true, kPlannerTmax),
            {vec2("target", "5,0", "m", "initial target position"),
             number("target_omega", "0.4", "rad/s", "the target's rotation about N (40)", -10.0, false, 10.0),
             number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, true, 100.0)}),
-      metrics({abs_("end_error", "m", 1e-6, 1e-2, "c_M(T) against the target v(T)")}, kPlanTol), run_target);
+      metrics({abs_("end_error", "m", 1e-6, 1e-2, "c_M(T) against the target v(T)")}, kPlanTol), run_target,
+      Headline{{"step_displacement"}, "step against command", "µm", 1e6});
   return v;
 }
 

@@ -36,6 +36,10 @@ nlohmann::json Metric::to_json() const {
   return j;
 }
 
+nlohmann::json Headline::to_json() const {
+  return {{"metrics", metrics}, {"label", label}, {"unit", unit}, {"scale", scale}, {"per_step", per_step}};
+}
+
 const MetricDef* Scenario::metric(const std::string& n) const {
   for (const auto& m : metrics)
     if (m.name == n) return &m;
@@ -49,10 +53,11 @@ nlohmann::json Scenario::to_json() const {
   for (const auto& m : metrics)
     ms.push_back({{"name", m.name}, {"unit", m.unit},
                   {"tolerance_kind", m.kind == TolKind::kRelative ? "rel" : "abs"},
-                  {"tolerance", m.tolerance}, {"floor", m.floor}, {"help", m.help}});
+                  {"tolerance", m.tolerance}, {"floor", m.floor}, {"help", m.help}, {"reference_only", m.reference_only}});
   return {{"name", name}, {"vehicle", vehicle}, {"summary", summary},
           {"equations", equations}, {"params", ps}, {"metrics", ms},
-          {"needs_contact_dynamics", needs_contact_dynamics}, {"negative_control", negative_control}};
+          {"needs_contact_dynamics", needs_contact_dynamics}, {"negative_control", negative_control},
+          {"headline", headline.to_json()}};
 }
 
 const Scenario* find_scenario(const std::string& name) {

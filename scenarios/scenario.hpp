@@ -30,6 +30,9 @@ struct MetricDef {
   /// against its bodies), not physics: the tolerance scales with the precision the engine
   /// declares (bookkeeping_factor in engines/engine.hpp).
   bool bookkeeping = false;
+  /// A check of a paper's approximation (a leading-order formula against the exact model): the
+  /// reference's business, shown for the other engines but not counted for them.
+  bool reference_only = false;
 
   double tolerance_for(const std::string& engine) const;
   double floor_for(const std::string& engine) const;
@@ -69,6 +72,20 @@ struct Metric {
   nlohmann::json to_json() const;
 };
 
+/// The figure a scenario is read by at a glance: the engine's own error on the quantity the
+/// scenario is about (a radius, a holonomy against the exact one, a creep, a contact time, a
+/// penetration), never a check of the paper's leading-order approximation. The shown value is the
+/// largest compared error (relative or absolute, by the metric's kind) among `metrics`, times
+/// `scale`, or, with `per_step`, the absolute error over the run's dt.
+struct Headline {
+  std::vector<std::string> metrics;
+  std::string label;      ///< "radius error", "holonomy error", "creep", ...
+  std::string unit;       ///< unit of the shown figure: "" (a ratio), "mm", "µm/s", "steps"
+  double scale = 1.0;
+  bool per_step = false;
+  nlohmann::json to_json() const;
+};
+
 struct Scenario {
   std::string name;
   std::string vehicle;   ///< "car" or "disks" (the engine must offer make_car or make_disks)
@@ -82,6 +99,8 @@ struct Scenario {
   bool needs_contact_dynamics = false;
   /// A negative control: its comparison is meant to fail; validation counts a fail as expected.
   bool negative_control = false;
+  /// What the summary shows for this scenario (every metric named in it is one of `metrics`).
+  Headline headline = {};
 
   const MetricDef* metric(const std::string& name) const;
   nlohmann::json to_json() const;

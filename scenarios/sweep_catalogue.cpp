@@ -6,10 +6,10 @@ namespace liftcheck {
 
 const std::vector<SweepDef>& sweep_catalogue() {
   static const std::vector<SweepDef> all = {
-      {.name = "radius_vs_beta", .title = "Circle radius against steering angle (appendix D: l/sin beta0, l/tan beta0)",
+      {.name = "radius_vs_beta", .title = "Circle radius error against steering angle (exact: appendix D, l/sin beta0 and l/tan beta0)",
        .scenario = "car.circle", .param = "beta", .values = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8},
        .record = {"metric:front_radius", "metric:rear_radius"},
-       .plot = "values", .x_label = "beta_0 [rad]", .y_label = "radius [m]",
+       .plot = "values", .x_label = "beta_0 [rad]", .y_label = "relative radius error (front solid, rear dashed)",
        .curves = {{"1.0/sin(x)", "l/sin(beta_0)"}, {"1.0/tan(x)", "l/tan(beta_0)"}}},
       {.name = "error_vs_dt", .title = "Front circle radius error against the engine time step",
        .scenario = "car.circle", .param = "dt", .values = {0.0005, 0.001, 0.002, 0.005, 0.01},

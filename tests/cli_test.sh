@@ -97,6 +97,15 @@ xmllint --noout --schema "$(dirname "$0")/junit-10.xsd" "$tmp/report/junit.xml" 
   || { echo "FAIL junit-10.xsd"; cat "$tmp/err"; fails=$((fails + 1)); }
 grep -q "all as expected" "$tmp/report/summary.md" && grep -q "^| car.cycle | ✅ |$" "$tmp/report/summary.md" && passes=$((passes + 1)) \
   || { echo "FAIL summary.md"; cat "$tmp/report/summary.md"; fails=$((fails + 1)); }
+# A known failure is a skipped case with its reason (the convention for an expected failure), the
+# file still valid; on a CI run summary.md links to the run's page, absolutely.
+GITHUB_SERVER_URL=https://ci.example GITHUB_REPOSITORY=o/r GITHUB_RUN_ID=42 \
+  check validate-known 0 "$bin" validate --engines ode --filter car.slip --no-sweeps --out "$tmp/known"
+xmllint --noout --schema "$(dirname "$0")/junit-10.xsd" "$tmp/known/junit.xml" 2>"$tmp/err" \
+  && grep -q '<testcase classname="car.slip" name="ode" time="[0-9.]*"><skipped message="known failure: negative control' "$tmp/known/junit.xml" \
+  && grep -q 'skipped="1"' "$tmp/known/junit.xml" && ! grep -q '<failure' "$tmp/known/junit.xml" \
+  && grep -q '\[Report\](https://ci.example/o/r/actions/runs/42)' "$tmp/known/summary.md" && passes=$((passes + 1)) \
+  || { echo "FAIL known failure as skipped, absolute report link"; cat "$tmp/err"; grep -o '<testcase classname="car.slip".\{0,120\}' "$tmp/known/junit.xml"; grep Report "$tmp/known/summary.md"; fails=$((fails + 1)); }
 check diff-same 0 "$bin" diff "$tmp/report/results.json" "$tmp/report/results.json"
 python3 - "$tmp/report/results.json" "$tmp/worse.json" <<'PY'
 import json, sys
@@ -347,7 +356,7 @@ mkdir -p "$tmp/inj"
 evil="DIR'; touch FILE; echo '"
 (cd "$tmp/inj" && "$bin" validate --filter car.circle --engines analytic,ode --no-sweeps --out "$evil" >"$tmp/out" 2>"$tmp/err")
 status=$?
-if [ "$status" -eq 0 ] && [ ! -e "$tmp/inj/FILE" ] && [ ! -e "$tmp/inj/DIR" ] && [ -s "$tmp/inj/$evil/plots/car_circle-paths.svg" ] \
+if [ "$status" -eq 0 ] && [ ! -e "$tmp/inj/FILE" ] && [ ! -e "$tmp/inj/DIR" ] && [ -s "$tmp/inj/$evil/plots/car_circle-error.svg" ] \
   && python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); assert d["report"]["errors"] == [] and len(d["report"]["plots"]) == 1, d["report"]' "$tmp/inj/$evil/results.json"; then
   passes=$((passes + 1))
 else
@@ -358,7 +367,7 @@ tname="x', system('touch GNUPLOT'), '"
 mkdir -p "$tmp/inj/$tname"
 cp "$tmp/trace.csv" "$tmp/inj/$tname/car.circle.csv"
 (cd "$tmp/inj" && "$bin" validate --filter car.circle --engines analytic --no-sweeps --trace-dir "$tname" --out td >"$tmp/out" 2>"$tmp/err")
-[ $? -eq 0 ] && [ -z "$(find "$tmp/inj" -name GNUPLOT)" ] && [ -s "$tmp/inj/td/plots/car_circle-paths.svg" ] && grep -qF "<text>x', system('touch GNUPLOT'), '</text>" "$tmp/inj/td/plots/car_circle-paths.svg" \
+[ $? -eq 0 ] && [ -z "$(find "$tmp/inj" -name GNUPLOT)" ] && [ -s "$tmp/inj/td/plots/car_circle-error.svg" ] && grep -qF "<text>x', system('touch GNUPLOT'), '</text>" "$tmp/inj/td/plots/car_circle-error.svg" \
   && passes=$((passes + 1)) || { echo "FAIL configuration name ran in gnuplot"; cat "$tmp/inj/td/plots/gnuplot.log"; fails=$((fails + 1)); }
 # gnuplot missing: the report says so in its errors (and on the console), the rest is written.
 PATH=/nonexistent "$bin" validate --filter car.circle --engines analytic --no-sweeps --out "$tmp/nognuplot" >"$tmp/out" 2>"$tmp/err"
@@ -371,6 +380,9 @@ bad_input suggest-engine "did you mean 'ode-quick'?" run car.circle --engine ode
 bad_input suggest-param "unknown parameter 'speeed' for scenario 'car.circle'; did you mean 'speed'?" run car.circle --set speeed=1
 bad_input suggest-setting "did you mean 'iterations'?" run car.circle --engine ode-quick --set iteratons=5
 bad_input suggest-path-param "did you mean 'lambda'?" path disks.repel --set lamda=1
+bad_input suggest-command "did you mean 'run'?" runn car.circle
+bad_input suggest-option "did you mean '--engine'?" run car.circle --engin ode
+bad_input suggest-command-option "did you mean '--engines'?" validate --engnes ode --out "$tmp/never"
 bad_input suggest-choice "parameter 'path' must be one of line|circle|figure8, got 'circel'; did you mean 'circle'?" run disks.copy --set path=circel
 bad_input no-suggestion-far-off "unknown parameter 'zzzzzz' for scenario 'car.circle'" run car.circle --set zzzzzz=1
 grep -q "did you mean" "$tmp/err" && { echo "FAIL a far-off name got a suggestion"; fails=$((fails + 1)); }
@@ -608,11 +620,11 @@ for args in "run car.circle --json" "list" "path car.circle" "diff $tmp/report/r
     || { echo "FAIL $args > /dev/full: exit $st"; cat "$tmp/err"; fails=$((fails + 1)); }
 done
 # A baseline that cannot be written is found before the output folder is replaced: nothing is
-# written, as the message says.
+# written, as the message says (in one line besides the progress, which goes to stderr).
 cp "$tmp/uo2/results.json" "$tmp/uo2-before.json"
 rm "$tmp/uo2/plots/mine.txt"
 check rel-baseline-unwritable 2 "$bin" validate --engines analytic --filter disks.copy --no-sweeps --out "$tmp/uo2" --baseline "$tmp/no/such/dir/base.json" --update-baseline
-[ "$(wc -l <"$tmp/err")" -eq 1 ] && grep -q "nothing is written (--out is as it was" "$tmp/err" && cmp -s "$tmp/uo2/results.json" "$tmp/uo2-before.json" && passes=$((passes + 1)) || { echo "FAIL a failed --update-baseline replaced --out"; fails=$((fails + 1)); }
+[ "$(grep -vc '^progress ' "$tmp/err")" -eq 1 ] && grep -q "nothing is written (--out is as it was" "$tmp/err" && cmp -s "$tmp/uo2/results.json" "$tmp/uo2-before.json" && passes=$((passes + 1)) || { echo "FAIL a failed --update-baseline replaced --out"; fails=$((fails + 1)); }
 # The report renders in a process of its own: a renderer that dies (OSMesa under a memory
 # limit) costs the report, never the runs' results. Not under AddressSanitizer (make sanitize sets
 # ASAN_OPTIONS): its shadow memory cannot be mapped under ulimit -v at all.

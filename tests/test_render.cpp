@@ -12,6 +12,7 @@
 #include "reports/plots.hpp"
 #include "reports/scene_build.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 using namespace liftcheck::render;
@@ -114,6 +115,34 @@ TEST(Render, FourWheelRunDrawsFourWheels) {
   EXPECT_NEAR(wheels[0].centre.y(), 0.5 * track, 1e-12);
   run["params"]["wheels"] = "3";
   EXPECT_EQ(snapshots_for(run, Color{0, 0, 1, 1}).front().scene.wheels.size(), 3u);
+}
+
+// The end snapshot's inset shows an end pose 1 mm off the exact one across at least 20 pixels: its
+// scale is read from the inset's scene (pixels over the metres its camera spans), and the offset
+// is measured between the two front-axle crosses it draws.
+TEST(Render, EndInsetShowsAMillimetreOffset) {
+  for (const double offset_m : {1e-3, 4e-3, 0.05}) {
+    const nlohmann::json reference = {{0.0, 0.0, 0.3, 0.0, 0.0, 0.0}, {1.0, 1.0, 0.3, 0.3, 0.0, 0.0}};
+    const nlohmann::json trace = {{0.0, 0.0, 0.3, 0.0, 0.0, 0.0}, {1.0, 1.0, 0.3, 0.3, offset_m, 0.0}};
+    const nlohmann::json run = {{"scenario", "car.circle"}, {"engine", "ode"}, {"vehicle", "car"},
+                                {"params", {{"R", 0.3}, {"l", 1.0}}}, {"details", {{"trace", trace}, {"reference", reference}}}};
+    const auto shots = snapshots_for(run, Color{0, 0, 1, 1});
+    const auto end = std::find_if(shots.begin(), shots.end(), [](const Snapshot& s) { return s.tag == "end"; });
+    ASSERT_NE(end, shots.end());
+    ASSERT_EQ(end->insets.size(), 1u);
+    const Scene& in = end->insets.front().scene;
+    ASSERT_EQ(in.camera.kind, Camera::Kind::kTopDown);
+    const double px_per_m = in.height_px / (2.0 * in.camera.half_height_m);
+    ASSERT_EQ(in.markers.size(), 2u);  // the exact front-axle centre, then the engine's
+    const double shown_px = (in.markers[1].at - in.markers[0].at).norm() * px_per_m;
+    EXPECT_NEAR((in.markers[1].at - in.markers[0].at).norm(), offset_m, 1e-12);
+    EXPECT_GE(shown_px, 20.0) << "offset " << offset_m << " m";
+    EXPECT_LE(shown_px, 0.9 * in.height_px) << "both poses inside the inset";
+    EXPECT_TRUE(in.scale_bar);
+    // Pasted inside the snapshot.
+    EXPECT_GE(end->insets.front().x_px, 0);
+    EXPECT_LE(end->insets.front().x_px + in.width_px, end->scene.width_px);
+  }
 }
 
 // A renderer leaves no destroyed context current on its thread.

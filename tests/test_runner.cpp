@@ -419,3 +419,34 @@ TEST(Report, ZeroThreadsRenderOnOne) {
     std::filesystem::remove_all(dir);
   }
 }
+
+// Every scenario declares a headline: metrics it defines, none of them a check of the paper's
+// approximation; those checks count for the reference alone.
+TEST(Catalogue, EveryScenarioHasAHeadlineOfItsOwnMetrics) {
+  for (const Scenario& s : scenarios()) {
+    ASSERT_FALSE(s.headline.metrics.empty()) << s.name;
+    EXPECT_FALSE(s.headline.label.empty()) << s.name;
+    for (const auto& m : s.headline.metrics) {
+      const MetricDef* def = s.metric(m);
+      ASSERT_NE(def, nullptr) << s.name << ": " << m;
+      EXPECT_FALSE(def->reference_only) << s.name << ": " << m;
+    }
+  }
+}
+
+TEST(Runner, LeadingOrderChecksCountForTheReferenceOnly) {
+  const Scenario* cycle = find_scenario("car.cycle");
+  ASSERT_NE(cycle, nullptr);
+  Outcome o;
+  // An engine that matches the exact holonomy exactly, 30% off the bracket prediction.
+  o.values["dx"] = {1e-3, 1e-3};
+  o.values["lo_dx"] = {0.7e-3, 1e-3, 0.0, 1.0};
+  for (const auto& [key, counted] : {std::pair<std::string, bool>{"reference", true}, {"ode", false}}) {
+    const auto metrics = score(*cycle, key, o);
+    const auto lo = std::find_if(metrics.begin(), metrics.end(), [](const Metric& m) { return m.name == "lo_dx"; });
+    ASSERT_NE(lo, metrics.end());
+    EXPECT_EQ(lo->informational, !counted) << key;
+    const auto dx = std::find_if(metrics.begin(), metrics.end(), [](const Metric& m) { return m.name == "dx"; });
+    EXPECT_FALSE(dx->informational) << key;
+  }
+}
