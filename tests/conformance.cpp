@@ -155,7 +155,7 @@ class KeepTrace final : public CarEngine {
 // the path's end T, the state at T interpolated linearly between the two samples around it, as
 // the trace of an engine stepping past T would be) gives the run's verdict and fails exactly the
 // metrics the run fails, but the contact-point slip, which a trace does not carry (it has no wheel
-// states). The scenarios that need contact dynamics (car.coulomb, car.coulomb-yawed,
+// states). The scenarios that need contact dynamics (car.coulomb,
 // car.beyond-grip, the negative control car.slip) are scored too: their metrics are functions of
 // the pose alone, so the trace carries them; the replayed configuration is declared to have the
 // contact dynamics of the engine whose trace it is.
@@ -207,7 +207,7 @@ TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
   }
   EXPECT_GE(scored, 6) << "fewer car scenarios with a single path than car.circle, the three cycles, steer-in-place and slope";
   if (e->contact_dynamics) {
-    EXPECT_EQ(with_contact_dynamics, 4) << "car.coulomb, car.coulomb-yawed, car.beyond-grip and car.slip";
+    EXPECT_EQ(with_contact_dynamics, 3) << "car.coulomb, car.beyond-grip and car.slip";
   }
 }
 
