@@ -157,8 +157,8 @@ template <const auto& Names>
 struct SlotObject : Slot {
   std::array<Slot, Names.size()> slots;
   Slot* slot(std::string_view key) {
-    for (std::size_t i = 0; i < Names.size(); ++i)
-      if (key == Names[i]) return &slots[i];
+    for (std::size_t i = 0; i < Names.size(); ++i)  // most keys differ in length or first letter
+      if (key.size() == Names[i].size() && key[0] == Names[i][0] && key == Names[i]) return &slots[i];
     return nullptr;
   }
   const Slot* field(std::string_view key) const {
@@ -281,6 +281,8 @@ class IndexReader {
     else if (Slot* s = known(p)) {
       if (s->present()) twice(p.key);  // a field kept is its own record of the key
       s->type = type;
+      if (p.role == Role::run && type == json::value_t::object && p.key == "metrics") next_role_ = Role::metrics;
+      return s;
     } else take_key(p);
     return in(p.role, p.key, type);
   }
@@ -304,11 +306,8 @@ class IndexReader {
         if (object) next_role_ = Role::run;
         else end_run();
         return nullptr;
-      case Role::run: {
-        Slot* s = run_.slot(key);
-        if (s && object && key == "metrics") next_role_ = Role::metrics;
-        return s;
-      }
+      case Role::run:  // a field not kept (known() has the kept ones)
+        return nullptr;
       case Role::metrics:
         if (n_metrics_ == metrics_.size()) metrics_.emplace_back();
         metrics_[n_metrics_].first.assign(key);
@@ -316,7 +315,7 @@ class IndexReader {
         if (object) next_role_ = Role::metric;
         return nullptr;
       case Role::metric:
-        return metrics_[n_metrics_ - 1].second.slot(key);
+        return nullptr;
       case Role::other: break;
     }
     return nullptr;
