@@ -5,6 +5,7 @@
 #include <set>
 
 #include "input/params.hpp"  // InputError
+#include "input/read_file.hpp"  // require_utf8
 #include "input/results_diff.hpp"
 #include "input/results_file.hpp"
 #include "input/trace.hpp"  // printable
@@ -13,6 +14,9 @@ namespace liftcheck::cli {
 
 nlohmann::json read_baseline(const std::string& path, bool update_baseline) {
   if (update_baseline && path.empty()) throw InputError("--update-baseline needs --baseline FILE");
+  // A baseline is read back by its name (recorded in results.json, JSON holds UTF-8 only): one it
+  // could not be read back by is refused before anything runs, not written.
+  if (update_baseline) require_utf8(path, "--baseline file name");
   return !path.empty() && !update_baseline ? read_results(path) : nlohmann::json();
 }
 

@@ -13,10 +13,10 @@ namespace {
 
 int cmd_diff(const std::string& base_path, const std::string& head_path, double growth, bool json) {
   if (!(growth > 1.0)) throw InputError(fmt::format("--growth must be > 1 (got {})", growth));
-  // Kept to the end of the process, never freed one node at a time: two documents of a million
-  // runs took as long to free as to compare; the process's end returns their memory at once.
-  static const std::pair<nlohmann::json, nlohmann::json>* kept = nullptr;
-  kept = new std::pair<nlohmann::json, nlohmann::json>(read_results_pair(base_path, head_path));
+  // Only what the diff compares is kept of each file (no document), to the end of the process:
+  // its end returns the memory of two million runs at once, not one run at a time.
+  static const std::pair<ResultsIndex, ResultsIndex>* kept = nullptr;
+  kept = new std::pair<ResultsIndex, ResultsIndex>(read_results_index_pair(base_path, head_path));
   const auto& [base, head] = *kept;
   DiffDef def;
   def.growth = growth;

@@ -45,8 +45,9 @@ std::string read_text_file(const std::filesystem::path& path, std::size_t max_by
   if (S_ISREG(st.st_mode) && static_cast<std::size_t>(st.st_size) > max_bytes) throw too_big();
   ::fcntl(f.fd, F_SETFL, ::fcntl(f.fd, F_GETFL) & ~O_NONBLOCK);
   std::string text;
-  if (S_ISREG(st.st_mode)) text.reserve(static_cast<std::size_t>(st.st_size));
   constexpr std::size_t kChunk = std::size_t{1} << 20;
+  // Room for the last read too (it finds the end): a file of 300 MB is never copied to grow.
+  if (S_ISREG(st.st_mode)) text.reserve(static_cast<std::size_t>(st.st_size) + kChunk);
   for (;;) {
     throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", name); });
     const std::size_t room = std::min(kChunk, max_bytes + 1 - text.size());

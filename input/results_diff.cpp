@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <fmt/format.h>
 #include <map>
 #include <string_view>
-#include <unordered_map>
 #include <vector>
 
 #include "input/interrupt.hpp"
@@ -17,42 +17,63 @@ namespace {
 
 using json = nlohmann::json;
 
-/// A run's key: its scenario and configuration, views into the document.
+/// A run's key: its scenario and configuration, views into the index.
 using RunKey = std::pair<std::string_view, std::string_view>;
 
-struct RunKeyHash {
-  std::size_t operator()(const RunKey& k) const {
-    const std::size_t a = std::hash<std::string_view>()(k.first);
-    return a ^ (std::hash<std::string_view>()(k.second) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2));
-  }
+/// A run of one file, with a hash of its key.
+struct Entry {
+  std::uint64_t hash;
+  RunKey key;
+  const RunFigures* run;
 };
 
-RunKey key_of(const json& r) {
-  return {r.at("scenario").get_ref<const std::string&>(), r.at("engine").get_ref<const std::string&>()};
+/// (hash, key): an order in which two files are walked side by side to pair their runs, cheap to
+/// sort (the findings are put in key order afterwards).
+bool before(const Entry& a, const Entry& b) {
+  if (a.hash != b.hash) return a.hash < b.hash;
+  return a.key < b.key;
 }
 
-/// The runs by key (a later record of the same run wins, as it always did), hashed: a diff of a
-/// million runs is linear in them.
-std::unordered_map<RunKey, const json*, RunKeyHash> index_runs(const json& results) {
-  const json& runs = results.at("runs");
-  std::unordered_map<RunKey, const json*, RunKeyHash> m;
-  m.reserve(runs.size());
-  for (const auto& r : runs) m[key_of(r)] = &r;
-  return m;
-}
-
-/// The same, in key order (the order of the diff's findings).
-std::vector<std::pair<RunKey, const json*>> sorted_runs(const std::unordered_map<RunKey, const json*, RunKeyHash>& index) {
-  std::vector<std::pair<RunKey, const json*>> v(index.begin(), index.end());
-  std::sort(v.begin(), v.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+/// The runs in (hash, key) order, one per key: a later record of the same run wins, as it always did.
+std::vector<Entry> paired_order(const ResultsIndex& results) {
+  std::vector<Entry> v;
+  v.reserve(results.runs.size());
+  for (const auto& r : results.runs) {
+    const std::uint64_t a = std::hash<std::string_view>()(r.scenario);
+    v.push_back({a ^ (std::hash<std::string_view>()(r.engine) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2)), {r.scenario, r.engine}, &r});
+  }
+  // Equal keys keep the file's order (the records are in one array); the last is kept.
+  std::sort(v.begin(), v.end(), [](const Entry& a, const Entry& b) { return before(a, b) || (!before(b, a) && a.run < b.run); });
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < v.size(); ++i)
+    if (i + 1 == v.size() || before(v[i], v[i + 1])) v[kept++] = v[i];
+  v.resize(kept);
   return v;
 }
+
+/// The findings of a diff, each with its run's key, in the order found.
+struct Findings {
+  std::vector<std::pair<RunKey, json>> regressions, fixed, worse, better;
+  std::vector<RunKey> added, removed;
+};
+
+/// Findings of one kind in key order (a run's several metrics in name order) into `out`.
+void put_in_key_order(std::vector<std::pair<RunKey, json>>& found, json& out) {
+  std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  for (auto& f : found) out.push_back(std::move(f.second));
+}
+void put_in_key_order(std::vector<RunKey>& found, json& out);
 
 json id_of(const RunKey& key) { return {{"scenario", std::string(key.first)}, {"engine", std::string(key.second)}}; }
 
 json merged(json a, const json& b) {
   a.update(b);
   return a;
+}
+
+void put_in_key_order(std::vector<RunKey>& found, json& out) {
+  std::sort(found.begin(), found.end());
+  for (const auto& key : found) out.push_back(id_of(key));
 }
 
 /// A record's verdict ("known failure", ...), or its status in files written before verdicts.
@@ -67,14 +88,59 @@ double number_of(const json& m, const char* key) {
 /// Error of a metric as a fraction of its tolerance (input/results_file.cpp checks these fields
 /// of a file read back).
 double ratio(const json& m) {
-  const double err = number_of(m, m.value("tolerance_kind", "abs") == "rel" ? "rel_error" : "abs_error");
-  const double tol = number_of(m, "tolerance");
-  double r = tol > 0 ? err / tol : (err > 0 ? INFINITY : 0.0);
-  if (m.value("floor", 0.0) > 0.0) r = std::min(r, number_of(m, "abs_error") / m["floor"].get<double>());
-  return r;
+  return metric_ratio(number_of(m, m.value("tolerance_kind", "abs") == "rel" ? "rel_error" : "abs_error"), number_of(m, "tolerance"),
+                      number_of(m, "abs_error"), m.value("floor", 0.0));
+}
+
+/// The metric of that name, or null.
+const MetricFigures* metric_named(const std::vector<MetricFigures>& metrics, const std::string& name) {
+  const auto it = std::lower_bound(metrics.begin(), metrics.end(), name, [](const MetricFigures& m, const std::string& n) { return m.name < n; });
+  return it != metrics.end() && it->name == name ? &*it : nullptr;
+}
+
+/// The worse and better metrics of one run present in both files.
+void compare_metrics(const RunKey& key, const RunFigures& br, const RunFigures& hr, const DiffDef& def, Findings& found) {
+  if (!br.has_metrics || !hr.has_metrics) return;
+  for (const MetricFigures& hm : hr.metrics) {
+    const MetricFigures* bm = metric_named(br.metrics, hm.name);
+    if (!bm || hm.informational) continue;
+    const double rb = bm->ratio, rh = hm.ratio;
+    const bool worse = rh > def.floor && rh > def.growth * rb, better = !worse && rb > def.floor && rb > def.growth * rh;
+    if (!worse && !better) continue;
+    (worse ? found.worse : found.better)
+        .emplace_back(key, merged(id_of(key), {{"metric", hm.name}, {"base_ratio", rb}, {"head_ratio", rh},
+                                               {"base_measured", bm->measured}, {"head_measured", hm.measured}}));
+  }
 }
 
 }  // namespace
+
+double metric_ratio(double error, double tolerance, double abs_error, double floor) {
+  double r = tolerance > 0 ? error / tolerance : (error > 0 ? INFINITY : 0.0);
+  if (floor > 0.0) r = std::min(r, abs_error / floor);
+  return r;
+}
+
+ResultsIndex index_of(const json& results) {
+  ResultsIndex index;
+  const json& runs = results.at("runs");
+  index.runs.reserve(runs.size());
+  for (const auto& r : runs) {
+    RunFigures f;
+    f.scenario = r.at("scenario").get<std::string>();
+    f.engine = r.at("engine").get<std::string>();
+    f.verdict = verdict_of(r);
+    f.message = r.value("message", "");
+    f.as_expected = record_as_expected(r);
+    const auto ms = r.find("metrics");
+    f.has_metrics = ms != r.end() && ms->is_object();
+    if (f.has_metrics)
+      for (const auto& [name, m] : ms->get_ref<const json::object_t&>())  // in name order
+        f.metrics.push_back({name, ratio(m), m.value("informational", false), m.value("measured", json())});
+    index.runs.push_back(std::move(f));
+  }
+  return index;
+}
 
 bool record_as_expected(const json& r) {
   if (r.contains("as_expected")) return r["as_expected"].get<bool>();
@@ -98,41 +164,38 @@ json baseline_json(const json& results) {
   return {{"liftcheck_baseline", 1}, {"context", {{"liftcheck", results["context"]["liftcheck"]}}}, {"runs", runs}};
 }
 
-json diff_results(const json& base, const json& head, const DiffDef& def) {
-  json d{{"regressions", json::array()}, {"fixed", json::array()}, {"worse", json::array()},
-         {"better", json::array()}, {"added", json::array()}, {"removed", json::array()}};
-  const auto b = index_runs(base), h = index_runs(head);
-  std::size_t compared = 0;
-  for (const auto& [key, hr] : sorted_runs(h)) {
-    if ((++compared & 0xFFFF) == 0) throw_if_interrupted("while comparing the results");
-    const auto it = b.find(key);
-    if (it == b.end()) {
-      d["added"].push_back(id_of(key));
+json diff_results(const ResultsIndex& base, const ResultsIndex& head, const DiffDef& def) {
+  const auto b = paired_order(base), h = paired_order(head);
+  Findings found;
+  std::size_t at = 0;  // in b
+  for (std::size_t i = 0; i < h.size(); ++i) {
+    if (((i + 1) & 0xFFFF) == 0) throw_if_interrupted("while comparing the results");
+    const Entry& he = h[i];
+    for (; at < b.size() && before(b[at], he); ++at) found.removed.push_back(b[at].key);
+    if (at == b.size() || before(he, b[at])) {
+      found.added.push_back(he.key);
       continue;
     }
-    const json& br = *it->second;
-    const bool was = record_as_expected(br), is = record_as_expected(*hr);
-    if (was && !is)
-      d["regressions"].push_back(merged(id_of(key), {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}, {"message", hr->value("message", "")}}));
-    else if (!was && is)
-      d["fixed"].push_back(merged(id_of(key), {{"from", verdict_of(br)}, {"to", verdict_of(*hr)}}));
-    const auto bms = br.find("metrics"), hms = hr->find("metrics");
-    if (bms == br.end() || hms == hr->end() || !bms->is_object() || !hms->is_object()) continue;
-    for (const auto& [name, hm] : hms->get_ref<const json::object_t&>()) {
-      const auto bm = bms->find(name);
-      if (bm == bms->end() || hm.value("informational", false)) continue;
-      const double rb = ratio(*bm), rh = ratio(hm);
-      const bool worse = rh > def.floor && rh > def.growth * rb, better = !worse && rb > def.floor && rb > def.growth * rh;
-      if (!worse && !better) continue;
-      d[worse ? "worse" : "better"].push_back(merged(id_of(key), {{"metric", name}, {"base_ratio", rb}, {"head_ratio", rh},
-                                                                  {"base_measured", bm->value("measured", json())},
-                                                                  {"head_measured", hm.value("measured", json())}}));
-    }
+    const RunFigures &br = *b[at++].run, &hr = *he.run;
+    if (br.as_expected && !hr.as_expected)
+      found.regressions.emplace_back(he.key, merged(id_of(he.key), {{"from", br.verdict}, {"to", hr.verdict}, {"message", hr.message}}));
+    else if (!br.as_expected && hr.as_expected)
+      found.fixed.emplace_back(he.key, merged(id_of(he.key), {{"from", br.verdict}, {"to", hr.verdict}}));
+    compare_metrics(he.key, br, hr, def, found);
   }
-  for (const auto& [key, br] : sorted_runs(b))
-    if (!h.count(key)) d["removed"].push_back(id_of(key));
+  for (; at < b.size(); ++at) found.removed.push_back(b[at].key);
+  json d{{"regressions", json::array()}, {"fixed", json::array()}, {"worse", json::array()},
+         {"better", json::array()}, {"added", json::array()}, {"removed", json::array()}};
+  put_in_key_order(found.regressions, d["regressions"]);
+  put_in_key_order(found.fixed, d["fixed"]);
+  put_in_key_order(found.worse, d["worse"]);
+  put_in_key_order(found.better, d["better"]);
+  put_in_key_order(found.added, d["added"]);
+  put_in_key_order(found.removed, d["removed"]);
   return d;
 }
+
+json diff_results(const json& base, const json& head, const DiffDef& def) { return diff_results(index_of(base), index_of(head), def); }
 
 std::string diff_text(const json& d) {
   // Names and messages come from the files: one line each, whatever they hold.

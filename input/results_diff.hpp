@@ -5,6 +5,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "input/results_index.hpp"
+
 namespace liftcheck {
 
 /// Whether a stored run record is as expected (files written before verdicts: pass or skip).
@@ -25,6 +27,9 @@ struct DiffDef {
 /// Compares two results files run by run: status changes (a run that was as expected and is no
 /// longer is a regression), runs added or removed, and metrics whose errors grew.
 /// Returns {"regressions": [...], "worse": [...], "better": [...], "added": [...], "removed": [...]}.
+nlohmann::json diff_results(const ResultsIndex& base, const ResultsIndex& head, const DiffDef& def = {});
+
+/// The same on two documents (index_of each).
 nlohmann::json diff_results(const nlohmann::json& base, const nlohmann::json& head, const DiffDef& def = {});
 
 /// The diff as plain text, one line per finding.

@@ -5,7 +5,10 @@
 
 #include <nlohmann/json.hpp>
 #include <string>
+#include <string_view>
 #include <utility>
+
+#include "input/results_index.hpp"
 
 namespace liftcheck {
 
@@ -16,6 +19,16 @@ nlohmann::json read_results(const std::string& path);
 /// Both files of a diff, read and checked at once (each in a thread of its own); the first
 /// file's error is reported when both have one.
 std::pair<nlohmann::json, nlohmann::json> read_results_pair(const std::string& base, const std::string& head);
+
+/// Reads and checks a results or baseline file as read_results does (the same checks, the same
+/// messages), keeping only what the diff compares: no document is built.
+ResultsIndex read_results_index(const std::string& path);
+
+/// Both files of a diff, as read_results_pair reads them, into their indexes.
+std::pair<ResultsIndex, ResultsIndex> read_results_index_pair(const std::string& base, const std::string& head);
+
+/// The index of text already read; `name` names it in errors.
+ResultsIndex parse_results_index(std::string_view text, const std::string& name);
 
 /// The same on text already read; `name` names it in errors.
 nlohmann::json parse_results(const std::string& text, const std::string& name);

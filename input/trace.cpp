@@ -151,11 +151,15 @@ json parse_json_text(std::string_view text, const std::string& file, int max_dep
   try {
     json::sax_parse(text, &dom);
   } catch (const json::exception& e) {
-    std::string what = e.what();
-    if (const auto k = what.find("] "); what.rfind("[json.exception", 0) == 0 && k != std::string::npos) what = what.substr(k + 2);
-    throw InputError(fmt::format("{}: is not JSON ({})", file, printable(what, 200)));
+    throw not_json_error(e, file);
   }
   return root;
+}
+
+InputError not_json_error(const json::exception& e, const std::string& file) {
+  std::string what = e.what();
+  if (const auto k = what.find("] "); what.rfind("[json.exception", 0) == 0 && k != std::string::npos) what = what.substr(k + 2);
+  return InputError(fmt::format("{}: is not JSON ({})", file, printable(what, 200)));
 }
 
 const std::vector<std::string>& trace_columns(const std::string& vehicle) {

@@ -38,6 +38,9 @@ Trace parse_trace(const std::string& text, const std::string& file, const std::s
 /// document nested deeper than `max_depth` levels (copying or printing one recurses that deep).
 nlohmann::json parse_json_text(std::string_view text, const std::string& file, int max_depth = 64);
 
+/// The InputError for a document nlohmann's parser refused: "FILE: is not JSON (REASON)".
+InputError not_json_error(const nlohmann::json::exception& e, const std::string& file);
+
 /// `s` for a one-line message: control characters as '?', at most `max` characters.
 std::string printable(const std::string& s, std::size_t max = 80);
 

@@ -483,6 +483,9 @@ mkdir -p "$latin" && cp "$tmp/trace.csv" "$latin/car.circle.csv"
 bad_input rel-trace-dir-not-utf8 "is not valid UTF-8" validate --filter car.circle --engines analytic --no-sweeps --no-report --trace-dir "$latin" --out "$tmp/rnu"
 cp "$tmp/report/results.json" "$tmp/base$(printf '\xe9').json"
 bad_input rel-baseline-not-utf8 "results file name '$tmp/base?.json' is not valid UTF-8" validate --filter car.circle --engines analytic --no-sweeps --no-report --baseline "$tmp/base$(printf '\xe9').json" --out "$tmp/rnb"
+# ... and so is one --update-baseline would write, before anything runs: it could not be read back.
+bad_input rel-update-baseline-not-utf8 "--baseline file name '$tmp/new?.json' is not valid UTF-8" validate --filter car.circle --engines analytic --no-sweeps --no-report --baseline "$tmp/new$(printf '\xe9').json" --update-baseline --out "$tmp/rnu8"
+[ ! -e "$tmp/new$(printf '\xe9').json" ] && [ ! -e "$tmp/rnu8" ] && passes=$((passes + 1)) || { echo "FAIL a baseline named in Latin-1 was written"; fails=$((fails + 1)); }
 nl="$tmp/sim
 FAIL forged"
 mkdir -p "$nl" && cp "$tmp/trace.csv" "$nl/car.circle.csv"

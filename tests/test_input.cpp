@@ -24,7 +24,12 @@ std::string error_of(F&& f) {
   return "";
 }
 
-std::string results_error(const std::string& text) { return error_of([&] { parse_results(text, "base.json"); }); }
+/// The full reader's error on `text`; the index reader of `diff` (no document) must give the same.
+std::string results_error(const std::string& text) {
+  const std::string full = error_of([&] { parse_results(text, "base.json"); });
+  EXPECT_EQ(error_of([&] { parse_results_index(text, "base.json"); }), full) << "the readers disagree on: " << text.substr(0, 300);
+  return full;
+}
 std::string trace_error(const std::string& text, const std::string& vehicle = "car") {
   return error_of([&] { parse_trace(text, "trace.csv", vehicle); });
 }
@@ -219,4 +224,59 @@ TEST(Names, Utf8) {
             "--name 'x?y' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only (rename it)");
   EXPECT_EQ(error_of([] { read_trace("/tmp/\xFF.csv", "car"); }),
             "trace file name '/tmp/?.csv' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only (rename it)");
+}
+
+// `diff` reads a file into an index of what it compares (no document): every check of the full
+// reader holds, with the same message, and the first one the full reader reports is the one
+// reported (a syntax error anywhere before a run's field, a run before a later one, the top level
+// before any run, a run's own fields before its metrics, its metrics in name order).
+TEST(ResultsIndex, RefusesWhatTheFullReaderRefusesWithItsMessage) {
+  const std::string bad_run = R"({"scenario": 1, "engine": "e", "status": "pass"})";
+  EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, {"x": 1, "x": 2}]})"), "base.json: runs[1]: the key 'x' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, 1]} x)").rfind("base.json: is not JSON", 0), 0u);
+  EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, 1]})"), "base.json: runs[0]: 'scenario' is a number, not a string");
+  EXPECT_EQ(results_error(R"({"runs": [1, )" + bad_run + "]}"), "base.json: runs[0]: is a number, not an object");
+  EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "scenario": "t"}]})"),
+            "base.json: runs[0]: the key 'scenario' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(results_error(results_with(R"({"pass": true, "pass": false})")),
+            "base.json: runs[0].metrics.front_radius: the key 'pass' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "metrics": {"z": 1, "a": []}}]})"),
+            "base.json: runs[0].metrics.a: is an array, not an object");
+  EXPECT_EQ(results_error(R"({"runs": [{"metrics": [], "scenario": "s", "status": "pass"}]})"), "base.json: runs[0]: missing 'engine'");
+  EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "metrics": {"m": {"tolerance_kind": "abs", "tolerance": 1, "abs_error": 0}}}]})"),
+            "base.json: runs[0].metrics.m: missing 'measured'");
+  EXPECT_EQ(results_error(R"({"runs": 1, "x": {"runs": [1]}})"), "base.json: 'runs' is a number, not an array");
+  EXPECT_EQ(results_error(R"({"context": {"runs": [1]}})"), "base.json: is not a liftcheck results file (no \"runs\")");
+  EXPECT_EQ(results_error(R"("runs")"), "base.json: is not a liftcheck results file (the top level is a string, not an object)");
+  EXPECT_EQ(results_error(""), error_of([] { parse_json_text("", "base.json"); }));
+  std::string many = R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "params": {)";
+  for (int i = 0; i < 40; ++i) many += fmt::format(R"("k{}": {}, )", i, i);
+  EXPECT_EQ(results_error(many + R"("k7": 0}}]})"), "base.json: runs[0].params: the key 'k7' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(results_error(many + R"("k40": 0}}]})"), "");
+}
+
+// The index gives the diff the full reader's document gives, finding for finding.
+TEST(ResultsIndex, DiffsAsTheDocumentDoes) {
+  const auto run = [](const std::string& scenario, const std::string& engine, const std::string& status, const std::string& rest) {
+    return fmt::format(R"({{"scenario": "{}", "engine": "{}", "status": "{}"{}}})", scenario, engine, status, rest);
+  };
+  const std::string m1 = R"(, "metrics": {"b": {"measured": 2, "abs_error": 0.5, "tolerance": 0.01, "tolerance_kind": "abs"}, )"
+                         R"("a": {"measured": 1.5e300, "abs_error": 1, "rel_error": null, "tolerance": 1, "tolerance_kind": "rel", "floor": 2}})";
+  const std::string m2 = R"(, "message": "boom", "verdict": "known failure", "as_expected": true, "metrics": {"a": {"measured": null, "abs_error": 1e-9, )"
+                         R"("rel_error": 1e-9, "tolerance": 1, "tolerance_kind": "rel"}, "b": {"measured": 3, "abs_error": 1e-6, "tolerance": 0.01, "tolerance_kind": "abs", "informational": false}})";
+  const std::string base = "{\"runs\": [" + run("s2", "ode", "pass", m2) + "," + run("s1", "ode", "fail", m1) + "," + run("s1", "ode", "pass", m2) + "," +
+                           run("s3", "x", "skip", "") + "," + run("s0", "e", "error", R"(, "metrics": {})") + "]}";
+  const std::string head = "{\"runs\": [" + run("s1", "ode", "fail", m1 + R"(, "message": "worse")") + "," + run("s2", "ode", "pass", m1) + "," +
+                           run("s4", "y", "pass", m2) + "," + run("s0", "e", "pass", m2) + "," + run("s0", "e", "error", R"(, "metrics": {})") + "]}";
+  for (const auto& [b, h] : {std::pair{base, head}, std::pair{head, base}, std::pair{base, base}}) {
+    const nlohmann::json from_documents = diff_results(parse_results(b, "b"), parse_results(h, "h"));
+    const nlohmann::json from_indexes = diff_results(parse_results_index(b, "b"), parse_results_index(h, "h"));
+    EXPECT_EQ(from_indexes.dump(), from_documents.dump());
+    EXPECT_EQ(diff_text(from_indexes), diff_text(from_documents));
+  }
+  const nlohmann::json d = diff_results(parse_results_index(base, "b"), parse_results_index(head, "h"));
+  EXPECT_EQ(d["regressions"].size(), 1u) << d.dump();  // s1 on ode: the later record (pass) wins in base
+  EXPECT_EQ(d["added"].size(), 1u);
+  EXPECT_EQ(d["removed"].size(), 1u);
+  EXPECT_FALSE(d["worse"].empty());
 }

@@ -1,0 +1,44 @@
+// What `liftcheck diff` reads of a results file or baseline, and nothing more: per run its key, its
+// verdict and, per metric, the error as a fraction of its tolerance. A file of a million runs is
+// read into this (input/results_file.cpp, with every check of the full reader) instead of a
+// document of every field: a tenth of the memory and of the time.
+#pragma once
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace liftcheck {
+
+/// One metric of a run, as the diff compares it.
+struct MetricFigures {
+  std::string name;
+  double ratio = 0.0;          ///< its error as a fraction of its tolerance (see metric_ratio)
+  bool informational = false;  ///< not compared
+  nlohmann::json measured;     ///< the measured value as written (a number or null), printed as it was
+};
+
+/// One run, as the diff compares it.
+struct RunFigures {
+  std::string scenario, engine;
+  std::string verdict;  ///< its verdict, or its status in files written before verdicts
+  std::string message;  ///< "" when it has none
+  bool as_expected = false;
+  bool has_metrics = false;            ///< a "metrics" object (an empty one included)
+  std::vector<MetricFigures> metrics;  ///< in name order
+};
+
+/// The runs of one file, in the file's order (a later record of the same run wins).
+struct ResultsIndex {
+  std::vector<RunFigures> runs;
+};
+
+/// Error of a metric as a fraction of its tolerance: `error` (its rel_error for a "rel" tolerance,
+/// its abs_error otherwise) over `tolerance`; with a `floor` above 0, at most abs_error over the
+/// floor. A figure absent or null (how a NaN or infinite value is written) is passed as infinite.
+double metric_ratio(double error, double tolerance, double abs_error, double floor);
+
+/// The same figures taken from a document (a results file in memory, a baseline read whole).
+ResultsIndex index_of(const nlohmann::json& results);
+
+}  // namespace liftcheck
