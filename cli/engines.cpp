@@ -32,7 +32,7 @@ int cmd_engines(bool json) {
                              e.registration.empty() ? "" : "; outside: " + e.registration, e.description);
     for (const auto& [k, v] : e.settings) std::cout << fmt::format("    {:<22} {}\n", k, v);
     for (const SettingSpec& k : e.knobs)
-      std::cout << fmt::format("    --set {:<16} {} ({}): {}; default {}, {}\n", k.key, k.vehicle, k.kind == SettingSpec::kChoice ? "choice" : k.kind == SettingSpec::kInteger ? "integer" : "real",
+      std::cout << fmt::format("    --set {:<16} {} ({}): {}; default {}, {}\n", k.key, k.vehicle, k.kind_name(),
                                k.help, k.default_text, k.range_text());
   }
   return 0;

@@ -109,55 +109,68 @@ std::vector<Metric> score(const Scenario& scenario, const std::string& engine, c
   return out;
 }
 
+KeyOwner key_owner(const Scenario& scenario, const EngineInfo& engine, const std::string& key) {
+  if (std::any_of(scenario.params.begin(), scenario.params.end(), [&](const ParamSpec& p) { return p.key == key; })) return KeyOwner::kParameter;
+  if (std::any_of(engine.knobs.begin(), engine.knobs.end(), [&](const SettingSpec& k) { return k.key == key && k.vehicle == scenario.vehicle; }))
+    return KeyOwner::kSetting;
+  return KeyOwner::kNeither;
+}
+
+namespace {
+
+/// The InputError for `key`, a setting of other configurations but not of `engine` here.
+[[noreturn]] void throw_not_a_setting(const Scenario& scenario, const EngineInfo& engine, const std::string& key, const std::vector<std::string>& owners) {
+  std::vector<std::string> names;
+  for (const SettingSpec& k : engine.knobs)
+    if (k.vehicle == scenario.vehicle) names.push_back(k.key);
+  throw InputError(fmt::format("engine '{}' has no setting '{}' for {} (its settings there: {}; '{}' is a setting of {})",
+                               engine.name, key, scenario.vehicle == "car" ? "cars" : "disks",
+                               names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", ")), key, fmt::join(owners, ", ")));
+}
+
+}  // namespace
+
 std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
   Overrides params, knob_overrides;
-  std::vector<ParamSpec> knob_specs;
-  std::vector<std::string> names;
-  for (const SettingSpec& k : engine.knobs) {
-    if (k.vehicle != scenario.vehicle) continue;
-    names.push_back(k.key);
-    const ParamKind kind = k.kind == SettingSpec::kInteger ? ParamKind::kInteger : k.kind == SettingSpec::kReal ? ParamKind::kNumber : ParamKind::kChoice;
-    ParamSpec ps{k.key, kind, k.default_text, k.numeric() ? "1" : "", k.help};
-    if (k.numeric()) ps.min = k.min, ps.max = k.max, ps.min_exclusive = k.min_exclusive;
-    ps.choices = k.choices;
-    knob_specs.push_back(ps);
-  }
   for (const auto& [key, value] : overrides) {
-    const bool is_param = std::any_of(scenario.params.begin(), scenario.params.end(), [&](const ParamSpec& p) { return p.key == key; });
-    const bool is_knob = std::find(names.begin(), names.end(), key) != names.end();
-    if (is_param) {
-      params.emplace_back(key, value);
-    } else if (is_knob) {
-      knob_overrides.emplace_back(key, value);
-    } else {
-      std::vector<std::string> owners;  // the configurations that do have it, for this vehicle or another
-      for (const EngineInfo& other : engines())
-        for (const SettingSpec& k : other.knobs)
-          if (k.key == key && std::find(owners.begin(), owners.end(), other.name) == owners.end()) owners.push_back(other.name);
-      if (!owners.empty())
-        throw InputError(fmt::format("engine '{}' has no setting '{}' for {} (its settings there: {}; '{}' is a setting of {})",
-                                     engine.name, key, scenario.vehicle == "car" ? "cars" : "disks",
-                                     names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", ")), key, fmt::join(owners, ", ")));
-      params.emplace_back(key, value);  // unknown: Params::resolve names it
+    switch (key_owner(scenario, engine, key)) {
+      case KeyOwner::kParameter: params.emplace_back(key, value); break;
+      case KeyOwner::kSetting: knob_overrides.emplace_back(key, value); break;
+      case KeyOwner::kNeither: {
+        std::vector<std::string> owners;  // the configurations that do have it, for this vehicle or another
+        for (const EngineInfo& other : engines())
+          for (const SettingSpec& k : other.knobs)
+            if (k.key == key && std::find(owners.begin(), owners.end(), other.name) == owners.end()) owners.push_back(other.name);
+        if (!owners.empty()) throw_not_a_setting(scenario, engine, key, owners);
+        params.emplace_back(key, value);  // unknown: Params::resolve names it
+      }
     }
   }
-  const nlohmann::json knobs = Params::resolve(knob_specs, knob_overrides, scenario.name).to_json();
-  Settings settings;
-  for (const auto& [key, v] : knobs.items()) settings[key] = v.is_string() ? v.get<std::string>() : fmt::format("{:g}", v.get<double>());
-  return {params, settings};
+  return {params, resolve_settings(engine, scenario.vehicle, knob_overrides, scenario.name)};
+}
+
+ResolvedRun resolve_run(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
+  auto [params, settings] = split_settings(scenario, engine, overrides);
+  return {.scenario = &scenario, .engine = &engine, .params = Params::resolve(scenario.params, params, scenario.name), .settings = std::move(settings)};
 }
 
 std::string tolerance_key(const EngineInfo& engine) { return engine.is_reference ? "reference" : engine.name; }
 
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
+  return run_scenario(resolve_run(scenario, engine, overrides));
+}
+
+RunRecord run_scenario(const ResolvedRun& run) {
+  const Scenario& scenario = *run.scenario;
+  const EngineInfo& engine = *run.engine;
+  const Params& params = run.params;
+  const Settings& settings = run.settings;
   RunRecord r;
   r.scenario = scenario.name;
   r.engine = engine.name;
   r.vehicle = scenario.vehicle;
-  const auto [param_overrides, settings] = split_settings(scenario, engine, overrides);
-  const Params params = Params::resolve(scenario.params, param_overrides, scenario.name);
   r.params = params.to_json();
-  for (const auto& [key, value] : settings) r.settings[key] = value;
+  for (const auto& [key, value] : settings.texts()) r.settings[key] = value;
   const Needs needs{.vehicle = scenario.vehicle,
                     .four_wheels = scenario.vehicle == "car" && r.params.value("wheels", "3") == "4",
                     .contact_dynamics = scenario.needs_contact_dynamics};

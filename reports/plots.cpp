@@ -1,5 +1,7 @@
 #include "reports/plots.hpp"
 
+#include "harness/sweeps.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -262,7 +264,7 @@ void plot_map(Script& S, std::vector<PlotFile>& files, const json& map, const Co
     std::vector<std::vector<double>> front;
     for (const auto& c : panel["curves"]) {
       const std::string eng = c["engine"];
-      for (const char* knob : {"default", "dt", "iterations"}) {
+      for (const char* knob : {kMapDefault, kMapDt, kMapIterations}) {
         std::vector<std::vector<double>> rows;
         for (const auto& p : c["points"])
           if (p["knob"] == knob && p["error"].is_number() && p["cost_s_per_s"].is_number()) {
@@ -270,9 +272,9 @@ void plot_map(Script& S, std::vector<PlotFile>& files, const json& map, const Co
             if (p["pareto"].get<bool>()) front.push_back(rows.back());
           }
         if (rows.empty()) continue;
-        const std::string style = std::string(knob) == "iterations" ? "w lp pt 6 dt 2" : std::string(knob) == "dt" ? "w lp pt 7" : "w p pt 9 ps 1.6";
+        const std::string style = std::string(knob) == kMapIterations ? "w lp pt 6 dt 2" : std::string(knob) == kMapDt ? "w lp pt 7" : "w p pt 9 ps 1.6";
         cmd += fmt::format("{} u 1:2 {} lw 1.5 lc rgb {} t {} noenhanced, ", S.block(rows), style, gnuplot_quote(color_of(eng)),
-                           gnuplot_quote(eng + (std::string(knob) == "default" ? "" : fmt::format(" ({})", knob))));
+                           gnuplot_quote(eng + (std::string(knob) == kMapDefault ? "" : fmt::format(" ({})", knob))));
       }
     }
     std::sort(front.begin(), front.end());
