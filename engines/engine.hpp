@@ -223,7 +223,7 @@ struct EngineInfo {
   std::string description;
   std::string color;         ///< "#rrggbb": its traces in every plot and snapshot
   /// The exact model every other target is compared with (sweeps, outcome maps): tolerances
-  /// for the reference are those keyed "reference" in the scenario data.
+  /// for the reference are those of TolRole::kReference in the scenario data.
   bool is_reference = false;
   std::function<std::unique_ptr<CarEngine>(const Settings&)> make_car;  ///< empty: the engine has no car
   std::function<std::unique_ptr<DiskEngine>(const Settings&)> make_disks;  ///< empty: no two-disk vehicles

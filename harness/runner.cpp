@@ -86,7 +86,7 @@ nlohmann::json RunRecord::to_json() const {
   return j;
 }
 
-std::vector<Metric> score(const Scenario& scenario, const std::string& engine, const Outcome& outcome, double bookkeeping_factor) {
+std::vector<Metric> score(const Scenario& scenario, TolRole role, const Outcome& outcome, double bookkeeping_factor) {
   std::vector<Metric> out;
   for (const MetricDef& def : scenario.metrics) {
     const auto it = outcome.values.find(def.name);
@@ -96,9 +96,9 @@ std::vector<Metric> score(const Scenario& scenario, const std::string& engine, c
     m.abs_error = std::abs(v.measured - v.expected);
     const double scale = v.scale > 0.0 ? v.scale : std::abs(v.expected);
     m.rel_error = scale > 0.0 ? m.abs_error / scale : (m.abs_error == 0.0 ? 0.0 : INFINITY);
-    m.tolerance = def.tolerance_for(engine) * v.tolerance_factor * (def.bookkeeping ? bookkeeping_factor : 1.0);
+    m.tolerance = def.tolerance_for(role) * v.tolerance_factor * (def.bookkeeping ? bookkeeping_factor : 1.0);
     const double err = def.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
-    m.floor = def.kind == TolKind::kRelative ? def.floor_for(engine) : 0.0;
+    m.floor = def.kind == TolKind::kRelative ? def.floor_for(role) : 0.0;
     m.pass = (std::isfinite(err) && err <= m.tolerance) || (std::isfinite(m.abs_error) && m.abs_error <= m.floor);
     m.informational = v.informational;
     out.push_back(m);
@@ -154,7 +154,7 @@ ResolvedRun resolve_run(const Scenario& scenario, const EngineInfo& engine, cons
   return {.scenario = &scenario, .engine = &engine, .params = Params::resolve(scenario.params, params, scenario.name), .settings = std::move(settings)};
 }
 
-std::string tolerance_key(const EngineInfo& engine) { return engine.is_reference ? "reference" : engine.name; }
+TolRole tolerance_role(const EngineInfo& engine) { return engine.is_reference ? TolRole::kReference : TolRole::kDefault; }
 
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
   return run_scenario(resolve_run(scenario, engine, overrides));
@@ -202,7 +202,7 @@ RunRecord run_scenario(const ResolvedRun& run) {
       r.simulated_s = car->simulated_s();
       r.engine_s = car->reported_engine_s();
     }
-    r.metrics = score(scenario, tolerance_key(engine), outcome, liftcheck::bookkeeping_factor(engine.precision));
+    r.metrics = score(scenario, tolerance_role(engine), outcome, liftcheck::bookkeeping_factor(engine.precision));
     r.details = outcome.details;
     // A pass needs at least one counted metric; informational ones neither pass nor fail a run.
     bool finite = true, pass = false, any_fail = false;

@@ -82,13 +82,13 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
 /// another engine has it).
 std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides);
 
-/// Scores an outcome against the metric definitions' tolerances under `key`, falling back to
-/// "default" (the key of a configuration is tolerance_key()).
-/// Bookkeeping metrics' tolerances are multiplied by `bookkeeping_factor` (the engine's precision).
-std::vector<Metric> score(const Scenario& scenario, const std::string& key, const Outcome& outcome, double bookkeeping_factor = 1.0);
+/// Scores an outcome against the metric definitions' tolerances of `role` (a configuration's is
+/// tolerance_role()). Bookkeeping metrics' tolerances are multiplied by `bookkeeping_factor` (the
+/// engine's precision).
+std::vector<Metric> score(const Scenario& scenario, TolRole role, const Outcome& outcome, double bookkeeping_factor = 1.0);
 
-/// "reference" for the exact model, the configuration's name otherwise (which the catalogue never
-/// lists: every engine is held to the same "default" tolerances).
-std::string tolerance_key(const EngineInfo& engine);
+/// The reference's role for the exact model; every other configuration is held to the same default
+/// tolerances.
+TolRole tolerance_role(const EngineInfo& engine);
 
 }  // namespace liftcheck

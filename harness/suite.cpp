@@ -88,7 +88,7 @@ void add_runs(SuitePlan& plan, const SuiteDef& def) {
   for (const Scenario* s : plan.scenarios)
     for (const EngineInfo* e : def.engines) {
       SuiteItem it;
-      it.key = fmt::format("run/{}/{}", s->name, e->name);
+      it.key = run_key(s->name, e->name);
       it.scenario = s, it.engine = e, it.overrides = overrides_for(def.set, *s, *e);
       plan.items.push_back(std::move(it));
     }
@@ -96,7 +96,7 @@ void add_runs(SuitePlan& plan, const SuiteDef& def) {
     const auto t = def.traces.find(s->name);
     if (t == def.traces.end()) continue;
     SuiteItem it;
-    it.key = fmt::format("run/{}/{}", s->name, def.external_name);
+    it.key = run_key(s->name, def.external_name);
     it.owned = std::make_shared<const EngineInfo>(replay_engine(def.external_name, *s, t->second));
     it.trace_file = t->second.file;
     it.scenario = s, it.engine = it.owned.get(), it.cost = 1.0;
@@ -159,6 +159,8 @@ void resolve_items(SuitePlan& plan) {
 }
 
 }  // namespace
+
+std::string run_key(const std::string& scenario, const std::string& engine) { return fmt::format("run/{}/{}", scenario, engine); }
 
 SuitePlan plan_suite(const SuiteDef& def) {
   SuitePlan plan;

@@ -172,9 +172,8 @@ Overrides point_overrides(const SweepDef& s, double x) {
 }
 
 nlohmann::json value_of(const nlohmann::json& record, const std::string& key) {
-  const auto colon = key.find(':');
-  const std::string kind = key.substr(0, colon), name = key.substr(colon + 1);
-  if (kind == "metric") {
+  const auto [kind, name] = recorded_field(key);
+  if (kind == RecordedField::kMetric) {
     const auto& ms = record["metrics"];
     if (!ms.contains(name)) return nullptr;
     const auto& m = ms[name];

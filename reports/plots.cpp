@@ -221,8 +221,8 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
         if (f.is_object() && f["measured"].is_number()) a.push_back({x, f["measured"].get<double>()});
         if (r.is_object() && r["measured"].is_number()) b2.push_back({x, r["measured"].get<double>()});
       } else if (holonomy) {
-        const auto& ex = pt["detail:holonomy_size_m"];
-        const auto& me = pt["detail:measured_size_m"];
+        const auto& ex = pt[detail_field("holonomy_size_m")];
+        const auto& me = pt[detail_field("measured_size_m")];
         if (ex.is_number()) exact.push_back({x, ex.get<double>()});
         if (me.is_number()) a.push_back({x, me.get<double>()});
       } else {
