@@ -35,7 +35,7 @@ int cmd_engines(bool json) {
                              e.registration.empty() ? "" : "; outside: " + line(e.registration), line(e.description));
     for (const auto& [k, v] : e.settings) std::cout << fmt::format("    {:<22} {}\n", line(k), line(v));
     for (const SettingSpec& k : e.knobs)
-      std::cout << fmt::format("    --set {:<16} {} ({}): {}; default {}, {}\n", k.key, k.vehicle, k.kind == SettingSpec::kChoice ? "choice" : k.kind == SettingSpec::kInteger ? "integer" : "real",
+      std::cout << fmt::format("    --set {:<16} {} ({}): {}; default {}, {}\n", k.key, k.vehicle, k.kind_name(),
                                line(k.help), line(k.default_text), line(k.range_text()));
   }
   return 0;

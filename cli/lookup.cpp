@@ -40,17 +40,16 @@ const EngineInfo& engine_or_throw(const std::string& name) {
 Overrides overrides_or_throw(const std::vector<std::string>& sets, const Scenario& s, const EngineInfo* e) {
   Overrides ov;
   for (const auto& a : sets) ov.push_back(split_assignment(a));
-  std::vector<std::string> own, all;
-  for (const auto& p : s.params) own.push_back(p.key), all.push_back(p.key);
-  for (const auto& engine : engines())
-    for (const SettingSpec& k : engine.knobs)
-      if (k.vehicle == s.vehicle) {
-        all.push_back(k.key);
-        if (!e || e == &engine) own.push_back(k.key);
-      }
-  for (const auto& [key, value] : ov)
-    if (std::find(all.begin(), all.end(), key) == all.end())
-      throw InputError(fmt::format("unknown parameter '{}' for scenario '{}'{}", printable(key), s.name, did_you_mean(key, own)));
+  for (const auto& [key, value] : ov) {
+    // A key some configuration takes for this scenario (the run then names the one it lacks).
+    if (std::any_of(engines().begin(), engines().end(), [&](const EngineInfo& x) { return key_owner(s, x, key) != KeyOwner::kNeither; })) continue;
+    std::vector<std::string> own;
+    for (const auto& p : s.params) own.push_back(p.key);
+    for (const auto& engine : engines())
+      for (const SettingSpec& k : engine.knobs)
+        if (k.vehicle == s.vehicle && (!e || e == &engine)) own.push_back(k.key);
+    throw InputError(fmt::format("unknown parameter '{}' for scenario '{}'{}", printable(key), s.name, did_you_mean(key, own)));
+  }
   return ov;
 }
 

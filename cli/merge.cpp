@@ -77,7 +77,7 @@ int cmd_merge(const std::vector<std::string>& dirs, const OutputOptions& o) {
   double wall = 0.0, runs_s = 0.0, points_s = 0.0;
   for (auto& j : shards) {
     for (auto& r : j["runs"]) {
-      const std::string key = fmt::format("run/{}/{}", r["scenario"].get<std::string>(), r["engine"].get<std::string>());
+      const std::string key = run_key(r["scenario"].get<std::string>(), r["engine"].get<std::string>());
       by_key[key] = std::move(r);
     }
     for (auto& [key, r] : j["points"].items()) by_key[key] = std::move(r);

@@ -19,7 +19,7 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   close_idle_children();  // its worker starts its own
   const Overrides ov = overrides_or_throw(sets, s, &e);
   // Bad names and values are input errors here, not error records.
-  (void)Params::resolve(s.params, split_settings(s, e, ov).first, s.name);
+  (void)resolve_run(s, e, ov);
   // In a worker process, like every validate run: a hang or a crash of the engine is an error record.
   SuitePlan plan;
   SuiteItem item;

@@ -9,9 +9,11 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <variant>
 #include <vector>
 
 
+#include "input/params.hpp"
 #include "models/car.hpp"
 #include "models/disks.hpp"
 #include "models/lift.hpp"
@@ -19,27 +21,46 @@
 
 namespace liftcheck {
 
-/// A setting only some engines have (solver iterations, wheel shape, friction directions):
-/// declared, typed and ranged by the engine that has it, set with --set like a scenario
-/// parameter, echoed in the record as applied, rejected for an engine that does not declare it.
-struct SettingSpec {
-  std::string key;
-  std::string vehicle;       ///< "car" or "disks": the vehicle it applies to
-  std::string default_text;
-  std::string help;
-  enum Kind { kInteger, kReal, kChoice };
-  Kind kind = kChoice;       ///< a whole number or a real in [min, max], or one of `choices`
-  double min = 0.0, max = 0.0;
-  std::vector<std::string> choices;
-  bool min_exclusive = false;  ///< reals: the range is (min, max]
+/// What a setting is for, where the harness needs to know it (the speed-accuracy map sweeps the
+/// solver's iteration count of every configuration that has one), whatever the engine calls it.
+enum class SettingRole { kNone, kSolverIterations };
 
-  bool numeric() const { return kind != kChoice; }
+/// A setting only some engines have (solver iterations, wheel shape, friction directions):
+/// declared, typed and ranged by the engine that has it as a scenario parameter is (ParamSpec: the
+/// one spec type), set with --set like a parameter, echoed in the record as applied, rejected for
+/// an engine that does not declare it.
+struct SettingSpec : ParamSpec {
+  std::string vehicle;  ///< "car" or "disks": the vehicle it applies to
+  SettingRole role = SettingRole::kNone;
+
+  bool numeric() const { return kind != ParamKind::kChoice; }
   /// "1 to 10000", "(0, 2]" or "a | b": the range as a user reads it.
   std::string range_text() const;
+  /// "integer", "real" or "choice": the kind as the protocol and results.json name it.
+  const char* kind_name() const;
 };
+/// The kind named by kind_name(); nullopt for another name.
+std::optional<ParamKind> setting_kind_named(const std::string& name);
 
-/// Validated setting values by key, every declared setting of the engine's vehicle present.
-using Settings = std::map<std::string, std::string>;
+/// Validated setting values by key, typed by their specs (a number or a choice), every declared
+/// setting of the engine's vehicle present (resolve_settings makes them).
+class Settings {
+ public:
+  using Value = std::variant<double, std::string>;
+  double number(const std::string& key) const { return std::get<double>(values_.at(key)); }
+  int integer(const std::string& key) const { return static_cast<int>(number(key)); }
+  const std::string& choice(const std::string& key) const { return std::get<std::string>(values_.at(key)); }
+  bool has(const std::string& key) const { return values_.count(key) > 0; }
+  /// The value as the record and the protocol show it: a choice, or a number as "{:g}".
+  std::string at(const std::string& key) const;
+  Value& operator[](const std::string& key) { return values_[key]; }
+  /// Every value as at() shows it, by key.
+  std::map<std::string, std::string> texts() const;
+  bool operator==(const Settings&) const = default;
+
+ private:
+  std::map<std::string, Value> values_;
+};
 
 /// Everything needed to build and drive one car (the shared scenario parameters).
 struct CarSetup {
@@ -204,7 +225,7 @@ struct EngineInfo {
   std::string description;
   std::string color;         ///< "#rrggbb": its traces in every plot and snapshot
   /// The exact model every other target is compared with (sweeps, outcome maps): tolerances
-  /// for the reference are those keyed "reference" in the scenario data.
+  /// for the reference are those of TolRole::kReference in the scenario data.
   bool is_reference = false;
   std::function<std::unique_ptr<CarEngine>(const Settings&)> make_car;  ///< empty: the engine has no car
   std::function<std::unique_ptr<DiskEngine>(const Settings&)> make_disks;  ///< empty: no two-disk vehicles
@@ -237,6 +258,10 @@ struct EngineInfo {
   /// Every knob of `vehicle` at its default.
   Settings defaults(const std::string& vehicle) const;
 };
+
+/// The settings of `engine` for `vehicle`: its knobs' defaults, overridden by `overrides` (each
+/// key one of those knobs), validated as scenario parameters are (InputError naming the setting).
+Settings resolve_settings(const EngineInfo& engine, const std::string& vehicle, const Overrides& overrides, const std::string& scenario);
 
 /// What a run asks of a configuration, and the first thing a configuration lacks of it (checked in
 /// this order). The runner, the conformance suite and the benchmark all ask `lacks`.

@@ -69,20 +69,50 @@ double bookkeeping_factor(const std::string& precision) {
   return precision == "float32" ? 1e4 : 1.0;
 }
 
-Settings EngineInfo::defaults(const std::string& vehicle) const {
+Settings EngineInfo::defaults(const std::string& vehicle) const { return resolve_settings(*this, vehicle, {}, name); }
+
+Settings resolve_settings(const EngineInfo& engine, const std::string& vehicle, const Overrides& overrides, const std::string& scenario) {
+  std::vector<ParamSpec> specs;
+  for (const SettingSpec& k : engine.knobs)
+    if (k.vehicle == vehicle) specs.push_back(k);
+  const Params resolved = Params::resolve(specs, overrides, scenario);
   Settings s;
-  for (const SettingSpec& k : knobs)
-    if (k.vehicle == vehicle) s[k.key] = k.default_text;
+  for (const auto& [key, value] : resolved.values())
+    if (const double* d = std::get_if<double>(&value)) s[key] = *d;
+    else s[key] = std::get<std::string>(value);
   return s;
+}
+
+std::string Settings::at(const std::string& key) const {
+  const Value& v = values_.at(key);
+  if (const double* d = std::get_if<double>(&v)) return fmt::format("{:g}", *d);
+  return std::get<std::string>(v);
+}
+
+std::map<std::string, std::string> Settings::texts() const {
+  std::map<std::string, std::string> out;
+  for (const auto& [key, value] : values_) out[key] = at(key);
+  return out;
 }
 
 std::string SettingSpec::range_text() const {
   switch (kind) {
-    case kInteger: return fmt::format("{:g} to {:g}", min, max);
-    case kReal: return fmt::format("{}{:g}, {:g}]", min_exclusive ? "(" : "[", min, max);
-    case kChoice: break;
+    case ParamKind::kInteger: return fmt::format("{:g} to {:g}", min, max);
+    case ParamKind::kNumber: return fmt::format("{}{:g}, {:g}]", min_exclusive ? "(" : "[", min, max);
+    default: break;
   }
   return fmt::format("{}", fmt::join(choices, " | "));
+}
+
+const char* SettingSpec::kind_name() const {
+  return kind == ParamKind::kInteger ? "integer" : kind == ParamKind::kNumber ? "real" : "choice";
+}
+
+std::optional<ParamKind> setting_kind_named(const std::string& name) {
+  if (name == "integer") return ParamKind::kInteger;
+  if (name == "real") return ParamKind::kNumber;
+  if (name == "choice") return ParamKind::kChoice;
+  return std::nullopt;
 }
 
 const EngineInfo& reference_engine() {

@@ -97,9 +97,7 @@ class RigidCar : public CarEngine {
   /// False where a wheel has no spin state of its own (WheelSlip::along_measured).
   virtual bool wheels_spin() const { return true; }
 
-  /// The engine's knob value (declared in its EngineInfo; validated by the harness).
-  const std::string& setting(const std::string& key) const { return settings_.at(key); }
-
+  /// The engine's knob values, typed (declared in its EngineInfo; resolved by resolve_settings).
   Settings settings_;
   CarSetup setup_;
   TricycleDef def_;

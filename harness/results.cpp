@@ -26,7 +26,7 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
     nlohmann::json knobs = nlohmann::json::array();
     for (const SettingSpec& k : e->knobs) {
       nlohmann::json j{{"key", k.key}, {"vehicle", k.vehicle}, {"default", k.default_text}, {"help", k.help},
-                       {"kind", k.kind == SettingSpec::kInteger ? "integer" : k.kind == SettingSpec::kReal ? "real" : "choice"}};
+                       {"kind", k.kind_name()}};
       if (k.numeric()) j["min"] = k.min, j["max"] = k.max, j["min_exclusive"] = k.min_exclusive;
       else j["choices"] = k.choices;
       knobs.push_back(j);

@@ -86,7 +86,7 @@ nlohmann::json RunRecord::to_json() const {
   return j;
 }
 
-std::vector<Metric> score(const Scenario& scenario, const std::string& engine, const Outcome& outcome, double bookkeeping_factor) {
+std::vector<Metric> score(const Scenario& scenario, TolRole role, const Outcome& outcome, double bookkeeping_factor) {
   std::vector<Metric> out;
   for (const MetricDef& def : scenario.metrics) {
     const auto it = outcome.values.find(def.name);
@@ -96,13 +96,13 @@ std::vector<Metric> score(const Scenario& scenario, const std::string& engine, c
     m.abs_error = std::abs(v.measured - v.expected);
     const double scale = v.scale > 0.0 ? v.scale : std::abs(v.expected);
     m.rel_error = scale > 0.0 ? m.abs_error / scale : (m.abs_error == 0.0 ? 0.0 : INFINITY);
-    m.tolerance = def.tolerance_for(engine) * v.tolerance_factor * (def.bookkeeping ? bookkeeping_factor : 1.0);
+    m.tolerance = def.tolerance_for(role) * v.tolerance_factor * (def.bookkeeping ? bookkeeping_factor : 1.0);
     const double err = def.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
-    m.floor = def.kind == TolKind::kRelative ? def.floor_for(engine) : 0.0;
+    m.floor = def.kind == TolKind::kRelative ? def.floor_for(role) : 0.0;
     m.pass = (std::isfinite(err) && err <= m.tolerance) || (std::isfinite(m.abs_error) && m.abs_error <= m.floor);
     // A check of the paper's approximation measures the paper, not the engine: counted for the
     // reference alone.
-    m.informational = v.informational || (def.reference_only && engine != "reference");
+    m.informational = v.informational || (def.reference_only && role != TolRole::kReference);
     out.push_back(m);
   }
   for (const auto& [name, v] : outcome.values)
@@ -111,42 +111,11 @@ std::vector<Metric> score(const Scenario& scenario, const std::string& engine, c
   return out;
 }
 
-std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
-  Overrides params, knob_overrides;
-  std::vector<ParamSpec> knob_specs;
-  std::vector<std::string> names;
-  for (const SettingSpec& k : engine.knobs) {
-    if (k.vehicle != scenario.vehicle) continue;
-    names.push_back(k.key);
-    const ParamKind kind = k.kind == SettingSpec::kInteger ? ParamKind::kInteger : k.kind == SettingSpec::kReal ? ParamKind::kNumber : ParamKind::kChoice;
-    ParamSpec ps{k.key, kind, k.default_text, k.numeric() ? "1" : "", k.help};
-    if (k.numeric()) ps.min = k.min, ps.max = k.max, ps.min_exclusive = k.min_exclusive;
-    ps.choices = k.choices;
-    knob_specs.push_back(ps);
-  }
-  for (const auto& [key, value] : overrides) {
-    const bool is_param = std::any_of(scenario.params.begin(), scenario.params.end(), [&](const ParamSpec& p) { return p.key == key; });
-    const bool is_knob = std::find(names.begin(), names.end(), key) != names.end();
-    if (is_param) {
-      params.emplace_back(key, value);
-    } else if (is_knob) {
-      knob_overrides.emplace_back(key, value);
-    } else {
-      std::vector<std::string> owners;  // the configurations that do have it, for this vehicle or another
-      for (const EngineInfo& other : engines())
-        for (const SettingSpec& k : other.knobs)
-          if (k.key == key && std::find(owners.begin(), owners.end(), other.name) == owners.end()) owners.push_back(other.name);
-      if (!owners.empty())
-        throw InputError(fmt::format("engine '{}' has no setting '{}' for {} (its settings there: {}; '{}' is a setting of {})",
-                                     engine.name, key, scenario.vehicle == "car" ? "cars" : "disks",
-                                     names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", ")), key, fmt::join(owners, ", ")));
-      params.emplace_back(key, value);  // unknown: Params::resolve names it
-    }
-  }
-  const nlohmann::json knobs = Params::resolve(knob_specs, knob_overrides, scenario.name).to_json();
-  Settings settings;
-  for (const auto& [key, v] : knobs.items()) settings[key] = v.is_string() ? v.get<std::string>() : fmt::format("{:g}", v.get<double>());
-  return {params, settings};
+KeyOwner key_owner(const Scenario& scenario, const EngineInfo& engine, const std::string& key) {
+  if (std::any_of(scenario.params.begin(), scenario.params.end(), [&](const ParamSpec& p) { return p.key == key; })) return KeyOwner::kParameter;
+  if (std::any_of(engine.knobs.begin(), engine.knobs.end(), [&](const SettingSpec& k) { return k.key == key && k.vehicle == scenario.vehicle; }))
+    return KeyOwner::kSetting;
+  return KeyOwner::kNeither;
 }
 
 namespace {
@@ -169,13 +138,46 @@ class ProbeDisks final : public DiskEngine {
   double simulated_s() const override { return 0.0; }
 };
 
+/// The InputError for `key`, a setting of other configurations but not of `engine` here.
+[[noreturn]] void throw_not_a_setting(const Scenario& scenario, const EngineInfo& engine, const std::string& key, const std::vector<std::string>& owners) {
+  std::vector<std::string> names;
+  for (const SettingSpec& k : engine.knobs)
+    if (k.vehicle == scenario.vehicle) names.push_back(k.key);
+  throw InputError(fmt::format("engine '{}' has no setting '{}' for {} (its settings there: {}; '{}' is a setting of {})",
+                               engine.name, key, scenario.vehicle == "car" ? "cars" : "disks",
+                               names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", ")), key, fmt::join(owners, ", ")));
+}
+
 }  // namespace
 
+std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
+  Overrides params, knob_overrides;
+  for (const auto& [key, value] : overrides) {
+    switch (key_owner(scenario, engine, key)) {
+      case KeyOwner::kParameter: params.emplace_back(key, value); break;
+      case KeyOwner::kSetting: knob_overrides.emplace_back(key, value); break;
+      case KeyOwner::kNeither: {
+        std::vector<std::string> owners;  // the configurations that do have it, for this vehicle or another
+        for (const EngineInfo& other : engines())
+          for (const SettingSpec& k : other.knobs)
+            if (k.key == key && std::find(owners.begin(), owners.end(), other.name) == owners.end()) owners.push_back(other.name);
+        if (!owners.empty()) throw_not_a_setting(scenario, engine, key, owners);
+        params.emplace_back(key, value);  // unknown: Params::resolve names it
+      }
+    }
+  }
+  return {params, resolve_settings(engine, scenario.vehicle, knob_overrides, scenario.name)};
+}
+
+ResolvedRun resolve_run(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
+  auto [params, settings] = split_settings(scenario, engine, overrides);
+  return {.scenario = &scenario, .engine = &engine, .params = Params::resolve(scenario.params, params, scenario.name), .settings = std::move(settings)};
+}
+
 void check_run_inputs(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
-  const auto [param_overrides, settings] = split_settings(scenario, engine, overrides);
-  const Params params = Params::resolve(scenario.params, param_overrides, scenario.name);
+  const ResolvedRun run = resolve_run(scenario, engine, overrides);
   const Needs needs{.vehicle = scenario.vehicle,
-                    .four_wheels = scenario.vehicle == "car" && params.to_json().value("wheels", "3") == "4",
+                    .four_wheels = scenario.vehicle == "car" && run.params.to_json().value("wheels", "3") == "4",
                     .contact_dynamics = scenario.needs_contact_dynamics};
   const Lack lack = lacks(engine, needs);
   if (lack == Lack::kFourWheels) throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
@@ -183,10 +185,10 @@ void check_run_inputs(const Scenario& scenario, const EngineInfo& engine, const 
   try {
     if (scenario.vehicle == "disks") {
       ProbeDisks d;
-      (void)scenario.run_disks(params, d);
+      (void)scenario.run_disks(run.params, d);
     } else {
       ProbeCar c;
-      (void)scenario.run_car(params, c);
+      (void)scenario.run_car(run.params, c);
     }
   } catch (const ProbeStop&) {
   } catch (const InputError&) {
@@ -196,17 +198,23 @@ void check_run_inputs(const Scenario& scenario, const EngineInfo& engine, const 
   }
 }
 
-std::string tolerance_key(const EngineInfo& engine) { return engine.is_reference ? "reference" : engine.name; }
+TolRole tolerance_role(const EngineInfo& engine) { return engine.is_reference ? TolRole::kReference : TolRole::kDefault; }
 
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
+  return run_scenario(resolve_run(scenario, engine, overrides));
+}
+
+RunRecord run_scenario(const ResolvedRun& run) {
+  const Scenario& scenario = *run.scenario;
+  const EngineInfo& engine = *run.engine;
+  const Params& params = run.params;
+  const Settings& settings = run.settings;
   RunRecord r;
   r.scenario = scenario.name;
   r.engine = engine.name;
   r.vehicle = scenario.vehicle;
-  const auto [param_overrides, settings] = split_settings(scenario, engine, overrides);
-  const Params params = Params::resolve(scenario.params, param_overrides, scenario.name);
   r.params = params.to_json();
-  for (const auto& [key, value] : settings) r.settings[key] = value;
+  for (const auto& [key, value] : settings.texts()) r.settings[key] = value;
   const Needs needs{.vehicle = scenario.vehicle,
                     .four_wheels = scenario.vehicle == "car" && r.params.value("wheels", "3") == "4",
                     .contact_dynamics = scenario.needs_contact_dynamics};
@@ -238,7 +246,7 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
       r.simulated_s = car->simulated_s();
       r.engine_s = car->reported_engine_s();
     }
-    r.metrics = score(scenario, tolerance_key(engine), outcome, liftcheck::bookkeeping_factor(engine.precision));
+    r.metrics = score(scenario, tolerance_role(engine), outcome, liftcheck::bookkeeping_factor(engine.precision));
     r.details = outcome.details;
     // A pass needs at least one counted metric; informational ones neither pass nor fail a run.
     bool finite = true, pass = false, any_fail = false;

@@ -50,9 +50,30 @@ struct RunRecord {
   nlohmann::json to_json() const;
 };
 
-/// Resolves parameters (InputError on bad ones), runs, scores. Engine failures become an error
-/// record; InputError raised by the scenario for non-physical combinations propagates. A run whose
-/// parameters and settings are the defaults carries its known failure, if the expectations list one.
+/// What a --set key is to a run of `scenario` on `engine`: a parameter of the scenario (first), a
+/// setting of the engine for the scenario's vehicle, or neither. The one place that decides it.
+enum class KeyOwner { kParameter, kSetting, kNeither };
+KeyOwner key_owner(const Scenario& scenario, const EngineInfo& engine, const std::string& key);
+
+/// A run with everything it takes resolved once: the scenario's parameters and the engine's
+/// settings, typed and validated (what the worker runs).
+struct ResolvedRun {
+  const Scenario* scenario = nullptr;
+  const EngineInfo* engine = nullptr;
+  Params params;
+  Settings settings;
+};
+
+/// Resolves a run: splits `overrides` (split_settings), then the parameters over the scenario's
+/// defaults. InputError on a bad name or value, with the messages of split_settings and
+/// Params::resolve.
+ResolvedRun resolve_run(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides);
+
+/// Runs a resolved run and scores it. Engine failures become an error record; InputError raised by
+/// the scenario for non-physical combinations propagates. A run whose parameters and settings are
+/// the defaults carries its known failure, if the expectations list one.
+RunRecord run_scenario(const ResolvedRun& run);
+/// run_scenario(resolve_run(scenario, engine, overrides)).
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides = {});
 
 /// The checks of run_scenario that come before the engine works, without running it: the
@@ -68,13 +89,13 @@ void check_run_inputs(const Scenario& scenario, const EngineInfo& engine, const 
 /// another engine has it).
 std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides);
 
-/// Scores an outcome against the metric definitions' tolerances under `key`, falling back to
-/// "default" (the key of a configuration is tolerance_key()).
-/// Bookkeeping metrics' tolerances are multiplied by `bookkeeping_factor` (the engine's precision).
-std::vector<Metric> score(const Scenario& scenario, const std::string& key, const Outcome& outcome, double bookkeeping_factor = 1.0);
+/// Scores an outcome against the metric definitions' tolerances of `role` (a configuration's is
+/// tolerance_role()). Bookkeeping metrics' tolerances are multiplied by `bookkeeping_factor` (the
+/// engine's precision).
+std::vector<Metric> score(const Scenario& scenario, TolRole role, const Outcome& outcome, double bookkeeping_factor = 1.0);
 
-/// "reference" for the exact model, the configuration's name otherwise (which the catalogue never
-/// lists: every engine is held to the same "default" tolerances).
-std::string tolerance_key(const EngineInfo& engine);
+/// The reference's role for the exact model; every other configuration is held to the same default
+/// tolerances.
+TolRole tolerance_role(const EngineInfo& engine);
 
 }  // namespace liftcheck

@@ -36,25 +36,17 @@ namespace {
 /// setting for the scenario's vehicle.
 Overrides overrides_for(const Overrides& set, const Scenario& s, const EngineInfo& e) {
   Overrides ov;
-  for (const auto& [key, value] : set) {
-    const bool param = std::any_of(s.params.begin(), s.params.end(), [&](const ParamSpec& p) { return p.key == key; });
-    const bool knob = std::any_of(e.knobs.begin(), e.knobs.end(), [&](const SettingSpec& k) { return k.key == key && k.vehicle == s.vehicle; });
-    if (param || knob) ov.emplace_back(key, value);
-  }
+  for (const auto& [key, value] : set)
+    if (key_owner(s, e, key) != KeyOwner::kNeither) ov.emplace_back(key, value);
   return ov;
 }
 
-/// Engine steps the item asks for, roughly: the simulated time over dt (a car path is about ten
+/// Engine steps the run asks for, roughly: the simulated time over dt (a car path is about ten
 /// seconds long). Only the order of the schedule depends on it, never a result.
-double cost_estimate(const Scenario& s, const Overrides& ov) {
-  const auto value = [&](const std::string& key, double fallback) {
-    for (auto it = ov.rbegin(); it != ov.rend(); ++it)
-      if (it->first == key) return std::strtod(it->second.c_str(), nullptr);
-    for (const ParamSpec& p : s.params)
-      if (p.key == key) return std::strtod(p.default_text.c_str(), nullptr);
-    return fallback;
-  };
-  const double dt = value("dt", 1e-3), horizon = s.vehicle == "car" ? 10.0 : value("T", 6.0);
+double cost_estimate(const ResolvedRun& run) {
+  const Params& p = run.params;
+  const double dt = p.has("dt") ? p.num("dt") : 1e-3;
+  const double horizon = run.scenario->vehicle == "car" ? 10.0 : p.has("T") ? p.num("T") : 6.0;
   return dt > 0.0 && horizon > 0.0 ? horizon / dt : 1.0;
 }
 
@@ -81,8 +73,7 @@ void check_set_taken(const SuiteDef& def, const std::vector<const Scenario*>& sc
   for (const auto& [key, value] : def.set) {
     bool taken = false;
     for (const Scenario* s : scenarios)
-      for (const EngineInfo* e : def.engines)
-        for (const auto& kv : overrides_for(def.set, *s, *e)) taken = taken || kv.first == key;
+      for (const EngineInfo* e : def.engines) taken = taken || key_owner(*s, *e, key) != KeyOwner::kNeither;
     if (!taken) {
       std::vector<std::string> names;
       for (const Scenario* s : scenarios)
@@ -112,16 +103,15 @@ void add_runs(SuitePlan& plan, const SuiteDef& def) {
   for (const Scenario* s : plan.scenarios)
     for (const EngineInfo* e : def.engines) {
       SuiteItem it;
-      it.key = fmt::format("run/{}/{}", s->name, e->name);
+      it.key = run_key(s->name, e->name);
       it.scenario = s, it.engine = e, it.overrides = overrides_for(def.set, *s, *e);
-      it.cost = cost_estimate(*s, it.overrides);
       plan.items.push_back(std::move(it));
     }
   for (const Scenario* s : plan.scenarios) {
     const auto t = def.traces.find(s->name);
     if (t == def.traces.end()) continue;
     SuiteItem it;
-    it.key = fmt::format("run/{}/{}", s->name, def.external_name);
+    it.key = run_key(s->name, def.external_name);
     it.owned = std::make_shared<const EngineInfo>(replay_engine(def.external_name, *s, t->second));
     it.trace_file = t->second.file;
     it.scenario = s, it.engine = it.owned.get(), it.cost = 1.0;
@@ -154,13 +144,13 @@ void add_points(SuitePlan& plan, const SuiteDef& def) {
     it.kind = SuiteItem::kPoint;
     it.key = std::move(p.key);
     it.scenario = p.scenario, it.engine = p.engine, it.overrides = std::move(p.overrides);
-    it.cost = cost_estimate(*it.scenario, it.overrides);
     plan.items.push_back(std::move(it));
   }
 }
 
-/// Keys are unique; an item the same as an earlier one is marked so it runs once.
-void mark_duplicates(SuitePlan& plan) {
+/// Keys are unique; each item's run is resolved once, for its cost and its identity; an item the
+/// same as an earlier one is marked so it runs once.
+void resolve_items(SuitePlan& plan) {
   std::set<std::string> keys;
   for (const SuiteItem& it : plan.items)
     if (!keys.insert(it.key).second) throw std::logic_error(fmt::format("two suite items share the key '{}'", it.key));
@@ -171,9 +161,10 @@ void mark_duplicates(SuitePlan& plan) {
     if (it.owned) continue;
     std::string identity;
     try {
-      const auto [params, settings] = split_settings(*it.scenario, *it.engine, it.overrides);
+      const ResolvedRun run = resolve_run(*it.scenario, *it.engine, it.overrides);
+      it.cost = cost_estimate(run);
       identity = nlohmann::json{{"scenario", it.scenario->name}, {"engine", it.engine->name},
-                                {"params", Params::resolve(it.scenario->params, params, it.scenario->name).to_json()}, {"settings", settings}}.dump();
+                                {"params", run.params.to_json()}, {"settings", run.settings.texts()}}.dump();
     } catch (const InputError&) {
       continue;  // it will be an error record of its own
     }
@@ -183,6 +174,8 @@ void mark_duplicates(SuitePlan& plan) {
 }
 
 }  // namespace
+
+std::string run_key(const std::string& scenario, const std::string& engine) { return fmt::format("run/{}/{}", scenario, engine); }
 
 SuitePlan plan_suite(const SuiteDef& def) {
   SuitePlan plan;
@@ -194,9 +187,8 @@ SuitePlan plan_suite(const SuiteDef& def) {
   check_set_taken(def, plan.scenarios);
   add_runs(plan, def);
   check_set_values(plan);
-  if (!def.sweeps) return plan;
-  add_points(plan, def);
-  mark_duplicates(plan);
+  if (def.sweeps) add_points(plan, def);
+  resolve_items(plan);  // runs of different scenarios or configurations: only the points can be the same
   return plan;
 }
 
@@ -269,7 +261,7 @@ nlohmann::json run_item(const SuiteItem& item) {
   bool input_error = false;
   try {
     test_hook_allocate(item);
-    r = run_scenario(*item.scenario, *item.engine, item.overrides);
+    r = run_scenario(resolve_run(*item.scenario, *item.engine, item.overrides));
   } catch (const std::bad_alloc&) {
     r = RunRecord{};
     r.scenario = item.scenario->name;

@@ -59,6 +59,9 @@ struct SuitePlan {
   nlohmann::json selection() const;
 };
 
+/// The key of the item that runs `scenario` on configuration `engine`: "run/SCENARIO/CONFIG".
+std::string run_key(const std::string& scenario, const std::string& engine);
+
 /// The plan; InputError when the filter matches nothing or a --set key is taken by no run.
 SuitePlan plan_suite(const SuiteDef& def);
 

@@ -172,9 +172,8 @@ Overrides point_overrides(const SweepDef& s, double x) {
 }
 
 nlohmann::json value_of(const nlohmann::json& record, const std::string& key) {
-  const auto colon = key.find(':');
-  const std::string kind = key.substr(0, colon), name = key.substr(colon + 1);
-  if (kind == "metric") {
+  const auto [kind, name] = recorded_field(key);
+  if (kind == RecordedField::kMetric) {
     const auto& ms = record["metrics"];
     if (!ms.contains(name)) return nullptr;
     const auto& m = ms[name];
@@ -345,10 +344,11 @@ struct MapPoint { std::string knob; double value; Overrides overrides; };
 /// iteration count at the default dt; the exact model has no step and gets one point.
 std::vector<MapPoint> map_grid(const MapDef& map, const EngineInfo& e) {
   std::vector<MapPoint> grid;
-  if (e.is_reference) return {{"default", 0.0, {}}};
-  for (double dt : map.dt_s) grid.push_back({"dt", dt, {{"dt", fmt::format("{}", dt)}}});
-  if (std::any_of(e.knobs.begin(), e.knobs.end(), [](const SettingSpec& k) { return k.vehicle == "car" && k.key == "iterations"; }))
-    for (int n : map.iterations) grid.push_back({"iterations", static_cast<double>(n), {{"iterations", fmt::format("{}", n)}}});
+  if (e.is_reference) return {{kMapDefault, 0.0, {}}};
+  for (double dt : map.dt_s) grid.push_back({kMapDt, dt, {{"dt", fmt::format("{}", dt)}}});
+  for (const SettingSpec& k : e.knobs)
+    if (k.vehicle == "car" && k.role == SettingRole::kSolverIterations)
+      for (int n : map.iterations) grid.push_back({kMapIterations, static_cast<double>(n), {{k.key, fmt::format("{}", n)}}});
   return grid;
 }
 

@@ -94,6 +94,8 @@ ParamValue parse_value(const ParamSpec& s, const std::string& text) {
 
 }  // namespace
 
+ParamValue parse_param(const ParamSpec& spec, const std::string& text) { return parse_value(spec, text); }
+
 nlohmann::json ParamSpec::to_json() const {
   static const char* kinds[] = {"number", "integer", "vec2", "choice"};
   nlohmann::json j{{"key", key}, {"kind", kinds[static_cast<int>(kind)]}, {"default", default_text},

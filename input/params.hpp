@@ -51,11 +51,17 @@ class Params {
   int integer(const std::string& key) const { return static_cast<int>(num(key)); }
   Eigen::Vector2d vec(const std::string& key) const;
   const std::string& str(const std::string& key) const;
+  bool has(const std::string& key) const { return values_.count(key) > 0; }
+  /// Every value, by key.
+  const std::map<std::string, ParamValue>& values() const { return values_; }
   nlohmann::json to_json() const;
 
  private:
   std::map<std::string, ParamValue> values_;
 };
+
+/// `text` as a value of `spec`, checked against its kind and range. Throws InputError.
+ParamValue parse_param(const ParamSpec& spec, const std::string& text);
 
 /// Splits "KEY=VALUE"; throws InputError naming the argument when there is no '='.
 std::pair<std::string, std::string> split_assignment(const std::string& arg);

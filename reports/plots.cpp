@@ -1,5 +1,7 @@
 #include "reports/plots.hpp"
 
+#include "harness/sweeps.hpp"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -222,8 +224,8 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
         if (f.is_object() && f["rel_error"].is_number()) a.push_back({x, std::max(f["rel_error"].get<double>(), 1e-16)});
         if (r.is_object() && r["rel_error"].is_number()) b2.push_back({x, std::max(r["rel_error"].get<double>(), 1e-16)});
       } else if (holonomy) {
-        const auto& ex = pt["detail:holonomy_size_m"];
-        const auto& me = pt["detail:measured_size_m"];
+        const auto& ex = pt[detail_field("holonomy_size_m")];
+        const auto& me = pt[detail_field("measured_size_m")];
         if (ex.is_number()) exact.push_back({x, ex.get<double>()});
         if (me.is_number()) a.push_back({x, me.get<double>()});
       } else {
@@ -265,7 +267,7 @@ void plot_map(Script& S, std::vector<PlotFile>& files, const json& map, const Co
     std::vector<std::vector<double>> front;
     for (const auto& c : panel["curves"]) {
       const std::string eng = c["engine"];
-      for (const char* knob : {"default", "dt", "iterations"}) {
+      for (const char* knob : {kMapDefault, kMapDt, kMapIterations}) {
         std::vector<std::vector<double>> rows;
         for (const auto& p : c["points"])
           if (p["knob"] == knob && p["error"].is_number() && p["cost_s_per_s"].is_number()) {
@@ -273,9 +275,9 @@ void plot_map(Script& S, std::vector<PlotFile>& files, const json& map, const Co
             if (p["pareto"].get<bool>()) front.push_back(rows.back());
           }
         if (rows.empty()) continue;
-        const std::string style = std::string(knob) == "iterations" ? "w lp pt 6 dt 2" : std::string(knob) == "dt" ? "w lp pt 7" : "w p pt 9 ps 1.6";
+        const std::string style = std::string(knob) == kMapIterations ? "w lp pt 6 dt 2" : std::string(knob) == kMapDt ? "w lp pt 7" : "w p pt 9 ps 1.6";
         cmd += fmt::format("{} u 1:2 {} lw 1.5 lc rgb {} t {} noenhanced, ", S.block(rows), style, gnuplot_quote(color_of(eng)),
-                           gnuplot_quote(eng + (std::string(knob) == "default" ? "" : fmt::format(" ({})", knob))));
+                           gnuplot_quote(eng + (std::string(knob) == kMapDefault ? "" : fmt::format(" ({})", knob))));
       }
     }
     std::sort(front.begin(), front.end());

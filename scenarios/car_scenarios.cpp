@@ -128,8 +128,8 @@ void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup,
     const car::BaseSample cmd = path.at(std::min(s.t_s, path.duration_s()));
     shape = std::max({shape, std::abs(s.q.alpha_rad - cmd.alpha_rad), std::abs(s.q.beta_rad - cmd.beta_rad)});
   }
-  o.values["trace_path_error"] = {0.0, pos, 0.0, 1.0, engine.exact_by_construction()};
-  o.values["trace_shape_error"] = {0.0, shape, 0.0, 1.0, engine.exact_by_construction()};
+  o.values["trace_path_error"] = {.expected = 0.0, .measured = pos, .informational = engine.exact_by_construction()};
+  o.values["trace_shape_error"] = {.expected = 0.0, .measured = shape, .informational = engine.exact_by_construction()};
 }
 
 /// At most ~400 rows [t, alpha, beta, x, y, phi] for plots and snapshots.
@@ -186,7 +186,7 @@ void add_slip(Outcome& o, const CarEngine& engine) {
   }
   // A wheel without a spin state of its own turns as the chassis moves: its along-slip is zero by
   // construction, shown but not counted.
-  o.values["slip_along_max"] = {0.0, along, 0.0, 1.0, !along_measured};
+  o.values["slip_along_max"] = {.expected = 0.0, .measured = along, .informational = !along_measured};
   o.values["slip_across_max"] = {0.0, across};
   o.values["slip_rms"] = {0.0, rms};
   o.details["wheel_slip"] = wheels;
@@ -236,7 +236,7 @@ void add_realized_lift(Outcome& o, const CarEngine& engine, const CarSetup& setu
   for (const auto& smp : trace)
     v_peak_mps = std::max(v_peak_mps, setup.car.R_m * std::abs(path.at(std::min(smp.t_s, path.duration_s())).alpha_rate_radps));
   const double step_travel_factor = v_peak_mps * setup.dt_s / (0.5 * 1e-3);
-  o.values["realized_lift_error"] = {0.0, worst, 0.0, step_travel_factor, engine.exact_by_construction()};
+  o.values["realized_lift_error"] = {.expected = 0.0, .measured = worst, .tolerance_factor = step_travel_factor, .informational = engine.exact_by_construction()};
 }
 
 /// The car's centre of mass in the chassis frame (x forward from the front-axle centre, y left):
@@ -313,9 +313,9 @@ Outcome run_circle(const Params& p, CarEngine& engine) {
   }
   // Engines integrate the heading step by step: first order in dt, so the tolerance (data at
   // 1 ms) scales with dt / 1 ms.
-  o.values["heading_residual"] = {0.0, heading_residual, 0.0, setup.dt_s / 1e-3};
+  o.values["heading_residual"] = {.expected = 0.0, .measured = heading_residual, .tolerance_factor = setup.dt_s / 1e-3};
   add_realized_lift(o, engine, setup, path, trace);
-  o.values["com_accel_excess"] = {0.0, com_accel_excess(setup, trace), 0.0, 1.0, engine.exact_by_construction()};
+  o.values["com_accel_excess"] = {.expected = 0.0, .measured = com_accel_excess(setup, trace), .informational = engine.exact_by_construction()};
   // Lateral acceleration of the front wheel against the friction limit: the kinematic model holds
   // only while v^2 / (r g) is well below mu.
   const double grip_use = setup.drive.speed_mps * setup.drive.speed_mps / (fe.radius_m * setup.gravity_mps2) / setup.mu;
@@ -456,13 +456,13 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   // its relative error is of that order when R > l.
   lo_factor *= std::max(1.0, setup.car.R_m / setup.car.l_m);
   Outcome o = traced;
-  o.values["dx"] = {exact[car::kX], d[car::kX], size};
-  o.values["dy"] = {exact[car::kY], d[car::kY], size};
-  o.values["dphi"] = {exact[car::kPhi], d[car::kPhi], size / l};
-  o.values["base_closure"] = {0.0, std::hypot(d[car::kAlpha], d[car::kBeta]), 0.0, 1.0, engine.exact_by_construction()};
-  o.values["lo_dx"] = {predicted[car::kX], d[car::kX], lo_size, lo_factor};
-  o.values["lo_dy"] = {predicted[car::kY], d[car::kY], lo_size, lo_factor};
-  o.values["lo_dphi"] = {predicted[car::kPhi], d[car::kPhi], lo_size / l, lo_factor};
+  o.values["dx"] = {.expected = exact[car::kX], .measured = d[car::kX], .scale = size};
+  o.values["dy"] = {.expected = exact[car::kY], .measured = d[car::kY], .scale = size};
+  o.values["dphi"] = {.expected = exact[car::kPhi], .measured = d[car::kPhi], .scale = size / l};
+  o.values["base_closure"] = {.expected = 0.0, .measured = std::hypot(d[car::kAlpha], d[car::kBeta]), .informational = engine.exact_by_construction()};
+  o.values["lo_dx"] = {.expected = predicted[car::kX], .measured = d[car::kX], .scale = lo_size, .tolerance_factor = lo_factor};
+  o.values["lo_dy"] = {.expected = predicted[car::kY], .measured = d[car::kY], .scale = lo_size, .tolerance_factor = lo_factor};
+  o.values["lo_dphi"] = {.expected = predicted[car::kPhi], .measured = d[car::kPhi], .scale = lo_size / l, .tolerance_factor = lo_factor};
   add_realized_lift(o, engine, setup, path, trace);
   o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
                {"steps", steps.size()}, {"holonomy_size_m", size},
@@ -512,7 +512,7 @@ Outcome run_steer_in_place(const Params& p, CarEngine& engine) {
   Outcome o = traced;
   o.values["front_shift"] = {0.0, max_shift};
   o.values["dphi"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - q0.phi_rad))};
-  o.values["beta_reached"] = {q0.beta_rad + d_beta, end.beta_rad, 0.0, 1.0, engine.exact_by_construction()};
+  o.values["beta_reached"] = {.expected = q0.beta_rad + d_beta, .measured = end.beta_rad, .informational = engine.exact_by_construction()};
   o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
                {"errors", error_split(setup.car, trace, car::flow_beta(q0, d_beta))}};
   add_slip(o, engine);
@@ -693,7 +693,7 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
   Outcome o;
   o.values["slide_accel"] = {a_exact, a};
   // Straight down: sliding friction opposes the slide, so nothing pushes the car across it.
-  o.values["slide_accel_across"] = {0.0, a_across, a_exact};
+  o.values["slide_accel_across"] = {.expected = 0.0, .measured = a_across, .scale = a_exact};
   o.values["heading_change"] = {0.0, std::abs(e2::wrap_angle(trace.back().q.phi_rad - trace.front().q.phi_rad))};
   o.details = {{"trace", trace_json(trace)},
                {"reference", reference_json(setup, path, q0)},
@@ -707,7 +707,7 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
 }
 
 MetricDef rel(std::string name, std::string unit, double analytic, double engines, std::string help) {
-  return {std::move(name), std::move(unit), TolKind::kRelative, {{"reference", analytic}, {"default", engines}},
+  return {std::move(name), std::move(unit), TolKind::kRelative, {{TolRole::kReference, analytic}, {TolRole::kDefault, engines}},
           std::move(help)};
 }
 MetricDef reference_only(MetricDef m) {
@@ -716,7 +716,7 @@ MetricDef reference_only(MetricDef m) {
 }
 
 MetricDef abs_(std::string name, std::string unit, double analytic, double engines, std::string help) {
-  return {std::move(name), std::move(unit), TolKind::kAbsolute, {{"reference", analytic}, {"default", engines}},
+  return {std::move(name), std::move(unit), TolKind::kAbsolute, {{TolRole::kReference, analytic}, {TolRole::kDefault, engines}},
           std::move(help)};
 }
 
@@ -746,7 +746,7 @@ std::vector<MetricDef> cycle_metrics() {
   // at accel = 100 m/s^2 and at speed = 1 mm/s), which is all of a 1e-9 m holonomy's relative
   // budget at eps = 0.05. Hence an absolute floor for the analytic engine.
   const auto floored = [](MetricDef m) {
-    m.floor = {{"reference", 5e-11}};
+    m.floor = {{TolRole::kReference, 5e-11}};
     return m;
   };
   return {SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE, REALIZED_LIFT,

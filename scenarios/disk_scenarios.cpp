@@ -225,7 +225,7 @@ void after_contact(Outcome& o, const DiskProblem& pb, const DiskRun& run, const 
   const Vec2 vN = pb.path.velocity(c.t_s);
   const double rel_speed = (pb.rule(c.t_s, c.cM, c.cN, vN) - vN).norm();
   // A step of relative travel, at least the round-off of a touching distance (a command equal to N's velocity).
-  o.values["contact_path_error"] = {0.0, err, 0.0, stepping ? std::max(rel_speed * setup.dt_s, kTouchRoundoff_m) : 1.0};
+  o.values["contact_path_error"] = {.expected = 0.0, .measured = err, .tolerance_factor = stepping ? std::max(rel_speed * setup.dt_s, kTouchRoundoff_m) : 1.0};
   // The contact must last while the command presses M into N and end when it points away; where
   // the command comes to rest against N (n.(v_cmd - v_N) = 0) it may end anywhere in between (at
   // rest, touching and a push-out's gap of a micrometre are both the inelastic answer).
@@ -236,7 +236,7 @@ void after_contact(Outcome& o, const DiskProblem& pb, const DiskRun& run, const 
   // (penetration_max allows kPenetrationSteps steps of closing travel) separates only once M has
   // gone on along the tangent far enough to clear it, 2 sqrt(delta) / |v_rel| later.
   const double bound_s = 2.0 * setup.dt_s + 2.0 * std::sqrt(kPenetrationSteps * closing * setup.dt_s) / std::max(rel_speed, 1e-9);
-  o.values["contact_duration"] = {std::clamp(end_run, press_end, release) - c.t_s, end_run - c.t_s, 0.0, stepping ? bound_s : 1.0};
+  o.values["contact_duration"] = {.expected = std::clamp(end_run, press_end, release) - c.t_s, .measured = end_run - c.t_s, .tolerance_factor = stepping ? bound_s : 1.0};
   o.details["after_contact"] = {{"from_t_s", c.t_s},
                                 {"relative_speed_mps", rel_speed},
                                 {"reference_release_s", ref.t_release_s ? nlohmann::json(*ref.t_release_s) : nlohmann::json()},
@@ -257,13 +257,13 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
   Outcome o;
   o.details["trace"] = trace_json(run.trace);
   o.details["reference"] = trace_json(ref.trace);
-  o.values["collision"] = {expected_t ? 1.0 : 0.0, run.t_contact_s ? 1.0 : 0.0};
+  o.values["collision"] = {.expected = expected_t ? 1.0 : 0.0, .measured = run.t_contact_s ? 1.0 : 0.0};
   o.details["t_contact_expected_s"] = expected_t ? nlohmann::json(*expected_t) : nlohmann::json();
   o.details["t_contact_measured_s"] = run.t_contact_s ? nlohmann::json(*run.t_contact_s) : nlohmann::json();
   o.details["reference_min_distance"] = ref.min_distance;
   const double t_limit = std::min(expected_t.value_or(INFINITY), run.t_contact_s.value_or(INFINITY));
   const double path_err = path_error(run, cM_ref, t_limit);
-  o.values["path_error"] = {0.0, path_err, 0.0, f};
+  o.values["path_error"] = {.expected = 0.0, .measured = path_err, .tolerance_factor = f};
   // The lift's closing speed -d|c_M - c_N|/dt at the expected contact.
   double closing = NAN;
   if (expected_t && ref.cM_contact.allFinite()) {
@@ -279,32 +279,32 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
     // not from the engine judged.
     const double t = run.contact_log ? std::max(0.0, *run.t_contact_s - 0.5 * dt) : *run.t_contact_s;
     const double shift_s = run.contact_log ? zoh_contact_shift_s(pb, dt, *expected_t) : 0.0;
-    o.values["t_contact"] = {*expected_t, t, 0.0, dt + shift_s};
+    o.values["t_contact"] = {.expected = *expected_t, .measured = t, .tolerance_factor = dt + shift_s};
     o.details["t_contact_shift_allowed_s"] = shift_s;
   }
   if (!expected_t && !run.t_contact_s) {
-    o.values["min_distance"] = {ref.min_distance, run.min_distance, 0.0, f};
-    o.values["final_distance"] = {ref.final_distance, final_distance(run), 0.0, f};
+    o.values["min_distance"] = {.expected = ref.min_distance, .measured = run.min_distance, .tolerance_factor = f};
+    o.values["final_distance"] = {.expected = ref.final_distance, .measured = final_distance(run), .tolerance_factor = f};
   }
   after_contact(o, pb, run, setup_from(p));
   if (const auto& log = run.contact_log) {
-    o.values["n_path_error"] = {0.0, log->n_path_error_max_m};
+    o.values["n_path_error"] = {.expected = 0.0, .measured = log->n_path_error_max_m};
     // Before contact each step moves M by its command times the step (a trace from outside is not
     // known to hold its command over a step: it may integrate otherwise).
     if (log->reported_by_engine) {
-      o.values["step_displacement"] = {0.0, log->step_displacement_error_max_m};
+      o.values["step_displacement"] = {.expected = 0.0, .measured = log->step_displacement_error_max_m};
       o.details["step_displacement_at_s"] = log->step_displacement_error_at_s;
     }
-    if (log->reported_by_engine) o.values["contact_missed"] = {0.0, std::max(0.0, log->overlap_unreported_m)};
+    if (log->reported_by_engine) o.values["contact_missed"] = {.expected = 0.0, .measured = std::max(0.0, log->overlap_unreported_m)};
     if (run.t_contact_s) {
       if (log->reported_by_engine) {
-        o.values["contact_report_gap"] = {0.0, std::max(0.0, log->gap_reported_max_m)};
-        o.values["contact_depth_error"] = {0.0, log->depth_error_max_m};
+        o.values["contact_report_gap"] = {.expected = 0.0, .measured = std::max(0.0, log->gap_reported_max_m)};
+        o.values["contact_depth_error"] = {.expected = 0.0, .measured = log->depth_error_max_m};
       }
       // A response acting on the first contact stops the approach within that step.
-      if (closing > 0.0) o.values["overlap_growth"] = {0.0, std::max(0.0, log->overlap_growth_first_m), 0.0, closing * dt};
+      if (closing > 0.0) o.values["overlap_growth"] = {.expected = 0.0, .measured = std::max(0.0, log->overlap_growth_first_m), .tolerance_factor = closing * dt};
       // The response must bound the overlap (tolerance in steps of closing travel).
-      if (closing > 0.0) o.values["penetration_max"] = {0.0, std::max(0.0, log->penetration_max_m), 0.0, closing * dt};
+      if (closing > 0.0) o.values["penetration_max"] = {.expected = 0.0, .measured = std::max(0.0, log->penetration_max_m), .tolerance_factor = closing * dt};
     }
     o.details["contact_log"] = {{"distance_at_first_m", std::isfinite(log->distance_at_first_m) ? nlohmann::json(log->distance_at_first_m) : nlohmann::json()},
                                 {"overlap_unreported_m", log->overlap_unreported_m},
@@ -343,11 +343,11 @@ DiskProblem problem(const Params& p, const disks::Mechanism& m) {
 }
 
 MetricDef abs_(std::string name, std::string unit, double analytic, double engines, std::string help) {
-  return {std::move(name), std::move(unit), TolKind::kAbsolute, {{"reference", analytic}, {"default", engines}}, std::move(help)};
+  return {std::move(name), std::move(unit), TolKind::kAbsolute, {{TolRole::kReference, analytic}, {TolRole::kDefault, engines}}, std::move(help)};
 }
-const MetricDef kCollision{"collision", "1", TolKind::kAbsolute, {{"default", 0.0}}, "1 if the disks touch within T, else 0"};
+const MetricDef kCollision{"collision", "1", TolKind::kAbsolute, {{TolRole::kDefault, 0.0}}, "1 if the disks touch within T, else 0"};
 // The contact time is compared in engine steps: the tolerance is this many steps of dt.
-const MetricDef kTContact{"t_contact", "s", TolKind::kAbsolute, {{"reference", 1e-6}, {"default", 1.0}},
+const MetricDef kTContact{"t_contact", "s", TolKind::kAbsolute, {{TolRole::kReference, 1e-6}, {TolRole::kDefault, 1.0}},
                           "first contact time (engines: the midpoint of the step in which contact came); tolerance in steps of dt"};
 
 // ---- scenario functions --------------------------------------------------------------------
@@ -360,10 +360,10 @@ Outcome run_copy(const Params& p, DiskEngine& e) {
   const disks::LiftResult ref = analytic(pb, setup_from(p));
   // c_M - c_N is constant: no contact from a disjoint start, and c_M(t) = c_M(0) + c_N(t) - c_N(0).
   Outcome o = disk_outcome(p, pb, r, ref, std::nullopt, [&](double t) { return Vec2(pb.cM0 + pb.path.position(t) - pb.path.position(0.0)); });
-  o.values["min_distance"] = {d0, r.min_distance, 0.0, first_order(p)};
-  o.values["final_distance"] = {d0, final_distance(r), 0.0, first_order(p)};
-  o.values["distance_spread"] = {0.0, spreads(r).first, 0.0, first_order(p)};
-  o.values["direction_change"] = {0.0, spreads(r).second, 0.0, first_order(p)};
+  o.values["min_distance"] = {.expected = d0, .measured = r.min_distance, .tolerance_factor = first_order(p)};
+  o.values["final_distance"] = {.expected = d0, .measured = final_distance(r), .tolerance_factor = first_order(p)};
+  o.values["distance_spread"] = {.expected = 0.0, .measured = spreads(r).first, .tolerance_factor = first_order(p)};
+  o.values["direction_change"] = {.expected = 0.0, .measured = spreads(r).second, .tolerance_factor = first_order(p)};
   return o;
 }
 
@@ -388,8 +388,8 @@ Outcome run_repel(const Params& p, DiskEngine& e) {
   const std::optional<double> touch = disks::repel_touch_time(d0, m.lambda);  // Lemma 5.1
   const std::optional<double> t = touch && *touch <= T ? touch : std::nullopt;
   Outcome o = disk_outcome(p, pb, r, analytic(pb, setup_from(p)), t);
-  if (!t && !r.t_contact_s) o.values["final_distance"] = {disks::repel_distance(d0, m.lambda, T), final_distance(r), 0.0, first_order(p)};
-  o.values["direction_change"] = {0.0, spreads(r, t.value_or(T)).second, 0.0, first_order(p)};
+  if (!t && !r.t_contact_s) o.values["final_distance"] = {.expected = disks::repel_distance(d0, m.lambda, T), .measured = final_distance(r), .tolerance_factor = first_order(p)};
+  o.values["direction_change"] = {.expected = 0.0, .measured = spreads(r, t.value_or(T)).second, .tolerance_factor = first_order(p)};
   return o;
 }
 
@@ -409,8 +409,8 @@ Outcome run_orbit(const Params& p, DiskEngine& e) {
     turned += std::atan2(a.x() * b.y() - a.y() * b.x(), a.dot(b));
   }
   Outcome o = disk_outcome(p, pb, r, analytic(pb, setup_from(p)), std::nullopt);  // the distance is constant
-  o.values["distance_spread"] = {0.0, spreads(r).first, 0.0, first_order(p)};
-  o.values["turned_angle"] = {m.omega * T, turned, 0.0, first_order(p)};
+  o.values["distance_spread"] = {.expected = 0.0, .measured = spreads(r).first, .tolerance_factor = first_order(p)};
+  o.values["turned_angle"] = {.expected = m.omega * T, .measured = turned, .tolerance_factor = first_order(p)};
   return o;
 }
 
@@ -433,8 +433,8 @@ Outcome run_linear(const Params& p, DiskEngine& e) {
   // The engine's path is compared with the closed form (43) itself.
   Outcome o = disk_outcome(p, pb, r, analytic(pb, setup_from(p)), t, closed);
   if (!t && !r.t_contact_s) {
-    o.values["cM_end_error"] = {0.0, (r.trace.back().cM - closed(r.trace.back().t_s)).norm(), 0.0, first_order(p)};
-    o.values["final_distance"] = {(closed(pb.T_s) - pb.path.position(pb.T_s)).norm(), final_distance(r), 0.0, first_order(p)};
+    o.values["cM_end_error"] = {.expected = 0.0, .measured = (r.trace.back().cM - closed(r.trace.back().t_s)).norm(), .tolerance_factor = first_order(p)};
+    o.values["final_distance"] = {.expected = (closed(pb.T_s) - pb.path.position(pb.T_s)).norm(), .measured = final_distance(r), .tolerance_factor = first_order(p)};
   }
   if (m.a != 1.0 || m.b != 0.0) {
     const Vec2 chat = disks::collision_centre(m.a, m.b, cM0, cN0);
@@ -462,7 +462,7 @@ Outcome run_forced(const Params& p, DiskEngine& e) {
   Outcome o = disk_outcome(p, pb, r, analytic(pb, setup_from(p)), t <= p.num("T") ? std::optional<double>(t) : std::nullopt);
   if (r.t_contact_s) {  // Lemma 6.1: at contact N is on the boundary of D
     const Vec2 cN = path.position(*r.t_contact_s);
-    o.values["contact_on_D"] = {disks::collision_radius(m.a, m.b), (cN - path.goal).norm(), 0.0, p.num("dt") * speed};
+    o.values["contact_on_D"] = {.expected = disks::collision_radius(m.a, m.b), .measured = (cN - path.goal).norm(), .tolerance_factor = p.num("dt") * speed};
   }
   o.details["collision_centre"] = {path.goal.x(), path.goal.y()};
   o.details["collision_radius"] = disks::collision_radius(m.a, m.b);
@@ -501,7 +501,7 @@ Outcome run_extended(const Params& p, DiskEngine& e) {
   const disks::LiftResult ref = analytic(pb, setup_from(p));  // first: a plan without a lift is bad input
   const DiskRun r = run_checked(e, setup_from(p), pb);
   Outcome o = disk_outcome(p, pb, r, ref, std::nullopt);  // the plan keeps the clearance in N's frame
-  o.values["end_error"] = {0.0, (r.trace.back().cM - L(cM1, T)).norm(), 0.0, first_order(p)};  // (11): ends at L(e', gamma)(1)  // (11): ends at L(e', gamma)(1)
+  o.values["end_error"] = {.expected = 0.0, .measured = (r.trace.back().cM - L(cM1, T)).norm(), .tolerance_factor = first_order(p)};  // (11): ends at L(e', gamma)(1)  // (11): ends at L(e', gamma)(1)
   return o;
 }
 
@@ -524,7 +524,7 @@ Outcome run_target(const Params& p, DiskEngine& e) {
   const disks::LiftResult ref = analytic(pb, setup_from(p));  // first: a plan without a lift is bad input
   const DiskRun r = run_checked(e, setup_from(p), pb);
   Outcome o = disk_outcome(p, pb, r, ref, std::nullopt);
-  o.values["end_error"] = {0.0, (r.trace.back().cM - target(T)).norm(), 0.0, first_order(p)};
+  o.values["end_error"] = {.expected = 0.0, .measured = (r.trace.back().cM - target(T)).norm(), .tolerance_factor = first_order(p)};
   return o;
 }
 
@@ -547,19 +547,19 @@ std::vector<Scenario> disk_scenarios() {
       kCollision, kTContact,
       abs_("path_error", "m", 1e-8, 1e-2, "largest distance of c_M from the reference up to the first contact"),
       // The engine's own contact log against its own reported positions: exact for any engine.
-      {"n_path_error", "m", TolKind::kAbsolute, {{"default", 1e-9}}, "largest distance of N, as the engine moved it, from its path", {}, true},
-      {"contact_missed", "m", TolKind::kAbsolute, {{"default", 1e-9}},
+      {"n_path_error", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}}, "largest distance of N, as the engine moved it, from its path", {}, true},
+      {"contact_missed", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}},
        "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact", {}, true},
-      {"contact_report_gap", "m", TolKind::kAbsolute, {{"default", 1e-9}},
+      {"contact_report_gap", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}},
        "largest gap |c_M - c_N| - 2 on a state the engine's collision pass reported in contact", {}, true},
-      {"contact_depth_error", "m", TolKind::kAbsolute, {{"default", 1e-9}},
+      {"contact_depth_error", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}},
        "largest difference between the depth the engine's contacts report and the overlap of its bodies", {}, true},
       abs_("overlap_growth", "m", 0.0, 0.1, "growth of the overlap over the step after the first contact; tolerance in steps of closing travel"),
       abs_("penetration_max", "m", 0.0, kPenetrationSteps, "largest overlap 2 - |c_M - c_N| after the first contact; tolerance in steps of closing travel at the lift's closing speed"),
       min_d, final_d,
       // Round-off: positions of at most 100 m carry 1.4e-14 m of it per step; a motor one step late
       // is off by the change of its command times dt (2 mm on the first step from rest at 2 m/s).
-      {"step_displacement", "m", TolKind::kAbsolute, {{"default", 1e-9}},
+      {"step_displacement", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}},
        "largest |step displacement of M - v_cmd dt| over the steps before the first contact"},
       // Engines: the penetration penetration_max allows (kPenetrationSteps steps of closing travel, along n)
       // plus one step of travel along the tangent (contact is seen up to a step late, M went straight on).
@@ -573,7 +573,7 @@ std::vector<Scenario> disk_scenarios() {
   const auto metrics = [&](std::vector<MetricDef> extra, double analytic_path_tol = 1e-8) {
     std::vector<MetricDef> all = common;
     for (auto& m : all)
-      if (m.name == "path_error" || m.name == "min_distance" || m.name == "final_distance") m.tolerance["reference"] = analytic_path_tol;
+      if (m.name == "path_error" || m.name == "min_distance" || m.name == "final_distance") m.tolerance[TolRole::kReference] = analytic_path_tol;
     all.insert(all.end(), extra.begin(), extra.end());
     return all;
   };
@@ -631,7 +631,7 @@ std::vector<Scenario> disk_scenarios() {
       with(disk_params("0,0", "6,-2", "1.5,0", "line", "20", false),
            {number("a", "0.5", "1", "coefficient a", -100.0, false, 100.0), number("b", "0.5", "1", "coefficient b", -100.0, false, 100.0)}),
       metrics({
-       {"contact_on_D", "m", TolKind::kAbsolute, {{"reference", 1e-6}, {"default", 1.0}},
+       {"contact_on_D", "m", TolKind::kAbsolute, {{TolRole::kReference, 1e-6}, {TolRole::kDefault, 1.0}},
         "|c_N - c^0| at contact against the radius of D (tolerance in steps of N's travel)"}}),
       run_forced, Headline{{"contact_path_error"}, "after-contact path", "mm", 1e3});
   add("disks.moving-away", "The linear mechanism a = 2 meets N at t = 1 s; adding the moving-away reaction form (31) "

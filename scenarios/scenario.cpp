@@ -14,17 +14,29 @@ void check_run_budget(double duration_s, double dt_s, double sample_dt_s) {
   check("sample_dt", sample_dt_s, kMaxRunSamples, "recorded samples");
 }
 
-double MetricDef::tolerance_for(const std::string& engine) const {
-  if (auto it = tolerance.find(engine); it != tolerance.end()) return it->second;
-  if (auto it = tolerance.find("default"); it != tolerance.end()) return it->second;
-  throw std::logic_error(fmt::format("metric '{}' has no tolerance for engine '{}'", name, engine));
+const char* to_string(TolRole role) { return role == TolRole::kReference ? "reference" : "default"; }
+
+double MetricDef::tolerance_for(TolRole role) const {
+  if (auto it = tolerance.find(role); it != tolerance.end()) return it->second;
+  if (auto it = tolerance.find(TolRole::kDefault); it != tolerance.end()) return it->second;
+  throw std::logic_error(fmt::format("metric '{}' has no tolerance for the role '{}'", name, to_string(role)));
 }
 
-double MetricDef::floor_for(const std::string& engine) const {
-  if (auto it = floor.find(engine); it != floor.end()) return it->second;
-  if (auto it = floor.find("default"); it != floor.end()) return it->second;
+double MetricDef::floor_for(TolRole role) const {
+  if (auto it = floor.find(role); it != floor.end()) return it->second;
+  if (auto it = floor.find(TolRole::kDefault); it != floor.end()) return it->second;
   return 0.0;
 }
+
+namespace {
+
+nlohmann::json by_role(const std::map<TolRole, double>& values) {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [role, v] : values) j[to_string(role)] = v;
+  return j;
+}
+
+}  // namespace
 
 nlohmann::json Metric::to_json() const {
   nlohmann::json j = {{"expected", expected},   {"measured", measured},
@@ -53,7 +65,7 @@ nlohmann::json Scenario::to_json() const {
   for (const auto& m : metrics)
     ms.push_back({{"name", m.name}, {"unit", m.unit},
                   {"tolerance_kind", m.kind == TolKind::kRelative ? "rel" : "abs"},
-                  {"tolerance", m.tolerance}, {"floor", m.floor}, {"help", m.help}, {"reference_only", m.reference_only}});
+                  {"tolerance", by_role(m.tolerance)}, {"floor", by_role(m.floor)}, {"help", m.help}, {"reference_only", m.reference_only}});
   return {{"name", name}, {"vehicle", vehicle}, {"summary", summary},
           {"equations", equations}, {"params", ps}, {"metrics", ms},
           {"needs_contact_dynamics", needs_contact_dynamics}, {"negative_control", negative_control},

@@ -15,17 +15,23 @@ namespace liftcheck {
 
 enum class TolKind { kRelative, kAbsolute };
 
+/// Whose tolerance a metric's definition gives: the exact model's (the reference configuration) or
+/// every engine's.
+enum class TolRole { kReference, kDefault };
+/// "reference" or "default", as results.json names the role.
+const char* to_string(TolRole role);
+
 /// A metric's definition: what it measures and how close each engine must come.
 struct MetricDef {
   std::string name;
   std::string unit;
   TolKind kind = TolKind::kRelative;
-  /// Tolerance by role: "reference" for the exact model, "default" for every engine.
-  std::map<std::string, double> tolerance;
+  /// Tolerance by role: the exact model's, every engine's.
+  std::map<TolRole, double> tolerance;
   std::string help;
   /// Absolute floor by role (relative metrics only): an absolute error at or below it
   /// passes, for quantities that can be tiny (round-off of a 1e-9 m holonomy is not an error).
-  std::map<std::string, double> floor = {};
+  std::map<TolRole, double> floor = {};
   /// Checks an engine's bookkeeping against itself (where it put N, what its contacts report
   /// against its bodies), not physics: the tolerance scales with the precision the engine
   /// declares (bookkeeping_factor in engines/engine.hpp).
@@ -34,8 +40,9 @@ struct MetricDef {
   /// reference's business, shown for the other engines but not counted for them.
   bool reference_only = false;
 
-  double tolerance_for(const std::string& engine) const;
-  double floor_for(const std::string& engine) const;
+  /// The tolerance (floor) of `role`, the default's where the role has none (a floor: 0 without one).
+  double tolerance_for(TolRole role) const;
+  double floor_for(TolRole role) const;
 };
 
 /// One value a scenario function measured, with the value the theory expects.

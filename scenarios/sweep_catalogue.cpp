@@ -1,38 +1,48 @@
 #include "scenarios/sweep_catalogue.hpp"
 
 #include <cmath>
+#include <stdexcept>
 
 namespace liftcheck {
+
+std::string metric_field(const std::string& name) { return kMetricPrefix + name; }
+std::string detail_field(const std::string& key) { return kDetailPrefix + key; }
+
+RecordedField recorded_field(const std::string& field) {
+  for (const auto& [prefix, kind] : {std::pair{std::string(kMetricPrefix), RecordedField::kMetric}, std::pair{std::string(kDetailPrefix), RecordedField::kDetail}})
+    if (field.rfind(prefix, 0) == 0) return {kind, field.substr(prefix.size())};
+  throw std::logic_error("a sweep records '" + field + "': neither a metric_field nor a detail_field");
+}
 
 const std::vector<SweepDef>& sweep_catalogue() {
   static const std::vector<SweepDef> all = {
       {.name = "radius_vs_beta", .title = "Circle radius error against steering angle (exact: appendix D, l/sin beta0 and l/tan beta0)",
        .scenario = "car.circle", .param = "beta", .values = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8},
-       .record = {"metric:front_radius", "metric:rear_radius"},
+       .record = {metric_field("front_radius"), metric_field("rear_radius")},
        .plot = "values", .x_label = "beta_0 [rad]", .y_label = "relative radius error (front solid, rear dashed)",
        .curves = {{"1.0/sin(x)", "l/sin(beta_0)"}, {"1.0/tan(x)", "l/tan(beta_0)"}}},
       {.name = "error_vs_dt", .title = "Front circle radius error against the engine time step",
        .scenario = "car.circle", .param = "dt", .values = {0.0005, 0.001, 0.002, 0.005, 0.01},
-       .record = {"metric:front_radius", "metric:final_offset"},
+       .record = {metric_field("front_radius"), metric_field("final_offset")},
        .x_label = "dt [s]", .y_label = "relative error of the front radius", .log_x = true},
       // mu = 0.3 on the 3.38 m circle: v^2/(r g) reaches mu at sqrt(0.3 * 9.81 * 3.3839) = 3.155 m/s.
       {.name = "error_vs_speed", .title = "Front circle radius error against speed (mu = 0.3)",
        .scenario = "car.circle", .param = "speed", .values = {0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0},
        .fixed = {{"mu", "0.3"}, {"drive", "40"}},
-       .record = {"metric:front_radius", "metric:slip_across_max", "detail:grip_use"},
+       .record = {metric_field("front_radius"), metric_field("slip_across_max"), detail_field("grip_use")},
        .marker = std::sqrt(0.3 * 9.81 / std::sin(0.3)), .marker_label = "v^2/(r g) = mu",
        .x_label = "speed [m/s]", .y_label = "relative error of the front radius", .slide_past_marker = true},
       {.name = "holonomy_vs_eps", .title = "Simple parking cycle: holonomy against eps (slope 2)",
        .scenario = "car.cycle", .param = "eps", .values = {0.01, 0.02, 0.05, 0.1, 0.2, 0.4},
-       .record = {"detail:holonomy_size_m", "detail:measured_size_m", "detail:holonomy_error_m"},
-       .loglog_fit = true, .fit_y = "detail:measured_size_m", .fit_noise = "detail:holonomy_error_m",
+       .record = {detail_field("holonomy_size_m"), detail_field("measured_size_m"), detail_field("holonomy_error_m")},
+       .loglog_fit = true, .fit_y = detail_field("measured_size_m"), .fit_noise = detail_field("holonomy_error_m"),
        .slope_expected = 2.0, .slope_band = 0.05,
        .plot = "sizes", .x_label = "eps [rad]", .y_label = "net shift of the tie rod [m]",
        .param_keys = {"eps_alpha", "eps_beta"}},  // the simple cycle takes its two steps separately
       {.name = "holonomy_iterated_vs_eps", .title = "Iterated cycle (5.8): holonomy against eps (slope 4)",
        .scenario = "car.iterated", .param = "eps", .values = {0.05, 0.1, 0.2, 0.3, 0.5, 0.7},
-       .record = {"detail:holonomy_size_m", "detail:measured_size_m", "detail:holonomy_error_m"},
-       .loglog_fit = true, .fit_y = "detail:measured_size_m", .fit_noise = "detail:holonomy_error_m",
+       .record = {detail_field("holonomy_size_m"), detail_field("measured_size_m"), detail_field("holonomy_error_m")},
+       .loglog_fit = true, .fit_y = detail_field("measured_size_m"), .fit_noise = detail_field("holonomy_error_m"),
        .slope_expected = 4.0, .slope_band = 0.1,
        .plot = "sizes", .x_label = "eps [rad]", .y_label = "net shift of the tie rod [m]"},
       // The steering knuckle's mass between the 40 kg chassis and the 2 kg wheel: from a real car's
@@ -40,7 +50,7 @@ const std::vector<SweepDef>& sweep_catalogue() {
       // mass ratios of 40 and 800 along the chain, which iterative solvers are known to struggle with.
       {.name = "knuckle_mass", .title = "Circle against the steering knuckle's mass (chassis 40 kg, wheels 2 kg)",
        .scenario = "car.circle", .param = "knuckle_mass", .values = {0.05, 0.2, 0.5, 2.0},
-       .record = {"metric:front_radius", "metric:heading_residual", "metric:slip_across_max"},
+       .record = {metric_field("front_radius"), metric_field("heading_residual"), metric_field("slip_across_max")},
        .x_label = "knuckle mass [kg]", .y_label = "relative error of the front radius", .log_x = true},
   };
   return all;

@@ -11,6 +11,21 @@
 
 namespace liftcheck {
 
+/// What a sweep point records of its run, named in SweepDef::record as "metric:NAME" (the metric's
+/// expected and measured values and errors) or "detail:KEY" (a value of the run's details).
+struct RecordedField {
+  enum Kind { kMetric, kDetail };
+  Kind kind = kMetric;
+  std::string name;
+};
+inline constexpr const char* kMetricPrefix = "metric:";
+inline constexpr const char* kDetailPrefix = "detail:";
+/// "metric:NAME" and "detail:KEY": a field's name in a sweep's record.
+std::string metric_field(const std::string& name);
+std::string detail_field(const std::string& key);
+/// The field named `field` ("metric:NAME" or "detail:KEY"); std::logic_error for another name.
+RecordedField recorded_field(const std::string& field);
+
 /// One scenario run over a grid of one parameter on each engine.
 struct SweepDef {
   std::string name;
@@ -19,7 +34,7 @@ struct SweepDef {
   std::string param;             ///< the swept parameter
   std::vector<double> values;
   Overrides fixed;               ///< other parameters held for the whole sweep
-  /// What each point records: "metric:NAME" (expected, measured, errors) or "detail:KEY".
+  /// What each point records: metric_field(NAME) or detail_field(KEY) (RecordedField).
   std::vector<std::string> record;
   bool loglog_fit = false;       ///< fit log y against log x above the engine's noise floor
   std::string fit_y;             ///< the recorded quantity that is fitted ("detail:measured_size_m")

@@ -219,8 +219,8 @@ TEST_P(PerEngine, EveryDeclaredSettingChangesAResult) {
   for (const SettingSpec& k : e->knobs) {
     const Scenario* sc = find_scenario(k.vehicle == "car" ? "car.circle" : "disks.repel");
     std::string other;
-    if (k.kind == SettingSpec::kInteger) other = fmt::format("{}", std::max<long>(static_cast<long>(k.min), std::stol(k.default_text) / 20));
-    else if (k.kind == SettingSpec::kReal) other = fmt::format("{:g}", std::stod(k.default_text) * 0.5);
+    if (k.kind == ParamKind::kInteger) other = fmt::format("{}", std::max<long>(static_cast<long>(k.min), std::stol(k.default_text) / 20));
+    else if (k.kind == ParamKind::kNumber) other = fmt::format("{:g}", std::stod(k.default_text) * 0.5);
     else
       for (const auto& c : k.choices)
         if (c != k.default_text && other.empty()) other = c;

@@ -76,20 +76,20 @@ TEST(Runner, EngineWithoutCarIsSkipped) {
 TEST(Runner, ScoringUsesPerEngineToleranceData) {
   Scenario s;
   s.name = "t";
-  s.metrics = {{"m", "m", TolKind::kRelative, {{"a", 1e-3}, {"default", 1e-1}}, ""},
-               {"z", "m", TolKind::kAbsolute, {{"default", 1e-6}}, ""}};
+  s.metrics = {{"m", "m", TolKind::kRelative, {{TolRole::kReference, 1e-3}, {TolRole::kDefault, 1e-1}}, ""},
+               {"z", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-6}}, ""}};
   Outcome o;
   o.values["m"] = {2.0, 2.01};
   o.values["z"] = {0.0, 5e-7};
-  const auto strict = score(s, "a", o), loose = score(s, "b", o);
+  const auto strict = score(s, TolRole::kReference, o), loose = score(s, TolRole::kDefault, o);
   EXPECT_FALSE(strict[0].pass);
   EXPECT_TRUE(loose[0].pass);
   EXPECT_NEAR(strict[0].rel_error, 0.005, 1e-12);
   EXPECT_TRUE(strict[1].pass);
   o.values["m"].tolerance_factor = 10.0;  // tolerance scaled, e.g. by eps for leading-order metrics
-  EXPECT_TRUE(score(s, "a", o)[0].pass);
+  EXPECT_TRUE(score(s, TolRole::kReference, o)[0].pass);
   o.values["q"] = {1.0, 1.0};
-  EXPECT_THROW(score(s, "a", o), std::logic_error);
+  EXPECT_THROW(score(s, TolRole::kReference, o), std::logic_error);
 }
 
 // Precision declared, not assumed: a bookkeeping metric's tolerance scales with the engine's
@@ -99,20 +99,20 @@ TEST(Runner, BookkeepingTolerancesScaleWithDeclaredPrecision) {
   EXPECT_EQ(bookkeeping_factor("float32"), 1e4);
   Scenario s;
   s.name = "t";
-  s.metrics = {{"n_path", "m", TolKind::kAbsolute, {{"default", 1e-9}}, "", {}, true},
-               {"penetration", "m", TolKind::kAbsolute, {{"default", 1e-9}}, ""}};
+  s.metrics = {{"n_path", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}}, "", {}, true},
+               {"penetration", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}}, ""}};
   Outcome o;
   o.values["n_path"] = {0.0, 3e-7};       // float32 storage of N's position at a few metres
   o.values["penetration"] = {0.0, 3e-7};
-  const auto f64 = score(s, "default", o, bookkeeping_factor("float64"));
-  const auto f32 = score(s, "default", o, bookkeeping_factor("float32"));
+  const auto f64 = score(s, TolRole::kDefault, o, bookkeeping_factor("float64"));
+  const auto f32 = score(s, TolRole::kDefault, o, bookkeeping_factor("float32"));
   EXPECT_FALSE(f64[0].pass);
   EXPECT_TRUE(f32[0].pass);
   EXPECT_DOUBLE_EQ(f32[0].tolerance, 1e-5);
   EXPECT_FALSE(f32[1].pass);  // physics: the same tolerance whatever the precision
   EXPECT_DOUBLE_EQ(f32[1].tolerance, 1e-9);
   o.values["n_path"] = {0.0, 2e-5};  // beyond rounding: still a failure in float32
-  EXPECT_FALSE(score(s, "default", o, bookkeeping_factor("float32"))[0].pass);
+  EXPECT_FALSE(score(s, TolRole::kDefault, o, bookkeeping_factor("float32"))[0].pass);
   // The disk scenarios mark exactly their bookkeeping of the engine against itself.
   std::set<std::string> marked;
   for (const MetricDef& m : find_scenario("disks.linear")->metrics)
@@ -368,8 +368,8 @@ TEST(Runner, InformationalMetricsAreNotCounted) {
   Scenario s;
   s.name = "test.informational";
   s.vehicle = "car";
-  s.metrics = {{"self", "1", TolKind::kAbsolute, {{"default", 1.0}}, "compares a value with itself"},
-               {"real", "1", TolKind::kAbsolute, {{"default", 1.0}}, "measures the engine"}};
+  s.metrics = {{"self", "1", TolKind::kAbsolute, {{TolRole::kDefault, 1.0}}, "compares a value with itself"},
+               {"real", "1", TolKind::kAbsolute, {{TolRole::kDefault, 1.0}}, "measures the engine"}};
   double real_error = 0.5;
   bool with_real = true;
   s.run_car = [&](const Params&, CarEngine&) {

@@ -78,9 +78,9 @@ class BulletCar final : public RigidCar {
     core_ = std::make_unique<BulletCore>();
     world_ = core_->make_world<WheelFrictionWorld>();
     world_->setGravity(btVector3(setup.gravity_W().x(), setup.gravity_W().y(), setup.gravity_W().z()));
-    world_->align = setting("friction_dirs") == "wheel";
+    world_->align = settings_.choice("friction_dirs") == "wheel";
     btContactSolverInfo& info = world_->getSolverInfo();
-    info.m_numIterations = std::stoi(setting("iterations"));
+    info.m_numIterations = settings_.integer("iterations");
     info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     // Fixed world axes when not aligned: no velocity-dependent friction direction either.
     info.m_solverMode |= SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
@@ -103,7 +103,7 @@ class BulletCar final : public RigidCar {
     chassis_ = add_body(d.chassis_mass_kg, chassis_shape, btTransform(yaw_chassis, to_world(-0.5 * d.l_m, 0, d.R_m)), 0, 0);
 
     btCollisionShape* wheel_shape = nullptr;
-    if (setting("wheel") == "cylinder")
+    if (settings_.choice("wheel") == "cylinder")
       wheel_shape = add_shape(std::make_unique<btCylinderShape>(btVector3(d.R_m, 0.5 * d.wheel_width_m, d.R_m)));  // along local y
     else
       wheel_shape = add_shape(std::make_unique<btSphereShape>(d.R_m));
@@ -291,7 +291,13 @@ EngineInfo bullet_engine() {
            {"friction directions", "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
            {"disks", "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), sequential-impulse response"}},
-          .knobs = {SettingSpec{"iterations", "car", "100", "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", SettingSpec::kInteger, 1, 10000, {}}, SettingSpec{"wheel", "car", "sphere", "wheel collision shape", SettingSpec::kChoice, 0, 0, {"sphere", "cylinder"}}, SettingSpec{"friction_dirs", "car", "wheel", "first friction direction: along the wheel's rolling direction, or the engine's default axes", SettingSpec::kChoice, 0, 0, {"wheel", "world"}}},
+          .knobs = {SettingSpec{{.key = "iterations", .kind = ParamKind::kInteger, .default_text = "100", .unit = "1",
+                                 .help = "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", .min = 1, .max = 10000},
+                                "car", SettingRole::kSolverIterations},
+                    SettingSpec{{.key = "wheel", .kind = ParamKind::kChoice, .default_text = "sphere", .help = "wheel collision shape", .choices = {"sphere", "cylinder"}}, "car"},
+                    SettingSpec{{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = "wheel",
+                                 .help = "first friction direction: along the wheel's rolling direction, or the engine's default axes", .choices = {"wheel", "world"}},
+                                "car"}},
           .four_wheels = true,
           .make_raw_car = make_raw_bullet_car};
 }

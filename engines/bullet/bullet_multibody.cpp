@@ -147,7 +147,7 @@ class MultiBodyCar final : public RigidCar {
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
     scene_.reset();
-    scene_ = std::make_unique<MultiBodyScene>(setup.gravity_W(), std::stoi(setting("iterations")));
+    scene_ = std::make_unique<MultiBodyScene>(setup.gravity_W(), settings_.integer("iterations"));
     dt_s_ = setup.dt_s;
 
     // Ground plane z = 0; Bullet multiplies both bodies' friction coefficients: mu x 1.
@@ -170,7 +170,7 @@ class MultiBodyCar final : public RigidCar {
     mb->setupRevolute(kRearLeft, d.wheel_mass_kg, wheel_inertia, -1, same, axle, btVector3(-0.5 * d.l_m, 0.5 * d.track_m, 0), zero, true);
     mb->setupRevolute(kRearRight, d.wheel_mass_kg, wheel_inertia, -1, same, axle, btVector3(-0.5 * d.l_m, -0.5 * d.track_m, 0), zero, true);
     mb->finalizeMultiDof();
-    const double damping = std::stod(setting("damping"));
+    const double damping = settings_.number("damping");
     mb->setLinearDamping(damping);
     mb->setAngularDamping(damping);
 
@@ -352,8 +352,12 @@ EngineInfo bullet_multibody_engine() {
            {"damping", "btMultiBody linear and angular damping: car --set damping (default 0.04, Bullet's); disk M fixed at Bullet's 0.04"},
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
            {"disks", "M: zero-link floating-base btMultiBody (radius 1, 1 kg, frictionless base collider), base velocity set to the command (z = 0) before each step; N: kinematic btRigidBody sphere placed on its path; contact from the step's manifolds (distance <= 0), multibody solver response, 10 iterations"}},
-          .knobs = {SettingSpec{"iterations", "car", std::to_string(kDefaultIterations), "solver iterations (btContactSolverInfo::m_numIterations)", SettingSpec::kInteger, 1, 10000, {}},
-                    SettingSpec{"damping", "car", fmt::format("{:g}", kDefaultDamping), "btMultiBody linear and angular damping", SettingSpec::kReal, 0, 1, {}}},
+          .knobs = {SettingSpec{{.key = "iterations", .kind = ParamKind::kInteger, .default_text = std::to_string(kDefaultIterations), .unit = "1",
+                                 .help = "solver iterations (btContactSolverInfo::m_numIterations)", .min = 1, .max = 10000},
+                                "car", SettingRole::kSolverIterations},
+                    SettingSpec{{.key = "damping", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultDamping), .unit = "1",
+                                 .help = "btMultiBody linear and angular damping", .min = 0, .max = 1},
+                                "car"}},
           .make_raw_car = make_raw_bullet_multibody_car};
 }
 

@@ -99,8 +99,8 @@ class BulletRaycastCar final : public RigidCar {
     world_ = core_->make_world<btDiscreteDynamicsWorld>();
     world_->setGravity(btVector3(setup.gravity_W().x(), setup.gravity_W().y(), setup.gravity_W().z()));
     const double g = -setup.gravity_W().z();  // the component along the ground's normal loads the suspension
-    heading_angle_ = setting("wheel_angle") == "heading";
-    const double k = std::stod(setting("suspension_stiffness"));
+    heading_angle_ = settings_.choice("wheel_angle") == "heading";
+    const double k = settings_.number("suspension_stiffness");
     R_ = d.R_m;
     mass_ = d.chassis_mass_kg + 3 * d.wheel_mass_kg + d.knuckle_mass_kg;  // one body: the whole car
     mu_ = setup.mu;
@@ -360,8 +360,14 @@ EngineInfo bullet_raycast_engine() {
                {"wheel angle", "no spin state (along-slip not measured): heading = the front wheel's travel along its own heading / R, integrated like Bullet's m_rotation; m_rotation = Bullet's own value, which projects the velocity on the chassis axis, so the steered wheel turns cos(beta) too slowly; the spin reported for the slip metrics is the angle's change per step (m_deltaRotation before Bullet's 0.99 decay)"},
                {"stability", "the suspension is explicit: at k = 1e4 the run diverges for dt >= 2 ms (a period-2 oscillation from about 1.8 ms); smaller k allows larger steps"},
                {"threads", "Bullet writes the same constants into one function-static btRigidBody (btActionInterface::getFixedBody, the vehicle's ground object) from every vehicle on every ray cast and reads it in the friction pass: the body is made once before the first vehicle, and each vehicle's action (ray casts, suspension, friction) holds a process-wide lock, so concurrent runs take turns at it; the numbers do not depend on what else runs"}},
-          .knobs = {SettingSpec{"suspension_stiffness", "car", "10000", "suspension stiffness per unit chassis mass, 1/s^2 (btVehicleTuning::m_suspensionStiffness); damping follows as sqrt(3k)", SettingSpec::kReal, 0, 1e6, {}, true},
-                    SettingSpec{"wheel_angle", "car", "heading", "the realized wheel angle: the front wheel's travel along its heading / R, or Bullet's m_rotation (travel along the chassis axis / R)", SettingSpec::kChoice, 0, 0, {"heading", "m_rotation"}}},
+          .knobs = {SettingSpec{{.key = "suspension_stiffness", .kind = ParamKind::kNumber, .default_text = "10000", .unit = "1",
+                                 .help = "suspension stiffness per unit chassis mass, 1/s^2 (btVehicleTuning::m_suspensionStiffness); damping follows as sqrt(3k)",
+                                 .min = 0, .min_exclusive = true, .max = 1e6},
+                                "car"},
+                    SettingSpec{{.key = "wheel_angle", .kind = ParamKind::kChoice, .default_text = "heading",
+                                 .help = "the realized wheel angle: the front wheel's travel along its heading / R, or Bullet's m_rotation (travel along the chassis axis / R)",
+                                 .choices = {"heading", "m_rotation"}},
+                                "car"}},
           .make_raw_car = make_raw_bullet_raycast_car};
 }
 

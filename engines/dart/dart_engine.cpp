@@ -136,7 +136,7 @@ class DartCar final : public RigidCar {
     // friction_dirs = wheel: the first friction direction is the rolling direction, x of the body
     // that steers the wheel (the knuckle for the front wheel, the chassis for the rear ones);
     // world: DART's default, a direction derived from the contact normal alone.
-    const bool wheel_dirs = setting("friction_dirs") == "wheel";
+    const bool wheel_dirs = settings_.choice("friction_dirs") == "wheel";
     const auto wheel_body = [&](BodyNode* b, const BodyNode* heading) {
       b->setMass(d.wheel_mass_kg);
       b->setMomentOfInertia(I_wheel, I_wheel, I_wheel);
@@ -354,8 +354,10 @@ EngineInfo make_info(Detector det) {
           .make_disks = [det](const Settings&) { return std::make_unique<DartDisks>(det); },
           .contact_dynamics = true,
           .settings = settings_for(det),
-          .knobs = {SettingSpec{"friction_dirs", "car", "world", "first friction direction: DART's default from the contact normal (world-fixed), or along the wheel's rolling direction (DynamicsAspect::setFirstFrictionDirection)",
-                                SettingSpec::kChoice, 0, 0, {"world", "wheel"}}},
+          .knobs = {SettingSpec{{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = "world",
+                                 .help = "first friction direction: DART's default from the contact normal (world-fixed), or along the wheel's rolling direction (DynamicsAspect::setFirstFrictionDirection)",
+                                 .choices = {"world", "wheel"}},
+                                "car"}},
           .make_raw_car = prim ? make_raw_dart_primitive_car : make_raw_dart_car};
 }
 

@@ -162,8 +162,8 @@ class MujocoCar final : public RigidCar {
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
     Variant v = v_;
-    if (settings_.count("noslip_iterations")) v.noslip_iterations = std::stoi(setting("noslip_iterations"));
-    if (settings_.count("impratio")) v.impratio = std::stod(setting("impratio"));
+    if (settings_.has("noslip_iterations")) v.noslip_iterations = settings_.integer("noslip_iterations");
+    if (settings_.has("impratio")) v.impratio = settings_.number("impratio");
     beta0_ = q0.beta_rad;
     const std::string wheel_geom = fmt::format(
         R"(<geom type="sphere" size="{}" mass="{}" condim="3" friction="{} 0.005 0.0001" contype="1" conaffinity="2"/>)",
@@ -430,7 +430,9 @@ EngineInfo mujoco_noslip_engine() {
           .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{.noslip_iterations = kDefaultNoslip}); },
           .contact_dynamics = true,
           .settings = settings,
-          .knobs = {SettingSpec{"noslip_iterations", "car", std::to_string(kDefaultNoslip), "noslip post-solver iterations (option noslip_iterations; 0 turns it off)", SettingSpec::kInteger, 0, 1000, {}}},
+          .knobs = {SettingSpec{{.key = "noslip_iterations", .kind = ParamKind::kInteger, .default_text = std::to_string(kDefaultNoslip), .unit = "1",
+                                 .help = "noslip post-solver iterations (option noslip_iterations; 0 turns it off)", .min = 0, .max = 1000},
+                                "car"}},
           .make_raw_car = make_raw_mujoco_noslip_car};
 }
 
@@ -447,7 +449,9 @@ EngineInfo mujoco_stiff_engine() {
           .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{.stiff = true, .impratio = kDefaultImpratio}); },
           .contact_dynamics = true,
           .settings = settings,
-          .knobs = {SettingSpec{"impratio", "car", fmt::format("{:g}", kDefaultImpratio), "ratio of frictional to normal constraint impedance (option impratio)", SettingSpec::kReal, 0.0, 1000.0, {}, true}},
+          .knobs = {SettingSpec{{.key = "impratio", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultImpratio), .unit = "1",
+                                 .help = "ratio of frictional to normal constraint impedance (option impratio)", .min = 0.0, .min_exclusive = true, .max = 1000.0},
+                                "car"}},
           .make_raw_car = make_raw_mujoco_stiff_car};
 }
 

@@ -31,8 +31,8 @@ void init_ode() {
 OdeStepper OdeStepper::quick_from(const Settings& s) {
   OdeStepper st;
   st.quick = true;
-  st.iterations = std::stoi(s.at("iterations"));
-  st.w = s.count("w") ? std::stod(s.at("w")) : 1.3;  // the disks: no w (see ode_quick_engine)
+  st.iterations = s.integer("iterations");
+  st.w = s.has("w") ? s.number("w") : 1.3;  // the disks: no w (see ode_quick_engine)
   st.cfm = 0.0;
   st.surface_layer_m = 0.001;
   st.max_correcting_vel_mps = 100.0;
@@ -91,10 +91,14 @@ namespace {
 const char* const kServo = "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s";
 const char* const kDisks = "M: dynamic sphere (radius 1, 1 kg) whose linear velocity is set to the command before each step (dBodySetLinearVel); N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless";
 
-SettingSpec wheel_knob() { return {"wheel", "car", "sphere", "wheel collision shape", SettingSpec::kChoice, 0, 0, {"sphere", "cylinder"}}; }
+SettingSpec wheel_knob() {
+  return {{.key = "wheel", .kind = ParamKind::kChoice, .default_text = "sphere", .help = "wheel collision shape", .choices = {"sphere", "cylinder"}}, "car"};
+}
 SettingSpec friction_dirs_knob(const char* default_text) {
-  return {"friction_dirs", "car", default_text, "first friction direction: along the wheel's rolling direction (dContactFDir1), or ODE's default axes from the normal",
-          SettingSpec::kChoice, 0, 0, {"wheel", "world"}};
+  return {{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = default_text,
+           .help = "first friction direction: along the wheel's rolling direction (dContactFDir1), or ODE's default axes from the normal",
+           .choices = {"wheel", "world"}},
+          "car"};
 }
 
 }  // namespace
@@ -102,10 +106,14 @@ SettingSpec friction_dirs_knob(const char* default_text) {
 EngineInfo ode_quick_engine() {
   std::vector<SettingSpec> knobs;
   for (const char* vehicle : {"car", "disks"})
-    knobs.push_back({"iterations", vehicle, "50", "quick-step iterations (dWorldSetQuickStepNumIterations; Gazebo's default 50)", SettingSpec::kInteger, 1, 10000, {}});
+    knobs.push_back({{.key = "iterations", .kind = ParamKind::kInteger, .default_text = "50", .unit = "1",
+                      .help = "quick-step iterations (dWorldSetQuickStepNumIterations; Gazebo's default 50)", .min = 1, .max = 10000},
+                     vehicle, SettingRole::kSolverIterations});
   // The disk M is velocity-set: its one frictionless contact row converges at any over-relaxation,
   // so w changes nothing for the disks and is a car setting only (an ignored setting is refused).
-  knobs.push_back({"w", "car", "1.3", "successive over-relaxation factor (dWorldSetQuickStepW; Gazebo's sor 1.3)", SettingSpec::kReal, 0.0, 2.0, {}, true});
+  knobs.push_back({{.key = "w", .kind = ParamKind::kNumber, .default_text = "1.3", .unit = "1",
+                    .help = "successive over-relaxation factor (dWorldSetQuickStepW; Gazebo's sor 1.3)", .min = 0.0, .min_exclusive = true, .max = 2.0},
+                   "car"});
   knobs.push_back(wheel_knob());
   knobs.push_back(friction_dirs_knob("world"));
   return {.name = "ode-quick",

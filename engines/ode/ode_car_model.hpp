@@ -52,7 +52,7 @@ class OdeCar : public RigidCar {
       dMass wm;
       dGeomID g;
       dMatrix3 Rw;
-      if (setting("wheel") == "cylinder") {
+      if (settings_.choice("wheel") == "cylinder") {
         dMassSetCylinderTotal(&wm, d.wheel_mass_kg, 3, d.R_m, d.wheel_width_m);  // along local z
         g = dCreateCylinder(space_, d.R_m, d.wheel_width_m);
         // Local z along the axle: rotate +90 deg about x (z -> -y), then yaw.
@@ -115,7 +115,7 @@ class OdeCar : public RigidCar {
       dJointSetHingeAxis(rear_joint_[i], -s, c, 0);
     }
     mu_ = setup.mu;
-    wheel_dirs_ = setting("friction_dirs") == "wheel";
+    wheel_dirs_ = settings_.choice("friction_dirs") == "wheel";
   }
 
   bool four_wheels() const override { return true; }

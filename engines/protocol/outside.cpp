@@ -102,7 +102,7 @@ class Lease {
 
 json settings_json(const Settings& s) {
   json j = json::object();
-  for (const auto& [k, v] : s) j[k] = v;
+  for (const auto& [k, v] : s.texts()) j[k] = v;
   return j;
 }
 
@@ -155,11 +155,11 @@ class ProtocolCar final : public RigidCar {
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    const auto shape = settings_.find("wheel");
+    const std::string shape = settings_.has("wheel") ? settings_.choice("wheel") : "sphere";
     const json car{{"R_m", d.R_m}, {"l_m", d.l_m}, {"track_m", d.track_m}, {"wheels", d.wheels},
                    {"parallel_steering", d.parallel_steering}, {"wheel_width_m", d.wheel_width_m},
-                   {"wheel_shape", shape == settings_.end() ? "sphere" : shape->second}, {"chassis_height_m", d.chassis_height_m},
-                   {"chassis_mass_kg", d.chassis_mass_kg}, {"wheel_mass_kg", d.wheel_mass_kg}, {"knuckle_mass_kg", d.wheel_mass_kg}};
+                   {"wheel_shape", shape}, {"chassis_height_m", d.chassis_height_m},
+                   {"chassis_mass_kg", d.chassis_mass_kg}, {"wheel_mass_kg", d.wheel_mass_kg}, {"knuckle_mass_kg", d.knuckle_mass_kg}};
     const json req{{"op", "car"}, {"settings", settings_json(settings_)}, {"dt_s", setup.dt_s}, {"mu", setup.mu},
                    {"gravity_W", vec(setup.gravity_W())}, {"car", car},
                    {"q0", {{"x_m", q0.x_m}, {"y_m", q0.y_m}, {"phi_rad", q0.phi_rad}, {"beta_rad", q0.beta_rad}}},
@@ -253,8 +253,9 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
   k.vehicle = text_field(c, j, "vehicle", where);
   if (k.vehicle != "car" && k.vehicle != "disks") c.fail(fmt::format("hello: {}vehicle must be 'car' or 'disks'", where));
   const std::string kind = text_field(c, j, "kind", where);
-  k.kind = kind == "integer" ? SettingSpec::kInteger : kind == "real" ? SettingSpec::kReal : SettingSpec::kChoice;
-  if (kind != "integer" && kind != "real" && kind != "choice") c.fail(fmt::format("hello: {}kind must be integer, real or choice", where));
+  const std::optional<ParamKind> named = setting_kind_named(kind);
+  if (!named) c.fail(fmt::format("hello: {}kind must be integer, real or choice", where));
+  k.kind = *named;
   const auto d = j.find("default");
   if (d == j.end() || !(d->is_string() || d->is_number())) c.fail(fmt::format("hello: {}default is missing", where));
   k.default_text = d->is_string() ? d->get<std::string>() : fmt::format("{:g}", d->get<double>());
@@ -263,11 +264,12 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
     k.min = c.number(j, "min", where.c_str()), k.max = c.number(j, "max", where.c_str());
     if (j.contains("min_exclusive") && !j["min_exclusive"].is_boolean()) c.fail(fmt::format("hello: {}min_exclusive must be true or false", where));
     k.min_exclusive = j.value("min_exclusive", false);
-    char* end = nullptr;
-    const double v = std::strtod(k.default_text.c_str(), &end);
-    const bool whole = k.kind != SettingSpec::kInteger || v == std::floor(v);
-    if (end == k.default_text.c_str() || *end || !(v >= k.min && v <= k.max) || (k.min_exclusive && v == k.min) || !whole)
+    k.unit = "1";
+    try {
+      (void)parse_param(k, k.default_text);
+    } catch (const InputError&) {
       c.fail(fmt::format("hello: {}default '{}' is outside its range {}", where, k.default_text, k.range_text()));
+    }
   } else {
     const auto ch = j.find("choices");
     if (ch == j.end() || !ch->is_array() || ch->empty()) c.fail(fmt::format("hello: {}choices must be a non-empty array", where));

@@ -61,7 +61,7 @@ class ProtocolServer {
     if (e_.make_disks) vehicles.push_back("disks");
     for (const SettingSpec& k : e_.knobs) {
       json j{{"key", k.key}, {"vehicle", k.vehicle}, {"default", k.default_text}, {"help", k.help},
-             {"kind", k.kind == SettingSpec::kInteger ? "integer" : k.kind == SettingSpec::kReal ? "real" : "choice"}};
+             {"kind", k.kind_name()}};
       if (k.numeric()) j["min"] = k.min, j["max"] = k.max, j["min_exclusive"] = k.min_exclusive;
       else j["choices"] = k.choices;
       settings.push_back(j);
@@ -73,12 +73,17 @@ class ProtocolServer {
 
   /// The request's settings, every knob of `vehicle` present (its default where not given).
   Settings settings(const json& req, const std::string& vehicle) const {
-    Settings s = e_.defaults(vehicle);
+    const Settings defaults = e_.defaults(vehicle);
+    Overrides given;
     for (const auto& [k, v] : req.at("settings").items()) {
-      if (!s.count(k)) throw EngineError(fmt::format("'{}' has no setting '{}' for {}", e_.name, k, vehicle));
-      s[k] = v.get<std::string>();
+      if (!defaults.has(k)) throw EngineError(fmt::format("'{}' has no setting '{}' for {}", e_.name, k, vehicle));
+      given.emplace_back(k, v.get<std::string>());
     }
-    return s;
+    try {
+      return resolve_settings(e_, vehicle, given, e_.name);
+    } catch (const InputError& e) {
+      throw EngineError(e.what());
+    }
   }
 
   json car(const json& req) {
