@@ -441,8 +441,9 @@ TEST(Runner, LeadingOrderChecksCountForTheReferenceOnly) {
   // An engine that matches the exact holonomy exactly, 30% off the bracket prediction.
   o.values["dx"] = {1e-3, 1e-3};
   o.values["lo_dx"] = {0.7e-3, 1e-3, 0.0, 1.0};
-  for (const auto& [key, counted] : {std::pair<std::string, bool>{"reference", true}, {"ode", false}}) {
-    const auto metrics = score(*cycle, key, o);
+  for (const auto& [role, counted] : {std::pair<TolRole, bool>{TolRole::kReference, true}, {TolRole::kDefault, false}}) {
+    const std::string key = role == TolRole::kReference ? "reference" : "default";
+    const auto metrics = score(*cycle, role, o);
     const auto lo = std::find_if(metrics.begin(), metrics.end(), [](const Metric& m) { return m.name == "lo_dx"; });
     ASSERT_NE(lo, metrics.end());
     EXPECT_EQ(lo->informational, !counted) << key;
