@@ -13,11 +13,8 @@ namespace {
 
 int cmd_diff(const std::string& base_path, const std::string& head_path, double growth, bool json) {
   if (!(growth > 1.0)) throw InputError(fmt::format("--growth must be > 1 (got {})", growth));
-  // Only what the diff compares is kept of each file (no document), to the end of the process:
-  // its end returns the memory of two million runs at once, not one run at a time.
-  static const std::pair<ResultsIndex, ResultsIndex>* kept = nullptr;
-  kept = new std::pair<ResultsIndex, ResultsIndex>(read_results_index_pair(base_path, head_path));
-  const auto& [base, head] = *kept;
+  // Only what the diff compares is kept of each file (a compact index, no document).
+  const auto [base, head] = read_results_index_pair(base_path, head_path);
   DiffDef def;
   def.growth = growth;
   nlohmann::json d;

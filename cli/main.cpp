@@ -111,7 +111,7 @@ int main(int argc, char** argv) {
       return stdout_written() ? status : 2;
     }
   } catch (const Interrupted& e) {
-    std::cerr << fmt::format("liftcheck: interrupted by {} {}; the previous outputs are left as they were\n", strsignal(e.sig), printable(e.what(), 2000));
+    std::cerr << fmt::format("liftcheck: interrupted by {}: {}; the previous outputs are left as they were\n", strsignal(e.sig), printable(e.what(), 2000));
     return 128 + e.sig;
   } catch (const InputError& e) {
     std::cerr << "liftcheck: error: " << printable(e.what(), 2000) << "\n";

@@ -1,4 +1,6 @@
 #include "reports/gl_render.hpp"
+#include <cerrno>
+#include <cstring>
 
 #define GL_GLEXT_PROTOTYPES
 #include <GL/osmesa.h>
@@ -510,7 +512,7 @@ Image tile(const std::vector<Image>& frames, int per_row) {
 void write_png(const std::filesystem::path& path, const Image& image) {
   const std::string tmp = path.string() + ".tmp";
   FILE* fp = std::fopen(tmp.c_str(), "wb");
-  if (!fp) throw std::runtime_error(fmt::format("cannot write '{}'", path.string()));
+  if (!fp) throw std::runtime_error(fmt::format("cannot write '{}': {}", path.string(), std::strerror(errno)));
   png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
   png_infop info = png ? png_create_info_struct(png) : nullptr;
   if (!png || !info || setjmp(png_jmpbuf(png))) {
@@ -529,12 +531,13 @@ void write_png(const std::filesystem::path& path, const Image& image) {
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
   if (std::fclose(fp) != 0) {
+    const int err = errno;
     std::remove(tmp.c_str());
-    throw std::runtime_error(fmt::format("cannot write '{}'", path.string()));
+    throw std::runtime_error(fmt::format("cannot write '{}': {}", path.string(), std::strerror(err)));
   }
   std::error_code ec;
   std::filesystem::rename(tmp, path, ec);
-  if (ec) throw std::runtime_error(fmt::format("cannot write '{}'", path.string()));
+  if (ec) throw std::runtime_error(fmt::format("cannot write '{}': {}", path.string(), ec.message()));
 }
 
 }  // namespace liftcheck::render

@@ -315,7 +315,7 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
     std::ofstream f(script);
     f << S.gp.str();
     f.close();
-    if (!f) throw std::runtime_error(fmt::format("cannot write '{}'", script.string()));
+    if (!f) throw std::runtime_error(fmt::format("cannot write '{}': {}", script.string(), std::strerror(errno)));
   }
   run_gnuplot(out / "plots");
   return files;

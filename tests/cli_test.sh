@@ -324,7 +324,7 @@ kill -TERM "$vpid"
 wait "$vpid"
 st=$?
 if [ "$st" -eq 143 ] && cmp -s "$tmp/int/results.json" "$tmp/int-before.json" && [ -f "$tmp/int/index.html" ] \
-   && [ -z "$(find "$tmp" -maxdepth 1 -name '.int.*')" ] && grep -q "interrupted by Terminated stopped after [0-9]* of [0-9]* items" "$tmp/int.err"; then
+   && [ -z "$(find "$tmp" -maxdepth 1 -name '.int.*')" ] && grep -q "interrupted by Terminated: stopped after [0-9]* of [0-9]* items" "$tmp/int.err"; then
   passes=$((passes + 1))
 else
   echo "FAIL interrupted validate: exit $st"; cat "$tmp/int.err"; ls -a "$tmp"; fails=$((fails + 1))
@@ -527,7 +527,7 @@ opened() {  # until liftcheck (not the shell's fd 7, which it closes) has the FI
   for _ in $(seq 100); do ls -l "/proc/$1/fd" 2>/dev/null | grep -v ' 7 -> ' | grep -q fifo && return; sleep 0.1; done
 }
 opened "$vpid"; kill -INT "$vpid"; wait "$vpid"; st=$?
-[ "$st" -eq 130 ] && grep -q "interrupted by Interrupt while reading '$tmp/fifo'" "$tmp/fi.err" && passes=$((passes + 1)) \
+[ "$st" -eq 130 ] && grep -q "interrupted by Interrupt: while reading '$tmp/fifo'" "$tmp/fi.err" && passes=$((passes + 1)) \
   || { echo "FAIL score did not stop at SIGINT: exit $st"; cat "$tmp/fi.err"; fails=$((fails + 1)); }
 "$bin" diff "$tmp/report/results.json" "$tmp/fifo" >"$tmp/fi.out" 2>"$tmp/fi.err" 7>&- &
 vpid=$!
