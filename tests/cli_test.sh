@@ -595,12 +595,25 @@ check rel-after-sigkill 1 "$bin" "${K[@]}" --out "$tmp/st/k"
   && python3 -c 'import json,sys; assert json.load(open(sys.argv[1]))["summary"]["total"] == 4' "$tmp/st/k/results.json" \
   && passes=$((passes + 1)) || { echo "FAIL staging folders after SIGKILL: the killed one left or the live one removed"; ls -la "$tmp/st"; fails=$((fails + 1)); }
 rm -rf "$tmp/st/.k.partial-$$-LIVEXX"
+# SIGHUP mid-suite (the terminal closed): exit 129, the previous output as it was, no staging folder left.
+cp "$tmp/st/k/results.json" "$tmp/k-before.json"
+"$bin" "${K[@]}" --out "$tmp/st/k" >"$tmp/h.out" 2>"$tmp/h.err" &
+vpid=$!
+for _ in $(seq 300); do [ -n "$(find "$tmp/st" -maxdepth 1 -name ".k.partial-$vpid-*")" ] && pgrep -P "$vpid" >/dev/null && break; sleep 0.05; done
+sleep 1
+pgrep -P "$vpid" >/dev/null && running=yes || running=no
+kill -HUP "$vpid"; wait "$vpid"; st=$?
+[ "$running" = yes ] && [ "$st" -eq 129 ] && grep -q "interrupted by Hangup: stopped after" "$tmp/h.err" && cmp -s "$tmp/st/k/results.json" "$tmp/k-before.json" \
+  && [ -z "$(find "$tmp/st" -maxdepth 1 -name ".k.partial-*")" ] && passes=$((passes + 1)) \
+  || { echo "FAIL after SIGHUP mid-suite: exit $st (running: $running)"; cat "$tmp/h.err"; ls -la "$tmp/st"; fails=$((fails + 1)); }
 long="$tmp/st/$(printf 'n%.0s' $(seq 250))"
 check rel-long-out 0 "$bin" "${V[@]}" --out "$long"
 [ -s "$long/results.json" ] && passes=$((passes + 1)) || { echo "FAIL long --out name"; fails=$((fails + 1)); }
 # A mount point as --out (root only): the new entries are copied in before the old go, so a file
 # system too small for both keeps the old output whole and the new results beside it.
-if mkdir -p "$tmp/mnt" && mount -t tmpfs -o size=900k tmpfs "$tmp/mnt" 2>/dev/null; then
+if ! { mkdir -p "$tmp/mnt" && mount -t tmpfs -o size=900k tmpfs "$tmp/mnt" 2>/dev/null; }; then
+  echo "SKIP a mount point as --out: mounting a tmpfs needs root"
+else
   check rel-mount-first 0 "$bin" "${V[@]}" --out "$tmp/mnt"
   check rel-mount-again 0 "$bin" "${V[@]}" --out "$tmp/mnt"
   cp "$tmp/mnt/results.json" "$tmp/mnt-before.json"

@@ -25,7 +25,7 @@ fi
 "$bin" validate --engines ode-quick --filter car.circle --no-sweeps --set iterations=3 --out "$tmp/fail" >"$tmp/log" 2>&1
 [ $? -eq 1 ] || { cat "$tmp/log"; echo "FAIL iterations=3 did not fail"; exit 1; }
 python3 - "$tmp/fail" <<'PY' || exit 1
-import json, re, sys
+import html, json, re, sys
 d = sys.argv[1]
 r = json.load(open(d + "/results.json"))["runs"][0]
 failing = sorted((m["rel_error" if m["tolerance_kind"] == "rel" else "abs_error"] / m["tolerance"], k)
@@ -35,9 +35,15 @@ worst = failing[-1][1]
 index = open(d + "/index.html").read()
 cell = re.search(r'<td class="c fail"[^>]*>.*?</td>', index, re.S).group(0)
 assert worst in cell, ("the cell does not name", worst, cell)
+# its figure: the failing metric's error as a multiple of its tolerance, as results.json has it
+shown = re.search(re.escape(worst) + r"\s*([0-9.]+(?:e[+-]?[0-9]+)?)\s*×\s*tol", html.unescape(re.sub(r"<[^>]+>", " ", cell)))
+assert shown and abs(float(shown.group(1)) / failing[-1][0] - 1) < 0.06, ("the cell's figure is not the metric's", failing[-1][0], cell)
 top = index[:index.index('id="map"')] if 'id="map"' in index else index
 section = top[top.index('id="unexpected"'):]
 assert worst + ": measured" in section and "iterations=3" in section, "not as expected lacks the metric or the setting"
+measured = re.search(re.escape(worst) + r": measured\s*([-0-9.]+(?:e[+-]?[0-9]+)?)", re.sub(r"<[^>]+>", " ", section))
+assert measured and abs(float(measured.group(1)) - r["metrics"][worst]["measured"]) <= 1e-3 * abs(r["metrics"][worst]["measured"]), \
+    ("not as expected does not give the measured figure", r["metrics"][worst]["measured"])
 page = open(d + "/scenario-car_circle.html").read()
 assert "iterations=3" in page and worst in page and "FAIL" in page, "the scenario page lacks the setting or the metric"
 print("PASS failing run named:", worst)
