@@ -12,21 +12,9 @@ using namespace liftcheck::disks;
 
 namespace {
 
-Mechanism linear(double a, double b) {
-  Mechanism m;
-  m.kind = MechanismKind::kLinear;
-  m.a = a;
-  m.b = b;
-  return m;
-}
+Mechanism linear(double a, double b) { return {.kind = MechanismKind::kLinear, .a = a, .b = b}; }
 
-NPath line(const Vec2& c0, const Vec2& v) {
-  NPath p;
-  p.kind = NPath::Kind::kLine;
-  p.c0 = c0;
-  p.v = v;
-  return p;
-}
+NPath line(const Vec2& c0, const Vec2& v) { return {.kind = NPath::Kind::kLine, .c0 = c0, .v = v}; }
 
 LiftDef sampled(LiftMethod method, double dt = 0.01) {
   LiftDef d;

@@ -29,13 +29,7 @@ NPath figure8(const Vec2& c0) {
   return p;
 }
 
-NPath line(const Vec2& c0, const Vec2& v) {
-  NPath p;
-  p.kind = NPath::Kind::kLine;
-  p.c0 = c0;
-  p.v = v;
-  return p;
-}
+NPath line(const Vec2& c0, const Vec2& v) { return {.kind = NPath::Kind::kLine, .c0 = c0, .v = v}; }
 
 }  // namespace
 
