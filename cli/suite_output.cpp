@@ -162,7 +162,24 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
 }
 
 /// The last line: the verdict counts and where the results are.
+/// The simulated seconds the suite stepped, in all and per configuration, by kind of part.
+void print_simulated(const nlohmann::json& results) {
+  if (!results.contains("simulated")) return;
+  const auto& sim = results["simulated"];
+  const auto kinds = [](const nlohmann::json& by_part) {
+    std::map<std::string, double> k;
+    for (const auto& [part, s] : by_part.items()) k[part.substr(0, part.find('/'))] += s.get<double>();
+    std::string out;
+    for (const auto& [kind, s] : k) out += fmt::format("{}{} {:.1f}", out.empty() ? "" : ", ", kind, s);
+    return out;
+  };
+  std::cout << fmt::format("simulated time: {:.1f} s in all ({})\n", sim["total_s"].get<double>(), kinds(sim["by_part"]));
+  for (const auto& [config, c] : sim["by_configuration"].items())
+    std::cout << fmt::format("  {:<18} {:8.1f} s  ({})\n", printable(config, 200), c["total_s"].get<double>(), kinds(c["by_part"]));
+}
+
 void print_summary(const nlohmann::json& results, const OutputOptions& o, const Gates& gates, const StagedOutput& staged) {
+  print_simulated(results);
   const auto& sum = results["summary"];
   std::cout << fmt::format("{}: {} runs and {} sweep gates, {} unexpected ({} pass, {} known failures, {} unexpected passes, {} fail, "
                            "{} error, {} skip; {} sweep gates failed); {}\n",

@@ -24,7 +24,7 @@ namespace {
 struct ValidateOptions {
   std::string engine_list, filter = "*", trace_dir, shard;
   std::vector<std::string> sets;
-  bool no_sweeps = false, no_report = false;
+  bool no_sweeps = false, all_points = false, no_report = false;
   OutputOptions out{"build/report"};
   int jobs = 1;
   double timeout_s = 120.0;
@@ -41,6 +41,7 @@ SuiteDef suite_def(const ValidateOptions& v, const RunnerDef& runner) {
   close_idle_children();  // the workers start their own
   def.globs = split_list(v.filter);
   def.sweeps = !v.no_sweeps;
+  def.all_points = v.all_points;
   def.timeout_s = runner.timeout_s;
   for (const auto& a : v.sets) def.set.push_back(split_assignment(a));
   return def;
@@ -63,8 +64,7 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
     const SuiteItem& it = plan.items[i];
     (it.kind == SuiteItem::kRun ? ran.runs_s : ran.points_s) += r["wall_s"].get<double>();
     // Where the time goes: engine seconds by part of the suite and by configuration.
-    const std::string part = it.kind == SuiteItem::kRun ? "runs" : it.key.substr(0, it.key.find('/', it.key.find('/') + 1));
-    ran.cost_by_part[part.rfind("outcomes/", 0) == 0 ? "outcomes" : part] += r["wall_s"].get<double>();
+    ran.cost_by_part[item_part(it)] += r["wall_s"].get<double>();
     ran.cost_by_config[it.engine->name] += r["wall_s"].get<double>();
     if (it.kind != SuiteItem::kRun) return;
     progress.clear();
@@ -155,6 +155,7 @@ Command add_validate(CLI::App& app) {
   validate->add_option("--set", v->sets, "KEY=VALUE for every run whose scenario has that parameter or whose configuration has that setting (repeatable; the sweeps keep their own values)")->allow_extra_args(false);
   validate->add_option("--trace-dir", v->trace_dir, "score every SCENARIO.csv (or .json) in this folder as a run of the configuration named after it");
   validate->add_flag("--no-sweeps", v->no_sweeps, "skip the parameter sweeps");
+  validate->add_flag("--all-points", v->all_points, "run the parameter sweeps and the outcome grid also on the configurations registered for the runs and the map only (\"points\": \"map\")");
   validate->add_flag("--no-report", v->no_report, "write results.json only (no snapshots, plots or HTML)");
   validate->add_option("--jobs,-j", v->jobs, "runs at once (default: the number of cores)")->capture_default_str();
   validate->add_option("--timeout", v->timeout_s, "limit of each run's or sweep point's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();

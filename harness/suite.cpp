@@ -60,6 +60,7 @@ nlohmann::json SuitePlan::selection() const {
   j["set"] = nlohmann::json::array();
   for (const auto& [k, v] : def.set) j["set"].push_back(k + "=" + v);
   j["sweeps"] = def.sweeps;
+  j["all_points"] = def.all_points;
   j["external"] = def.external_name;
   j["timeout_s"] = def.timeout_s;
   return j;
@@ -125,12 +126,12 @@ void add_points(SuitePlan& plan, const SuiteDef& def) {
   for (const SweepDef& sw : sweep_catalogue())
     if (matches_any(def.globs, sw.scenario)) {
       plan.sweeps.push_back(&sw);
-      const auto runs = sweep_runs(sw, def.engines);
+      const auto runs = sweep_runs(sw, sweep_engines(def));
       points.insert(points.end(), runs.begin(), runs.end());
     }
   if (matches_any(def.globs, outcome_sweep_scenario())) {
     plan.outcome_sweep = true;
-    const auto runs = outcome_runs(def.engines);
+    const auto runs = outcome_runs(sweep_engines(def));
     points.insert(points.end(), runs.begin(), runs.end());
   }
   const MapDef& map = speed_accuracy_map();
@@ -174,6 +175,13 @@ void resolve_items(SuitePlan& plan) {
 }
 
 }  // namespace
+
+std::vector<const EngineInfo*> sweep_engines(const SuiteDef& def) {
+  std::vector<const EngineInfo*> v;
+  for (const EngineInfo* e : def.engines)
+    if (e->all_points || def.all_points) v.push_back(e);
+  return v;
+}
 
 std::string run_key(const std::string& scenario, const std::string& engine) { return fmt::format("run/{}/{}", scenario, engine); }
 
@@ -624,19 +632,53 @@ nlohmann::json assemble_suite(const SuitePlan& plan, const std::map<std::string,
   for (const SuiteItem& it : plan.items)
     if (it.kind == SuiteItem::kRun) out["runs"].push_back(records.at(it.key));
   out["sweeps"] = nlohmann::json::array();
-  for (const SweepDef* sw : plan.sweeps) out["sweeps"].push_back(assemble_sweep(*sw, plan.def.engines, lookup));
-  if (plan.outcome_sweep) out["sweeps"].push_back(assemble_outcome_sweep(plan.def.engines, lookup));
+  const std::vector<const EngineInfo*> swept = sweep_engines(plan.def);
+  for (const SweepDef* sw : plan.sweeps) out["sweeps"].push_back(assemble_sweep(*sw, swept, lookup));
+  if (plan.outcome_sweep) out["sweeps"].push_back(assemble_outcome_sweep(swept, lookup));
   out["maps"] = nlohmann::json::array();
   if (plan.map) out["maps"].push_back(assemble_map(speed_accuracy_map(), plan.def.engines, lookup));
   return out;
 }
 
+std::string item_part(const SuiteItem& item) {
+  if (item.kind == SuiteItem::kRun) return "runs";
+  if (item.key.rfind("outcomes/", 0) == 0) return "outcomes";
+  return item.key.substr(0, item.key.find('/', item.key.find('/') + 1));
+}
+
+nlohmann::json simulated_budget(const SuitePlan& plan, const std::map<std::string, nlohmann::json>& records) {
+  double total_s = 0.0;
+  std::map<std::string, double> by_part;
+  std::map<std::string, std::map<std::string, double>> by_config;
+  for (const SuiteItem& it : plan.items) {
+    const auto rec = records.find(it.key);
+    if (it.same_as >= 0 || rec == records.end()) continue;
+    const double s = rec->second.value("simulated_s", 0.0);
+    total_s += s;
+    by_part[item_part(it)] += s;
+    by_config[it.engine->name][item_part(it)] += s;
+  }
+  const auto us = [](double s) { return std::round(s * 1e6) / 1e6; };
+  nlohmann::json out{{"total_s", us(total_s)}, {"by_part", nlohmann::json::object()}, {"by_configuration", nlohmann::json::object()}};
+  for (const auto& [part, s] : by_part) out["by_part"][part] = us(s);
+  for (const auto& [config, parts] : by_config) {
+    double sum_s = 0.0;
+    nlohmann::json c{{"by_part", nlohmann::json::object()}};
+    for (const auto& [part, s] : parts) sum_s += s, c["by_part"][part] = us(s);
+    c["total_s"] = us(sum_s);
+    out["by_configuration"][config] = c;
+  }
+  return out;
+}
+
 nlohmann::json suite_results(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records, const nlohmann::json& context) {
+  const nlohmann::json simulated = simulated_budget(plan, records);
   fill_duplicates(plan, records);
   const nlohmann::json assembled = assemble_suite(plan, records);
   nlohmann::json results = results_from_records(assembled["runs"], context);
   results["sweeps"] = assembled["sweeps"];
   results["maps"] = assembled["maps"];
+  results["simulated"] = simulated;
   results["scenarios"] = nlohmann::json::array();
   for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
   return results;

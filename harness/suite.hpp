@@ -26,10 +26,16 @@ struct SuiteDef {
   std::vector<std::string> globs;          ///< scenario name globs (--filter): any may match
   Overrides set;                           ///< --set KEY=VALUE, applied where a run takes it
   bool sweeps = true;                      ///< the sweeps, the outcome sweep and the map
+  /// The parameter sweeps and the outcome grid on every configuration, also those registered for
+  /// the runs and the map only (EngineInfo::all_points false; validate --all-points).
+  bool all_points = false;
   double timeout_s = 120.0;                ///< each item's wall-clock limit (a timed-out item is an error record)
   std::string external_name;               ///< --trace-dir: the outside simulator's name
   std::map<std::string, Trace> traces;     ///< its trace per scenario
 };
+
+/// The configurations of `def` that the parameter sweeps and the outcome grid run on.
+std::vector<const EngineInfo*> sweep_engines(const SuiteDef& def);
 
 struct SuiteItem {
   enum Kind { kRun, kPoint };
@@ -124,9 +130,19 @@ void fill_duplicates(const SuitePlan& plan, std::map<std::string, nlohmann::json
 /// one is missing.
 nlohmann::json assemble_suite(const SuitePlan& plan, const std::map<std::string, nlohmann::json>& records);
 
+/// The part of the suite an item belongs to: "runs", "sweep/NAME", "outcomes" or "map/NAME".
+std::string item_part(const SuiteItem& item);
+
+/// The simulated time the suite steps (the budget of issue-free verdicts: what each part costs in
+/// engine time is this times the configuration's cost per simulated second), from the records of
+/// the items that ran (a duplicate runs once and counts once), summed in plan order and rounded to
+/// the microsecond so that it is the same figure at any --jobs and for any sharding:
+/// {"total_s", "by_part": {PART: s}, "by_configuration": {CONFIG: {"total_s", "by_part"}}}.
+nlohmann::json simulated_budget(const SuitePlan& plan, const std::map<std::string, nlohmann::json>& records);
+
 /// The results of a whole suite (one unsharded run, or the merge of every share) from every item's
-/// record: the duplicates filled in, then {"context", "summary", "runs", "sweeps", "maps",
-/// "scenarios"}.
+/// record: the duplicates filled in, then {"context", "summary", "simulated", "runs", "sweeps",
+/// "maps", "scenarios"}.
 nlohmann::json suite_results(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records, const nlohmann::json& context);
 
 /// Whether `name` matches any of the globs (--filter).
