@@ -60,6 +60,7 @@ SuiteDef selection_of(const nlohmann::json& shard) {
   def.globs = sel.at("filter").get<std::vector<std::string>>();
   for (const auto& a : sel.at("set")) def.set.push_back(split_assignment(a.get<std::string>()));
   def.sweeps = sel.at("sweeps").get<bool>();
+  def.all_points = sel.value("all_points", false);
   def.timeout_s = sel.value("timeout_s", 120.0);
   return def;
 }

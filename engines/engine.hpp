@@ -249,6 +249,10 @@ struct EngineInfo {
   /// argument vector that starts it; empty for a compiled-in configuration.
   std::string registration = {};
   std::vector<std::string> command = {};
+  /// Joins a suite's parameter sweeps and outcome grid (its runs and the speed-accuracy map it
+  /// always joins). False for an outside configuration registered with "points": "map", whose
+  /// stepping cost would make those points the suite's longest part (validate --all-points).
+  bool all_points = true;
   /// False until an outside configuration's hello has been read (find_engine reads it).
   bool described = true;
   /// Why an outside configuration cannot run (its command did not start, its hello was wrong);
