@@ -46,6 +46,12 @@ const std::vector<KnownFailure>& known_run_failures() {
             throw std::logic_error(fmt::format("harness/expectations.json: {}: \"params\" values are text, as given to --set ('{}')", where, key));
           params.emplace_back(key, value.get<std::string>());
         }
+        if (e.contains("error")) {
+          if (!e.at("error").is_string() || e.at("error").get<std::string>().empty() || e.contains("metrics"))
+            throw std::logic_error(fmt::format("harness/expectations.json: {}: \"error\" is the start of the error message, given instead of \"metrics\"", where));
+          v.push_back({e.at("scenario"), engine, params, {}, e.at("reason"), e.at("measured"), e.at("error").get<std::string>()});
+          continue;
+        }
         v.push_back({e.at("scenario"), engine, params, parse_ceilings(e.at("metrics"), where), e.at("reason"), e.at("measured")});
       }
     return v;

@@ -32,6 +32,9 @@ struct KnownFailure {
   std::vector<std::pair<std::string, std::string>> params;
   Ceilings metrics;  ///< the metrics that may fail (at least one must), each with its ceiling
   std::string reason, measured;
+  /// A run the engine cannot finish ("error": the start of its error message, e.g. "car left the
+  /// ground"): listed instead of metrics, it must end in an error record whose message starts so.
+  std::string error = {};
 };
 
 /// The "runs" entries, one per scenario x configuration.

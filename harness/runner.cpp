@@ -40,12 +40,14 @@ std::vector<std::string> RunRecord::beyond_known() const {
 bool RunRecord::as_expected() const {
   if (status == Status::kSkip) return true;
   if (!known) return status == Status::kPass;
+  if (!known->error.empty()) return status == Status::kError && message.rfind(known->error, 0) == 0;
   if (status != Status::kFail) return false;
   return !failed_metrics().empty() && beyond_known().empty();
 }
 
 std::string RunRecord::verdict() const {
-  if (status == Status::kSkip || status == Status::kError) return to_string(status);
+  if (status == Status::kSkip) return to_string(status);
+  if (status == Status::kError) return known && as_expected() ? "known failure" : to_string(status);
   if (!known) return to_string(status);
   if (status == Status::kPass) return "unexpected pass";
   return as_expected() ? "known failure" : "fail";
