@@ -10,12 +10,13 @@ import { fileURLToPath } from 'node:url';
 import { dirname } from 'node:path';
 
 const DIR = dirname(fileURLToPath(import.meta.url));
-const REGISTERED = readdirSync(DIR).filter((f) => f.endsWith('.json') && !f.startsWith('package'))
-  .map((f) => JSON.parse(readFileSync(`${DIR}/${f}`, 'utf8')));
+const SUITE = `${DIR}/suite`;
+const REGISTERED = readdirSync(SUITE).filter((f) => f.endsWith('.json') && !f.startsWith('package'))
+  .map((f) => JSON.parse(readFileSync(`${SUITE}/${f}`, 'utf8')));
 
 /// An adapter child and a function sending one request and returning its reply (10 s at most).
 function start(argv) {
-  const child = spawn(argv[0], argv.slice(1), { cwd: DIR, stdio: ['pipe', 'pipe', 'ignore'] });
+  const child = spawn(argv[0], argv.slice(1), { cwd: SUITE, stdio: ['pipe', 'pipe', 'ignore'] });
   const lines = createInterface({ input: child.stdout })[Symbol.asyncIterator]();
   const request = async (msg) => {
     child.stdin.write(JSON.stringify(msg) + '\n');
@@ -93,14 +94,14 @@ async function firstContact(argv) {
 }
 
 test('cannon --fault stale-pose reports the previous step\'s front-axle position', async () => {
-  const clean = await drive(['node', 'cannon.mjs', '--config', 'default'], 50);
-  const stale = await drive(['node', 'cannon.mjs', '--config', 'default', '--fault', 'stale-pose'], 50);
+  const clean = await drive(['node', '../cannon.mjs', '--config', 'default'], 50);
+  const stale = await drive(['node', '../cannon.mjs', '--config', 'default', '--fault', 'stale-pose'], 50);
   assert.ok(clean[49] - clean[0] > 1e-3, 'the car moves');
   for (let k = 1; k < 50; k++) assert.equal(stale[k], clean[k - 1]);
 });
 
 test('cannon --fault late-contact reports the disks\' first contact one step late', async () => {
-  const clean = await firstContact(['node', 'cannon.mjs', '--config', 'default']);
+  const clean = await firstContact(['node', '../cannon.mjs', '--config', 'default']);
   assert.equal(clean, 12);  // the gap of 10.5 mm is closed during step 11: the state step 12 starts from overlaps
-  assert.equal(await firstContact(['node', 'cannon.mjs', '--config', 'default', '--fault', 'late-contact']), clean + 1);
+  assert.equal(await firstContact(['node', '../cannon.mjs', '--config', 'default', '--fault', 'late-contact']), clean + 1);
 });
