@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fmt/format.h>
 
+#include "scenarios/disk_scenarios.hpp"
 #include "scenarios/fit.hpp"
 #include "scenarios/sweep_catalogue.hpp"
 #include "harness/runner.hpp"
@@ -193,19 +194,36 @@ struct OutcomeCase {
   double a, b;
   std::string path;
   Overrides overrides;
+  double T_s;  ///< its horizon (linear_outcome_horizon_s)
 };
+
+/// The outcome grid's horizon: every case may run kOutcomeTmax_s (the last exact contact of the grid
+/// starts at 7.5 s); a case the exact motion never brings into contact stops 0.5 s after (43) last
+/// keeps the disks within 1 m of touching, and runs at least 2 s.
+constexpr double kOutcomeTmax_s = 8.0, kOutcomeClearance_m = 1.0, kOutcomeAfter_s = 0.5, kOutcomeTmin_s = 2.0;
 
 const std::vector<double>& outcome_as() { static const std::vector<double> v{-1.0, 0.0, 0.5, 0.9, 1.5, 2.0, 3.0}; return v; }
 const std::vector<double>& outcome_bs() { static const std::vector<double> v{-1.0, 0.0, 0.5, 1.0}; return v; }
 const std::vector<std::string>& outcome_paths() { static const std::vector<std::string> v{"line", "circle", "figure8"}; return v; }
 
-std::vector<OutcomeCase> outcome_cases() {
-  std::vector<OutcomeCase> cases;
-  for (const auto& path : outcome_paths())
-    for (double a : outcome_as())
-      for (double b : outcome_bs())
-        cases.push_back({a, b, path, {{"a", fmt::format("{}", a)}, {"b", fmt::format("{}", b)}, {"path", path},
-                                      {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}}});
+OutcomeCase outcome_case(double a, double b, const std::string& path) {
+  OutcomeCase c{a, b, path, {{"a", fmt::format("{}", a)}, {"b", fmt::format("{}", b)}, {"path", path}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}}, kOutcomeTmax_s};
+  const Scenario& s = *find_scenario(outcome_sweep_scenario());
+  Overrides full = c.overrides;
+  full.emplace_back("T", fmt::format("{}", kOutcomeTmax_s));
+  c.T_s = linear_outcome_horizon_s(Params::resolve(s.params, full, s.name), kOutcomeClearance_m, kOutcomeAfter_s, kOutcomeTmin_s);
+  c.overrides.emplace_back("T", fmt::format("{}", c.T_s));
+  return c;
+}
+
+const std::vector<OutcomeCase>& outcome_cases() {
+  static const std::vector<OutcomeCase> cases = [] {
+    std::vector<OutcomeCase> v;
+    for (const auto& path : outcome_paths())
+      for (double a : outcome_as())
+        for (double b : outcome_bs()) v.push_back(outcome_case(a, b, path));
+    return v;
+  }();
   return cases;
 }
 
@@ -262,7 +280,7 @@ std::vector<PointRun> outcome_runs(const std::vector<const EngineInfo*>& engines
 nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engines, const RecordLookup& record, double near_m) {
   const EngineInfo* reference = &reference_engine();
   struct Case { const OutcomeCase* c; bool collision; double t, min_d; };
-  const std::vector<OutcomeCase> grid = outcome_cases();
+  const std::vector<OutcomeCase>& grid = outcome_cases();
   std::vector<Case> cases;
   for (const OutcomeCase& c : grid) {
     const nlohmann::json& rec = record(outcome_key(*reference, c));
@@ -288,7 +306,7 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
       const nlohmann::json& rec = record(outcome_key(*e, c));
       if (rec["status"] == "error") {  // its own column: no outcome to compare
         ++errors;
-        rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"reference", cs.collision}, {"engine", nullptr},
+        rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"T_s", c.T_s}, {"reference", cs.collision}, {"engine", nullptr},
                         {"status", "error"}, {"message", rec["message"]}});
         continue;
       }
@@ -316,7 +334,7 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
         steps = (d["t_contact_measured_s"].get<double>() - cs.t) / 1e-3;
         worst_steps = std::max(worst_steps, std::abs(steps));
       }
-      rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"reference", cs.collision}, {"engine", hit},
+      rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"T_s", c.T_s}, {"reference", cs.collision}, {"engine", hit},
                       {"reference_t_contact_s", cs.collision ? nlohmann::json(cs.t) : nlohmann::json()},
                       {"t_error_steps", std::isfinite(steps) ? nlohmann::json(steps) : nlohmann::json()},
                       {"reference_min_distance", cs.min_d}, {"near_boundary", is_near}, {"status", rec["status"]},
@@ -333,7 +351,8 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
   return {{"name", "disk_outcomes"}, {"kind", "outcomes"},
           {"title", fmt::format("Collision outcomes of {} over (a, b) and N's paths: each configuration against the reference", outcome_sweep_scenario())},
           {"scenario", outcome_sweep_scenario()}, {"grid", {{"a", outcome_as()}, {"b", outcome_bs()}, {"path", outcome_paths()}}},
-          {"fixed", {{"cM", "0,0"}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}, {"dt", "0.001"}}},
+          {"fixed", {{"cM", "0,0"}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"dt", "0.001"}}},
+          {"horizon", {{"T_max_s", kOutcomeTmax_s}, {"clearance_m", kOutcomeClearance_m}, {"after_s", kOutcomeAfter_s}, {"T_min_s", kOutcomeTmin_s}}},
           {"near_boundary_m", near_m}, {"engines", per_engine}};
 }
 

@@ -422,6 +422,25 @@ disks::Mechanism linear_from(const Params& p) {
   return m;
 }
 
+}  // namespace
+
+double linear_outcome_horizon_s(const Params& p, double clearance_m, double after_s, double min_s) {
+  const disks::Mechanism m = linear_from(p);
+  const disks::NPath path = path_from(p);
+  const Vec2 cM0 = p.vec("cM"), cN0 = p.vec("cN");
+  const double T = p.num("T"), h = 0.01;  // 1 cm of N's travel at 1 m/s between samples
+  double clear_from = 0.0;
+  for (int k = 0; k * h <= T; ++k) {
+    const Vec2 cN = path.position(k * h);
+    const double d = (disks::linear_cM(m.a, m.b, cM0, cN0, cN) - cN).norm();
+    if (d <= disks::kContactDistance) return T;  // a contact: its response plays out to T
+    if (d < disks::kContactDistance + clearance_m) clear_from = (k + 1) * h;
+  }
+  return std::min(T, std::max(min_s, std::round((clear_from + after_s) / h) * h));
+}
+
+namespace {
+
 Outcome run_linear(const Params& p, DiskEngine& e) {
   const disks::Mechanism m = linear_from(p);
   const DiskProblem pb = problem(p, m);

@@ -15,6 +15,7 @@
 #include "harness/results.hpp"
 #include "harness/runner.hpp"
 #include "harness/sweeps.hpp"
+#include "scenarios/disk_scenarios.hpp"
 #include "models/holonomy.hpp"
 #include "reports/report.hpp"
 
@@ -450,4 +451,37 @@ TEST(Runner, LeadingOrderChecksCountForTheReferenceOnly) {
     const auto dx = std::find_if(metrics.begin(), metrics.end(), [](const Metric& m) { return m.name == "dx"; });
     EXPECT_FALSE(dx->informational) << key;
   }
+}
+
+// The outcome grid's horizons against the exact model run over the whole 8 s by the reference engine:
+// a case cut short is one whose reference never comes within 1 m of contact after its horizon, and
+// one with a contact keeps the full 8 s.
+TEST(Runner, OutcomeHorizonsLoseNoContactOfTheExactModel) {
+  const Scenario& s = *find_scenario("disks.linear");
+  int shortened = 0;
+  double total_s = 0.0;
+  for (const std::string path : {"line", "circle", "figure8"})
+    for (double a : {-1.0, 0.0, 0.5, 0.9, 1.5, 2.0, 3.0})
+      for (double b : {-1.0, 0.0, 0.5, 1.0}) {
+        const Overrides ov{{"a", fmt::format("{}", a)}, {"b", fmt::format("{}", b)}, {"path", path}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}, {"sample_dt", "0.01"}};
+        const double T = linear_outcome_horizon_s(Params::resolve(s.params, ov, s.name), 1.0, 0.5, 2.0);
+        total_s += T;
+        const RunRecord r = run_scenario(resolve_run(s, reference_engine(), ov));
+        ASSERT_EQ(r.status, Status::kPass) << path << " a=" << a << " b=" << b << ": " << r.message;
+        double d_after_min = INFINITY;
+        bool contact = false;
+        for (const auto& row : r.details.at("trace")) {
+          const double d = std::hypot(row[1].get<double>() - row[3].get<double>(), row[2].get<double>() - row[4].get<double>());
+          contact = contact || d <= 2.0 + 1e-9;
+          if (row[0].get<double>() >= T) d_after_min = std::min(d_after_min, d);
+        }
+        if (contact) {
+          EXPECT_EQ(T, 8.0) << path << " a=" << a << " b=" << b << ": a case with contact keeps the whole 8 s";
+        } else if (T < 8.0) {
+          ++shortened;
+          EXPECT_GE(d_after_min, 3.0) << path << " a=" << a << " b=" << b << ": the reference comes within 1 m of contact after " << T << " s";
+        }
+      }
+  EXPECT_GT(shortened, 40);  // the grid's 64 contact-free cases mostly stop early
+  EXPECT_LT(total_s, 0.55 * 84 * 8.0);
 }
