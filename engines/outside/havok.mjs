@@ -130,6 +130,7 @@ function add_hinge(parent, child, pivot_P, axis_x_P, axis_y_P, pivot_C, axis_x_C
 }
 
 function build_car(req) {
+  drop_world();  // a build that fails leaves no world to step
   C.carRequest(req, ['sphere', 'cylinder']);
   const knob = C.applySettings(SETTINGS, req.settings, 'car');
   new_world(req.gravity_W, knob, req.dt_s);
@@ -196,6 +197,7 @@ function step_car(req) {
 }
 
 function build_disks(req) {
+  drop_world();
   if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
   const knob = C.applySettings(SETTINGS, req.settings, 'disks');
   new_world([0, 0, 0], knob, req.dt_s);

@@ -153,9 +153,9 @@ function add_hinge(body1, body2, p_W, axis_W, normal_W, motor_Nm) {
 }
 
 function build_car(req) {
+  drop_world();  // a build that fails leaves no world to step
   C.carRequest(req, ['sphere', 'cylinder']);
   const knob = C.applySettings(SETTINGS, req.settings, 'car');
-  drop_world();
   world = make_system(knob, req.gravity_W);
   world.kind = 'car';
   const c = req.car, q0 = req.q0, R = c.R_m;
@@ -241,9 +241,9 @@ function contact_listener() {
 }
 
 function build_disks(req) {
+  drop_world();
   if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
   const knob = C.applySettings(SETTINGS, req.settings, 'disks');
-  drop_world();
   world = make_system(knob, [0, 0, 0]);
   world.kind = 'disks';
   world.M = add_body(new Jolt.SphereShape(req.radius_m, null), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Dynamic, L_DISK,
