@@ -1,89 +1,76 @@
 #include "engines/protocol/flat_reply.hpp"
 
 #include <charconv>
-#include <cmath>
-#include <nlohmann/json.hpp>
+#include <cstring>
 
 namespace liftcheck {
-
-/// The SAX events of one reply into FlatReply's slots; false from any event stops the parse
-/// (the reply is then read the checked way).
-class FlatSax final : public nlohmann::json_sax<nlohmann::json> {
- public:
-  explicit FlatSax(FlatReply& r) : r_(r) {}
-  bool null() override { return begin_value() && r_.index_.find(r_.path_) == r_.index_.end(); }
-  bool boolean(bool v) override {
-    if (!begin_value()) return false;
-    if (r_.frames_.size() == 1 && r_.path_ == "ok") r_.ok_ = v;
-    return r_.index_.find(r_.path_) == r_.index_.end();
-  }
-  bool number_integer(number_integer_t v) override { return number(static_cast<double>(v), true); }
-  bool number_unsigned(number_unsigned_t v) override { return number(static_cast<double>(v), true); }
-  bool number_float(number_float_t v, const string_t&) override { return number(v, false); }
-  bool string(string_t&) override { return begin_value() && r_.index_.find(r_.path_) == r_.index_.end(); }
-  bool binary(binary_t&) override { return false; }
-  bool start_object(std::size_t) override { return open(false); }
-  bool key(string_t& k) override {
-    r_.path_.resize(r_.frames_.back().base);
-    r_.path_ += k;
-    return true;
-  }
-  bool end_object() override { return close(); }
-  bool start_array(std::size_t) override { return r_.frames_.empty() ? false : open(true); }
-  bool end_array() override { return close(); }
-  bool parse_error(std::size_t, const std::string&, const nlohmann::detail::exception&) override { return false; }
-
- private:
-  /// Sets path_ to the name of the value that begins (its key was set by key()).
-  bool begin_value() {
-    if (r_.frames_.empty()) return false;  // a reply is an object
-    FlatReply::Frame& f = r_.frames_.back();
-    if (f.array) {
-      r_.path_.resize(f.base);
-      char digits[24];
-      const auto end = std::to_chars(digits, digits + sizeof digits, f.next++).ptr;
-      r_.path_.append(digits, end);
-    }
-    return true;
-  }
-  bool open(bool array) {
-    if (!r_.frames_.empty()) {
-      if (!begin_value()) return false;
-      r_.path_ += '/';
-    }
-    r_.frames_.push_back({array, r_.path_.size(), 0});
-    return true;
-  }
-  bool close() {
-    r_.frames_.pop_back();
-    return true;
-  }
-  bool number(double v, bool integer) {
-    if (!begin_value()) return false;
-    const auto it = r_.index_.find(r_.path_);
-    if (it == r_.index_.end() || r_.seen_[it->second] || !std::isfinite(v)) return false;
-    if (r_.slots_[it->second].integer && !integer) return false;
-    r_.values_[it->second] = v;
-    r_.seen_[it->second] = 1;
-    return true;
-  }
-  FlatReply& r_;
-};
 
 FlatReply::FlatReply(std::vector<Slot> slots) : slots_(std::move(slots)), values_(slots_.size()), seen_(slots_.size()) {
   for (size_t i = 0; i < slots_.size(); ++i) index_.emplace(slots_[i].path, i);
   path_.reserve(64);
-  frames_.reserve(8);
+}
+
+/// A number goes to its slot (once); anything else must not stand where a slot is named.
+bool FlatReply::scalar(simdjson::dom::element e) {
+  const auto it = index_.find(path_);
+  const simdjson::dom::element_type t = e.type();
+  const bool whole = t == simdjson::dom::element_type::INT64 || t == simdjson::dom::element_type::UINT64;
+  if (!whole && t != simdjson::dom::element_type::DOUBLE) return it == index_.end();
+  if (it == index_.end() || seen_[it->second] || (slots_[it->second].integer && !whole)) return false;
+  double v = 0.0;
+  if (e.get_double().get(v)) return false;
+  values_[it->second] = v;
+  seen_[it->second] = 1;
+  return true;
+}
+
+/// The value whose path is path_, and everything inside it; false where the fast path does not take it.
+bool FlatReply::walk(simdjson::dom::element e) {
+  const size_t own = path_.size();
+  simdjson::dom::object object;
+  simdjson::dom::array array;
+  if (!e.get(object)) {
+    for (const simdjson::dom::key_value_pair field : object) {
+      path_.resize(own);
+      path_ += '/';
+      path_.append(field.key.data(), field.key.size());
+      if (!walk(field.value)) return false;
+    }
+  } else if (!e.get(array)) {
+    long k = 0;
+    for (const simdjson::dom::element v : array) {
+      path_.resize(own);
+      path_ += '/';
+      char digits[24];
+      path_.append(digits, std::to_chars(digits, digits + sizeof digits, k++).ptr);
+      if (!walk(v)) return false;
+    }
+  } else {
+    return scalar(e);
+  }
+  path_.resize(own);
+  return true;
 }
 
 bool FlatReply::read(const std::string& line) {
   std::fill(values_.begin(), values_.end(), 0.0);
   std::fill(seen_.begin(), seen_.end(), 0);
-  frames_.clear();
-  path_.clear();
-  ok_ = false;
-  FlatSax sax(*this);
-  if (!nlohmann::json::sax_parse(line, &sax, nlohmann::json::input_format_t::json, true) || !ok_) return false;
+  padded_.resize(line.size() + simdjson::SIMDJSON_PADDING);
+  std::memcpy(padded_.data(), line.data(), line.size());
+  simdjson::dom::object doc;
+  if (parser_.parse(padded_.data(), line.size(), false).get(doc)) return false;
+  bool ok = false;
+  if (doc["ok"].get(ok) || !ok) return false;
+  // The top-level members: "ok" (once) is read above, every other one walked.
+  int oks = 0;
+  for (const simdjson::dom::key_value_pair field : doc) {
+    if (field.key == "ok") {
+      if (++oks > 1) return false;
+      continue;
+    }
+    path_.assign(field.key.data(), field.key.size());
+    if (!walk(field.value)) return false;
+  }
   for (size_t i = 0; i < slots_.size(); ++i)
     if (slots_[i].required && !seen_[i]) return false;
   return true;

@@ -1,9 +1,12 @@
 // The numbers of a step reply read straight into slots named in advance ("x_m",
-// "wheels/1/omega_W/2"), with nlohmann's SAX parser: no tree is built and, once the slots are
-// made, nothing is allocated per step. A reply this fast path does not read as well formed (not
+// "wheels/1/omega_W/2") with simdjson's DOM parser, which reuses its memory from reply to reply
+// and parses numbers exactly (correctly rounded, as strtod): once the slots are made, nothing is
+// allocated per step. A reply this fast path does not read as well formed (not
 // one object, "ok" not true, a slot missing, given twice or not a finite number, a number where
 // no slot is named) is left to the checked reading of the whole tree, which names what is wrong.
 #pragma once
+
+#include <simdjson.h>
 
 #include <string>
 #include <unordered_map>
@@ -27,19 +30,15 @@ class FlatReply {
   bool given(size_t i) const { return seen_[i] != 0; }
 
  private:
-  friend class FlatSax;
+  bool walk(simdjson::dom::element e);
+  bool scalar(simdjson::dom::element e);
   std::vector<Slot> slots_;
   std::unordered_map<std::string, size_t> index_;
   std::vector<double> values_;
   std::vector<char> seen_;
-  std::string path_;  ///< the path of the value being read (reused)
-  struct Frame {
-    bool array;
-    size_t base;  ///< path_'s length where this container's children's names begin
-    long next;    ///< an array's next index
-  };
-  std::vector<Frame> frames_;
-  bool ok_ = false;
+  std::string path_;          ///< the path of the value being read (reused)
+  std::vector<char> padded_;  ///< the line with simdjson's padding after it (reused)
+  simdjson::dom::parser parser_;
 };
 
 }  // namespace liftcheck
