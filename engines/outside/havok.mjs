@@ -134,7 +134,6 @@ function build_car(req) {
   C.carRequest(req, ['sphere', 'cylinder']);
   const knob = C.applySettings(SETTINGS, req.settings, 'car');
   new_world(req.gravity_W, knob, req.dt_s);
-  world.kind = 'car';
   const c = req.car, q0 = req.q0, R = c.R_m, DYN = HK.MotionType.DYNAMIC;
   const at = (bx, by, bz) => C.chassisPoint(q0, bx, by, bz);
   const q_chassis = C.yawQuat(q0.phi_rad);
@@ -201,7 +200,6 @@ function build_disks(req) {
   if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
   const knob = C.applySettings(SETTINGS, req.settings, 'disks');
   new_world([0, 0, 0], knob, req.dt_s);
-  world.kind = 'disks';
   const ball = () => shape(HK.HP_Shape_CreateSphere([0, 0, 0], req.radius_m), F_DISK, 0);
   world.M = add_body(ball(), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], HK.MotionType.DYNAMIC, 1);
   HK.HP_Body_SetGravityFactor(world.M, 0);
@@ -265,9 +263,6 @@ serve({
   },
   car: build_car,
   disks: build_disks,
-  step(req) {
-    if (!world) throw new Error('step before any car or disks build');
-    if (!(req.dt_s > 0)) throw new Error('step needs dt_s > 0');
-    return world.kind === 'car' ? step_car(req) : step_disks(req);
-  },
+  stepCar: step_car,
+  stepDisks: step_disks,
 });

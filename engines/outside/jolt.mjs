@@ -157,7 +157,6 @@ function build_car(req) {
   C.carRequest(req, ['sphere', 'cylinder']);
   const knob = C.applySettings(SETTINGS, req.settings, 'car');
   world = make_system(knob, req.gravity_W);
-  world.kind = 'car';
   const c = req.car, q0 = req.q0, R = c.R_m;
   const at = (bx, by, bz) => C.chassisPoint(q0, bx, by, bz);
   const q_chassis = C.yawQuat(q0.phi_rad);
@@ -245,7 +244,6 @@ function build_disks(req) {
   if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
   const knob = C.applySettings(SETTINGS, req.settings, 'disks');
   world = make_system(knob, [0, 0, 0]);
-  world.kind = 'disks';
   world.M = add_body(new Jolt.SphereShape(req.radius_m, null), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Dynamic, L_DISK,
                      { mass_kg: 1, gravity_factor: 0, dofs: Jolt.EAllowedDOFs_Plane2D });
   world.N = add_body(new Jolt.SphereShape(req.radius_m, null), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Kinematic, L_DISK);
@@ -306,9 +304,6 @@ serve({
   },
   car: build_car,
   disks: build_disks,
-  step(req) {
-    if (!world) throw new Error('step before any car or disks build');
-    if (!(req.dt_s > 0)) throw new Error('step needs dt_s > 0');
-    return world.kind === 'car' ? step_car(req) : step_disks(req);
-  },
+  stepCar: step_car,
+  stepDisks: step_disks,
 });

@@ -1,8 +1,8 @@
 // The liftcheck engine protocol (docs/protocol.md), version 1: one JSON request per line on
 // standard input, one JSON reply per line on standard output. An adapter supplies an object with
-// hello(), car(request), disks(request) and step(request) (the step of whichever world was built
-// last); this loop does the framing, the timing of nothing but the adapter's own calls, and the
-// error replies. Everything the adapter logs goes to standard error.
+// hello(), car(request), disks(request), stepCar(request) and stepDisks(request) (or one
+// step(request) of its own); this loop does the framing, steps whichever world the last build
+// made (none after a build that failed), and the error replies. Everything the adapter logs goes to standard error.
 //
 // Per step it costs one chunk read from standard input (no line interface), one JSON.parse, one
 // JSON.stringify and one write; the reply is searched for non-finite numbers only when its text
@@ -52,15 +52,30 @@ async function* lines(input) {
   if (rest) yield rest;
 }
 
+/// The world the last build made: 'car', 'disks', or null before any and after one that failed.
+let built = null;
+
 async function answer(adapter, req) {
   switch (req.op) {
     case 'hello':
       if (req.protocol !== PROTOCOL) throw new Error(`protocol ${req.protocol} asked, this adapter speaks ${PROTOCOL}`);
       return { protocol: PROTOCOL, ...(await adapter.hello()) };
-    case 'car': return adapter.car(req);
-    case 'disks': return adapter.disks(req);
+    case 'car':
+    case 'disks': {
+      built = null;
+      const reply = await adapter[req.op](req);
+      built = req.op;
+      return reply;
+    }
     default: throw new Error(`unknown op '${req.op}'`);
   }
+}
+
+function step(adapter, req) {
+  if (adapter.step) return adapter.step(req);  // an adapter that dispatches its steps itself
+  if (!built) throw new Error('step before any car or disks build');
+  if (!(req.dt_s > 0)) throw new Error('step needs dt_s > 0');
+  return built === 'car' ? adapter.stepCar(req) : adapter.stepDisks(req);
 }
 
 export async function serve(adapter) {
@@ -79,7 +94,7 @@ export async function serve(adapter) {
         process.exit(0);
       }
       // A step is answered without an await: no turn of the event loop between request and reply.
-      out(okText(req.op === 'step' ? adapter.step(req) : await answer(adapter, req)));
+      out(okText(req.op === 'step' ? step(adapter, req) : await answer(adapter, req)));
     } catch (e) {
       out(JSON.stringify({ ok: false, error: String(e && e.message ? e.message : e).split('\n')[0] }));
     }
