@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <iostream>
 #include <sstream>
+#include <utility>
 
 #include "engines/protocol/outside.hpp"
 #include "harness/runner.hpp"
@@ -52,6 +53,15 @@ bool flagged(const RunRecord& r, const std::string& name) {
   return false;
 }
 
+/// The unbroken `cannon` and the one with `fault`, on `scenario`; neither may be an error.
+std::pair<RunRecord, RunRecord> clean_and_broken(const std::string& scenario, const std::string& fault) {
+  const Scenario& s = *find_scenario(scenario);
+  std::pair<RunRecord, RunRecord> runs{run_scenario(s, cannon()), run_scenario(s, cannon(fault))};
+  EXPECT_NE(runs.first.status, Status::kError) << runs.first.message;
+  EXPECT_NE(runs.second.status, Status::kError) << runs.second.message;
+  return runs;
+}
+
 void print(const char* what, const RunRecord& r, const std::string& name) {
   const Metric& m = metric(r, name);
   std::cout << "  " << what << ": " << name << " in " << r.scenario << " error " << m.compared_error() << " against tolerance " << m.tolerance
@@ -64,11 +74,7 @@ void print(const char* what, const RunRecord& r, const std::string& name) {
 // (cannon-es's own report is on time: contact_missed 0 against 1e-9 m).
 TEST(OutsideFaults, CannonContactReportedOneStepLate) {
   if (const std::string why = missing(); !why.empty()) GTEST_SKIP() << why;
-  const Scenario& s = *find_scenario("disks.repel");
-  const RunRecord clean = run_scenario(s, cannon());
-  const RunRecord late = run_scenario(s, cannon("late-contact"));
-  ASSERT_NE(clean.status, Status::kError) << clean.message;
-  ASSERT_NE(late.status, Status::kError) << late.message;
+  const auto [clean, late] = clean_and_broken("disks.repel", "late-contact");
   print("cannon", clean, "contact_missed");
   print("cannon.mjs --fault late-contact", late, "contact_missed");
   EXPECT_TRUE(metric(clean, "contact_missed").pass);
@@ -84,11 +90,7 @@ TEST(OutsideFaults, CannonContactReportedOneStepLate) {
 // cannon's listing is below the sum.
 TEST(OutsideFaults, CannonPoseReportedOneStepLate) {
   if (const std::string why = missing(); !why.empty()) GTEST_SKIP() << why;
-  const Scenario& s = *find_scenario("car.circle");
-  const RunRecord clean = run_scenario(s, cannon());
-  const RunRecord stale = run_scenario(s, cannon("stale-pose"));
-  ASSERT_NE(clean.status, Status::kError) << clean.message;
-  ASSERT_NE(stale.status, Status::kError) << stale.message;
+  const auto [clean, stale] = clean_and_broken("car.circle", "stale-pose");
   print("cannon", clean, "realized_lift_error");
   print("cannon.mjs --fault stale-pose", stale, "realized_lift_error");
   const double added_m = metric(stale, "realized_lift_error").abs_error - metric(clean, "realized_lift_error").abs_error;
