@@ -183,4 +183,38 @@ void BM_ProtocolRoundTrip(benchmark::State& state) {
 }
 BENCHMARK(BM_ProtocolRoundTrip)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(5);
 
+/// The same round trip to the cheapest outside adapter, cannon-es (engines/outside/cannon.mjs
+/// under Node): its own stepping time (engine_s, world.step timed by the adapter: the in-process
+/// loop of the same engine) against the wall clock per step over the protocol, which adds the
+/// request's encoding and the reply's reading on both sides, the pipes and the waits for the
+/// other process. Skipped where Node or the npm packages are missing.
+void BM_ProtocolCannon(benchmark::State& state) {
+  static const EngineInfo served = outside_engine("cannon", {"node", "cannon.mjs", "--config", "default"}, LIFTCHECK_ADAPTERS_DIR);
+  if (!served.unavailable.empty()) {
+    for (auto _ : state) state.SkipWithError(served.unavailable.c_str());
+    return;
+  }
+  const CarSetup setup = circle_setup();
+  const car::BasePath path({{kDrive_m / setup.car.R_m, 0.0}}, 0.0, kStart.beta_rad, setup.drive);
+  double best_wall_s = INFINITY, engine_s = 0.0, steps = 0.0, client_cpu_s = INFINITY;
+  for (auto _ : state) {
+    auto over = served.make_car(served.defaults("car"));
+    over->reset(setup, kStart);
+    const double cpu0 = thread_cpu_s();
+    const auto t0 = std::chrono::steady_clock::now();
+    over->drive(path);
+    const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    client_cpu_s = std::min(client_cpu_s, thread_cpu_s() - cpu0);
+    state.SetIterationTime(wall);
+    if (wall < best_wall_s) best_wall_s = wall, engine_s = over->reported_engine_s();
+    steps = std::round(over->simulated_s() / setup.dt_s);
+  }
+  state.counters["steps"] = steps;
+  state.counters["wall_us_per_step"] = 1e6 * best_wall_s / steps;
+  state.counters["engine_us_per_step"] = 1e6 * engine_s / steps;
+  state.counters["protocol_us_per_step"] = 1e6 * (best_wall_s - engine_s) / steps;
+  state.counters["client_cpu_us_per_step"] = 1e6 * client_cpu_s / steps;
+}
+BENCHMARK(BM_ProtocolCannon)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(5);
+
 }  // namespace

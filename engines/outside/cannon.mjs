@@ -186,9 +186,6 @@ serve({
   }),
   car: buildCar,
   disks: buildDisks,
-  step: (req) => {
-    if (car) return stepCar(req);
-    if (disks) return stepDisks(req);
-    throw new Error('step before car or disks');
-  },
+  stepCar,
+  stepDisks,
 });

@@ -6,6 +6,16 @@
 /// The radius of gyration squared (m^2) of the steering knuckle, about every axis: that of the
 /// knuckle of liftcheck's compiled-in cars (0.05 kg, 1e-4 kg m^2), scaled to the mass asked for.
 export const KNUCKLE_GYRATION_SQ_M2 = 1e-4 / 0.05;
+/// The radius of a solid sphere of that gyration (0.4 r^2 = k^2), m: the knuckle of the adapters
+/// that give it a shape and let the engine compute its inertia.
+export const KNUCKLE_RADIUS_M = Math.sqrt(1e-4 / (0.4 * 0.05));
+
+/// Half-size of a square ground box centred under the start, m: room for the scenarios' drives
+/// (10 m paths, laps of the turning circle l / sin(beta)) and no more (float32 engines lose
+/// contact precision on large shapes, docs/protocol.md).
+export function groundHalf_m(car) {
+  return Math.max(30, 10 * car.l_m);
+}
 
 export function wrapAngle(a) {
   return a - 2 * Math.PI * Math.floor((a + Math.PI) / (2 * Math.PI));
@@ -35,33 +45,55 @@ function vector(obj, key, n, where) {
 }
 
 /// The knobs of a configuration (hello's `settings`): `specs` as sent in hello, `given` the
-/// request's `settings` object of strings. Unknown keys and out-of-range values are refused.
+/// request's `settings` object of strings. Every knob of `vehicle` from `given` or its default,
+/// each checked against its kind (integer, real, choice) and range; an unknown key, a value of
+/// the wrong kind or out of range is refused, never clamped.
 export function applySettings(specs, given, vehicle) {
+  const mine = specs.filter((k) => k.vehicle === vehicle);
+  for (const key of Object.keys(given ?? {}))
+    need(mine.some((k) => k.key === key), `setting '${key}' is not a ${vehicle} setting of this configuration (it has ${mine.map((k) => k.key).join(', ') || 'none'})`);
   const values = {};
-  for (const s of specs) if (s.vehicle === vehicle) values[s.key] = Number(s.default);
-  for (const [key, text] of Object.entries(given ?? {})) {
-    const s = specs.find((x) => x.key === key);
-    need(s, `unknown setting '${key}' (this configuration has ${specs.map((x) => x.key).join(', ') || 'none'})`);
-    need(s.vehicle === vehicle, `setting '${key}' is for the ${s.vehicle}, not the ${vehicle}`);
-    need(typeof text === 'string' && /^[+-]?\d+$/.test(text.trim()), `setting '${key}' = '${text}' is not an integer`);
-    const v = Number(text);
-    need(v >= s.min && v <= s.max, `setting '${key}' = ${v} is out of range [${s.min}, ${s.max}]`);
-    values[key] = v;
-  }
+  for (const k of mine) values[k.key] = parseSetting(k, given && Object.hasOwn(given, k.key) ? String(given[k.key]) : k.default);
   return values;
 }
 
-/// The car request's numbers, checked: the tricycle (wheels 3) or the four-wheel car, sphere wheels.
-export function carRequest(req) {
+function parseSetting(k, text) {
+  if (k.kind === 'choice') {
+    need(k.choices.includes(text), `setting ${k.key} = '${text}' is not one of ${k.choices.join(' | ')}`);
+    return text;
+  }
+  const v = Number(text);
+  const whole = k.kind === 'integer';
+  need(text.trim() !== '' && Number.isFinite(v) && (!whole || Number.isInteger(v)), `setting ${k.key} = '${text}' is not ${whole ? 'a whole number' : 'a number'}`);
+  need((k.min_exclusive ? v > k.min : v >= k.min) && v <= k.max, `setting ${k.key} = ${text} is outside ${k.min_exclusive ? '(' : '['}${k.min}, ${k.max}]`);
+  return v;
+}
+
+/// The wheel-shape knob of the adapters that build cylinder wheels too (Bullet's `wheel`, same choices).
+export const WHEEL_KNOB = { key: 'wheel', vehicle: 'car', kind: 'choice', choices: ['sphere', 'cylinder'], default: 'sphere',
+  help: 'wheel collision shape: spheres of radius R, or cylinders of wheel_width_m about the axle' };
+
+/// The wheel shape a car request asks for: the `wheel` knob (its value in `knobs`) where it is
+/// set, else car.wheel_shape (the two must agree where both are given).
+export function wheelShapeOf(req, knobs) {
+  const given = req.settings && Object.hasOwn(req.settings, 'wheel');
+  need(!given || req.car.wheel_shape === undefined || req.car.wheel_shape === knobs.wheel,
+    `setting wheel = ${knobs.wheel} disagrees with car.wheel_shape = ${req.car.wheel_shape}`);
+  return given ? knobs.wheel : req.car.wheel_shape;
+}
+
+/// The car request's numbers, checked: the tricycle (wheels 3) or the four-wheel car, with wheels
+/// of one of `shapes` (the wheel_shape given, sphere where none is).
+export function carRequest(req, shapes = ['sphere']) {
   const c = req.car;
   need(c && typeof c === 'object', 'car request without a car object');
   const car = {};
-  for (const k of ['R_m', 'l_m', 'track_m', 'chassis_height_m', 'chassis_mass_kg', 'wheel_mass_kg', 'knuckle_mass_kg'])
+  for (const k of ['R_m', 'l_m', 'track_m', 'wheel_width_m', 'chassis_height_m', 'chassis_mass_kg', 'wheel_mass_kg', 'knuckle_mass_kg'])
     car[k] = positive(c, k, 'car');
   need(c.wheels === 3 || c.wheels === 4, `car.wheels = ${c.wheels}: 3 (the tricycle) or 4`);
   car.wheels = c.wheels;
   car.parallel_steering = c.parallel_steering === true;
-  need((c.wheel_shape ?? 'sphere') === 'sphere', `car.wheel_shape '${c.wheel_shape}': this adapter builds sphere wheels only`);
+  need(shapes.includes(c.wheel_shape ?? 'sphere'), `car.wheel_shape '${c.wheel_shape}': this adapter builds ${shapes.join(' or ')} wheels`);
   const mu = finiteNumber(req, 'mu', 'car request');
   need(mu >= 0, 'mu must not be negative');
   const q0 = {};

@@ -17,7 +17,7 @@
 // signed distance is (p_B - p_A) . n_A (positive for Havok's contacts ahead of touching).
 // Every build releases the previous world with all its bodies, shapes and constraints.
 import { serve, timed } from './protocol.mjs';
-import { apply_settings, car_reply, WHEEL_KNOB, wheel_shape_of, check_car, chassis_to_world, front_rates, front_wheels, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, twist_angle, yaw_quat } from './frames.mjs';
+import * as C from './common.mjs';
 import { readFileSync } from 'node:fs';
 
 const PKG = new URL('./node_modules/@babylonjs/havok/', import.meta.url);
@@ -49,7 +49,7 @@ const SETTINGS = ['car', 'disks'].map((vehicle) => ({
   key: 'ideal_step_time', vehicle, kind: 'choice', choices: ['1/60', 'dt', 'off'], default: PRESETS[CONFIG],
   help: 'HP_World_SetIdealStepTime: 1/60 s (Havok\'s default), the run\'s dt, or off (0: no adaptation of the solver to the step)',
 }));
-SETTINGS.splice(1, 0, WHEEL_KNOB);
+SETTINGS.splice(1, 0, C.WHEEL_KNOB);
 
 let world = null;  // { id, bodies, shapes, constraints, kind, ... }
 
@@ -130,29 +130,29 @@ function add_hinge(parent, child, pivot_P, axis_x_P, axis_y_P, pivot_C, axis_x_C
 }
 
 function build_car(req) {
-  check_car(req);
-  const knob = apply_settings(SETTINGS, 'car', req.settings);
+  drop_world();  // a build that fails leaves no world to step
+  C.carRequest(req, ['sphere', 'cylinder']);
+  const knob = C.applySettings(SETTINGS, req.settings, 'car');
   new_world(req.gravity_W, knob, req.dt_s);
-  world.kind = 'car';
   const c = req.car, q0 = req.q0, R = c.R_m, DYN = HK.MotionType.DYNAMIC;
-  const at = chassis_to_world(q0);
-  const q_chassis = yaw_quat(q0.phi_rad);
-  const side = 2 * ground_half_m(c);
+  const at = (bx, by, bz) => C.chassisPoint(q0, bx, by, bz);
+  const q_chassis = C.yawQuat(q0.phi_rad);
+  const side = 2 * C.groundHalf_m(c);
   // Havok's pair coefficient is min(mu, mu) = mu.
   add_body(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [side, side, 1]), F_GROUND, req.mu), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1],
            HK.MotionType.STATIC, 0);
   const chassis = add_body(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [c.l_m, c.track_m, c.chassis_height_m]), F_GHOST, 0),
                            at(-0.5 * c.l_m, 0, R), q_chassis, DYN, c.chassis_mass_kg);
-  const wheel_shape = () => shape(wheel_shape_of(req, knob) === 'cylinder'
+  const wheel_shape = () => shape(C.wheelShapeOf(req, knob) === 'cylinder'
     ? HK.HP_Shape_CreateCylinder([0, -0.5 * c.wheel_width_m, 0], [0, 0.5 * c.wheel_width_m, 0], R)  // axis along local y
     : HK.HP_Shape_CreateSphere([0, 0, 0], R), F_WHEEL, req.mu);
   const Z = [0, 0, 1], Y = [0, 1, 0], X = [1, 0, 0], O = [0, 0, 0];
   // Each front wheel on its own knuckle, both yawed by the wheel's start steering angle b0. The
   // steering hinge's zero direction is the chassis x: (1, 0, 0) in the chassis frame, the same
   // direction (cos b0, -sin b0, 0) in the knuckle's.
-  world.fronts = front_wheels(c, q0.beta_rad).map(({ y_m, beta0_rad: b0 }) => {
-    const q_front = yaw_quat(q0.phi_rad + b0), hub = at(0, y_m, R);
-    const knuckle = add_body(shape(HK.HP_Shape_CreateSphere(O, KNUCKLE_RADIUS_M), F_GHOST, 0), hub, q_front, DYN, c.knuckle_mass_kg);
+  world.fronts = C.frontWheels(c, q0.beta_rad).map(({ y_m, beta0_rad: b0 }) => {
+    const q_front = C.yawQuat(q0.phi_rad + b0), hub = at(0, y_m, R);
+    const knuckle = add_body(shape(HK.HP_Shape_CreateSphere(O, C.KNUCKLE_RADIUS_M), F_GHOST, 0), hub, q_front, DYN, c.knuckle_mass_kg);
     const body = add_body(wheel_shape(), hub, q_front, DYN, c.wheel_mass_kg);
     const steer = add_hinge(chassis, knuckle, [0.5 * c.l_m, y_m, 0], Z, X, O, Z, [Math.cos(b0), -Math.sin(b0), 0], req.servo.steer_torque_max_Nm);
     const spin = add_hinge(knuckle, body, O, Y, Z, O, Y, Z, req.servo.spin_torque_max_Nm);
@@ -164,7 +164,7 @@ function build_car(req) {
     return body;
   });
   world.chassis = chassis;
-  return car_state();
+  return car_state(0);
 }
 
 function pose(b) {
@@ -172,37 +172,34 @@ function pose(b) {
   return { p, q };
 }
 
-function wheel_state(b) {
+function body_state(b) {
   const { p, q } = pose(b);
-  return { v_hub_W: HK.HP_Body_GetLinearVelocity(b)[1], omega_W: HK.HP_Body_GetAngularVelocity(b)[1], axle_W: rotate(q, [0, 1, 0]), hub_z_m: p[2] };
+  return { p, q, v: HK.HP_Body_GetLinearVelocity(b)[1], w: HK.HP_Body_GetAngularVelocity(b)[1] };
 }
 
-function car_state() {
+function car_state(engine_s) {
   const q_chassis = pose(world.chassis).q;
   // The joints' angles from the bodies: the knuckle's twist about the chassis z (the steering angle
   // itself: the hinge's zero is the chassis x), the wheel's about the knuckle y.
-  const fronts = world.fronts.map((f) => {
-    const knuckle = pose(f.knuckle).q, wheel = pose(f.body);
-    return { spin_rad: twist_angle(knuckle, wheel.q, [0, 1, 0]), steer_rad: twist_angle(q_chassis, knuckle, [0, 0, 1]), p: wheel.p };
-  });
-  const wheels = [...world.fronts.map((f) => f.body), ...world.rear].map(wheel_state);
-  return car_reply(fronts, heading(q_chassis), wheels);
+  const knuckles = world.fronts.map((f) => pose(f.knuckle).q), wheels = world.fronts.map((f) => body_state(f.body));
+  return C.carReply(engine_s, wheels.map((w, k) => C.twist(knuckles[k], w.q, 1)), knuckles.map((q) => C.twist(q_chassis, q, 2)),
+    q_chassis, wheels, world.rear.map(body_state));
 }
 
 function step_car(req) {
-  front_rates(req, world.fronts.length).forEach(({ spin, steer }, k) => {
-    HK.HP_Constraint_SetAxisMotorTarget(world.fronts[k].spin, A.ANGULAR_X, spin);
-    HK.HP_Constraint_SetAxisMotorTarget(world.fronts[k].steer, A.ANGULAR_X, steer);
+  const { spin, steer } = C.carStep(req);
+  world.fronts.forEach((f, k) => {
+    HK.HP_Constraint_SetAxisMotorTarget(f.spin, A.ANGULAR_X, spin[k]);
+    HK.HP_Constraint_SetAxisMotorTarget(f.steer, A.ANGULAR_X, steer[k]);
   });
-  const engine_s = timed(() => HK.HP_World_Step(world.id, req.dt_s));
-  return { engine_s, ...car_state() };
+  return car_state(timed(() => HK.HP_World_Step(world.id, req.dt_s)));
 }
 
 function build_disks(req) {
+  drop_world();
   if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
-  const knob = apply_settings(SETTINGS, 'disks', req.settings);
+  const knob = C.applySettings(SETTINGS, req.settings, 'disks');
   new_world([0, 0, 0], knob, req.dt_s);
-  world.kind = 'disks';
   const ball = () => shape(HK.HP_Shape_CreateSphere([0, 0, 0], req.radius_m), F_DISK, 0);
   world.M = add_body(ball(), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], HK.MotionType.DYNAMIC, 1);
   HK.HP_Body_SetGravityFactor(world.M, 0);
@@ -256,7 +253,7 @@ serve({
           ? 'Havok as Babylon.js ships it: world defaults (ideal step time 1/60 s, from which Havok adapts its solver to the step it is given); no solver iterations are exposed'
           : 'Havok with the ideal step time set to the step it is called with (HP_World_SetIdealStepTime, as its API documents); everything else as shipped; no solver iterations are exposed'],
         ['joints', '6-DOF constraints with only ANGULAR_X free (Babylon.js HingeConstraint): steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y) with VELOCITY motors, max torque the servo torque; passive ones for the rear wheels; joint angles from the bodies\' orientations'],
-        ['bodies', `chassis box of the chassis mass (filter colliding with nothing); knuckle a ${KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg, colliding with nothing; wheels spheres of radius R (or y-axis cylinders) of wheel_mass_kg; inertias HP_Shape_BuildMassProperties gives for the shapes at those masses; no damping, always active`],
+        ['bodies', `chassis box of the chassis mass (filter colliding with nothing); knuckle a ${C.KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg, colliding with nothing; wheels spheres of radius R (or y-axis cylinders) of wheel_mass_kg; inertias HP_Shape_BuildMassProperties gives for the shapes at those masses; no damping, always active`],
         ['ground', 'static box, top face z = 0, 60 m square (or 20 l) centred under the start (float32 contact precision degrades on large shapes)'],
         ['friction', 'each material names its combine mode; measured: GEOMETRIC_MEAN, MINIMUM, MAXIMUM, ARITHMETIC_MEAN, MULTIPLY do what they say, and of two different modes the later in that list wins. Both materials MINIMUM (Babylon.js PhysicsMaterial default), wheel and ground both mu: min(mu, mu) = mu; restitution 0'],
         ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, linear velocity set to the command (z = 0) before each step; N kinematic, HP_Body_SetTargetQTransform to its next position; contacts from the step\'s COLLISION_STARTED/CONTINUED events, distance (p_N - p_M) . n'],
@@ -266,9 +263,6 @@ serve({
   },
   car: build_car,
   disks: build_disks,
-  step(req) {
-    if (!world) throw new Error('step before any car or disks build');
-    if (!(req.dt_s > 0)) throw new Error('step needs dt_s > 0');
-    return world.kind === 'car' ? step_car(req) : step_disks(req);
-  },
+  stepCar: step_car,
+  stepDisks: step_disks,
 });

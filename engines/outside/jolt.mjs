@@ -18,7 +18,7 @@
 // Every build makes a new JoltInterface and destroys the previous one with all its bodies and
 // constraints (one process serves many runs).
 import { serve, timed } from './protocol.mjs';
-import { apply_settings, car_reply, WHEEL_KNOB, wheel_shape_of, check_car, chassis_to_world, front_rates, front_wheels, ground_half_m, heading, KNUCKLE_RADIUS_M, rotate, wrap, yaw_quat } from './frames.mjs';
+import * as C from './common.mjs';
 import { readFileSync } from 'node:fs';
 
 const Jolt = await (await import('jolt-physics')).default();
@@ -49,7 +49,7 @@ function knobs(vehicle) {
       help: 'PhysicsSettings::mPenetrationSlop, m: how far bodies may sink into each other before the position solver pushes them out' },
   ];
 }
-const SETTINGS = [...knobs('car'), WHEEL_KNOB, ...knobs('disks')];
+const SETTINGS = [...knobs('car'), C.WHEEL_KNOB, ...knobs('disks')];
 
 // Object layers: the ground, wheels (collide with the ground only), ghosts (chassis and knuckle,
 // collide with nothing), disks (collide with each other).
@@ -153,15 +153,14 @@ function add_hinge(body1, body2, p_W, axis_W, normal_W, motor_Nm) {
 }
 
 function build_car(req) {
-  check_car(req);
-  const knob = apply_settings(SETTINGS, 'car', req.settings);
-  drop_world();
+  drop_world();  // a build that fails leaves no world to step
+  C.carRequest(req, ['sphere', 'cylinder']);
+  const knob = C.applySettings(SETTINGS, req.settings, 'car');
   world = make_system(knob, req.gravity_W);
-  world.kind = 'car';
   const c = req.car, q0 = req.q0, R = c.R_m;
-  const at = chassis_to_world(q0);
-  const q_chassis = yaw_quat(q0.phi_rad);
-  const half = ground_half_m(c);
+  const at = (bx, by, bz) => C.chassisPoint(q0, bx, by, bz);
+  const q_chassis = C.yawQuat(q0.phi_rad);
+  const half = C.groundHalf_m(c);
   const ext = vec3([half, half, 0.5]);
   add_body(new Jolt.BoxShape(ext, 0.05, null), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1], Jolt.EMotionType_Static, L_GROUND,
            { friction: req.mu });  // Jolt combines friction as sqrt(f_wheel f_ground): both mu give mu
@@ -170,28 +169,28 @@ function build_car(req) {
   const chassis = add_body(new Jolt.BoxShape(box, 0, null), at(-0.5 * c.l_m, 0, R), q_chassis, Jolt.EMotionType_Dynamic, L_GHOST,
                            { mass_kg: c.chassis_mass_kg });
   Jolt.destroy(box);
-  const wheel_shape = () => wheel_shape_of(req, knob) === 'cylinder'
+  const wheel_shape = () => C.wheelShapeOf(req, knob) === 'cylinder'
     ? new Jolt.CylinderShape(0.5 * c.wheel_width_m, R, Math.min(0.05, 0.25 * c.wheel_width_m), null)  // axis along local y
     : new Jolt.SphereShape(R, null);
   const wheel = (p, q) => add_body(wheel_shape(), p, q, Jolt.EMotionType_Dynamic, L_WHEEL, { mass_kg: c.wheel_mass_kg, friction: req.mu });
   // Each front wheel on its own knuckle, both yawed by the wheel's start steering angle.
-  world.fronts = front_wheels(c, q0.beta_rad).map(({ y_m, beta0_rad }) => {
-    const q_front = yaw_quat(q0.phi_rad + beta0_rad), hub = at(0, y_m, R);
-    const knuckle = add_body(new Jolt.SphereShape(KNUCKLE_RADIUS_M, null), hub, q_front, Jolt.EMotionType_Dynamic, L_GHOST,
+  world.fronts = C.frontWheels(c, q0.beta_rad).map(({ y_m, beta0_rad }) => {
+    const q_front = C.yawQuat(q0.phi_rad + beta0_rad), hub = at(0, y_m, R);
+    const knuckle = add_body(new Jolt.SphereShape(C.KNUCKLE_RADIUS_M, null), hub, q_front, Jolt.EMotionType_Dynamic, L_GHOST,
                              { mass_kg: c.knuckle_mass_kg });
     const body = wheel(hub, q_front);
-    const steer = add_hinge(chassis, knuckle, hub, [0, 0, 1], rotate(q_front, [1, 0, 0]), req.servo.steer_torque_max_Nm);
-    const spin = add_hinge(knuckle, body, hub, rotate(q_front, [0, 1, 0]), [0, 0, 1], req.servo.spin_torque_max_Nm);
+    const steer = add_hinge(chassis, knuckle, hub, [0, 0, 1], C.rotate(q_front, [1, 0, 0]), req.servo.steer_torque_max_Nm);
+    const spin = add_hinge(knuckle, body, hub, C.rotate(q_front, [0, 1, 0]), [0, 0, 1], req.servo.spin_torque_max_Nm);
     return { body, steer, spin, beta0_rad };
   });
-  const axle_chassis = rotate(q_chassis, [0, 1, 0]);
+  const axle_chassis = C.rotate(q_chassis, [0, 1, 0]);
   world.rear = [0.5, -0.5].map((y) => {
     const body = wheel(at(-c.l_m, y * c.track_m, R), q_chassis);
     add_hinge(chassis, body, at(-c.l_m, y * c.track_m, R), axle_chassis, [0, 0, 1], 0);
     return body;
   });
   world.chassis = chassis;
-  return car_state();
+  return car_state(0);
 }
 
 function pose(body) {
@@ -199,27 +198,27 @@ function pose(body) {
   return { p: [p.GetX(), p.GetY(), p.GetZ()], q: [q.GetX(), q.GetY(), q.GetZ(), q.GetW()] };
 }
 
-function wheel_state(body) {
+/// A wheel's body state {p, q, v, w}, copied out of the binding's reused result objects.
+function body_state(body) {
   const { p, q } = pose(body);
-  const v = body.GetLinearVelocity(), v_hub_W = [v.GetX(), v.GetY(), v.GetZ()];
-  const w = body.GetAngularVelocity(), omega_W = [w.GetX(), w.GetY(), w.GetZ()];
-  return { v_hub_W, omega_W, axle_W: rotate(q, [0, 1, 0]), hub_z_m: p[2] };
+  const v = body.GetLinearVelocity(), v_W = [v.GetX(), v.GetY(), v.GetZ()];
+  const w = body.GetAngularVelocity(), w_W = [w.GetX(), w.GetY(), w.GetZ()];
+  return { p, q, v: v_W, w: w_W };
 }
 
-function car_state() {
+function car_state(engine_s) {
   // Hinge angles are zero at the build pose: the steering angle is the start angle plus it.
-  const fronts = world.fronts.map((f) => ({ spin_rad: wrap(f.spin.GetCurrentAngle()), steer_rad: f.beta0_rad + f.steer.GetCurrentAngle(), p: pose(f.body).p }));
-  const wheels = [...world.fronts.map((f) => f.body), ...world.rear].map(wheel_state);
-  return car_reply(fronts, heading(pose(world.chassis).q), wheels);
+  return C.carReply(engine_s, world.fronts.map((f) => f.spin.GetCurrentAngle()), world.fronts.map((f) => f.beta0_rad + f.steer.GetCurrentAngle()),
+    pose(world.chassis).q, world.fronts.map((f) => body_state(f.body)), world.rear.map(body_state));
 }
 
 function step_car(req) {
-  front_rates(req, world.fronts.length).forEach(({ spin, steer }, k) => {
-    world.fronts[k].spin.SetTargetAngularVelocity(spin);
-    world.fronts[k].steer.SetTargetAngularVelocity(steer);
+  const { spin, steer } = C.carStep(req);
+  world.fronts.forEach((f, k) => {
+    f.spin.SetTargetAngularVelocity(spin[k]);
+    f.steer.SetTargetAngularVelocity(steer[k]);
   });
-  const engine_s = timed(() => world.jolt.Step(req.dt_s, 1));
-  return { engine_s, ...car_state() };
+  return car_state(timed(() => world.jolt.Step(req.dt_s, 1)));
 }
 
 /// Counts the M-N contact points of one narrow-phase manifold and keeps the smallest signed
@@ -241,11 +240,10 @@ function contact_listener() {
 }
 
 function build_disks(req) {
-  if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
-  const knob = apply_settings(SETTINGS, 'disks', req.settings);
   drop_world();
+  if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
+  const knob = C.applySettings(SETTINGS, req.settings, 'disks');
   world = make_system(knob, [0, 0, 0]);
-  world.kind = 'disks';
   world.M = add_body(new Jolt.SphereShape(req.radius_m, null), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Dynamic, L_DISK,
                      { mass_kg: 1, gravity_factor: 0, dofs: Jolt.EAllowedDOFs_Plane2D });
   world.N = add_body(new Jolt.SphereShape(req.radius_m, null), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Kinematic, L_DISK);
@@ -296,7 +294,7 @@ serve({
       fixed: [
         ['configuration', FIXED[CONFIG]],
         ['joints', 'HingeConstraint steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y), both EMotorState_Velocity with torque limits +-servo torque; passive HingeConstraints for the rear wheels'],
-        ['bodies', `chassis box of the chassis mass (layer colliding with nothing); knuckle a ${KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg (inertia 0.4 m r^2: 1e-4 kg m^2 at 0.05 kg), colliding with nothing; wheels spheres of radius R (or Y-axis cylinders) of wheel_mass_kg; inertias Jolt computes for the shapes at those masses; no damping, no sleeping`],
+        ['bodies', `chassis box of the chassis mass (layer colliding with nothing); knuckle a ${C.KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg (inertia 0.4 m r^2: 1e-4 kg m^2 at 0.05 kg), colliding with nothing; wheels spheres of radius R (or Y-axis cylinders) of wheel_mass_kg; inertias Jolt computes for the shapes at those masses; no damping, no sleeping`],
         ['ground', 'static BoxShape, top face z = 0, 60 m square (or 20 l) centred under the start'],
         ['friction', 'Jolt combines friction as the geometric mean sqrt(f1 f2): wheel and ground both mu'],
         ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, EAllowedDOFs_Plane2D, linear velocity set to the command before each step; N kinematic, MoveKinematic to its next position; contacts from ContactListener OnContactAdded/OnContactPersisted (speculative manifolds within 2 cm included, distance = -mPenetrationDepth)'],
@@ -306,9 +304,6 @@ serve({
   },
   car: build_car,
   disks: build_disks,
-  step(req) {
-    if (!world) throw new Error('step before any car or disks build');
-    if (!(req.dt_s > 0)) throw new Error('step needs dt_s > 0');
-    return world.kind === 'car' ? step_car(req) : step_disks(req);
-  },
+  stepCar: step_car,
+  stepDisks: step_disks,
 });

@@ -43,7 +43,10 @@ for (const reg of REGISTERED) {
     assert.equal(h.protocol, 1);
     assert.ok(['float32', 'float64'].includes(h.precision));
     assert.deepEqual(h.vehicles, ['car', 'disks']);
-    for (const k of h.settings) assert.ok(Number(k.default) >= k.min && Number(k.default) <= k.max, k.key);
+    for (const k of h.settings) {
+      if (k.kind === 'choice') assert.ok(k.choices.includes(k.default), k.key);
+      else assert.ok(Number(k.default) >= k.min && Number(k.default) <= k.max, k.key);
+    }
     assert.equal((await a.request({ op: 'hello', protocol: 2 })).ok, false);
     await a.stop();
   });
@@ -58,7 +61,10 @@ for (const reg of REGISTERED) {
     };
     await refused({ op: 'step', spin_radps: [0, 0], steer_radps: [0, 0], dt_s: 0.001 }, 'a step before any build');
     await refused(carRequest({ no_such_knob: '1' }), 'an unknown knob');
-    for (const k of h.settings) await refused(carRequest({ [k.key]: String(k.max + 1) }), `${k.key} above its range`);
+    for (const k of h.settings.filter((s) => s.vehicle === 'car')) {
+      if (k.kind === 'choice') await refused(carRequest({ [k.key]: 'no-such-choice' }), `${k.key} not one of its choices`);
+      else await refused(carRequest({ [k.key]: String(k.max + 1) }), `${k.key} above its range`);
+    }
     assert.equal((await a.request(carRequest({}))).ok, true);
     await refused({ ...carRequest({}), car: { ...CAR, wheels: 5 } }, 'a car with five wheels');
     await refused({ op: 'step', spin_radps: [0, 0], steer_radps: [0, 0], dt_s: 0.001 }, 'a step after a failed build (it drops the car before it)');

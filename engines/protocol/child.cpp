@@ -173,16 +173,15 @@ void ProtocolChild::write_all(const std::string& text, double deadline_s) {
   }
 }
 
-std::string ProtocolChild::read_line(double deadline_s) {
+const std::string& ProtocolChild::read_line(double deadline_s) {
   for (;;) {
     const size_t nl = out_buf_.find('\n');
     if (nl != std::string::npos) {
       if (nl > kProtocolLineMax) fail("sent a line longer than 1 MiB");
-      std::string line = out_buf_.substr(0, nl);
+      last_line_.assign(out_buf_, 0, nl);  // both buffers keep their capacity from step to step
       out_buf_.erase(0, nl + 1);
-      if (!line.empty() && line.back() == '\r') line.pop_back();
-      last_line_ = line;
-      return line;
+      if (!last_line_.empty() && last_line_.back() == '\r') last_line_.pop_back();
+      return last_line_;
     }
     if (out_buf_.size() > kProtocolLineMax) {
       last_line_ = out_buf_.substr(0, 200);
@@ -218,13 +217,17 @@ std::string ProtocolChild::read_line(double deadline_s) {
   }
 }
 
-nlohmann::json ProtocolChild::call(const nlohmann::json& request, double timeout_s) {
-  op_ = request.value("op", "?");
+const std::string& ProtocolChild::exchange(const char* op, std::string& request, double timeout_s) {
+  op_ = op;
   if (!healthy()) fail("the process is no longer serving");
   timeout_hint_s_ = timeout_s;
   const double deadline = now_s() + timeout_s;
-  write_all(request.dump() + "\n", deadline);
-  const std::string line = read_line(deadline);
+  request += '\n';
+  write_all(request, deadline);
+  return read_line(deadline);
+}
+
+nlohmann::json ProtocolChild::checked_reply(const std::string& line) {
   nlohmann::json reply = nlohmann::json::parse(line, nullptr, false);
   if (reply.is_discarded()) {
     const bool non_finite = line.find("NaN") != std::string::npos || line.find("Infinity") != std::string::npos;
@@ -239,6 +242,12 @@ nlohmann::json ProtocolChild::call(const nlohmann::json& request, double timeout
     throw EngineError(fmt::format("engine '{}' ({}): {}", label_, op_, why));
   }
   return reply;
+}
+
+nlohmann::json ProtocolChild::call(const nlohmann::json& request, double timeout_s) {
+  const std::string op = request.value("op", "?");
+  std::string text = request.dump();
+  return checked_reply(exchange(op.c_str(), text, timeout_s));
 }
 
 double ProtocolChild::number(const nlohmann::json& reply, const char* key, const char* where) {

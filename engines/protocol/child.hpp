@@ -33,6 +33,12 @@ class ProtocolChild {
   /// engine's reason and leaves the child up (it may serve the next run); anything else wrong (no
   /// reply in time, the child gone, a line too long, not a JSON object) kills it first.
   nlohmann::json call(const nlohmann::json& request, double timeout_s);
+  /// The round trip of call() without the JSON tree: writes `request` (one JSON object on one
+  /// line; a newline is appended to it) and returns the reply line unread, valid until the next
+  /// exchange. Fails as call() does on no reply in time, the child gone or a line too long.
+  const std::string& exchange(const char* op, std::string& request, double timeout_s);
+  /// A reply line read as call() reads it: the object with "ok": true, else fail() or EngineError.
+  nlohmann::json checked_reply(const std::string& line);
 
   /// Kills the child and throws EngineError: "engine 'NAME' (OP): WHAT; last line ...".
   [[noreturn]] void fail(const std::string& what);
@@ -53,7 +59,7 @@ class ProtocolChild {
   void kill_and_reap();
   void drain_stderr();
   /// One line from stdout before `deadline_s` (steady clock seconds), or fail().
-  std::string read_line(double deadline_s);
+  const std::string& read_line(double deadline_s);
   void write_all(const std::string& text, double deadline_s);
 
   std::string label_;

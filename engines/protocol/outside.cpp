@@ -10,12 +10,14 @@
 #include <fstream>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
 
 #include "engines/driven_disks.hpp"
 #include "engines/protocol/child.hpp"
+#include "engines/protocol/flat_reply.hpp"
 #include "engines/rigid_car.hpp"
 
 #ifndef LIFTCHECK_OUTSIDE_DIR
@@ -93,6 +95,7 @@ class Lease {
     return c.call(request, std::max(0.05, deadline_s_ - now_s()));
   }
   const Outside& outside() const { return *o_; }
+  double seconds_left() const { return std::max(0.05, deadline_s_ - now_s()); }
 
  private:
   std::shared_ptr<Outside> o_;
@@ -147,6 +150,40 @@ double engine_seconds(ProtocolChild& c, const json& r) {
   return s;
 }
 
+/// A step request's numbers as JSON: fmt's shortest form that reads back to the same double.
+void put(std::string& out, double v) {
+  if (!std::isfinite(v)) throw EngineError("a step request with a non-finite number (the protocol has no NaN)");
+  fmt::format_to(std::back_inserter(out), "{}", v);
+}
+
+/// The slots of a car step reply (docs/protocol.md, "step (car)"), in the order car_state_of reads them.
+std::vector<FlatReply::Slot> car_slots(int wheels) {
+  const bool four = wheels == 4;
+  std::vector<FlatReply::Slot> s{{"engine_s"}, {"spin_joint_rad/0"}, {"spin_joint_rad/1", four}, {"steer_rad/0"}, {"steer_rad/1", four},
+                                 {"x_m"}, {"y_m"}, {"z_m"}, {"phi_rad"}, {"rear_z_m"}};
+  for (int k = 0; k < wheels; ++k) {
+    for (const char* v : {"v_hub_W", "omega_W", "axle_W"})
+      for (int i = 0; i < 3; ++i) s.push_back({fmt::format("wheels/{}/{}/{}", k, v, i)});
+    s.push_back({fmt::format("wheels/{}/hub_z_m", k)});
+  }
+  return s;
+}
+
+/// RigidCarState from a reply read by the slots of car_slots(wheels).
+RigidCarState car_state_of(const FlatReply& f, int wheels) {
+  RigidCarState s{};
+  s.spin_joint_rad[0] = f.value(1), s.spin_joint_rad[1] = f.value(2), s.steer_rad[0] = f.value(3), s.steer_rad[1] = f.value(4);
+  s.x_m = f.value(5), s.y_m = f.value(6), s.z_m = f.value(7), s.phi_rad = f.value(8), s.rear_z_m = f.value(9);
+  size_t i = 10;
+  for (int k = 0; k < wheels; ++k, i += 10) {
+    s.wheels[k].v_hub_W = {f.value(i), f.value(i + 1), f.value(i + 2)};
+    s.wheels[k].omega_W = {f.value(i + 3), f.value(i + 4), f.value(i + 5)};
+    s.wheels[k].axle_W = {f.value(i + 6), f.value(i + 7), f.value(i + 8)};
+    s.wheels[k].hub_z_m = f.value(i + 9);
+  }
+  return s;
+}
+
 /// A car stepped by an outside engine: RigidCar's servo and bookkeeping over the protocol.
 class ProtocolCar final : public RigidCar {
  public:
@@ -168,11 +205,25 @@ class ProtocolCar final : public RigidCar {
     state_ = car_state(lease_.get(), r, d.wheels);
   }
   void actuate(const FrontRates& rates, const ServoDef&) override { rates_ = rates; }
+  /// One step: the request written with fmt, the reply read by its slots; a reply the fast
+  /// path does not take is read the checked way (which names what is wrong with it).
   void step(double dt_s) override {
-    const json req{{"op", "step"}, {"spin_radps", {rates_.spin_radps[0], rates_.spin_radps[1]}},
-                   {"steer_radps", {rates_.steer_radps[0], rates_.steer_radps[1]}}, {"dt_s", dt_s}};
-    const json r = lease_.call(req);
+    request_.assign(R"({"op":"step","spin_radps":[)");
+    put(request_, rates_.spin_radps[0]), request_ += ',', put(request_, rates_.spin_radps[1]);
+    request_ += R"(],"steer_radps":[)";
+    put(request_, rates_.steer_radps[0]), request_ += ',', put(request_, rates_.steer_radps[1]);
+    request_ += R"(],"dt_s":)";
+    put(request_, dt_s);
+    request_ += '}';
     ProtocolChild& c = lease_.get();
+    const std::string& line = c.exchange("step", request_, lease_.seconds_left());
+    if (!reply_ || reply_wheels_ != def_.wheels) reply_.emplace(car_slots(def_.wheels)), reply_wheels_ = def_.wheels;
+    if (reply_->read(line) && reply_->value(0) >= 0.0) {
+      engine_s_ += reply_->value(0);
+      state_ = car_state_of(*reply_, def_.wheels);
+      return;
+    }
+    const json r = c.checked_reply(line);
     engine_s_ += engine_seconds(c, r);
     state_ = car_state(c, r, def_.wheels);
   }
@@ -184,6 +235,9 @@ class ProtocolCar final : public RigidCar {
   FrontRates rates_;
   RigidCarState state_{};
   double engine_s_ = 0.0;
+  std::string request_;
+  std::optional<FlatReply> reply_;
+  int reply_wheels_ = 0;
 };
 
 /// Two disks in an outside engine: DrivenDisks' control loop and contact bookkeeping over the protocol.
@@ -200,9 +254,27 @@ class ProtocolDisks final : public DrivenDisks {
     state_ = positions(lease_.get(), r);
   }
   StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt_s) override {
-    const json req{{"op", "step"}, {"vM_cmd", vec(vM_cmd)}, {"cN_next", vec(cN_next)}, {"vN", vec(vN)}, {"dt_s", dt_s}};
-    const json r = lease_.call(req);
+    request_.assign(R"({"op":"step","vM_cmd":[)");
+    put(request_, vM_cmd.x()), request_ += ',', put(request_, vM_cmd.y());
+    request_ += R"(],"cN_next":[)";
+    put(request_, cN_next.x()), request_ += ',', put(request_, cN_next.y());
+    request_ += R"(],"vN":[)";
+    put(request_, vN.x()), request_ += ',', put(request_, vN.y());
+    request_ += R"(],"dt_s":)";
+    put(request_, dt_s);
+    request_ += '}';
     ProtocolChild& c = lease_.get();
+    const std::string& line = c.exchange("step", request_, lease_.seconds_left());
+    // The fast path: engine_s, cM, cN, contacts.count and, where there are contacts, their depth and distance.
+    if (reply_.read(line) && reply_.value(0) >= 0.0 && reply_.value(5) >= 0.0 && (reply_.value(5) == 0.0 || (reply_.given(6) && reply_.given(7) && reply_.value(6) >= 0.0))) {
+      engine_s_ += reply_.value(0);
+      state_ = {disks::Vec2(reply_.value(1), reply_.value(2)), disks::Vec2(reply_.value(3), reply_.value(4))};
+      StepContacts out;
+      out.count = static_cast<int>(std::min(reply_.value(5), 1e6));
+      if (out.count > 0) out.depth_max_m = reply_.value(6), out.distance_min_m = reply_.value(7);
+      return out;
+    }
+    const json r = c.checked_reply(line);
     engine_s_ += engine_seconds(c, r);
     state_ = positions(c, r);
     const auto ct = r.find("contacts");
@@ -232,6 +304,9 @@ class ProtocolDisks final : public DrivenDisks {
   Settings settings_;
   State state_;
   double engine_s_ = 0.0;
+  std::string request_;
+  FlatReply reply_{{{"engine_s"}, {"cM/0"}, {"cM/1"}, {"cN/0"}, {"cN/1"}, {"contacts/count", true, true},
+                    {"contacts/depth_max_m", false}, {"contacts/distance_min_m", false}}};
 };
 
 // ---- the hello: what the configuration is ----

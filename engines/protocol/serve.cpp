@@ -175,6 +175,8 @@ int serve_main(const std::string& config) {
   const int replies_fd = ::dup(STDOUT_FILENO);
   ::dup2(STDERR_FILENO, STDOUT_FILENO);
   ProtocolServer server(*e);
+  // Requests are read from a buffer filled in large reads, not a character at a time through stdio.
+  std::ios::sync_with_stdio(false);
   std::string line;
   line.reserve(4096);
   while (std::getline(std::cin, line)) {
