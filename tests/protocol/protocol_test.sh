@@ -40,6 +40,34 @@ rm "$TMP/reg/no-node.json"
 mkdir "$TMP/bad" && printf '{"name": "Bad Name", "command": []}\n' > "$TMP/bad/bad.json"
 if "$LIFTCHECK" list --engine-dir "$TMP/bad" >/dev/null 2>"$TMP/err"; then exit 1; else test $? -eq 2; fi
 test "$(wc -l < "$TMP/err")" -eq 1 && grep -q "bad.json" "$TMP/err"
+printf '{"name": "bad", "command": ["x"], "color": "#000000", "points": "some"}\n' > "$TMP/bad/bad.json"
+if "$LIFTCHECK" list --engine-dir "$TMP/bad" >/dev/null 2>"$TMP/err"; then exit 1; else test $? -eq 2; fi
+grep -q "'points' must be \"all\" or \"map\"" "$TMP/err"
+
+# "points": "map": the configuration's runs and map points, no sweep or outcome points (and all
+# of them with --all-points).
+mkdir "$TMP/map"
+python3 - "$LIFTCHECK" "$TMP/map/ode-map.json" <<'PY'
+import json, os, sys
+json.dump({"name": "ode-map", "command": [os.path.abspath(sys.argv[1]), "serve", "ode"], "color": "#aec7e8", "points": "map"}, open(sys.argv[2], "w"))
+PY
+for all in "" --all-points; do
+  status=0
+  "$LIFTCHECK" validate --engine-dir "$TMP/map" --engines ode,ode-map --filter 'car.cycle' $all --no-report --out "$TMP/map-out" >"$TMP/map.log" || status=$?
+  test "$status" -le 1 || { cat "$TMP/map.log"; exit 1; }
+  python3 - "$TMP/map-out/results.json" "$all" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))
+swept = {e["engine"] for s in r["sweeps"] for e in s["engines"]}
+mapped = {c["engine"] for p in r["maps"][0]["panels"] for c in p["curves"]}
+parts = r["simulated"]["by_configuration"]["ode-map"]["by_part"]
+assert "ode" in swept and "ode-map" in mapped, (swept, mapped)
+if sys.argv[2]:
+    assert "ode-map" in swept and any(k.startswith("sweep/") for k in parts), (swept, parts)
+else:
+    assert "ode-map" not in swept and sorted(parts) == ["map/speed_accuracy", "runs"], (swept, parts)
+PY
+done
 
 # 1. The same records.
 status=0

@@ -46,6 +46,16 @@ def measured_text(fails):
     return "validate at the defaults: " + "; ".join(parts)
 
 
+def points_text(points):
+    """'N of M points fail; worst NAME v, ...' over the failing points' errors."""
+    worst = {}
+    for p in points:
+        for n, v in p["errors"].items():
+            worst[n] = max(worst.get(n, 0.0), v)
+    failing = sum(1 for p in points if p["status"] == "fail" and p["errors"])
+    return f"{failing} of {len(points)} points fail; worst " + ", ".join(f"{n} {v:.2g}" for n, v in sorted(worst.items()))
+
+
 def key_of(entry):
     return (entry["scenario"], entry["engines"][0], json.dumps(entry.get("params", {}), sort_keys=True))
 
@@ -55,6 +65,7 @@ def main():
     ap.add_argument("results")
     ap.add_argument("--reasons", default=None)
     ap.add_argument("--engines", default=None, help="only these configurations (default: every one the results hold)")
+    ap.add_argument("--only", choices=["runs", "sweeps"], default=None, help="re-measure only the runs or only the sweep points")
     ap.add_argument("--write", action="store_true")
     a = ap.parse_args()
     res = json.load(open(a.results))
@@ -69,7 +80,7 @@ def main():
     listed = set()
     for e in exp["runs"]:
         eng = e["engines"][0]
-        if eng not in engines or e.get("params"):
+        if eng not in engines or e.get("params") or a.only == "sweeps":
             new_runs.append(e)
             continue
         r = runs.get((e["scenario"], eng))
@@ -94,7 +105,7 @@ def main():
         e["measured"] = measured_text(fails)
         new_runs.append(e)
     for (scen, eng), r in sorted(runs.items()):
-        if eng not in engines or (scen, eng) in listed or r["status"] not in ("fail", "error"):
+        if eng not in engines or (scen, eng) in listed or r["status"] not in ("fail", "error") or a.only == "sweeps":
             continue
         fails = run_failures(r)
         reason = reasons.get(f"{scen} {eng}")
@@ -114,7 +125,7 @@ def main():
     new_sp, listed_sp = [], set()
     for e in exp["sweep_points"]:
         eng = e["engines"][0]
-        if eng not in engines or e["sweep"] == "disk_outcomes" or (e["sweep"], eng) not in sweeps:
+        if eng not in engines or e["sweep"] == "disk_outcomes" or (e["sweep"], eng) not in sweeps or a.only == "runs":
             new_sp.append(e)
             continue
         listed_sp.add((e["sweep"], eng))
@@ -126,12 +137,14 @@ def main():
         if not pts:
             dropped.append(f"sweep {e['sweep']} on {eng}: every point passes now")
             continue
+        if pts == e["points"]:  # the same figures: the reviewed text stays
+            new_sp.append(e)
+            continue
         e["points"] = pts
-        worst = max(((n, v, p["x"]) for p in sweeps[(e["sweep"], eng)]["points"] for n, v in p["errors"].items()), key=lambda t: t[1])
-        e["measured"] = f"{len(pts)} of {len(sweeps[(e['sweep'], eng)]['points'])} points fail; the largest error {worst[0]} {worst[1]:.3g} at {worst[2]:g}"
+        e["measured"] = points_text(sweeps[(e["sweep"], eng)]["points"])
         new_sp.append(e)
     for (name, eng), s in sorted(sweeps.items()):
-        if eng not in engines or (name, eng) in listed_sp:
+        if eng not in engines or (name, eng) in listed_sp or a.only == "runs":
             continue
         pts = [{"x": p["x"], "metrics": {n: ceil2(v) for n, v in sorted(p["errors"].items())}} for p in s["points"] if p["status"] == "fail" and p["errors"]]
         if not pts:
@@ -140,9 +153,7 @@ def main():
         if not reason:
             missing.append(f"sweep:{name} {eng}: {len(pts)} points")
             continue
-        worst = max(((n, v, p["x"]) for p in s["points"] for n, v in p["errors"].items()), key=lambda t: t[1])
-        new_sp.append({"sweep": name, "engines": [eng], "points": pts, "reason": reason,
-                       "measured": f"{len(pts)} of {len(s['points'])} points fail; the largest error {worst[0]} {worst[1]:.3g} at {worst[2]:g}"})
+        new_sp.append({"sweep": name, "engines": [eng], "points": pts, "reason": reason, "measured": points_text(s["points"])})
     exp["sweep_points"] = new_sp
 
     for d in dropped:
