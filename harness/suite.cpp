@@ -46,7 +46,7 @@ Overrides overrides_for(const Overrides& set, const Scenario& s, const EngineInf
 double cost_estimate(const ResolvedRun& run) {
   const Params& p = run.params;
   const double dt = p.has("dt") ? p.num("dt") : 1e-3;
-  const double horizon = run.scenario->vehicle == "car" ? 10.0 : p.has("T") ? p.num("T") : 6.0;
+  const double horizon = run.scenario->vehicle == Vehicle::kCar ? 10.0 : p.has("T") ? p.num("T") : 6.0;
   return dt > 0.0 && horizon > 0.0 ? horizon / dt : 1.0;
 }
 

@@ -347,7 +347,7 @@ std::vector<MapPoint> map_grid(const MapDef& map, const EngineInfo& e) {
   if (e.is_reference) return {{kMapDefault, 0.0, {}}};
   for (double dt : map.dt_s) grid.push_back({kMapDt, dt, {{"dt", fmt::format("{}", dt)}}});
   for (const SettingSpec& k : e.knobs)
-    if (k.vehicle == "car" && k.role == SettingRole::kSolverIterations)
+    if (k.vehicle == Vehicle::kCar && k.role == SettingRole::kSolverIterations)
       for (int n : map.iterations) grid.push_back({kMapIterations, static_cast<double>(n), {{k.key, fmt::format("{}", n)}}});
   return grid;
 }

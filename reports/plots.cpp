@@ -1,6 +1,7 @@
 #include "reports/plots.hpp"
 
 #include "harness/sweeps.hpp"
+#include "input/vehicle.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -137,7 +138,7 @@ void plot_runs(Script& S, std::vector<PlotFile>& files, const json& results, con
     by_scenario[sc].push_back(&r);
   }
   for (const auto& sc : order) {
-    const bool disks = by_scenario[sc].front()->value("vehicle", "") == "disks";
+    const bool disks = parse_vehicle(by_scenario[sc].front()->value("vehicle", "")) == Vehicle::kDisks;
     const std::string file = fmt::format("plots/{}-error.svg", safe(sc));
     std::string cmd;
     for (const json* r : by_scenario[sc]) {

@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include "input/vehicle.hpp"
 #include "models/ackermann.hpp"
 
 namespace liftcheck::render {
@@ -281,7 +282,7 @@ std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
   const json& tr = run["details"]["trace"];
   if (!tr.is_array() || tr.size() < 2) return out;
   const double t0 = tr.front()[0].get<double>(), t1 = tr.back()[0].get<double>();
-  if (run.value("vehicle", "") == "disks") {
+  if (parse_vehicle(run.value("vehicle", "")) == Vehicle::kDisks) {
     out.push_back({"start", "start", disk_scene(run, ink, t0, "start")});
     if (run["details"]["t_contact_measured_s"].is_number()) {
       const double tc = run["details"]["t_contact_measured_s"].get<double>();

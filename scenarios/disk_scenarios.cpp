@@ -586,7 +586,7 @@ std::vector<Scenario> disk_scenarios() {
                  std::vector<MetricDef> metrics, std::function<Outcome(const Params&, DiskEngine&)> fn, Headline headline) {
     Scenario s;
     s.name = std::move(name);
-    s.vehicle = "disks";
+    s.vehicle = Vehicle::kDisks;
     s.summary = std::move(summary);
     s.equations = std::move(eq);
     s.params = std::move(params);

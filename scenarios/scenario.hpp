@@ -10,6 +10,7 @@
 
 #include "engines/engine.hpp"
 #include "input/params.hpp"
+#include "input/vehicle.hpp"
 
 namespace liftcheck {
 
@@ -95,7 +96,7 @@ struct Headline {
 
 struct Scenario {
   std::string name;
-  std::string vehicle;   ///< "car" or "disks" (the engine must offer make_car or make_disks)
+  Vehicle vehicle = Vehicle::kCar;  ///< the engine must offer make_car or make_disks
   std::string summary;   ///< what it checks
   std::string equations; ///< the paper's equations it exercises
   std::vector<ParamSpec> params;
