@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fmt/format.h>
 
+#include "scenarios/details.hpp"
 #include "scenarios/fit.hpp"
 #include "scenarios/sweep_catalogue.hpp"
 #include "harness/runner.hpp"
@@ -267,9 +268,9 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
     const nlohmann::json& rec = record(outcome_key(*reference, c));
     if (rec["status"] == "error") throw std::runtime_error(fmt::format("the reference run failed: {}", rec["message"].get<std::string>()));
     const auto& d = rec["details"];
-    const bool hit = d["t_contact_measured_s"].is_number();
+    const bool hit = d[detail_key::kTContactMeasured].is_number();
     // Closest approach of the lift (21), refined on its dense output (not over samples).
-    cases.push_back({&c, hit, hit ? d["t_contact_measured_s"].get<double>() : NAN, d["reference_min_distance"].get<double>()});
+    cases.push_back({&c, hit, hit ? d[detail_key::kTContactMeasured].get<double>() : NAN, d[detail_key::kReferenceMinDistance].get<double>()});
   }
   nlohmann::json per_engine = nlohmann::json::array();
   for (const EngineInfo* e : engines) {
@@ -292,7 +293,7 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
         continue;
       }
       const auto& d = rec["details"];
-      const bool hit = d["t_contact_measured_s"].is_number();
+      const bool hit = d[detail_key::kTContactMeasured].is_number();
       // A run failing only in metrics the expectations list for this configuration, no worse than
       // their ceilings, is a known failure.
       bool known_fail = false;
@@ -312,7 +313,7 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
       if (hit != cs.collision && !is_near) ++unexplained;
       double steps = NAN;
       if (hit && cs.collision) {
-        steps = (d["t_contact_measured_s"].get<double>() - cs.t) / 1e-3;
+        steps = (d[detail_key::kTContactMeasured].get<double>() - cs.t) / 1e-3;
         worst_steps = std::max(worst_steps, std::abs(steps));
       }
       rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"reference", cs.collision}, {"engine", hit},
@@ -426,7 +427,7 @@ std::string sweep_key(const SweepDef& s, const EngineInfo& e, double x) { return
 nlohmann::json point_record(const RunRecord& r) { return point_record(r.to_json()); }
 
 nlohmann::json point_record(nlohmann::json record) {
-  for (const char* big : {"trace", "reference", "contact_log"}) record["details"].erase(big);
+  for (const char* big : {detail_key::kTrace, detail_key::kReference, detail_key::kContactLog}) record["details"].erase(big);
   return record;
 }
 

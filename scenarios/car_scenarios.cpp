@@ -176,11 +176,11 @@ nlohmann::json reference_json(const CarSetup& setup, const car::BasePath& path, 
 nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedConfig>& trace, const Config& commanded_end) {
   const Config realized = car::lift_of_samples(c, trace);
   const Config& eng = trace.back().q;
-  return {{"commanded_lift_end", {commanded_end.x_m, commanded_end.y_m, commanded_end.phi_rad}},
+  return {{detail_key::kCommandedLiftEnd, {commanded_end.x_m, commanded_end.y_m, commanded_end.phi_rad}},
           {"realized_lift_end", {realized.x_m, realized.y_m, realized.phi_rad}},
           {"engine_end", {eng.x_m, eng.y_m, eng.phi_rad}},
-          {"actuation_error_m", std::hypot(realized.x_m - commanded_end.x_m, realized.y_m - commanded_end.y_m)},
-          {"contact_error_m", std::hypot(eng.x_m - realized.x_m, eng.y_m - realized.y_m)}};
+          {detail_key::kActuationError, std::hypot(realized.x_m - commanded_end.x_m, realized.y_m - commanded_end.y_m)},
+          {detail_key::kContactError, std::hypot(eng.x_m - realized.x_m, eng.y_m - realized.y_m)}};
 }
 
 /// Contact-point slip measured by the engine every step (engines with wheels): the worst wheel's
@@ -334,13 +334,13 @@ Outcome run_circle(const Params& p, CarEngine& engine) {
   // Lateral acceleration of the front wheel against the friction limit: the kinematic model holds
   // only while v^2 / (r g) is well below mu.
   const double grip_use = setup.drive.speed_mps * setup.drive.speed_mps / (fe.radius_m * setup.gravity_mps2) / setup.mu;
-  o.details = {{"trace", trace_json(trace)},
-               {"reference", reference_json(setup, path, q0)},
+  o.details = {{detail_key::kTrace, trace_json(trace)},
+               {detail_key::kReference, reference_json(setup, path, q0)},
                {"front_fit_rms_m", ff.rms_residual_m},
                {"rear_fit_rms_m", rf.rms_residual_m},
                {"path_length_m", p.num("drive")},
-               {"grip_use", grip_use},
-               {"errors", error_split(setup.car, trace, end_exact)}};
+               {detail_key::kGripUse, grip_use},
+               {detail_key::kErrors, error_split(setup.car, trace, end_exact)}};
   add_slip(o, engine);
   return o;
 }
@@ -423,7 +423,7 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
     for (std::size_t i = 0; i < tr.size(); i += 4) thin.push_back(tr[i]);
     thin.push_back(tr.back());
     rows.push_back({{"theta_rad", theta}, {"start", {start.x_m, start.y_m, start.phi_rad}},
-                    {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}}, {"trace", thin}});
+                    {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}}, {detail_key::kTrace, thin}});
   }
   const auto [spread_xy, spread_phi] = pose_spread(seen);
   Outcome o;
@@ -432,7 +432,7 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
   // In the default regime the wheels slide a little, identically at every heading: the distance
   // from the no-slip lift is information here, the no-slip check is car.circle's.
   // "drawing": the report draws every start and its path in one picture.
-  o.details = {{"runs", rows}, {"drawing", "starts"}, {"exact_end_in_start_frame", {exact.x_m, exact.y_m, exact.phi_rad}},
+  o.details = {{detail_key::kRuns, rows}, {detail_key::kDrawing, detail_key::kDrawingStarts}, {"exact_end_in_start_frame", {exact.x_m, exact.y_m, exact.phi_rad}},
                {"largest_distance_from_no_slip_lift_m", worst}};
   return o;
 }
@@ -479,11 +479,11 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   o.values["lo_dy"] = {.expected = predicted[car::kY], .measured = d[car::kY], .scale = lo_size, .tolerance_factor = lo_factor};
   o.values["lo_dphi"] = {.expected = predicted[car::kPhi], .measured = d[car::kPhi], .scale = lo_size / l, .tolerance_factor = lo_factor};
   add_realized_lift(o, engine, setup, path, trace);
-  o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
-               {"steps", steps.size()}, {"holonomy_size_m", size},
-               {"measured_size_m", rod_shift(setup.car, trace.front().q, trace.back().q)},
-               {"holonomy_error_m", rod_shift(setup.car, end_exact, Config::from(trace.back().q.vec() - trace.front().q.vec() + q0.vec()))},
-               {"errors", error_split(setup.car, trace, end_exact)}};
+  o.details = {{detail_key::kTrace, trace_json(trace)}, {detail_key::kReference, reference_json(setup, path, q0)},
+               {detail_key::kSteps, steps.size()}, {detail_key::kHolonomySize, size},
+               {detail_key::kMeasuredSize, rod_shift(setup.car, trace.front().q, trace.back().q)},
+               {detail_key::kHolonomyError, rod_shift(setup.car, end_exact, Config::from(trace.back().q.vec() - trace.front().q.vec() + q0.vec()))},
+               {detail_key::kErrors, error_split(setup.car, trace, end_exact)}};
   add_slip(o, engine);
   return o;
 }
@@ -528,8 +528,8 @@ Outcome run_steer_in_place(const Params& p, CarEngine& engine) {
   o.values["front_shift"] = {0.0, max_shift};
   o.values["dphi"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - q0.phi_rad))};
   o.values["beta_reached"] = {.expected = q0.beta_rad + d_beta, .measured = end.beta_rad, .informational = engine.exact_by_construction()};
-  o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
-               {"errors", error_split(setup.car, trace, car::flow_beta(q0, d_beta))}};
+  o.details = {{detail_key::kTrace, trace_json(trace)}, {detail_key::kReference, reference_json(setup, path, q0)},
+               {detail_key::kErrors, error_split(setup.car, trace, car::flow_beta(q0, d_beta))}};
   add_slip(o, engine);
   return o;
 }
@@ -555,7 +555,7 @@ Outcome run_reparam(const Params& p, CarEngine& engine) {
     const car::BasePath path(reparam_segments(), 0.0, q0.beta_rad, s.drive);
     const auto trace = drive_checked(engine, s, q0, path);
     ends.push_back(trace.back().q);
-    traces.push_back({{"speed_mps", s.drive.speed_mps}, {"duration_s", path.duration_s()}, {"trace", trace_json(trace)}});
+    traces.push_back({{"speed_mps", s.drive.speed_mps}, {"duration_s", path.duration_s()}, {detail_key::kTrace, trace_json(trace)}});
   }
   const car::BasePath ref_path(reparam_segments(), 0.0, q0.beta_rad, base.drive);
   car::LiftDef independent;  // not the analytic engine's integrator
@@ -568,8 +568,8 @@ Outcome run_reparam(const Params& p, CarEngine& engine) {
   o.values["end_spread"] = {0.0, spread};
   o.values["heading_spread"] = {0.0, heading_spread};
   o.values["end_error"] = {0.0, std::hypot(ends[1].x_m - ref.x_m, ends[1].y_m - ref.y_m)};
-  o.details = {{"runs", traces}, {"reference_end", {ref.x_m, ref.y_m, ref.phi_rad}},
-               {"trace", traces[1]["trace"]}, {"reference", reference_json(base, ref_path, q0)}};
+  o.details = {{detail_key::kRuns, traces}, {"reference_end", {ref.x_m, ref.y_m, ref.phi_rad}},
+               {detail_key::kTrace, traces[1][detail_key::kTrace]}, {detail_key::kReference, reference_json(base, ref_path, q0)}};
   return o;
 }
 
@@ -643,17 +643,17 @@ Outcome run_slope(const Params& p, CarEngine& engine) {
   o.values["drift_per_lap"] = {0.0, (lap_shift - exact_shift).dot(downhill) / laps};
   o.values["final_offset"] = {0.0, std::hypot(end.x_m - end_exact.x_m, end.y_m - end_exact.y_m)};
   const Eigen::Vector3d g = setup.gravity_W();
-  o.details = {{"trace", trace_json(trace)},
-               {"reference", reference_json(setup, path, q0)},
+  o.details = {{detail_key::kTrace, trace_json(trace)},
+               {detail_key::kReference, reference_json(setup, path, q0)},
                {"gravity_W_mps2", {g.x(), g.y(), g.z()}},
                {"downhill_W", {downhill.x(), downhill.y()}},
                {"creep_window_s", {c0.t_s, c1.t_s}},
                {"creep_um_per_s", creep_mps * 1e6},
                {"lap_shift_m", {lap_shift.x(), lap_shift.y()}},
                {"front_fit_rms_m", ff.rms_residual_m},
-               {"grip_use", (setup.drive.speed_mps * setup.drive.speed_mps / fe.radius_m + setup.gravity_mps2 * std::sin(slope)) /
+               {detail_key::kGripUse, (setup.drive.speed_mps * setup.drive.speed_mps / fe.radius_m + setup.gravity_mps2 * std::sin(slope)) /
                                 (setup.gravity_mps2 * std::cos(slope)) / setup.mu},
-               {"errors", error_split(setup.car, trace, end_exact)}};
+               {detail_key::kErrors, error_split(setup.car, trace, end_exact)}};
   add_slip(o, engine);
   return o;
 }
@@ -710,8 +710,8 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
   // Straight down: sliding friction opposes the slide, so nothing pushes the car across it.
   o.values["slide_accel_across"] = {.expected = 0.0, .measured = a_across, .scale = a_exact};
   o.values["heading_change"] = {0.0, std::abs(e2::wrap_angle(trace.back().q.phi_rad - trace.front().q.phi_rad))};
-  o.details = {{"trace", trace_json(trace)},
-               {"reference", reference_json(setup, path, q0)},
+  o.details = {{detail_key::kTrace, trace_json(trace)},
+               {detail_key::kReference, reference_json(setup, path, q0)},
                {"gravity_W_mps2", {setup.gravity_W().x(), setup.gravity_W().y(), setup.gravity_W().z()}},
                {"effective_mu", (g * std::sin(slope) - a) / (g * std::cos(slope))},
                {"clock_ratio_if_mu_exact", std::sqrt(a / a_exact)}};

@@ -11,6 +11,7 @@
 #include "engines/engine.hpp"
 #include "input/params.hpp"
 #include "input/vehicle.hpp"
+#include "scenarios/details.hpp"
 
 namespace liftcheck {
 
@@ -60,8 +61,9 @@ struct Measurement {
   bool informational = false;
 };
 
-/// What a scenario function returns: measurements by metric name, plus free-form details
-/// (traces, fitted values) kept in the record for the reports.
+/// What a scenario function returns: measurements by metric name, plus details (traces, fitted
+/// values) kept in the record; those the reports and sweeps read are under the keys of
+/// scenarios/details.hpp (detail_key).
 struct Outcome {
   std::map<std::string, Measurement> values;
   nlohmann::json details = nlohmann::json::object();
