@@ -67,6 +67,32 @@ std::vector<std::pair<std::string, double>> point_errors(const nlohmann::json& p
   return out;
 }
 
+/// The log-log fit of `entry` against its band: a problem, or its known failure marked on the fit.
+void gate_fit(const SweepDef& sweep, const KnownSweepFailure* fit_known, nlohmann::json& entry, nlohmann::json& problems) {
+  const auto& slope = entry["fit"]["slope"];
+  std::string fit_problem;
+  if (!slope.is_number())
+    fit_problem = "too few points above the noise floor for a slope";
+  else if (std::abs(slope.get<double>() - sweep.slope_expected) > sweep.slope_band)
+    fit_problem = fmt::format("fitted slope {:.4f} outside {} +- {}", slope.get<double>(), sweep.slope_expected, sweep.slope_band);
+  if (fit_known && fit_problem.rfind(fit_known->pattern, 0) == 0 && !fit_problem.empty())
+    entry["fit"]["known_failure"] = fit_known->reason + ": " + fit_problem;
+  else if (fit_known)
+    problems.push_back(fmt::format("the fit is listed as failing with '{}' ({}) but: {}", fit_known->pattern, fit_known->reason,
+                                   fit_problem.empty() ? "it lies in its band" : fit_problem));
+  else if (!fit_problem.empty())
+    problems.push_back(fit_problem);
+}
+
+/// A point past the grip limit where the car kept its grip: neither its front radius nor its
+/// lateral slip failed by the sliding amounts.
+bool kept_grip(const nlohmann::json& pt) {
+  bool slid = false;
+  for (const auto& [name, err] : point_errors(pt))
+    slid = slid || (name == "front_radius" && err >= SweepDef::kSlideRadius) || (name == "slip_across_max" && err >= SweepDef::kSlideAcross_mps);
+  return !slid;
+}
+
 }  // namespace
 
 bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
@@ -84,17 +110,12 @@ bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
   const bool must_slide = sweep.slide_past_marker && info && info->contact_dynamics;
   for (auto& pt : entry["points"]) {
     const double x = pt["x"];
-    if (must_slide && x > sweep.marker && pt["status"] != "error") {
-      bool slid = false;
-      for (const auto& [name, err] : point_errors(pt))
-        slid = slid || (name == "front_radius" && err >= SweepDef::kSlideRadius) || (name == "slip_across_max" && err >= SweepDef::kSlideAcross_mps);
-      if (!slid) {
-        ++unexpected;
-        problems.push_back(fmt::format("{} = {}: past the grip limit ({}) the car must slide (front radius +{:g} or lateral slip {:g} m/s), but it kept its grip: {}",
-                                       sweep.param, x, sweep.marker_label, SweepDef::kSlideRadius, SweepDef::kSlideAcross_mps,
-                                       pt["status"] == "pass" ? "every metric passes" : pt.value("message", "")));
-        continue;
-      }
+    if (must_slide && x > sweep.marker && pt["status"] != "error" && kept_grip(pt)) {
+      ++unexpected;
+      problems.push_back(fmt::format("{} = {}: past the grip limit ({}) the car must slide (front radius +{:g} or lateral slip {:g} m/s), but it kept its grip: {}",
+                                     sweep.param, x, sweep.marker_label, SweepDef::kSlideRadius, SweepDef::kSlideAcross_mps,
+                                     pt["status"] == "pass" ? "every metric passes" : pt.value("message", "")));
+      continue;
     }
     const KnownSweepFailure* k = nullptr;
     for (const auto& f : known_sweep_failures())
@@ -140,21 +161,7 @@ bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
     problems.push_back(fmt::format("listed as failing at some points ({}) but every point passes", anywhere->reason));
   if (anywhere && anywhere_failed > anywhere->points_max)
     problems.push_back(fmt::format("{} points fail where at most {} are known to ({})", anywhere_failed, anywhere->points_max, anywhere->reason));
-  if (sweep.loglog_fit) {
-    const auto& slope = entry["fit"]["slope"];
-    std::string fit_problem;
-    if (!slope.is_number())
-      fit_problem = "too few points above the noise floor for a slope";
-    else if (std::abs(slope.get<double>() - sweep.slope_expected) > sweep.slope_band)
-      fit_problem = fmt::format("fitted slope {:.4f} outside {} +- {}", slope.get<double>(), sweep.slope_expected, sweep.slope_band);
-    if (fit_known && fit_problem.rfind(fit_known->pattern, 0) == 0 && !fit_problem.empty())
-      entry["fit"]["known_failure"] = fit_known->reason + ": " + fit_problem;
-    else if (fit_known)
-      problems.push_back(fmt::format("the fit is listed as failing with '{}' ({}) but: {}", fit_known->pattern, fit_known->reason,
-                                     fit_problem.empty() ? "it lies in its band" : fit_problem));
-    else if (!fit_problem.empty())
-      problems.push_back(fit_problem);
-  }
+  if (sweep.loglog_fit) gate_fit(sweep, fit_known, entry, problems);
   entry["gate"] = {{"pass", problems.empty()}, {"problems", problems}, {"points_pass", pass}, {"points_known_failure", known},
                    {"points_error", error}, {"points_unexpected", unexpected}};
   if (sweep.loglog_fit) entry["gate"]["slope_band"] = {sweep.slope_expected - sweep.slope_band, sweep.slope_expected + sweep.slope_band};
