@@ -82,7 +82,7 @@ struct CarSetup {
   /// Four wheels only: both front wheels at the virtual angle beta instead of their Ackermann
   /// angles (they fight and scrub: a negative control).
   bool parallel_steering = false;
-  /// The car's masses (car_params in harness/car_scenarios.cpp gives the defaults and why).
+  /// The car's masses (car_params in scenarios/car_scenarios.cpp gives the defaults and why).
   double chassis_mass_kg = 40.0;
   double wheel_mass_kg = 2.0;     ///< each wheel
   double knuckle_mass_kg = 2.0;   ///< each steering knuckle (between the chassis and a steered wheel)
