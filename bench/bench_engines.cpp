@@ -58,7 +58,7 @@ double thread_cpu_s() {
 
 void BM_CarSteps(benchmark::State& state, const EngineInfo* engine, RawCarFactory make_raw) {
   const CarSetup setup = circle_setup();
-  const Settings settings = engine->defaults("car");
+  const Settings settings = engine->defaults(Vehicle::kCar);
   const car::BasePath path({{kDrive_m / setup.car.R_m, 0.0}}, 0.0, kStart.beta_rad, setup.drive);
   const car::Config exact_end = car::lift_end(setup.car, path, kStart);
   // RigidCar::drive's step count: the settle, then the path and the hold.
@@ -121,9 +121,9 @@ void BM_NoRawLoop(benchmark::State& state) {
 /// One benchmark per configuration that steps a car (the analytic reference integrates, it does not step).
 const bool kRegistered = [] {
   for (const EngineInfo& e : engines()) {
-    if (lacks(e, {.vehicle = "car", .contact_dynamics = true}) != Lack::kNothing) continue;
+    if (lacks(e, {.vehicle = Vehicle::kCar, .contact_dynamics = true}) != Lack::kNothing) continue;
     const std::string name = "BM_CarSteps/" + e.name;
-    if (lacks(e, {.vehicle = "car", .contact_dynamics = true, .raw_car = true}) == Lack::kRawCar) {
+    if (lacks(e, {.vehicle = Vehicle::kCar, .contact_dynamics = true, .raw_car = true}) == Lack::kRawCar) {
       benchmark::RegisterBenchmark(name.c_str(), BM_NoRawLoop);
       continue;
     }
@@ -160,8 +160,8 @@ void BM_ProtocolRoundTrip(benchmark::State& state) {
   };
   double best_protocol_s = INFINITY, best_direct_s = INFINITY, engine_s = 0.0, steps = 0.0, client_cpu_s = INFINITY;
   for (auto _ : state) {
-    auto over = served.make_car(served.defaults("car"));
-    auto direct = ode->make_car(ode->defaults("car"));
+    auto over = served.make_car(served.defaults(Vehicle::kCar));
+    auto direct = ode->make_car(ode->defaults(Vehicle::kCar));
     over->reset(setup, kStart);
     direct->reset(setup, kStart);
     const double cpu0 = thread_cpu_s();
@@ -198,7 +198,7 @@ void BM_ProtocolCannon(benchmark::State& state) {
   const car::BasePath path({{kDrive_m / setup.car.R_m, 0.0}}, 0.0, kStart.beta_rad, setup.drive);
   double best_wall_s = INFINITY, engine_s = 0.0, steps = 0.0, client_cpu_s = INFINITY;
   for (auto _ : state) {
-    auto over = served.make_car(served.defaults("car"));
+    auto over = served.make_car(served.defaults(Vehicle::kCar));
     over->reset(setup, kStart);
     const double cpu0 = thread_cpu_s();
     const auto t0 = std::chrono::steady_clock::now();

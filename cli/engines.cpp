@@ -27,15 +27,14 @@ int cmd_engines(bool json) {
   const auto line = [](const std::string& s) { return printable(s, 1000); };
   for (const auto& e : all_engines) {
     std::vector<std::string> vehicles;
-    if (e.make_car) vehicles.push_back("car");
-    if (e.make_disks) vehicles.push_back("disks");
+    for (const Vehicle v : vehicles_of(e)) vehicles.push_back(to_string(v));
     if (!e.unavailable.empty()) vehicles = {"UNAVAILABLE"};
     std::cout << fmt::format("{}  [{} {}; {}{}; {}; colour {}{}]\n  {}\n", e.name, line(e.library), line(e.version), fmt::join(vehicles, ", "),
                              e.is_reference ? "; the reference" : "", e.precision, line(e.color),
                              e.registration.empty() ? "" : "; outside: " + line(e.registration), line(e.description));
     for (const auto& [k, v] : e.settings) std::cout << fmt::format("    {:<22} {}\n", line(k), line(v));
     for (const SettingSpec& k : e.knobs)
-      std::cout << fmt::format("    --set {:<16} {} ({}): {}; default {}, {}\n", k.key, k.vehicle, k.kind_name(),
+      std::cout << fmt::format("    --set {:<16} {} ({}): {}; default {}, {}\n", k.key, to_string(k.vehicle), k.kind_name(),
                                line(k.help), line(k.default_text), line(k.range_text()));
   }
   return 0;

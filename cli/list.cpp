@@ -19,7 +19,7 @@ int cmd_list(bool json) {
     return 0;
   }
   // The parameters every scenario of a vehicle has alike (key, default, unit) are listed once.
-  for (const char* vehicle : {"car", "disks"}) {
+  for (const Vehicle vehicle : kVehicles) {
     std::vector<const Scenario*> of;
     for (const auto& s : scenarios())
       if (s.vehicle == vehicle) of.push_back(&s);
@@ -31,10 +31,10 @@ int cmd_list(bool json) {
             return std::any_of(s->params.begin(), s->params.end(), [&](const ParamSpec& q) { return same(p, q); });
           }))
         shared.push_back(p);
-    std::cout << fmt::format("parameters of every {} scenario (unless listed with the scenario):\n", vehicle);
+    std::cout << fmt::format("parameters of every {} scenario (unless listed with the scenario):\n", to_string(vehicle));
     for (const auto& p : shared) std::cout << fmt::format("    {:<14} {:<10} {:<6} {}\n", p.key, p.default_text, p.unit, p.help);
     for (const Scenario* s : of) {
-      std::cout << s->name << "  [" << s->vehicle << "; " << s->equations << "]\n  " << s->summary << "\n";
+      std::cout << s->name << "  [" << to_string(s->vehicle) << "; " << s->equations << "]\n  " << s->summary << "\n";
       for (const auto& p : s->params)
         if (std::none_of(shared.begin(), shared.end(), [&](const ParamSpec& q) { return same(p, q); }))
           std::cout << fmt::format("    {:<14} {:<10} {:<6} {}\n", p.key, p.default_text, p.unit, p.help);

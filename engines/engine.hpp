@@ -14,6 +14,7 @@
 
 
 #include "input/params.hpp"
+#include "input/vehicle.hpp"
 #include "models/car.hpp"
 #include "models/disks.hpp"
 #include "models/lift.hpp"
@@ -30,7 +31,7 @@ enum class SettingRole { kNone, kSolverIterations };
 /// one spec type), set with --set like a parameter, echoed in the record as applied, rejected for
 /// an engine that does not declare it.
 struct SettingSpec : ParamSpec {
-  std::string vehicle;  ///< "car" or "disks": the vehicle it applies to
+  Vehicle vehicle = Vehicle::kCar;  ///< the vehicle it applies to
   SettingRole role = SettingRole::kNone;
 
   bool numeric() const { return kind != ParamKind::kChoice; }
@@ -81,7 +82,7 @@ struct CarSetup {
   /// Four wheels only: both front wheels at the virtual angle beta instead of their Ackermann
   /// angles (they fight and scrub: a negative control).
   bool parallel_steering = false;
-  /// The car's masses (car_params in harness/car_scenarios.cpp gives the defaults and why).
+  /// The car's masses (car_params in scenarios/car_scenarios.cpp gives the defaults and why).
   double chassis_mass_kg = 40.0;
   double wheel_mass_kg = 2.0;     ///< each wheel
   double knuckle_mass_kg = 2.0;   ///< each steering knuckle (between the chassis and a steered wheel)
@@ -215,7 +216,7 @@ struct EngineError : std::runtime_error {
 /// defaults its users run). Everything the harness and the reports need to know about a target
 /// is here, so adding one is its folder plus one registry line.
 class RawCar;  // engines/raw_car.hpp
-/// Makes a configuration's raw car at q0 with the given settings (its "car" knobs).
+/// Makes a configuration's raw car at q0 with the given settings (its car knobs).
 using RawCarFactory = std::unique_ptr<RawCar> (*)(const Settings&, const CarSetup&, const car::Config&);
 
 struct EngineInfo {
@@ -260,23 +261,25 @@ struct EngineInfo {
   std::string unavailable = {};
 
   /// Every knob of `vehicle` at its default.
-  Settings defaults(const std::string& vehicle) const;
+  Settings defaults(Vehicle vehicle) const;
 };
 
 /// The settings of `engine` for `vehicle`: its knobs' defaults, overridden by `overrides` (each
 /// key one of those knobs), validated as scenario parameters are (InputError naming the setting).
-Settings resolve_settings(const EngineInfo& engine, const std::string& vehicle, const Overrides& overrides, const std::string& scenario);
+Settings resolve_settings(const EngineInfo& engine, Vehicle vehicle, const Overrides& overrides, const std::string& scenario);
 
 /// What a run asks of a configuration, and the first thing a configuration lacks of it (checked in
 /// this order). The runner, the conformance suite and the benchmark all ask `lacks`.
 struct Needs {
-  std::string vehicle;            ///< "car" or "disks": make_car or make_disks
+  Vehicle vehicle = Vehicle::kCar;  ///< make_car or make_disks
   bool four_wheels = false;       ///< a four-wheel car (wheels=4)
   bool contact_dynamics = false;  ///< contact forces with friction (the negative controls)
   bool raw_car = false;           ///< the benchmark's raw loop
 };
 enum class Lack { kNothing, kFourWheels, kVehicle, kContactDynamics, kRawCar };
 Lack lacks(const EngineInfo& e, const Needs& needs);
+/// The vehicles `e` builds (make_car, make_disks), in kVehicles order.
+std::vector<Vehicle> vehicles_of(const EngineInfo& e);
 /// The lack as the end of a sentence about the configuration ("has no car").
 std::string lack_text(Lack lack, const Needs& needs);
 

@@ -69,9 +69,9 @@ double bookkeeping_factor(const std::string& precision) {
   return precision == "float32" ? 1e4 : 1.0;
 }
 
-Settings EngineInfo::defaults(const std::string& vehicle) const { return resolve_settings(*this, vehicle, {}, name); }
+Settings EngineInfo::defaults(Vehicle vehicle) const { return resolve_settings(*this, vehicle, {}, name); }
 
-Settings resolve_settings(const EngineInfo& engine, const std::string& vehicle, const Overrides& overrides, const std::string& scenario) {
+Settings resolve_settings(const EngineInfo& engine, Vehicle vehicle, const Overrides& overrides, const std::string& scenario) {
   std::vector<ParamSpec> specs;
   for (const SettingSpec& k : engine.knobs)
     if (k.vehicle == vehicle) specs.push_back(k);

@@ -212,16 +212,16 @@ class ReplayDisks final : public DiskEngine {
 
 }  // namespace
 
-const std::vector<std::string>& path_columns(const std::string& vehicle) {
+const std::vector<std::string>& path_columns(Vehicle vehicle) {
   static const std::vector<std::string> car{"t", "alpha", "beta"}, disks{"t", "cNx", "cNy"};
-  return vehicle == "car" ? car : disks;
+  return vehicle == Vehicle::kCar ? car : disks;
 }
 
 json scenario_path(const Scenario& scenario, const Overrides& overrides) {
   const Params params = Params::resolve(scenario.params, overrides, scenario.name);
   json out{{"scenario", scenario.name}, {"vehicle", scenario.vehicle}, {"params", params.to_json()},
            {"columns", path_columns(scenario.vehicle)}};
-  if (scenario.vehicle == "car") {
+  if (scenario.vehicle == Vehicle::kCar) {
     RecordingCar rec(scenario.name);
     scenario.run_car(params, rec);
     const car::Config& q = rec.start;
@@ -237,12 +237,13 @@ json scenario_path(const Scenario& scenario, const Overrides& overrides) {
 }
 
 std::string path_csv(const json& path) {
+  const Vehicle vehicle = path["vehicle"].get<Vehicle>();
   std::string s = fmt::format("# liftcheck path of {} ({}): the commanded {}; SI units, radians\n", path["scenario"].get<std::string>(),
-                              path["vehicle"].get<std::string>(),
-                              path["vehicle"] == "car" ? "shape path (alpha, beta) from the start below" : "path of N, M starting below");
+                              to_string(vehicle),
+                              vehicle == Vehicle::kCar ? "shape path (alpha, beta) from the start below" : "path of N, M starting below");
   for (const auto& [k, v] : path["params"].items()) s += fmt::format("# param {} = {}\n", k, v.is_string() ? v.get<std::string>() : v.dump());
   for (const auto& [k, v] : path["start"].items()) s += fmt::format("# start {} = {:.17g}\n", k, v.get<double>());
-  s += fmt::format("# write back: {}\n", fmt::join(trace_columns(path["vehicle"]), ","));
+  s += fmt::format("# write back: {}\n", fmt::join(trace_columns(vehicle), ","));
   s += fmt::format("{}\n", fmt::join(path["columns"].get<std::vector<std::string>>(), ","));
   for (const auto& row : path["rows"]) {
     std::string line;
@@ -281,7 +282,7 @@ EngineInfo replay_engine(const std::string& name, const Scenario& scenario, cons
   e.precision = trace.precision;  // the trace header's, float64 unless it says otherwise
   for (const auto& [k, v] : trace.settings) e.settings.emplace_back("setting " + k, v);
   const std::string sc = scenario.name;
-  if (scenario.vehicle == "car") e.make_car = [sc, trace](const Settings&) { return std::make_unique<ReplayCar>(sc, trace); };
+  if (scenario.vehicle == Vehicle::kCar) e.make_car = [sc, trace](const Settings&) { return std::make_unique<ReplayCar>(sc, trace); };
   else e.make_disks = [sc, trace](const Settings&) { return std::make_unique<ReplayDisks>(sc, trace); };
   return e;
 }

@@ -18,7 +18,7 @@
 namespace liftcheck {
 
 /// Columns of the commanded paths (the trace columns: input/trace.hpp).
-const std::vector<std::string>& path_columns(const std::string& vehicle);
+const std::vector<std::string>& path_columns(Vehicle vehicle);
 
 /// The commanded path of one scenario run: {"scenario", "vehicle", "params", "settings", "start",
 /// "columns", "rows"}. Cars: t, alpha, beta every sample_dt from 0 to the path's end, start

@@ -20,7 +20,7 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
     for (const auto& [k, v] : e->settings) settings[k] = v;
     // The settings a user may change (--set), with their defaults: part of what the engine is.
     for (const SettingSpec& k : e->knobs)
-      settings[fmt::format("--set {} ({})", k.key, k.vehicle)] =
+      settings[fmt::format("--set {} ({})", k.key, to_string(k.vehicle))] =
           fmt::format("{}; default {}; {}", k.help, k.default_text,
                       k.range_text());
     nlohmann::json knobs = nlohmann::json::array();
@@ -31,11 +31,8 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
       else j["choices"] = k.choices;
       knobs.push_back(j);
     }
-    std::vector<std::string> vehicles;
-    if (e->make_car) vehicles.push_back("car");
-    if (e->make_disks) vehicles.push_back("disks");
     es.push_back({{"name", e->name}, {"library", e->library}, {"version", e->version}, {"description", e->description},
-                  {"color", e->color}, {"is_reference", e->is_reference}, {"vehicles", vehicles},
+                  {"color", e->color}, {"is_reference", e->is_reference}, {"vehicles", vehicles_of(*e)},
                   {"contact_dynamics", e->contact_dynamics}, {"settings", settings}, {"knobs", knobs}});
   }
   char host[256] = "unknown";

@@ -146,8 +146,15 @@ class ProbeDisks final : public DiskEngine {
   for (const SettingSpec& k : engine.knobs)
     if (k.vehicle == scenario.vehicle) names.push_back(k.key);
   throw InputError(fmt::format("engine '{}' has no setting '{}' for {} (its settings there: {}; '{}' is a setting of {})",
-                               engine.name, key, scenario.vehicle == "car" ? "cars" : "disks",
+                               engine.name, key, scenario.vehicle == Vehicle::kCar ? "cars" : "disks",
                                names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", ")), key, fmt::join(owners, ", ")));
+}
+
+/// What a run of `scenario` with these resolved parameters asks of a configuration.
+Needs needs_of(const Scenario& scenario, const nlohmann::json& params) {
+  return {.vehicle = scenario.vehicle,
+          .four_wheels = scenario.vehicle == Vehicle::kCar && params.value("wheels", "3") == "4",
+          .contact_dynamics = scenario.needs_contact_dynamics};
 }
 
 }  // namespace
@@ -178,14 +185,12 @@ ResolvedRun resolve_run(const Scenario& scenario, const EngineInfo& engine, cons
 
 void check_run_inputs(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
   const ResolvedRun run = resolve_run(scenario, engine, overrides);
-  const Needs needs{.vehicle = scenario.vehicle,
-                    .four_wheels = scenario.vehicle == "car" && run.params.to_json().value("wheels", "3") == "4",
-                    .contact_dynamics = scenario.needs_contact_dynamics};
+  const Needs needs = needs_of(scenario, run.params.to_json());
   const Lack lack = lacks(engine, needs);
   if (lack == Lack::kFourWheels) throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
   if (lack != Lack::kNothing) return;  // skipped: nothing of it runs
   try {
-    if (scenario.vehicle == "disks") {
+    if (scenario.vehicle == Vehicle::kDisks) {
       ProbeDisks d;
       (void)scenario.run_disks(run.params, d);
     } else {
@@ -217,9 +222,7 @@ RunRecord run_scenario(const ResolvedRun& run) {
   r.vehicle = scenario.vehicle;
   r.params = params.to_json();
   for (const auto& [key, value] : settings.texts()) r.settings[key] = value;
-  const Needs needs{.vehicle = scenario.vehicle,
-                    .four_wheels = scenario.vehicle == "car" && r.params.value("wheels", "3") == "4",
-                    .contact_dynamics = scenario.needs_contact_dynamics};
+  const Needs needs = needs_of(scenario, r.params);
   const Lack lack = lacks(engine, needs);
   // A car with four wheels needs a configuration that builds one: never a tricycle instead.
   if (lack == Lack::kFourWheels) throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
@@ -237,7 +240,7 @@ RunRecord run_scenario(const ResolvedRun& run) {
   const auto t0 = std::chrono::steady_clock::now();
   try {
     Outcome outcome;
-    if (scenario.vehicle == "disks") {
+    if (scenario.vehicle == Vehicle::kDisks) {
       auto d = engine.make_disks(settings);
       outcome = scenario.run_disks(params, *d);
       r.simulated_s = d->simulated_s();

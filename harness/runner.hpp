@@ -17,7 +17,7 @@ const char* to_string(Status s);
 
 struct RunRecord {
   std::string scenario, engine;
-  std::string vehicle;  ///< the scenario's vehicle, "car" or "disks" (the reports draw by it)
+  Vehicle vehicle = Vehicle::kCar;  ///< the scenario's vehicle (the reports draw by it)
   nlohmann::json params = nlohmann::json::object();
   nlohmann::json settings = nlohmann::json::object();  ///< the engine's knobs as applied
   Status status = Status::kError;

@@ -1,6 +1,7 @@
 #include "harness/suite.hpp"
 
 #include <algorithm>
+#include <optional>
 #include <chrono>
 #include <fmt/format.h>
 #include <fnmatch.h>
@@ -46,7 +47,7 @@ Overrides overrides_for(const Overrides& set, const Scenario& s, const EngineInf
 double cost_estimate(const ResolvedRun& run) {
   const Params& p = run.params;
   const double dt = p.has("dt") ? p.num("dt") : 1e-3;
-  const double horizon = run.scenario->vehicle == "car" ? 10.0 : p.has("T") ? p.num("T") : 6.0;
+  const double horizon = run.scenario->vehicle == Vehicle::kCar ? 10.0 : p.has("T") ? p.num("T") : 6.0;
   return dt > 0.0 && horizon > 0.0 ? horizon / dt : 1.0;
 }
 
@@ -517,6 +518,61 @@ int worker_main() {
   return 0;
 }
 
+namespace {
+
+/// The order items are handed out in: the runs first, so their lines appear early, then the
+/// points; each longest first, ties in plan order. Workers never wait between the two.
+std::vector<size_t> schedule_order(const SuitePlan& plan, const std::vector<size_t>& which) {
+  std::vector<size_t> order(which.size());
+  for (size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
+    const SuiteItem &x = plan.items[which[a]], &y = plan.items[which[b]];
+    return x.kind != y.kind ? x.kind == SuiteItem::kRun : x.cost > y.cost;
+  });
+  return order;
+}
+
+/// Waits for output of the busy workers, an end or the nearest wall-clock limit; returns the
+/// (worker, stdout?) pipes that are readable or closed.
+std::vector<std::pair<size_t, bool>> poll_workers(const std::vector<Worker>& workers, double wall_limit_s) {
+  std::vector<pollfd> fds;
+  std::vector<std::pair<size_t, bool>> whose, ready;  // worker, stdout?
+  double wait_s = 0.25;
+  for (size_t k = 0; k < workers.size(); ++k) {
+    const Worker& w = workers[k];
+    if (w.slot < 0) continue;
+    fds.push_back({w.out_fd, POLLIN, 0}), whose.emplace_back(k, true);
+    fds.push_back({w.err_fd, POLLIN, 0}), whose.emplace_back(k, false);
+    wait_s = std::min(wait_s, wall_limit_s - std::chrono::duration<double>(std::chrono::steady_clock::now() - w.started).count());
+  }
+  if (!fds.empty() && poll(fds.data(), fds.size(), static_cast<int>(std::max(0.0, wait_s) * 1000.0) + 1) < 0 && errno != EINTR)
+    throw std::runtime_error(fmt::format("poll: {}", std::strerror(errno)));
+  for (size_t f = 0; f < fds.size(); ++f)
+    if (fds[f].revents & (POLLIN | POLLHUP | POLLERR)) ready.push_back(whose[f]);
+  return ready;
+}
+
+/// Reads what worker `w` wrote on stdout for `item`: its record once a whole line is there, an
+/// error record when the worker ended without one; nullopt while the item still runs.
+std::optional<nlohmann::json> read_record(Worker& w, const SuiteItem& item, double timeout_s) {
+  const bool open = drain(w.out_fd, w.out);
+  const size_t nl = w.out.find('\n');
+  pass_on_stderr(w);  // what the item wrote on stderr belongs to it, before the next one starts
+  if (nl != std::string::npos) {
+    nlohmann::json rec = nlohmann::json::parse(w.out.substr(0, nl), nullptr, false);
+    if (rec.is_discarded()) rec = error_record(item, "the worker process wrote a malformed record");
+    return rec;
+  }
+  if (open) return std::nullopt;
+  int sig = 0;
+  const std::string how = end_worker(w, false, &sig);
+  const std::string said = last_line(w.err);
+  return error_record(item, sig == SIGPROF ? timed_out(timeout_s)
+                                           : fmt::format("the engine ended its process ({}){}", how, said.empty() ? "" : ": " + said));
+}
+
+}  // namespace
+
 std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
                                       const std::function<void(size_t, const nlohmann::json&)>& done,
                                       const std::function<void(size_t, size_t)>& progress) {
@@ -524,14 +580,7 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
   const size_t n = which.size();
   std::vector<nlohmann::json> records(n);
   std::vector<char> ready(n, 0);
-  // The runs first, so their lines appear early, then the points; each longest first, ties in
-  // plan order. Workers never wait between the two.
-  std::vector<size_t> order(n);
-  for (size_t k = 0; k < n; ++k) order[k] = k;
-  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) {
-    const SuiteItem &x = plan.items[which[a]], &y = plan.items[which[b]];
-    return x.kind != y.kind ? x.kind == SuiteItem::kRun : x.cost > y.cost;
-  });
+  const std::vector<size_t> order = schedule_order(plan, which);
   const RunningBinary binary(runner.exe);
   std::signal(SIGPIPE, SIG_IGN);  // a worker that died is seen at its pipe's end, not by a signal
   const int jobs = std::min({runner.jobs, usable_cores(), static_cast<int>(std::max<size_t>(n, 1))});
@@ -568,41 +617,15 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
           finish(w, error_record(plan.items[which[static_cast<size_t>(w.slot)]], fmt::format("the worker process {} before the run", how)));
         }
       }
-      // Wait for output, an end or the nearest time limit.
-      std::vector<pollfd> fds;
-      std::vector<std::pair<size_t, bool>> whose;  // worker, stdout?
-      double wait_s = 0.25;
-      for (size_t k = 0; k < workers.size(); ++k) {
+      for (const auto& [k, is_out] : poll_workers(workers, wall_limit_s)) {
         Worker& w = workers[k];
         if (w.slot < 0) continue;
-        fds.push_back({w.out_fd, POLLIN, 0}), whose.emplace_back(k, true);
-        fds.push_back({w.err_fd, POLLIN, 0}), whose.emplace_back(k, false);
-        wait_s = std::min(wait_s, wall_limit_s - std::chrono::duration<double>(clock::now() - w.started).count());
-      }
-      if (!fds.empty() && poll(fds.data(), fds.size(), static_cast<int>(std::max(0.0, wait_s) * 1000.0) + 1) < 0 && errno != EINTR)
-        throw std::runtime_error(fmt::format("poll: {}", std::strerror(errno)));
-      for (size_t f = 0; f < fds.size(); ++f) {
-        Worker& w = workers[whose[f].first];
-        if (w.slot < 0 || !(fds[f].revents & (POLLIN | POLLHUP | POLLERR))) continue;
-        const SuiteItem& item = plan.items[which[static_cast<size_t>(w.slot)]];
-        if (!whose[f].second) {
+        if (!is_out) {
           pass_on_stderr(w);
           continue;
         }
-        const bool open = drain(w.out_fd, w.out);
-        const size_t nl = w.out.find('\n');
-        pass_on_stderr(w);  // what the item wrote on stderr belongs to it, before the next one starts
-        if (nl != std::string::npos) {
-          nlohmann::json rec = nlohmann::json::parse(w.out.substr(0, nl), nullptr, false);
-          if (rec.is_discarded()) rec = error_record(item, "the worker process wrote a malformed record");
-          finish(w, std::move(rec));
-        } else if (!open) {
-          int sig = 0;
-          const std::string how = end_worker(w, false, &sig);
-          const std::string said = last_line(w.err);
-          finish(w, error_record(item, sig == SIGPROF ? timed_out(runner.timeout_s)
-                                                      : fmt::format("the engine ended its process ({}){}", how, said.empty() ? "" : ": " + said)));
-        }
+        std::optional<nlohmann::json> rec = read_record(w, plan.items[which[static_cast<size_t>(w.slot)]], runner.timeout_s);
+        if (rec) finish(w, std::move(*rec));
       }
       for (Worker& w : workers)
         if (w.slot >= 0 && std::chrono::duration<double>(clock::now() - w.started).count() > wall_limit_s) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fmt/format.h>
 
+#include "scenarios/details.hpp"
 #include "scenarios/disk_scenarios.hpp"
 #include "scenarios/fit.hpp"
 #include "scenarios/sweep_catalogue.hpp"
@@ -67,6 +68,32 @@ std::vector<std::pair<std::string, double>> point_errors(const nlohmann::json& p
   return out;
 }
 
+/// The log-log fit of `entry` against its band: a problem, or its known failure marked on the fit.
+void gate_fit(const SweepDef& sweep, const KnownSweepFailure* fit_known, nlohmann::json& entry, nlohmann::json& problems) {
+  const auto& slope = entry["fit"]["slope"];
+  std::string fit_problem;
+  if (!slope.is_number())
+    fit_problem = "too few points above the noise floor for a slope";
+  else if (std::abs(slope.get<double>() - sweep.slope_expected) > sweep.slope_band)
+    fit_problem = fmt::format("fitted slope {:.4f} outside {} +- {}", slope.get<double>(), sweep.slope_expected, sweep.slope_band);
+  if (fit_known && fit_problem.rfind(fit_known->pattern, 0) == 0 && !fit_problem.empty())
+    entry["fit"]["known_failure"] = fit_known->reason + ": " + fit_problem;
+  else if (fit_known)
+    problems.push_back(fmt::format("the fit is listed as failing with '{}' ({}) but: {}", fit_known->pattern, fit_known->reason,
+                                   fit_problem.empty() ? "it lies in its band" : fit_problem));
+  else if (!fit_problem.empty())
+    problems.push_back(fit_problem);
+}
+
+/// A point past the grip limit where the car kept its grip: neither its front radius nor its
+/// lateral slip failed by the sliding amounts.
+bool kept_grip(const nlohmann::json& pt) {
+  bool slid = false;
+  for (const auto& [name, err] : point_errors(pt))
+    slid = slid || (name == "front_radius" && err >= SweepDef::kSlideRadius) || (name == "slip_across_max" && err >= SweepDef::kSlideAcross_mps);
+  return !slid;
+}
+
 }  // namespace
 
 bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
@@ -84,17 +111,12 @@ bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
   const bool must_slide = sweep.slide_past_marker && info && info->contact_dynamics;
   for (auto& pt : entry["points"]) {
     const double x = pt["x"];
-    if (must_slide && x > sweep.marker && pt["status"] != "error") {
-      bool slid = false;
-      for (const auto& [name, err] : point_errors(pt))
-        slid = slid || (name == "front_radius" && err >= SweepDef::kSlideRadius) || (name == "slip_across_max" && err >= SweepDef::kSlideAcross_mps);
-      if (!slid) {
-        ++unexpected;
-        problems.push_back(fmt::format("{} = {}: past the grip limit ({}) the car must slide (front radius +{:g} or lateral slip {:g} m/s), but it kept its grip: {}",
-                                       sweep.param, x, sweep.marker_label, SweepDef::kSlideRadius, SweepDef::kSlideAcross_mps,
-                                       pt["status"] == "pass" ? "every metric passes" : pt.value("message", "")));
-        continue;
-      }
+    if (must_slide && x > sweep.marker && pt["status"] != "error" && kept_grip(pt)) {
+      ++unexpected;
+      problems.push_back(fmt::format("{} = {}: past the grip limit ({}) the car must slide (front radius +{:g} or lateral slip {:g} m/s), but it kept its grip: {}",
+                                     sweep.param, x, sweep.marker_label, SweepDef::kSlideRadius, SweepDef::kSlideAcross_mps,
+                                     pt["status"] == "pass" ? "every metric passes" : pt.value("message", "")));
+      continue;
     }
     const KnownSweepFailure* k = nullptr;
     for (const auto& f : known_sweep_failures())
@@ -140,21 +162,7 @@ bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
     problems.push_back(fmt::format("listed as failing at some points ({}) but every point passes", anywhere->reason));
   if (anywhere && anywhere_failed > anywhere->points_max)
     problems.push_back(fmt::format("{} points fail where at most {} are known to ({})", anywhere_failed, anywhere->points_max, anywhere->reason));
-  if (sweep.loglog_fit) {
-    const auto& slope = entry["fit"]["slope"];
-    std::string fit_problem;
-    if (!slope.is_number())
-      fit_problem = "too few points above the noise floor for a slope";
-    else if (std::abs(slope.get<double>() - sweep.slope_expected) > sweep.slope_band)
-      fit_problem = fmt::format("fitted slope {:.4f} outside {} +- {}", slope.get<double>(), sweep.slope_expected, sweep.slope_band);
-    if (fit_known && fit_problem.rfind(fit_known->pattern, 0) == 0 && !fit_problem.empty())
-      entry["fit"]["known_failure"] = fit_known->reason + ": " + fit_problem;
-    else if (fit_known)
-      problems.push_back(fmt::format("the fit is listed as failing with '{}' ({}) but: {}", fit_known->pattern, fit_known->reason,
-                                     fit_problem.empty() ? "it lies in its band" : fit_problem));
-    else if (!fit_problem.empty())
-      problems.push_back(fit_problem);
-  }
+  if (sweep.loglog_fit) gate_fit(sweep, fit_known, entry, problems);
   entry["gate"] = {{"pass", problems.empty()}, {"problems", problems}, {"points_pass", pass}, {"points_known_failure", known},
                    {"points_error", error}, {"points_unexpected", unexpected}};
   if (sweep.loglog_fit) entry["gate"]["slope_band"] = {sweep.slope_expected - sweep.slope_band, sweep.slope_expected + sweep.slope_band};
@@ -286,9 +294,9 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
     const nlohmann::json& rec = record(outcome_key(*reference, c));
     if (rec["status"] == "error") throw std::runtime_error(fmt::format("the reference run failed: {}", rec["message"].get<std::string>()));
     const auto& d = rec["details"];
-    const bool hit = d["t_contact_measured_s"].is_number();
+    const bool hit = d[detail_key::kTContactMeasured].is_number();
     // Closest approach of the lift (21), refined on its dense output (not over samples).
-    cases.push_back({&c, hit, hit ? d["t_contact_measured_s"].get<double>() : NAN, d["reference_min_distance"].get<double>()});
+    cases.push_back({&c, hit, hit ? d[detail_key::kTContactMeasured].get<double>() : NAN, d[detail_key::kReferenceMinDistance].get<double>()});
   }
   nlohmann::json per_engine = nlohmann::json::array();
   for (const EngineInfo* e : engines) {
@@ -311,7 +319,7 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
         continue;
       }
       const auto& d = rec["details"];
-      const bool hit = d["t_contact_measured_s"].is_number();
+      const bool hit = d[detail_key::kTContactMeasured].is_number();
       // A run failing only in metrics the expectations list for this configuration, no worse than
       // their ceilings, is a known failure.
       bool known_fail = false;
@@ -331,7 +339,7 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
       if (hit != cs.collision && !is_near) ++unexplained;
       double steps = NAN;
       if (hit && cs.collision) {
-        steps = (d["t_contact_measured_s"].get<double>() - cs.t) / 1e-3;
+        steps = (d[detail_key::kTContactMeasured].get<double>() - cs.t) / 1e-3;
         worst_steps = std::max(worst_steps, std::abs(steps));
       }
       rows.push_back({{"a", c.a}, {"b", c.b}, {"path", c.path}, {"T_s", c.T_s}, {"reference", cs.collision}, {"engine", hit},
@@ -367,7 +375,7 @@ std::vector<MapPoint> map_grid(const MapDef& map, const EngineInfo& e) {
   if (e.is_reference) return {{kMapDefault, 0.0, {}}};
   for (double dt : map.dt_s) grid.push_back({kMapDt, dt, {{"dt", fmt::format("{}", dt)}}});
   for (const SettingSpec& k : e.knobs)
-    if (k.vehicle == "car" && k.role == SettingRole::kSolverIterations)
+    if (k.vehicle == Vehicle::kCar && k.role == SettingRole::kSolverIterations)
       for (int n : map.iterations) grid.push_back({kMapIterations, static_cast<double>(n), {{k.key, fmt::format("{}", n)}}});
   return grid;
 }
@@ -450,7 +458,7 @@ std::string sweep_key(const SweepDef& s, const EngineInfo& e, double x) { return
 nlohmann::json point_record(const RunRecord& r) { return point_record(r.to_json()); }
 
 nlohmann::json point_record(nlohmann::json record) {
-  for (const char* big : {"trace", "reference", "contact_log"}) record["details"].erase(big);
+  for (const char* big : {detail_key::kTrace, detail_key::kReference, detail_key::kContactLog}) record["details"].erase(big);
   return record;
 }
 

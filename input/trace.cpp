@@ -162,12 +162,12 @@ InputError not_json_error(const json::exception& e, const std::string& file) {
   return InputError(fmt::format("{}: is not JSON ({})", file, printable(what, 200)));
 }
 
-const std::vector<std::string>& trace_columns(const std::string& vehicle) {
+const std::vector<std::string>& trace_columns(Vehicle vehicle) {
   static const std::vector<std::string> car{"t", "alpha", "beta", "x", "y", "phi"}, disks{"t", "cMx", "cMy", "cNx", "cNy"};
-  return vehicle == "car" ? car : disks;
+  return vehicle == Vehicle::kCar ? car : disks;
 }
 
-Trace read_trace(const std::filesystem::path& file, const std::string& vehicle) {
+Trace read_trace(const std::filesystem::path& file, Vehicle vehicle) {
   require_utf8(file.string(), "trace file name");
   return parse_trace(read_text_file(file, kMaxTraceBytes, "trace"), file.string(), vehicle);
 }
@@ -193,7 +193,7 @@ std::string header_precision(const std::string& p, const std::string& where) {
 }
 }  // namespace
 
-Trace parse_trace(const std::string& whole, const std::string& file, const std::string& vehicle) {
+Trace parse_trace(const std::string& whole, const std::string& file, Vehicle vehicle) {
   Trace tr;
   tr.file = printable(file, 200);
   const std::string_view text = utf8_text(whole, tr.file);

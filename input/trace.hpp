@@ -9,11 +9,12 @@
 #include <vector>
 
 #include "input/params.hpp"
+#include "input/vehicle.hpp"
 
 namespace liftcheck {
 
 /// Columns of a car trace and of a disk trace.
-const std::vector<std::string>& trace_columns(const std::string& vehicle);
+const std::vector<std::string>& trace_columns(Vehicle vehicle);
 
 /// A simulator's trace: rows of the vehicle's trace columns, time strictly increasing.
 struct Trace {
@@ -29,10 +30,10 @@ struct Trace {
 /// Reads CSV (a header naming the columns, '#' comments) or JSON (an array of objects with the
 /// columns as keys, or {"rows": [...]}); InputError naming the file, the line and the problem for
 /// a missing column, a non-number or non-finite value, time not increasing, fewer than 2 rows.
-Trace read_trace(const std::filesystem::path& file, const std::string& vehicle);
+Trace read_trace(const std::filesystem::path& file, Vehicle vehicle);
 
 /// The same on text already read; `file` names it in errors.
-Trace parse_trace(const std::string& text, const std::string& file, const std::string& vehicle);
+Trace parse_trace(const std::string& text, const std::string& file, Vehicle vehicle);
 
 /// Parses a JSON document that liftcheck reads back; InputError "FILE: is not JSON (...)", or for a
 /// document nested deeper than `max_depth` levels (copying or printing one recurses that deep).

@@ -4,6 +4,7 @@
 #include "reports/headline.hpp"
 #include "reports/html.hpp"
 #include "reports/html_common.hpp"
+#include "scenarios/details.hpp"
 
 namespace liftcheck {
 
@@ -98,11 +99,11 @@ std::string engine_section(const json& results, const json& r, const json& def) 
   if (const std::string s = settings_text(r.value("settings", json::object())); !s.empty()) h += "<p class=\"meta\">Settings applied: <code>" + esc(s) + "</code></p>\n";
   if (!r["metrics"].empty()) h += metric_table(r, def);
   const auto& d = r["details"];
-  if (d.is_object() && d.contains("errors")) {
-    const auto& er = d["errors"];
+  if (d.is_object() && d.contains(detail_key::kErrors)) {
+    const auto& er = d[detail_key::kErrors];
     h += fmt::format("<p class=\"note\">Actuation error (lift of the realized (alpha, beta) against the commanded lift): {:.3g} m; "
                      "contact error (engine pose against the lift of its realized path): {:.3g} m.</p>\n",
-                     er["actuation_error_m"].get<double>(), er["contact_error_m"].get<double>());
+                     er[detail_key::kActuationError].get<double>(), er[detail_key::kContactError].get<double>());
   }
   h += "<div class=\"shots\">\n";
   for (const auto& s : rep.value("snapshots", json::array()))

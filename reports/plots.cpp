@@ -1,6 +1,8 @@
 #include "reports/plots.hpp"
 
 #include "harness/sweeps.hpp"
+#include "input/vehicle.hpp"
+#include "scenarios/details.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -137,14 +139,14 @@ void plot_runs(Script& S, std::vector<PlotFile>& files, const json& results, con
     by_scenario[sc].push_back(&r);
   }
   for (const auto& sc : order) {
-    const bool disks = by_scenario[sc].front()->value("vehicle", "") == "disks";
+    const bool disks = parse_vehicle(by_scenario[sc].front()->value("vehicle", "")) == Vehicle::kDisks;
     const std::string file = fmt::format("plots/{}-error.svg", safe(sc));
     std::string cmd;
     for (const json* r : by_scenario[sc]) {
       const auto& d = (*r)["details"];
-      if (!d.is_object() || !d.contains("trace") || !d.contains("reference") || d["trace"].empty()) continue;
+      if (!d.is_object() || !d.contains(detail_key::kTrace) || !d.contains(detail_key::kReference) || d[detail_key::kTrace].empty()) continue;
       const std::string eng = (*r)["engine"];
-      cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb {} t {} noenhanced, ", S.block(error_rows(d["trace"], d["reference"])),
+      cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb {} t {} noenhanced, ", S.block(error_rows(d[detail_key::kTrace], d[detail_key::kReference])),
                          gnuplot_quote(color_of(eng)), gnuplot_quote(eng));
     }
     if (cmd.empty()) continue;
@@ -224,8 +226,8 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
         if (f.is_object() && f["rel_error"].is_number()) a.push_back({x, std::max(f["rel_error"].get<double>(), 1e-16)});
         if (r.is_object() && r["rel_error"].is_number()) b2.push_back({x, std::max(r["rel_error"].get<double>(), 1e-16)});
       } else if (holonomy) {
-        const auto& ex = pt[detail_field("holonomy_size_m")];
-        const auto& me = pt[detail_field("measured_size_m")];
+        const auto& ex = pt[detail_field(detail_key::kHolonomySize)];
+        const auto& me = pt[detail_field(detail_key::kMeasuredSize)];
         if (ex.is_number()) exact.push_back({x, ex.get<double>()});
         if (me.is_number()) a.push_back({x, me.get<double>()});
       } else {

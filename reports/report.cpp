@@ -28,6 +28,72 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
 
+/// Renders every run's snapshots and frame strip into out/snapshots in def.threads threads, and
+/// lists them (in run order), the problems and the GL version in `report`.
+void write_snapshots(json& results, const std::filesystem::path& out, const ReportDef& def, json& report) {
+  const json& runs = results["runs"];
+  std::vector<json> shots(runs.size(), json::array()), strips(runs.size(), json::array());
+  std::vector<std::string> errors;
+  std::string gl_version;
+  std::mutex mu;
+  std::map<std::string, render::Color> ink;  // each configuration's colour, from the context
+  for (const auto& e : results["context"].value("engines", json::array()))
+    ink[e["name"].get<std::string>()] = render::color_from_hex(e.value("color", ""));
+  const auto ink_of = [&](const json& r) {
+    const auto it = ink.find(r["engine"].get<std::string>());
+    return it == ink.end() ? render::colors::kUnknown : it->second;
+  };
+  const int threads = std::max(1, def.threads);  // 0 or fewer: one thread (a stride of 0 never ends)
+  const auto worker = [&](int id) {
+    render::Renderer renderer;
+    for (std::size_t i = id; i < runs.size(); i += static_cast<std::size_t>(threads)) {
+      const json& r = runs[i];
+      const std::string base = fmt::format("snapshots/{}__{}", file_safe(r["scenario"]), file_safe(r["engine"]));
+      try {
+        for (const auto& s : render::snapshots_for(r, ink_of(r))) {
+          const std::string file = fmt::format("{}__{}.png", base, s.tag);
+          render::Image img = renderer.render(s.scene);
+          for (const auto& in : s.insets) render::paste(img, renderer.render(in.scene), in.x_px, in.y_px);
+          render::write_png(out / file, img);
+          shots[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"tag", s.tag}, {"file", file}, {"caption", s.caption}});
+        }
+        const render::Strip st = render::strip_for(r, ink_of(r));
+        if (!st.frames.empty()) {
+          std::vector<render::Image> frames;
+          for (const auto& f : st.frames) frames.push_back(renderer.render(f));
+          const std::string file = base + "__strip.png";
+          render::write_png(out / file, render::tile(frames, st.per_row));
+          strips[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"file", file}, {"caption", st.caption}});
+        }
+      } catch (const std::exception& e) {
+        std::lock_guard<std::mutex> lock(mu);
+        errors.push_back(fmt::format("snapshots of {} on {}: {}", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), e.what()));
+      }
+    }
+    std::lock_guard<std::mutex> lock(mu);
+    if (gl_version.empty()) gl_version = renderer.gl_version();
+  };
+  std::vector<std::thread> pool;
+  for (int id = 0; id < threads; ++id) pool.emplace_back(worker, id);
+  for (auto& t : pool) t.join();
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    for (auto& s : shots[i]) report["snapshots"].push_back(s);
+    for (auto& s : strips[i]) report["strips"].push_back(s);
+  }
+  for (auto& e : errors) report["errors"].push_back(e);
+  report["gl_version"] = gl_version;
+}
+
+/// A results file from before headlines were declared gets the catalogue's (what the pages show).
+void add_missing_headlines(json& results) {
+  if (results.contains("scenarios") && results["scenarios"].is_array())
+    for (auto& s : results["scenarios"])
+      if (!s.contains("headline")) {
+        const json def = headline_def(json{{"scenarios", json::array()}}, s.value("name", ""));
+        if (!def.is_null()) s["headline"] = def;
+      }
+}
+
 }  // namespace
 
 void write_report(json& results, const std::filesystem::path& out, const ReportDef& def) {
@@ -35,59 +101,7 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
   json report{{"snapshots", json::array()}, {"strips", json::array()}, {"plots", json::array()}, {"errors", json::array()}};
   std::filesystem::create_directories(out / "snapshots");
 
-  if (def.snapshots) {
-    const json& runs = results["runs"];
-    std::vector<json> shots(runs.size(), json::array()), strips(runs.size(), json::array());
-    std::vector<std::string> errors;
-    std::string gl_version;
-    std::mutex mu;
-    std::map<std::string, render::Color> ink;  // each configuration's colour, from the context
-    for (const auto& e : results["context"].value("engines", json::array()))
-      ink[e["name"].get<std::string>()] = render::color_from_hex(e.value("color", ""));
-    const auto ink_of = [&](const json& r) {
-      const auto it = ink.find(r["engine"].get<std::string>());
-      return it == ink.end() ? render::colors::kUnknown : it->second;
-    };
-    const int threads = std::max(1, def.threads);  // 0 or fewer: one thread (a stride of 0 never ends)
-    const auto worker = [&](int id) {
-      render::Renderer renderer;
-      for (std::size_t i = id; i < runs.size(); i += static_cast<std::size_t>(threads)) {
-        const json& r = runs[i];
-        const std::string base = fmt::format("snapshots/{}__{}", file_safe(r["scenario"]), file_safe(r["engine"]));
-        try {
-          for (const auto& s : render::snapshots_for(r, ink_of(r))) {
-            const std::string file = fmt::format("{}__{}.png", base, s.tag);
-            render::Image img = renderer.render(s.scene);
-            for (const auto& in : s.insets) render::paste(img, renderer.render(in.scene), in.x_px, in.y_px);
-            render::write_png(out / file, img);
-            shots[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"tag", s.tag}, {"file", file}, {"caption", s.caption}});
-          }
-          const render::Strip st = render::strip_for(r, ink_of(r));
-          if (!st.frames.empty()) {
-            std::vector<render::Image> frames;
-            for (const auto& f : st.frames) frames.push_back(renderer.render(f));
-            const std::string file = base + "__strip.png";
-            render::write_png(out / file, render::tile(frames, st.per_row));
-            strips[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"file", file}, {"caption", st.caption}});
-          }
-        } catch (const std::exception& e) {
-          std::lock_guard<std::mutex> lock(mu);
-          errors.push_back(fmt::format("snapshots of {} on {}: {}", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), e.what()));
-        }
-      }
-      std::lock_guard<std::mutex> lock(mu);
-      if (gl_version.empty()) gl_version = renderer.gl_version();
-    };
-    std::vector<std::thread> pool;
-    for (int id = 0; id < threads; ++id) pool.emplace_back(worker, id);
-    for (auto& t : pool) t.join();
-    for (std::size_t i = 0; i < runs.size(); ++i) {
-      for (auto& s : shots[i]) report["snapshots"].push_back(s);
-      for (auto& s : strips[i]) report["strips"].push_back(s);
-    }
-    for (auto& e : errors) report["errors"].push_back(e);
-    report["gl_version"] = gl_version;
-  }
+  if (def.snapshots) write_snapshots(results, out, def, report);
   report["snapshots_s"] = seconds_since(t0);
 
   const auto tp = std::chrono::steady_clock::now();
@@ -102,13 +116,7 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
   report["report_s"] = seconds_since(t0);
   results["report"] = report;
 
-  // A results file from before headlines were declared gets the catalogue's (what the pages show).
-  if (results.contains("scenarios") && results["scenarios"].is_array())
-    for (auto& s : results["scenarios"])
-      if (!s.contains("headline")) {
-        const json def = headline_def(json{{"scenarios", json::array()}}, s.value("name", ""));
-        if (!def.is_null()) s["headline"] = def;
-      }
+  add_missing_headlines(results);
   std::vector<std::string> scenarios;
   for (const auto& r : results["runs"])
     if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end()) scenarios.push_back(r["scenario"]);

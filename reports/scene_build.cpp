@@ -5,6 +5,8 @@
 #include <limits>
 #include <numbers>
 
+#include "input/vehicle.hpp"
+#include "scenarios/details.hpp"
 #include "models/ackermann.hpp"
 
 namespace liftcheck::render {
@@ -140,11 +142,11 @@ void add_paths(Scene& s, const json& trace, std::size_t upto, const CarGeom& g, 
 Scene car_scene(const json& run, const Color& ink, double t, bool full_paths) {
   Scene s;
   const CarGeom g = geom_of(run);
-  const json& tr = run["details"]["trace"];
+  const json& tr = run["details"][detail_key::kTrace];
   const std::size_t k = row_at(tr, t);
   Bounds b;
-  if (run["details"].contains("reference")) {
-    const json& ref = run["details"]["reference"];
+  if (run["details"].contains(detail_key::kReference)) {
+    const json& ref = run["details"][detail_key::kReference];
     add_paths(s, ref, full_paths ? ref.size() : row_at(ref, t), g, Color{0.55f, 0.55f, 0.55f, 0.55f}, 7.0f, &b);
   }
   add_paths(s, tr, full_paths ? tr.size() : k, g, ink, 2.0f, &b);
@@ -163,7 +165,7 @@ Scene car_scene(const json& run, const Color& ink, double t, bool full_paths) {
 Scene disk_scene(const json& run, const Color& ink, double t, const std::string& moment) {
   Scene s;
   const json& d = run["details"];
-  const json& tr = d["trace"];
+  const json& tr = d[detail_key::kTrace];
   const std::size_t k = row_at(tr, t);
   Bounds b;
   const auto cM = [](const json& row) { return Vec2(row[1].get<double>(), row[2].get<double>()); };
@@ -173,14 +175,14 @@ Scene disk_scene(const json& run, const Color& ink, double t, const std::string&
     nline.points.push_back(cN(row)), mline.points.push_back(cM(row));
     b.add(cN(row), 1.0), b.add(cM(row), 1.0);
   }
-  if (d.contains("reference")) {
+  if (d.contains(detail_key::kReference)) {
     Polyline ref{{}, Color{0.55f, 0.55f, 0.55f, 0.55f}, 7.0f};
-    for (const auto& row : d["reference"]) ref.points.push_back(cM(row));
+    for (const auto& row : d[detail_key::kReference]) ref.points.push_back(cM(row));
     s.lines.push_back(ref);
   }
-  if (d.contains("collision_centre") && d["collision_centre"].is_array()) {
-    const Vec2 c(d["collision_centre"][0].get<double>(), d["collision_centre"][1].get<double>());
-    const double r = d["collision_radius"].get<double>();
+  if (d.contains(detail_key::kCollisionCentre) && d[detail_key::kCollisionCentre].is_array()) {
+    const Vec2 c(d[detail_key::kCollisionCentre][0].get<double>(), d[detail_key::kCollisionCentre][1].get<double>());
+    const double r = d[detail_key::kCollisionRadius].get<double>();
     if (r < 1e3) {
       s.circles.push_back({c, r, Color{0.8f, 0.1f, 0.1f, 0.9f}, Color{0.9f, 0.2f, 0.2f, 0.18f}, 2.0f});
       s.labels.push_back({"D (Lemma 6.1)", c + Vec2(0.0, r * 1.05), false, 14.0f, Color{0.7f, 0.1f, 0.1f, 1.0f}});
@@ -195,8 +197,8 @@ Scene disk_scene(const json& run, const Color& ink, double t, const std::string&
   s.pucks.push_back({cM(tr[k]), 1.0, 0.25, lighten(ink, 0.45f)});
   s.labels.push_back({"N", cN(tr[k]) + Vec2(-0.15, 0.35), false, 16.0f});
   s.labels.push_back({"M", cM(tr[k]) + Vec2(-0.15, 0.35), false, 16.0f});
-  if (d["t_contact_measured_s"].is_number()) {
-    const std::size_t kc = row_at(tr, d["t_contact_measured_s"].get<double>());
+  if (d[detail_key::kTContactMeasured].is_number()) {
+    const std::size_t kc = row_at(tr, d[detail_key::kTContactMeasured].get<double>());
     s.markers.push_back({0.5 * (cM(tr[kc]) + cN(tr[kc])), 0.25, colors::kContact});
   }
   frame(s, b, 0.08);
@@ -212,8 +214,8 @@ Scene covariance_scene(const json& run, const Color& ink) {
   Scene s;
   const CarGeom g = geom_of(run);
   Bounds b;
-  for (const auto& r : run["details"]["runs"]) {
-    const json& tr = r["trace"];
+  for (const auto& r : run["details"][detail_key::kRuns]) {
+    const json& tr = r[detail_key::kTrace];
     if (!tr.is_array() || tr.empty()) continue;
     add_paths(s, tr, tr.size(), g, ink, 2.0f, &b);
     add_car(s, tr.front(), 0.0, g, 0.25f);
@@ -221,7 +223,7 @@ Scene covariance_scene(const json& run, const Color& ink) {
   }
   frame(s, b, 0.05);
   add_legend(s, fmt::format("{} · {} · {} starts", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
-                            run["details"]["runs"].size()),
+                            run["details"][detail_key::kRuns].size()),
              run["engine"], ink, "(faint: start poses)");
   return s;
 }
@@ -245,8 +247,8 @@ Inset end_pose_inset(const json& run, const Color& ink, const Scene& main) {
   Scene& s = in.scene;
   s.width_px = 300, s.height_px = 225;
   in.x_px = main.width_px - s.width_px - 14, in.y_px = 14;
-  const json& tr = run["details"]["trace"];
-  const json& ref = run["details"].contains("reference") ? run["details"]["reference"] : tr;
+  const json& tr = run["details"][detail_key::kTrace];
+  const json& ref = run["details"].contains(detail_key::kReference) ? run["details"][detail_key::kReference] : tr;
   const Vec2 fe = front_of(tr.back()), fx = front_of(ref.back());
   const double offset = (fe - fx).norm();
   // The offset spans a third of the height: 1 mm is then 225 / 6 = 37 px (at least 1 µm shown).
@@ -273,18 +275,18 @@ Inset end_pose_inset(const json& run, const Color& ink, const Scene& main) {
 std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
   std::vector<Snapshot> out;
   if (!run.contains("details") || !run["details"].is_object()) return out;
-  if (run["details"].value("drawing", "") == "starts" && run["details"].contains("runs")) {
+  if (run["details"].value(detail_key::kDrawing, "") == detail_key::kDrawingStarts && run["details"].contains(detail_key::kRuns)) {
     out.push_back({"end", "all starts (turned over the full circle, every other one shifted) and their paths", covariance_scene(run, ink)});
     return out;
   }
-  if (!run["details"].contains("trace")) return out;
-  const json& tr = run["details"]["trace"];
+  if (!run["details"].contains(detail_key::kTrace)) return out;
+  const json& tr = run["details"][detail_key::kTrace];
   if (!tr.is_array() || tr.size() < 2) return out;
   const double t0 = tr.front()[0].get<double>(), t1 = tr.back()[0].get<double>();
-  if (run.value("vehicle", "") == "disks") {
+  if (parse_vehicle(run.value("vehicle", "")) == Vehicle::kDisks) {
     out.push_back({"start", "start", disk_scene(run, ink, t0, "start")});
-    if (run["details"]["t_contact_measured_s"].is_number()) {
-      const double tc = run["details"]["t_contact_measured_s"].get<double>();
+    if (run["details"][detail_key::kTContactMeasured].is_number()) {
+      const double tc = run["details"][detail_key::kTContactMeasured].get<double>();
       out.push_back({"contact", fmt::format("first contact, t = {:.3f} s", tc), disk_scene(run, ink, tc, "contact")});
     }
     out.push_back({"end", "end", disk_scene(run, ink, t1, "end")});
@@ -300,10 +302,10 @@ std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
 Strip strip_for(const json& run, const Color& ink) {
   Strip st;
   // A parking cycle records its number of steps: a frame at the start and after each step.
-  if (!run.contains("details") || !run["details"].is_object() || !run["details"].contains("steps") || !run["details"].contains("trace")) return st;
-  const json& tr = run["details"]["trace"];
+  if (!run.contains("details") || !run["details"].is_object() || !run["details"].contains(detail_key::kSteps) || !run["details"].contains(detail_key::kTrace)) return st;
+  const json& tr = run["details"][detail_key::kTrace];
   const CarGeom g = geom_of(run);
-  const int n = run["details"]["steps"].get<int>() + 1;
+  const int n = run["details"][detail_key::kSteps].get<int>() + 1;
   Bounds b;
   for (const auto& row : tr) b.add(front_of(row), 1.2 * g.R), b.add(rear_of(row, g.l), 0.5 * g.track + 1.2 * g.R);
   for (int i = 0; i < n; ++i) {
@@ -324,7 +326,7 @@ Strip strip_for(const json& run, const Color& ink) {
   add_car(s, tr.back(), rear_spin(tr, tr.size() - 1, g), g);
   const Vec2 p0 = front_of(tr.front()), p1 = front_of(tr.back());
   const double shift = (p1 - p0).norm();
-  const json& ex = run["details"]["errors"]["commanded_lift_end"];
+  const json& ex = run["details"][detail_key::kErrors][detail_key::kCommandedLiftEnd];
   const Vec2 pe(ex[0].get<double>(), ex[1].get<double>());
   // The magnification is a power of ten that keeps the longer arrow (exact or engine) within half
   // the tie rod, so that both stay in the frame.

@@ -19,8 +19,23 @@ constexpr double kHalfPi = std::numbers::pi / 2.0;
 
 ParamSpec number(std::string key, std::string def, std::string unit, std::string help,
                  double min = -INFINITY, bool min_exclusive = false, double max = INFINITY) {
-  return {std::move(key), ParamKind::kNumber, std::move(def), std::move(unit), std::move(help), min,
-          min_exclusive, max, {}};
+  return {.key = std::move(key), .kind = ParamKind::kNumber, .default_text = std::move(def), .unit = std::move(unit),
+          .help = std::move(help), .min = min, .min_exclusive = min_exclusive, .max = max};
+}
+/// An integer in [min, max].
+ParamSpec integer(std::string key, std::string def, std::string unit, std::string help, double min, double max) {
+  return {.key = std::move(key), .kind = ParamKind::kInteger, .default_text = std::move(def), .unit = std::move(unit),
+          .help = std::move(help), .min = min, .max = max};
+}
+/// A vector of two numbers, each coordinate within [-bound, bound].
+ParamSpec vec2(std::string key, std::string def, std::string unit, std::string help, double bound) {
+  return {.key = std::move(key), .kind = ParamKind::kVec2, .default_text = std::move(def), .unit = std::move(unit),
+          .help = std::move(help), .min = -bound, .max = bound};
+}
+/// One of `choices` (no unit).
+ParamSpec choice(std::string key, std::string def, std::string help, std::vector<std::string> choices) {
+  return {.key = std::move(key), .kind = ParamKind::kChoice, .default_text = std::move(def), .help = std::move(help),
+          .choices = std::move(choices)};
 }
 
 /// Parameters every car scenario shares: geometry, start pose, driving, engine settings.
@@ -40,9 +55,9 @@ std::vector<ParamSpec> car_params(const std::string& beta_default) {
       number("sample_dt", "0.01", "s", "spacing of the recorded trace", 0.0, true, 10.0),
       number("mu", "1.0", "1", "Coulomb friction coefficient, wheel against ground", 0.0, true, 10.0),
       number("gravity", "9.81", "m/s^2", "gravity magnitude (down)", 0.0, true, 100.0),
-      {"wheels", ParamKind::kChoice, "3", "", "3: the paper's tricycle; 4: two Ackermann-steered front wheels driven by an electronic differential (the reference is the same tricycle: average wheel angle, virtual steering angle)", -INFINITY, false, INFINITY, {"3", "4"}},
+      choice("wheels", "3", "3: the paper's tricycle; 4: two Ackermann-steered front wheels driven by an electronic differential (the reference is the same tricycle: average wheel angle, virtual steering angle)", {"3", "4"}),
       number("track", "0.8", "m", "distance between the rear wheels (and between the front wheels of a four-wheel car)", 0.0, true, 100.0),
-      {"steering", ParamKind::kChoice, "ackermann", "", "four wheels: each front wheel at its Ackermann angle, or both at beta (parallel: they fight and scrub)", -INFINITY, false, INFINITY, {"ackermann", "parallel"}},
+      choice("steering", "ackermann", "four wheels: each front wheel at its Ackermann angle, or both at beta (parallel: they fight and scrub)", {"ackermann", "parallel"}),
       // The masses in a real car's proportions: a passenger car's wheel with its tyre weighs 15 to
       // 25 kg and its steering knuckle with hub and brake about as much, against 1200 to 1600 kg
       // of body. The tricycle keeps a 40 kg chassis and 2 kg wheels (chassis/wheel 20, gentler on
@@ -161,11 +176,11 @@ nlohmann::json reference_json(const CarSetup& setup, const car::BasePath& path, 
 nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedConfig>& trace, const Config& commanded_end) {
   const Config realized = car::lift_of_samples(c, trace);
   const Config& eng = trace.back().q;
-  return {{"commanded_lift_end", {commanded_end.x_m, commanded_end.y_m, commanded_end.phi_rad}},
+  return {{detail_key::kCommandedLiftEnd, {commanded_end.x_m, commanded_end.y_m, commanded_end.phi_rad}},
           {"realized_lift_end", {realized.x_m, realized.y_m, realized.phi_rad}},
           {"engine_end", {eng.x_m, eng.y_m, eng.phi_rad}},
-          {"actuation_error_m", std::hypot(realized.x_m - commanded_end.x_m, realized.y_m - commanded_end.y_m)},
-          {"contact_error_m", std::hypot(eng.x_m - realized.x_m, eng.y_m - realized.y_m)}};
+          {detail_key::kActuationError, std::hypot(realized.x_m - commanded_end.x_m, realized.y_m - commanded_end.y_m)},
+          {detail_key::kContactError, std::hypot(eng.x_m - realized.x_m, eng.y_m - realized.y_m)}};
 }
 
 /// Contact-point slip measured by the engine every step (engines with wheels): the worst wheel's
@@ -319,13 +334,13 @@ Outcome run_circle(const Params& p, CarEngine& engine) {
   // Lateral acceleration of the front wheel against the friction limit: the kinematic model holds
   // only while v^2 / (r g) is well below mu.
   const double grip_use = setup.drive.speed_mps * setup.drive.speed_mps / (fe.radius_m * setup.gravity_mps2) / setup.mu;
-  o.details = {{"trace", trace_json(trace)},
-               {"reference", reference_json(setup, path, q0)},
+  o.details = {{detail_key::kTrace, trace_json(trace)},
+               {detail_key::kReference, reference_json(setup, path, q0)},
                {"front_fit_rms_m", ff.rms_residual_m},
                {"rear_fit_rms_m", rf.rms_residual_m},
                {"path_length_m", p.num("drive")},
-               {"grip_use", grip_use},
-               {"errors", error_split(setup.car, trace, end_exact)}};
+               {detail_key::kGripUse, grip_use},
+               {detail_key::kErrors, error_split(setup.car, trace, end_exact)}};
   add_slip(o, engine);
   return o;
 }
@@ -408,7 +423,7 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
     for (std::size_t i = 0; i < tr.size(); i += 4) thin.push_back(tr[i]);
     thin.push_back(tr.back());
     rows.push_back({{"theta_rad", theta}, {"start", {start.x_m, start.y_m, start.phi_rad}},
-                    {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}}, {"trace", thin}});
+                    {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}}, {detail_key::kTrace, thin}});
   }
   const auto [spread_xy, spread_phi] = pose_spread(seen);
   Outcome o;
@@ -417,7 +432,7 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
   // In the default regime the wheels slide a little, identically at every heading: the distance
   // from the no-slip lift is information here, the no-slip check is car.circle's.
   // "drawing": the report draws every start and its path in one picture.
-  o.details = {{"runs", rows}, {"drawing", "starts"}, {"exact_end_in_start_frame", {exact.x_m, exact.y_m, exact.phi_rad}},
+  o.details = {{detail_key::kRuns, rows}, {detail_key::kDrawing, detail_key::kDrawingStarts}, {"exact_end_in_start_frame", {exact.x_m, exact.y_m, exact.phi_rad}},
                {"largest_distance_from_no_slip_lift_m", worst}};
   return o;
 }
@@ -464,11 +479,11 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   o.values["lo_dy"] = {.expected = predicted[car::kY], .measured = d[car::kY], .scale = lo_size, .tolerance_factor = lo_factor};
   o.values["lo_dphi"] = {.expected = predicted[car::kPhi], .measured = d[car::kPhi], .scale = lo_size / l, .tolerance_factor = lo_factor};
   add_realized_lift(o, engine, setup, path, trace);
-  o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
-               {"steps", steps.size()}, {"holonomy_size_m", size},
-               {"measured_size_m", rod_shift(setup.car, trace.front().q, trace.back().q)},
-               {"holonomy_error_m", rod_shift(setup.car, end_exact, Config::from(trace.back().q.vec() - trace.front().q.vec() + q0.vec()))},
-               {"errors", error_split(setup.car, trace, end_exact)}};
+  o.details = {{detail_key::kTrace, trace_json(trace)}, {detail_key::kReference, reference_json(setup, path, q0)},
+               {detail_key::kSteps, steps.size()}, {detail_key::kHolonomySize, size},
+               {detail_key::kMeasuredSize, rod_shift(setup.car, trace.front().q, trace.back().q)},
+               {detail_key::kHolonomyError, rod_shift(setup.car, end_exact, Config::from(trace.back().q.vec() - trace.front().q.vec() + q0.vec()))},
+               {detail_key::kErrors, error_split(setup.car, trace, end_exact)}};
   add_slip(o, engine);
   return o;
 }
@@ -513,8 +528,8 @@ Outcome run_steer_in_place(const Params& p, CarEngine& engine) {
   o.values["front_shift"] = {0.0, max_shift};
   o.values["dphi"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - q0.phi_rad))};
   o.values["beta_reached"] = {.expected = q0.beta_rad + d_beta, .measured = end.beta_rad, .informational = engine.exact_by_construction()};
-  o.details = {{"trace", trace_json(trace)}, {"reference", reference_json(setup, path, q0)},
-               {"errors", error_split(setup.car, trace, car::flow_beta(q0, d_beta))}};
+  o.details = {{detail_key::kTrace, trace_json(trace)}, {detail_key::kReference, reference_json(setup, path, q0)},
+               {detail_key::kErrors, error_split(setup.car, trace, car::flow_beta(q0, d_beta))}};
   add_slip(o, engine);
   return o;
 }
@@ -540,7 +555,7 @@ Outcome run_reparam(const Params& p, CarEngine& engine) {
     const car::BasePath path(reparam_segments(), 0.0, q0.beta_rad, s.drive);
     const auto trace = drive_checked(engine, s, q0, path);
     ends.push_back(trace.back().q);
-    traces.push_back({{"speed_mps", s.drive.speed_mps}, {"duration_s", path.duration_s()}, {"trace", trace_json(trace)}});
+    traces.push_back({{"speed_mps", s.drive.speed_mps}, {"duration_s", path.duration_s()}, {detail_key::kTrace, trace_json(trace)}});
   }
   const car::BasePath ref_path(reparam_segments(), 0.0, q0.beta_rad, base.drive);
   car::LiftDef independent;  // not the analytic engine's integrator
@@ -553,8 +568,8 @@ Outcome run_reparam(const Params& p, CarEngine& engine) {
   o.values["end_spread"] = {0.0, spread};
   o.values["heading_spread"] = {0.0, heading_spread};
   o.values["end_error"] = {0.0, std::hypot(ends[1].x_m - ref.x_m, ends[1].y_m - ref.y_m)};
-  o.details = {{"runs", traces}, {"reference_end", {ref.x_m, ref.y_m, ref.phi_rad}},
-               {"trace", traces[1]["trace"]}, {"reference", reference_json(base, ref_path, q0)}};
+  o.details = {{detail_key::kRuns, traces}, {"reference_end", {ref.x_m, ref.y_m, ref.phi_rad}},
+               {detail_key::kTrace, traces[1][detail_key::kTrace]}, {detail_key::kReference, reference_json(base, ref_path, q0)}};
   return o;
 }
 
@@ -628,17 +643,17 @@ Outcome run_slope(const Params& p, CarEngine& engine) {
   o.values["drift_per_lap"] = {0.0, (lap_shift - exact_shift).dot(downhill) / laps};
   o.values["final_offset"] = {0.0, std::hypot(end.x_m - end_exact.x_m, end.y_m - end_exact.y_m)};
   const Eigen::Vector3d g = setup.gravity_W();
-  o.details = {{"trace", trace_json(trace)},
-               {"reference", reference_json(setup, path, q0)},
+  o.details = {{detail_key::kTrace, trace_json(trace)},
+               {detail_key::kReference, reference_json(setup, path, q0)},
                {"gravity_W_mps2", {g.x(), g.y(), g.z()}},
                {"downhill_W", {downhill.x(), downhill.y()}},
                {"creep_window_s", {c0.t_s, c1.t_s}},
                {"creep_um_per_s", creep_mps * 1e6},
                {"lap_shift_m", {lap_shift.x(), lap_shift.y()}},
                {"front_fit_rms_m", ff.rms_residual_m},
-               {"grip_use", (setup.drive.speed_mps * setup.drive.speed_mps / fe.radius_m + setup.gravity_mps2 * std::sin(slope)) /
+               {detail_key::kGripUse, (setup.drive.speed_mps * setup.drive.speed_mps / fe.radius_m + setup.gravity_mps2 * std::sin(slope)) /
                                 (setup.gravity_mps2 * std::cos(slope)) / setup.mu},
-               {"errors", error_split(setup.car, trace, end_exact)}};
+               {detail_key::kErrors, error_split(setup.car, trace, end_exact)}};
   add_slip(o, engine);
   return o;
 }
@@ -695,8 +710,8 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
   // Straight down: sliding friction opposes the slide, so nothing pushes the car across it.
   o.values["slide_accel_across"] = {.expected = 0.0, .measured = a_across, .scale = a_exact};
   o.values["heading_change"] = {0.0, std::abs(e2::wrap_angle(trace.back().q.phi_rad - trace.front().q.phi_rad))};
-  o.details = {{"trace", trace_json(trace)},
-               {"reference", reference_json(setup, path, q0)},
+  o.details = {{detail_key::kTrace, trace_json(trace)},
+               {detail_key::kReference, reference_json(setup, path, q0)},
                {"gravity_W_mps2", {setup.gravity_W().x(), setup.gravity_W().y(), setup.gravity_W().z()}},
                {"effective_mu", (g * std::sin(slope) - a) / (g * std::cos(slope))},
                {"clock_ratio_if_mu_exact", std::sqrt(a / a_exact)}};
@@ -706,18 +721,20 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
   return o;
 }
 
+/// A relative metric: tolerance `analytic` for the reference, `engines` for every other engine.
 MetricDef rel(std::string name, std::string unit, double analytic, double engines, std::string help) {
-  return {std::move(name), std::move(unit), TolKind::kRelative, {{TolRole::kReference, analytic}, {TolRole::kDefault, engines}},
-          std::move(help)};
+  return {.name = std::move(name), .unit = std::move(unit), .kind = TolKind::kRelative,
+          .tolerance = {{TolRole::kReference, analytic}, {TolRole::kDefault, engines}}, .help = std::move(help)};
 }
 MetricDef reference_only(MetricDef m) {
   m.reference_only = true;
   return m;
 }
 
+/// An absolute metric, tolerances as rel's.
 MetricDef abs_(std::string name, std::string unit, double analytic, double engines, std::string help) {
-  return {std::move(name), std::move(unit), TolKind::kAbsolute, {{TolRole::kReference, analytic}, {TolRole::kDefault, engines}},
-          std::move(help)};
+  return {.name = std::move(name), .unit = std::move(unit), .kind = TolKind::kAbsolute,
+          .tolerance = {{TolRole::kReference, analytic}, {TolRole::kDefault, engines}}, .help = std::move(help)};
 }
 
 // Contact-point slip, measured by the engine every step (not produced by the analytic lift). A
@@ -761,11 +778,18 @@ std::vector<MetricDef> cycle_metrics() {
   };
 }
 
+/// A car scenario of the catalogue (its headline and flags are set after).
+Scenario car_scenario(std::string name, std::string summary, std::string equations, std::vector<ParamSpec> params,
+                      std::vector<MetricDef> metrics, std::function<Outcome(const Params&, CarEngine&)> run) {
+  return {.name = std::move(name), .vehicle = Vehicle::kCar, .summary = std::move(summary), .equations = std::move(equations),
+          .params = std::move(params), .metrics = std::move(metrics), .run_car = std::move(run)};
+}
+
 }  // namespace
 
 std::vector<Scenario> car_scenarios() {
   std::vector<Scenario> v;
-  v.push_back({"car.circle", "car",
+  v.push_back(car_scenario("car.circle",
                "Fixed steering: the front-axle centre draws a circle of radius l/sin(beta0), the rear-axle "
                "centre one of radius l/tan(beta0), about the same centre.",
                "(4.1), (D.1), appendix D",
@@ -778,31 +802,31 @@ std::vector<Scenario> car_scenarios() {
                 abs_("final_heading_error", "rad", 1e-9, 1e-3, "heading at the end against the exact arc"),
                 abs_("heading_residual", "rad", 1e-9, 1e-5, "largest difference between the heading and the one the exact circle gives at the sampled position (tolerance at dt = 1 ms, x dt / 1 ms)"),
                 REALIZED_LIFT, COM_ACCEL, SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
-               run_circle});
-  v.back().headline = {{"front_radius", "rear_radius"}, "radius", "", 1.0};
-  v.push_back({"car.cycle", "car",
+               run_circle));
+  v.back().headline = {.metrics = {"front_radius", "rear_radius"}, .label = "radius"};
+  v.push_back(car_scenario("car.cycle",
                "Simple parking cycle (section 5, steps i-iv): the net pose change is the holonomy of the loop, "
                "to leading order eps_alpha eps_beta [H_alpha, H_beta].",
                "(5.3), (5.5), (E.1)",
                with(car_params("0.2"), {number("eps_alpha", "0.1", "rad", "drive step in alpha", 0.0, true, 100.0),
                                         number("eps_beta", "0.1", "rad", "steering step in beta", 0.0, true, 1.0)}),
-               cycle_metrics(), run_simple_cycle});
-  v.back().headline = {{"dx", "dy", "dphi"}, "holonomy", "", 1.0};
-  v.push_back({"car.iterated", "car",
+               cycle_metrics(), run_simple_cycle));
+  v.back().headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"};
+  v.push_back(car_scenario("car.iterated",
                "Iterated cycle (5.8), ten steps: a sideways shift of the tie rod, -eps^4 [H_alpha, [H_alpha, H_beta]] "
                "= eps^4 R^2/l (sin phi, -cos phi) to leading order, heading unchanged.",
                "(5.6), (5.8), (5.9), (E.3)",
                with(car_params("0.2"), {number("eps", "0.3", "rad", "step size eps (alpha and beta)", 0.0, true, 1.0)}),
-               cycle_metrics(), run_iterated_alpha});
-  v.back().headline = {{"dx", "dy", "dphi"}, "holonomy", "", 1.0};
-  v.push_back({"car.iterated-beta", "car",
+               cycle_metrics(), run_iterated_alpha));
+  v.back().headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"};
+  v.push_back(car_scenario("car.iterated-beta",
                "Iterated cycle (5.10), ten steps: the car slides as if alpha changed without the wheel turning, "
                "-eps^4 [H_beta, [H_alpha, H_beta]] = -eps^4 (H_alpha - d_alpha) to leading order.",
                "(5.7), (5.10), (E.3)",
                with(car_params("0.2"), {number("eps", "0.3", "rad", "step size eps (alpha and beta)", 0.0, true, 1.0)}),
-               cycle_metrics(), run_iterated_beta});
-  v.back().headline = {{"dx", "dy", "dphi"}, "holonomy", "", 1.0};
-  v.push_back({"car.steer-in-place", "car",
+               cycle_metrics(), run_iterated_beta));
+  v.back().headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"};
+  v.push_back(car_scenario("car.steer-in-place",
                "Turning the steering wheel alone moves no tie rod: H_beta = d/dbeta.",
                "(4.4), (C.10)",
                with(car_params("0.0"), {number("d_beta", "0.35", "rad", "steering change", -2.8, false, 2.8)}),
@@ -810,9 +834,9 @@ std::vector<Scenario> car_scenarios() {
                 abs_("dphi", "rad", 1e-12, 1e-3, "heading change"),
                 abs_("beta_reached", "rad", 1e-12, 1e-3, "realized steering angle at the end"),
                 SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
-               run_steer_in_place});
-  v.back().headline = {{"front_shift"}, "front-axle shift", "mm", 1e3};
-  v.push_back({"car.reparam", "car",
+               run_steer_in_place));
+  v.back().headline = {.metrics = {"front_shift"}, .label = "front-axle shift", .unit = "mm", .scale = 1e3};
+  v.push_back(car_scenario("car.reparam",
                "The same path in (alpha, beta), steering while driving, at speed/f, speed and speed*f: the lift "
                "(4.1) is reparametrisation invariant, so every run ends in the same pose.",
                "(4.1), section 4",
@@ -820,17 +844,17 @@ std::vector<Scenario> car_scenarios() {
                {abs_("end_spread", "m", 1e-9, 1e-3, "largest distance between the end positions of the runs"),
                 abs_("heading_spread", "rad", 1e-9, 1e-3, "largest difference between the end headings"),
                 abs_("end_error", "m", 1e-7, 1e-3, "end position at the middle speed against the reference lift (Bulirsch-Stoer; the analytic engine runs dopri5, both at 1e-13 per step; they differ by up to 1.2e-8 m across the steering kinks)")},
-               run_reparam});
-  v.back().headline = {{"end_spread"}, "end spread", "mm", 1e3};
+               run_reparam));
+  v.back().headline = {.metrics = {"end_spread"}, .label = "end spread", .unit = "mm", .scale = 1e3};
   {
     auto params = with(car_params("0.3"), {number("drive", "2", "m", "arc length before the cycle", 0.0, true, 1e3),
-                                           {"headings", ParamKind::kInteger, "8", "1", "start headings over the full turn", 2.0, false, 64.0, {}},
-                                           {"shift", ParamKind::kVec2, "3,-2", "m", "translation of every other start", -1e4, false, 1e4, {}}});
+                                           integer("headings", "8", "1", "start headings over the full turn", 2.0, 64.0),
+                                           vec2("shift", "3,-2", "m", "translation of every other start", 1e4)});
     for (auto& ps : params) {
       if (ps.key == "mu") ps.default_text = "0.1";
       if (ps.key == "speed") ps.default_text = "2.0";
     }
-    v.push_back({"car.covariance", "car",
+    v.push_back(car_scenario("car.covariance",
                  "E(2) covariance (A.6): the same manoeuvre (an arc, then a parking cycle) started from 8 headings "
                  "over the full turn, every other one translated, must end in the same pose relative to its start. "
                  "At 2 m/s on the 3.4 m arc with mu = 0.1 the grip use v^2/(r g mu) = 1.2 lies between 1 and sqrt(2): "
@@ -839,8 +863,8 @@ std::vector<Scenario> car_scenarios() {
                  params,
                  {abs_("spread_xy", "m", 1e-9, 1e-3, "largest distance between end positions in the start frames"),
                   abs_("spread_phi", "rad", 1e-9, 1e-3, "largest difference between end headings in the start frames")},
-                 run_covariance});
-    v.back().headline = {{"spread_xy"}, "end spread", "mm", 1e3};
+                 run_covariance));
+    v.back().headline = {.metrics = {"spread_xy"}, .label = "end spread", .unit = "mm", .scale = 1e3};
   }
   {
     // Default geometry: the slope falls towards +y (slope_dir 0), the car heads along +x (phi 0),
@@ -852,7 +876,7 @@ std::vector<Scenario> car_scenarios() {
                                            number("laps", "1", "1", "laps of the circle after the park", 0.5, false, 100.0)});
     for (auto& ps : params)
       if (ps.key == "speed") ps.default_text = "1.0";
-    v.push_back({"car.slope", "car",
+    v.push_back(car_scenario("car.slope",
                  "On ground inclined by `slope` (gravity tilted; tan(slope) < mu) the no-slip constraint (3.3) does not see "
                  "gravity: the car parked across the slope with its wheels held must not move (creep), then its fixed-steering "
                  "circle must keep the radius l/sin(beta0) and close every lap without drifting downhill.",
@@ -864,8 +888,8 @@ std::vector<Scenario> car_scenarios() {
                   abs_("drift_per_lap", "m", 1e-9, 1e-3, "downhill displacement of the front-axle centre from the start of the laps to their end, less the exact lift's (none over whole laps), per lap"),
                   abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact lift (no creep, whole laps)"),
                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
-                 run_slope});
-    v.back().headline = {{"creep_speed"}, "creep", "µm/s", 1e6};
+                 run_slope));
+    v.back().headline = {.metrics = {"creep_speed"}, .label = "creep", .unit = "µm/s", .scale = 1e6};
   }
   {
     // Default: a 0.5 rad slope (tan 0.546) with mu = 0.3 (friction angle 0.29 rad): a = 2.12 m/s^2;
@@ -876,7 +900,7 @@ std::vector<Scenario> car_scenarios() {
                                            number("fit_from", "0.2", "s", "first sample of the fit (the settle's landing transient before it)", 0.0, false, 100.0)});
     for (auto& ps : params)
       if (ps.key == "mu") ps.default_text = "0.3";
-    Scenario coulomb{"car.coulomb", "car",
+    Scenario coulomb = car_scenario("car.coulomb",
                      "Coulomb's law: on a slope steeper than the friction angle the car, wheels locked, slides down like a block "
                      "with s(t) = g (sin(slope) - mu cos(slope)) t^2 / 2, which measures the engine's clock, its tilted gravity and its "
                      "effective friction coefficient at once (the no-slip lift does not apply: the analytic engine is skipped).",
@@ -886,9 +910,9 @@ std::vector<Scenario> car_scenarios() {
                       rel("slide_accel_across", "m/s^2", 1e-9, 5e-3, "acceleration across the slope, relative to the exact downhill one (0: the slide goes straight down)"),
                       abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
                       SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
-                     run_coulomb};
+                     run_coulomb);
     coulomb.needs_contact_dynamics = true;
-    coulomb.headline = {{"slide_accel"}, "slide acceleration", "", 1.0};
+    coulomb.headline = {.metrics = {"slide_accel"}, .label = "slide acceleration"};
     v.push_back(coulomb);
   }
   {
@@ -897,7 +921,7 @@ std::vector<Scenario> car_scenarios() {
       if (ps.key == "mu") ps.default_text = "0.1";
       if (ps.key == "speed") ps.default_text = "3.0";
     }
-    Scenario beyond{"car.beyond-grip", "car",
+    Scenario beyond = car_scenario("car.beyond-grip",
                     "Past the grip limit (car.slip's drive: 3 m/s on the 3.4 m circle, mu = 0.1, the lift needs 2.7 mu g): the "
                     "ground pushes the car by at most mu times its weight, so its centre of mass may not accelerate horizontally "
                     "by more than mu g, and the car must slide off the lift (its front circle opens by at least 1%).",
@@ -906,11 +930,11 @@ std::vector<Scenario> car_scenarios() {
                     {COM_ACCEL,
                      abs_("slide_shortfall", "1", 1e-9, 0.0, "1 - (front circle's opening)/(1%), or 0 when it opened by 1% or more: the car kept grip the friction cannot give"),
                      SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
-                    run_beyond_grip};
+                    run_beyond_grip);
     beyond.needs_contact_dynamics = true;
     // Both halves of the engine's error: grip the friction cannot give (as a fraction of mu g, and
     // as the share of the 1% opening the circle failed to make).
-    beyond.headline = {{"com_accel_excess", "slide_shortfall"}, "excess grip", "", 1.0};
+    beyond.headline = {.metrics = {"com_accel_excess", "slide_shortfall"}, .label = "excess grip"};
     v.push_back(beyond);
   }
   {
@@ -919,7 +943,7 @@ std::vector<Scenario> car_scenarios() {
       if (ps.key == "mu") ps.default_text = "0.1";
       if (ps.key == "speed") ps.default_text = "3.0";
     }
-    Scenario slip{"car.slip", "car",
+    Scenario slip = car_scenario("car.slip",
                   "Negative control: at 3 m/s on a 3.4 m circle with mu = 0.1 the lateral acceleration needs "
                   "v^2/(r g) = 0.27 > mu, so the car slides; the harness must detect it and the no-slip "
                   "comparison must fail.",
@@ -929,10 +953,10 @@ std::vector<Scenario> car_scenarios() {
                    rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path"),
                    abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact arc"),
                    SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
-                  run_slip};
+                  run_slip);
     slip.needs_contact_dynamics = true;
     slip.negative_control = true;
-    slip.headline = {{"front_radius", "rear_radius"}, "radius", "", 1.0};
+    slip.headline = {.metrics = {"front_radius", "rear_radius"}, .label = "radius"};
     v.push_back(slip);
   }
   return v;

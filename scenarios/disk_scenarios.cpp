@@ -255,12 +255,12 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
                      const std::optional<double>& expected_t, const std::function<Vec2(double)>& cM_ref) {
   const double dt = p.num("dt"), f = first_order(p);
   Outcome o;
-  o.details["trace"] = trace_json(run.trace);
-  o.details["reference"] = trace_json(ref.trace);
+  o.details[detail_key::kTrace] = trace_json(run.trace);
+  o.details[detail_key::kReference] = trace_json(ref.trace);
   o.values["collision"] = {.expected = expected_t ? 1.0 : 0.0, .measured = run.t_contact_s ? 1.0 : 0.0};
   o.details["t_contact_expected_s"] = expected_t ? nlohmann::json(*expected_t) : nlohmann::json();
-  o.details["t_contact_measured_s"] = run.t_contact_s ? nlohmann::json(*run.t_contact_s) : nlohmann::json();
-  o.details["reference_min_distance"] = ref.min_distance;
+  o.details[detail_key::kTContactMeasured] = run.t_contact_s ? nlohmann::json(*run.t_contact_s) : nlohmann::json();
+  o.details[detail_key::kReferenceMinDistance] = ref.min_distance;
   const double t_limit = std::min(expected_t.value_or(INFINITY), run.t_contact_s.value_or(INFINITY));
   const double path_err = path_error(run, cM_ref, t_limit);
   o.values["path_error"] = {.expected = 0.0, .measured = path_err, .tolerance_factor = f};
@@ -306,7 +306,7 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
       // The response must bound the overlap (tolerance in steps of closing travel).
       if (closing > 0.0) o.values["penetration_max"] = {.expected = 0.0, .measured = std::max(0.0, log->penetration_max_m), .tolerance_factor = closing * dt};
     }
-    o.details["contact_log"] = {{"distance_at_first_m", std::isfinite(log->distance_at_first_m) ? nlohmann::json(log->distance_at_first_m) : nlohmann::json()},
+    o.details[detail_key::kContactLog] = {{"distance_at_first_m", std::isfinite(log->distance_at_first_m) ? nlohmann::json(log->distance_at_first_m) : nlohmann::json()},
                                 {"overlap_unreported_m", log->overlap_unreported_m},
                                 {"gap_reported_max_m", log->gap_reported_max_m},
                                 {"depth_error_max_m", log->depth_error_max_m},
@@ -457,8 +457,8 @@ Outcome run_linear(const Params& p, DiskEngine& e) {
   }
   if (m.a != 1.0 || m.b != 0.0) {
     const Vec2 chat = disks::collision_centre(m.a, m.b, cM0, cN0);
-    o.details["collision_centre"] = {chat.x(), chat.y()};
-    o.details["collision_radius"] = disks::collision_radius(m.a, m.b);
+    o.details[detail_key::kCollisionCentre] = {chat.x(), chat.y()};
+    o.details[detail_key::kCollisionRadius] = disks::collision_radius(m.a, m.b);
   }
   o.details["linear"] = disks::satisfies_linearity(m);
   return o;
@@ -483,8 +483,8 @@ Outcome run_forced(const Params& p, DiskEngine& e) {
     const Vec2 cN = path.position(*r.t_contact_s);
     o.values["contact_on_D"] = {.expected = disks::collision_radius(m.a, m.b), .measured = (cN - path.goal).norm(), .tolerance_factor = p.num("dt") * speed};
   }
-  o.details["collision_centre"] = {path.goal.x(), path.goal.y()};
-  o.details["collision_radius"] = disks::collision_radius(m.a, m.b);
+  o.details[detail_key::kCollisionCentre] = {path.goal.x(), path.goal.y()};
+  o.details[detail_key::kCollisionRadius] = disks::collision_radius(m.a, m.b);
   return o;
 }
 
@@ -605,7 +605,7 @@ std::vector<Scenario> disk_scenarios() {
                  std::vector<MetricDef> metrics, std::function<Outcome(const Params&, DiskEngine&)> fn, Headline headline) {
     Scenario s;
     s.name = std::move(name);
-    s.vehicle = "disks";
+    s.vehicle = Vehicle::kDisks;
     s.summary = std::move(summary);
     s.equations = std::move(eq);
     s.params = std::move(params);

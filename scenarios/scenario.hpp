@@ -10,6 +10,8 @@
 
 #include "engines/engine.hpp"
 #include "input/params.hpp"
+#include "input/vehicle.hpp"
+#include "scenarios/details.hpp"
 
 namespace liftcheck {
 
@@ -59,8 +61,9 @@ struct Measurement {
   bool informational = false;
 };
 
-/// What a scenario function returns: measurements by metric name, plus free-form details
-/// (traces, fitted values) kept in the record for the reports.
+/// What a scenario function returns: measurements by metric name, plus details (traces, fitted
+/// values) kept in the record; those the reports and sweeps read are under the keys of
+/// scenarios/details.hpp (detail_key).
 struct Outcome {
   std::map<std::string, Measurement> values;
   nlohmann::json details = nlohmann::json::object();
@@ -95,7 +98,7 @@ struct Headline {
 
 struct Scenario {
   std::string name;
-  std::string vehicle;   ///< "car" or "disks" (the engine must offer make_car or make_disks)
+  Vehicle vehicle = Vehicle::kCar;  ///< the engine must offer make_car or make_disks
   std::string summary;   ///< what it checks
   std::string equations; ///< the paper's equations it exercises
   std::vector<ParamSpec> params;

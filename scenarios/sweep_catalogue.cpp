@@ -1,5 +1,7 @@
 #include "scenarios/sweep_catalogue.hpp"
 
+#include "scenarios/details.hpp"
+
 #include <cmath>
 #include <stdexcept>
 
@@ -41,21 +43,21 @@ const std::vector<SweepDef>& sweep_catalogue() {
       {.name = "error_vs_speed", .title = "Front circle radius error against speed (mu = 0.3)",
        .scenario = "car.circle", .param = "speed", .values = {0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0},
        .fixed = {{"mu", "0.3"}},
-       .record = {metric_field("front_radius"), metric_field("slip_across_max"), detail_field("grip_use")},
+       .record = {metric_field("front_radius"), metric_field("slip_across_max"), detail_field(detail_key::kGripUse)},
        .marker = std::sqrt(0.3 * 9.81 / std::sin(0.3)), .marker_label = "v^2/(r g) = mu",
        .x_label = "speed [m/s]", .y_label = "relative error of the front radius", .times_x = {{"drive", 5.0}},
        .slide_past_marker = true},
       {.name = "holonomy_vs_eps", .title = "Simple parking cycle: holonomy against eps (slope 2)",
        .scenario = "car.cycle", .param = "eps", .values = {0.01, 0.02, 0.05, 0.1, 0.2, 0.4},
-       .record = {detail_field("holonomy_size_m"), detail_field("measured_size_m"), detail_field("holonomy_error_m")},
-       .loglog_fit = true, .fit_y = detail_field("measured_size_m"), .fit_noise = detail_field("holonomy_error_m"),
+       .record = {detail_field(detail_key::kHolonomySize), detail_field(detail_key::kMeasuredSize), detail_field(detail_key::kHolonomyError)},
+       .loglog_fit = true, .fit_y = detail_field(detail_key::kMeasuredSize), .fit_noise = detail_field(detail_key::kHolonomyError),
        .slope_expected = 2.0, .slope_band = 0.05,
        .plot = "sizes", .x_label = "eps [rad]", .y_label = "net shift of the tie rod [m]",
        .param_keys = {"eps_alpha", "eps_beta"}},  // the simple cycle takes its two steps separately
       {.name = "holonomy_iterated_vs_eps", .title = "Iterated cycle (5.8): holonomy against eps (slope 4)",
        .scenario = "car.iterated", .param = "eps", .values = {0.05, 0.1, 0.2, 0.3, 0.5, 0.7},
-       .record = {detail_field("holonomy_size_m"), detail_field("measured_size_m"), detail_field("holonomy_error_m")},
-       .loglog_fit = true, .fit_y = detail_field("measured_size_m"), .fit_noise = detail_field("holonomy_error_m"),
+       .record = {detail_field(detail_key::kHolonomySize), detail_field(detail_key::kMeasuredSize), detail_field(detail_key::kHolonomyError)},
+       .loglog_fit = true, .fit_y = detail_field(detail_key::kMeasuredSize), .fit_noise = detail_field(detail_key::kHolonomyError),
        .slope_expected = 4.0, .slope_band = 0.1,
        .plot = "sizes", .x_label = "eps [rad]", .y_label = "net shift of the tie rod [m]"},
       // The steering knuckle's mass between the 40 kg chassis and the 2 kg wheel: from a real car's

@@ -87,8 +87,8 @@ TEST_P(PerEngine, SameInputsSameNumbers) {
 TEST_P(PerEngine, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
-  if (lacks(*e, {.vehicle = "car"}) != Lack::kNothing) GTEST_SKIP();
-  auto car = e->make_car(e->defaults("car"));
+  if (lacks(*e, {.vehicle = Vehicle::kCar}) != Lack::kNothing) GTEST_SKIP();
+  auto car = e->make_car(e->defaults(Vehicle::kCar));
   CarSetup setup;
   for (double beta : {0.3, -0.3}) {
     const car::Config q0{0.0, beta, 1.0, 2.0, 0.5};
@@ -115,13 +115,13 @@ TEST_P(PerEngine, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
 TEST_P(PerEngine, TiltedGravityIsFelt) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
-  if (lacks(*e, {.vehicle = "car", .contact_dynamics = true}) != Lack::kNothing) GTEST_SKIP() << GetParam() << " has no car with contact forces";
+  if (lacks(*e, {.vehicle = Vehicle::kCar, .contact_dynamics = true}) != Lack::kNothing) GTEST_SKIP() << GetParam() << " has no car with contact forces";
   const double slope = 0.3, slope_dir = 0.4, hold_s = 2.0;
   CarSetup setup;
   setup.mu = 0.2;
   setup.gravity_dir_W = {-std::sin(slope_dir) * std::sin(slope), std::cos(slope_dir) * std::sin(slope), -std::cos(slope)};
   const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
-  auto car = e->make_car(e->defaults("car"));
+  auto car = e->make_car(e->defaults(Vehicle::kCar));
   const car::Config q0{0.0, 0.3, 0.0, 0.0, slope_dir};  // across the slope
   car->reset(setup, q0);
   const auto trace = car->drive(car::BasePath({{0.0, 0.0, hold_s}}, 0.0, q0.beta_rad, setup.drive));
@@ -169,7 +169,7 @@ TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
   if (!e->make_car) GTEST_SKIP() << GetParam() << " has no car";
   int scored = 0, with_contact_dynamics = 0;
   for (const Scenario& s : scenarios()) {
-    if (s.vehicle != "car") continue;
+    if (s.vehicle != Vehicle::kCar) continue;
     std::vector<car::TimedConfig> full;
     double T_s = 0.0;
     int drives = 0;
@@ -221,7 +221,7 @@ TEST_P(PerEngine, EveryDeclaredSettingChangesAResult) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
   for (const SettingSpec& k : e->knobs) {
-    const Scenario* sc = find_scenario(k.vehicle == "car" ? "car.circle" : "disks.repel");
+    const Scenario* sc = find_scenario(k.vehicle == Vehicle::kCar ? "car.circle" : "disks.repel");
     std::string other;
     if (k.kind == ParamKind::kInteger) other = fmt::format("{}", std::max<long>(static_cast<long>(k.min), std::stol(k.default_text) / 20));
     else if (k.kind == ParamKind::kNumber) other = fmt::format("{:g}", std::stod(k.default_text) * 0.5);
@@ -230,7 +230,7 @@ TEST_P(PerEngine, EveryDeclaredSettingChangesAResult) {
         if (c != k.default_text && other.empty()) other = c;
     ASSERT_FALSE(other.empty()) << k.key;
     ASSERT_NE(other, k.default_text) << k.key;
-    const Overrides base = k.vehicle == "car" ? Overrides{{"drive", "3"}} : Overrides{};
+    const Overrides base = k.vehicle == Vehicle::kCar ? Overrides{{"drive", "3"}} : Overrides{};
     Overrides changed = base;
     changed.emplace_back(k.key, other);
     const auto a = run_scenario(*sc, *e, base).to_json(), b = run_scenario(*sc, *e, changed).to_json();
@@ -253,7 +253,7 @@ TEST_P(FourWheels, AsExpectedAndNoWorseThanTheTricycleUnlessListed) {
   const Scenario* s = find_scenario(scenario);
   ASSERT_NE(e, nullptr);
   ASSERT_NE(s, nullptr);
-  const Needs needs{.vehicle = "car", .four_wheels = true};
+  const Needs needs{.vehicle = Vehicle::kCar, .four_wheels = true};
   if (const Lack lack = lacks(*e, needs); lack != Lack::kNothing)
     GTEST_SKIP() << engine << " " << lack_text(lack, needs) << " (PerEngine.FourWheelsRefusedWhereNotBuilt)";
   const Overrides four{{"wheels", "4"}};
@@ -274,7 +274,7 @@ TEST_P(FourWheels, AsExpectedAndNoWorseThanTheTricycleUnlessListed) {
 TEST_P(PerEngine, FourWheelsRefusedWhereNotBuilt) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
-  if (lacks(*e, {.vehicle = "car", .four_wheels = true}) != Lack::kFourWheels) GTEST_SKIP() << GetParam() << " builds four-wheel cars or none";
+  if (lacks(*e, {.vehicle = Vehicle::kCar, .four_wheels = true}) != Lack::kFourWheels) GTEST_SKIP() << GetParam() << " builds four-wheel cars or none";
   EXPECT_THROW(run_scenario(*find_scenario("car.circle"), *e, {{"wheels", "4"}}), InputError);
 }
 
@@ -284,7 +284,7 @@ TEST_P(PerEngine, FourWheelsRefusedWhereNotBuilt) {
 TEST_P(PerEngine, ParallelSteeringScrubs) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
-  if (lacks(*e, {.vehicle = "car", .four_wheels = true, .contact_dynamics = true}) != Lack::kNothing)
+  if (lacks(*e, {.vehicle = Vehicle::kCar, .four_wheels = true, .contact_dynamics = true}) != Lack::kNothing)
     GTEST_SKIP() << GetParam() << " has no four-wheel car with contacts";
   const RunRecord r = run_scenario(*find_scenario("car.circle"), *e, {{"wheels", "4"}, {"steering", "parallel"}});
   ASSERT_EQ(r.status, Status::kFail) << r.message;

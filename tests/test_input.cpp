@@ -30,7 +30,7 @@ std::string results_error(const std::string& text) {
   EXPECT_EQ(error_of([&] { parse_results_index(text, "base.json"); }), full) << "the readers disagree on: " << text.substr(0, 300);
   return full;
 }
-std::string trace_error(const std::string& text, const std::string& vehicle = "car") {
+std::string trace_error(const std::string& text, Vehicle vehicle = Vehicle::kCar) {
   return error_of([&] { parse_trace(text, "trace.csv", vehicle); });
 }
 
@@ -128,7 +128,7 @@ TEST(Trace, CsvNamesLineColumnAndProblem) {
   EXPECT_EQ(trace_error(""), "trace.csv: no header line (needs t,alpha,beta,x,y,phi)");
   EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,\x01\n"), "trace.csv:4: 4 columns, the header has 6");
   EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,a\x01,0,0\n"), "trace.csv:4: column 'x' is not a number: 'a?'");
-  const Trace tr = parse_trace(head + "0,0,0,0,0,0\r\n+0.01, 1,2,3,4,5\n", "trace.csv", "car");
+  const Trace tr = parse_trace(head + "0,0,0,0,0,0\r\n+0.01, 1,2,3,4,5\n", "trace.csv", Vehicle::kCar);
   ASSERT_EQ(tr.rows.size(), 2u);
   EXPECT_EQ(tr.rows[1], (std::vector<double>{0.01, 1, 2, 3, 4, 5}));
 }
@@ -137,28 +137,28 @@ TEST(Trace, CsvNamesLineColumnAndProblem) {
 // what a stepped engine's hello says); without one a trace is float64 with no settings.
 TEST(Trace, HeaderCarriesPrecisionAndSettings) {
   const std::string rows = "t,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.01,0,0,0,0,0\n";
-  const Trace plain = parse_trace(rows, "trace.csv", "car");
+  const Trace plain = parse_trace(rows, "trace.csv", Vehicle::kCar);
   EXPECT_EQ(plain.precision, "float64");
   EXPECT_TRUE(plain.settings.empty());
-  const Trace csv = parse_trace("# precision: float32\n# setting: iterations=20\n" + rows, "trace.csv", "car");
+  const Trace csv = parse_trace("# precision: float32\n# setting: iterations=20\n" + rows, "trace.csv", Vehicle::kCar);
   EXPECT_EQ(csv.precision, "float32");
   EXPECT_EQ(csv.settings, (std::vector<std::pair<std::string, std::string>>{{"iterations", "20"}}));
   EXPECT_EQ(trace_error("# precision: half\n" + rows), "trace.csv:1: precision 'half' must be float32 or float64");
   EXPECT_EQ(trace_error("# setting: iterations\n" + rows), "trace.csv:1: '# setting:' needs KEY=VALUE");
   const Trace js = parse_trace(R"({"precision": "float32", "settings": {"solver": "pgs"}, "rows": [
       {"t": 0, "alpha": 0, "beta": 0, "x": 0, "y": 0, "phi": 0}, {"t": 0.01, "alpha": 0, "beta": 0, "x": 0, "y": 0, "phi": 0}]})",
-                               "trace.json", "car");
+                               "trace.json", Vehicle::kCar);
   EXPECT_EQ(js.precision, "float32");
   EXPECT_EQ(js.settings, (std::vector<std::pair<std::string, std::string>>{{"solver", "pgs"}}));
 }
 
 TEST(Trace, JsonNamesRowColumnAndProblem) {
-  EXPECT_EQ(trace_error(R"([{"t": 0, "cMx": 0, "cMy": 0, "cNx": 3, "cNy": 0}, {"t": 1, "cMx": "0", "cMy": 0, "cNx": 3, "cNy": 0}])", "disks"),
+  EXPECT_EQ(trace_error(R"([{"t": 0, "cMx": 0, "cMy": 0, "cNx": 3, "cNy": 0}, {"t": 1, "cMx": "0", "cMy": 0, "cNx": 3, "cNy": 0}])", Vehicle::kDisks),
             "trace.csv: row 2: column 'cMx' is not a finite number");
-  EXPECT_EQ(trace_error(R"({"rows": [{"t": 0}]})", "disks"), "trace.csv: row 1 has no column 'cMx'");
-  EXPECT_EQ(trace_error(R"({"rows": 5})", "disks"), "trace.csv: JSON trace needs an array of rows (or {\"rows\": [...]})");
-  EXPECT_EQ(trace_error(R"([1, 2])", "disks"), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
-  EXPECT_EQ(trace_error("[", "disks").rfind("trace.csv: is not JSON (parse error at line 1, column 2", 0), 0u) << trace_error("[", "disks");
+  EXPECT_EQ(trace_error(R"({"rows": [{"t": 0}]})", Vehicle::kDisks), "trace.csv: row 1 has no column 'cMx'");
+  EXPECT_EQ(trace_error(R"({"rows": 5})", Vehicle::kDisks), "trace.csv: JSON trace needs an array of rows (or {\"rows\": [...]})");
+  EXPECT_EQ(trace_error(R"([1, 2])", Vehicle::kDisks), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
+  EXPECT_EQ(trace_error("[", Vehicle::kDisks).rfind("trace.csv: is not JSON (parse error at line 1, column 2", 0), 0u) << trace_error("[", Vehicle::kDisks);
 }
 
 // Found by hand beyond the fuzzers' 4 kB inputs: a JSON trace nested 300000 deep overflowed the
@@ -166,10 +166,10 @@ TEST(Trace, JsonNamesRowColumnAndProblem) {
 // and the trace's rows are read in place.
 TEST(Trace, DeepJsonIsRefusedNotACrash) {
   const std::string deep = std::string(300000, '[') + std::string(300000, ']');
-  EXPECT_EQ(trace_error(deep, "disks"), "trace.csv: JSON nested deeper than 64 levels");
+  EXPECT_EQ(trace_error(deep, Vehicle::kDisks), "trace.csv: JSON nested deeper than 64 levels");
   EXPECT_EQ(results_error("{\"runs\": " + deep + "}"), "base.json: JSON nested deeper than 64 levels");
   const std::string ok = std::string(60, '[') + std::string(60, ']');
-  EXPECT_EQ(trace_error(ok, "disks"), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
+  EXPECT_EQ(trace_error(ok, Vehicle::kDisks), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
 }
 
 // Reliability (issue 23). The JSON reader is linear (one pass of nlohmann's own DOM builder) and
@@ -182,7 +182,7 @@ TEST(JsonReader, DuplicateKeysAreRefusedWithTheirPlace) {
   EXPECT_EQ(results_error(twice), "base.json: the top level: the key 'runs' appears twice in one object (which one is meant?)");
   EXPECT_EQ(results_error(R"({"runs": [{}, {"scenario": "a", "engine": "e", "status": "pass", "metrics": {"m": {"unit": "m", "unit": "s"}}}]})"),
             "base.json: runs[1].metrics.m: the key 'unit' appears twice in one object (which one is meant?)");
-  EXPECT_EQ(trace_error(R"([{"t": 0, "t": 1}])", "disks"), "trace.csv: [0]: the key 't' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(trace_error(R"([{"t": 0, "t": 1}])", Vehicle::kDisks), "trace.csv: [0]: the key 't' appears twice in one object (which one is meant?)");
   // The same key in two objects is no repetition.
   EXPECT_EQ(results_error(R"({"runs": [], "context": {"runs": 1}})"), "");
   const std::string ok = std::string(64, '[') + std::string(64, ']');
@@ -194,8 +194,8 @@ TEST(JsonReader, DuplicateKeysAreRefusedWithTheirPlace) {
 // refused naming the encoding, not "no column 't'".
 TEST(Trace, ByteOrderMarksAndUtf16) {
   const std::string csv = "t,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.01,0,0,1,0,0\n";
-  EXPECT_EQ(parse_trace("\xEF\xBB\xBF" + csv, "trace.csv", "car").rows.size(), 2u);
-  EXPECT_EQ(parse_trace("\xEF\xBB\xBF[{\"t\": 0, \"cMx\": 0, \"cMy\": 0, \"cNx\": 3, \"cNy\": 0}, {\"t\": 1, \"cMx\": 0, \"cMy\": 0, \"cNx\": 3, \"cNy\": 0}]", "trace.json", "disks").rows.size(), 2u);
+  EXPECT_EQ(parse_trace("\xEF\xBB\xBF" + csv, "trace.csv", Vehicle::kCar).rows.size(), 2u);
+  EXPECT_EQ(parse_trace("\xEF\xBB\xBF[{\"t\": 0, \"cMx\": 0, \"cMy\": 0, \"cNx\": 3, \"cNy\": 0}, {\"t\": 1, \"cMx\": 0, \"cMy\": 0, \"cNx\": 3, \"cNy\": 0}]", "trace.json", Vehicle::kDisks).rows.size(), 2u);
   std::string utf16 = "\xFF\xFE";
   for (char c : csv) utf16 += std::string{c, '\0'};
   EXPECT_EQ(trace_error(utf16), "trace.csv: is UTF-16 or UTF-32 (it starts with that byte-order mark): save it as UTF-8");
@@ -207,7 +207,7 @@ TEST(ReadFile, BoundedAndWithReasons) {
   EXPECT_EQ(error_of([] { read_text_file("/dev/zero", 1 << 20, "trace"); }),
             "trace '/dev/zero' is larger than the limit of 1 MiB for a trace (stopped reading there)");
   // (the CLI test reads /dev/zero as a trace and as a baseline at the real limits)
-  EXPECT_EQ(error_of([] { read_trace("/tmp", "car"); }), "trace '/tmp' is a folder, not a file");
+  EXPECT_EQ(error_of([] { read_trace("/tmp", Vehicle::kCar); }), "trace '/tmp' is a folder, not a file");
   EXPECT_EQ(error_of([] { read_results("/nonexistent/r.json"); }), "cannot read results file '/nonexistent/r.json': No such file or directory");
   EXPECT_EQ(read_text_file("/dev/null", 10, "trace"), "");
 }
@@ -222,7 +222,7 @@ TEST(Names, Utf8) {
   EXPECT_EQ(printable("a\xE9" "b\n\xC3\xA9"), "a?b?\xC3\xA9");
   EXPECT_EQ(error_of([] { require_utf8("x\xFFy", "--name"); }),
             "--name 'x?y' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only (rename it)");
-  EXPECT_EQ(error_of([] { read_trace("/tmp/\xFF.csv", "car"); }),
+  EXPECT_EQ(error_of([] { read_trace("/tmp/\xFF.csv", Vehicle::kCar); }),
             "trace file name '/tmp/?.csv' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only (rename it)");
 }
 

@@ -326,7 +326,7 @@ TEST(Expectations, EveryEntryNamesWhatExists) {
     const EngineInfo* e = find_engine(k.engine);
     ASSERT_NE(e, nullptr) << k.engine;
     // The configuration runs the scenario (an entry for a skipped run could never be checked).
-    EXPECT_TRUE(s->vehicle == "car" ? bool(e->make_car) : bool(e->make_disks)) << k.engine << " does not run " << k.scenario;
+    EXPECT_TRUE(s->vehicle == Vehicle::kCar ? bool(e->make_car) : bool(e->make_disks)) << k.engine << " does not run " << k.scenario;
     EXPECT_TRUE(!s->needs_contact_dynamics || e->contact_dynamics) << k.engine << " does not run " << k.scenario;
     // "params": each names a parameter of the scenario with a valid value, and the run they make is
     // one the configuration can run (a four-wheel car only where one is built).
@@ -334,7 +334,7 @@ TEST(Expectations, EveryEntryNamesWhatExists) {
     for (const auto& [key, value] : k.params) with += fmt::format(" {}={}", key, value);
     nlohmann::json resolved;
     EXPECT_NO_THROW(resolved = Params::resolve(s->params, k.params, s->name).to_json()) << k.scenario << " on " << k.engine << with;
-    if (s->vehicle == "car" && resolved.is_object())
+    if (s->vehicle == Vehicle::kCar && resolved.is_object())
       EXPECT_TRUE(resolved.value("wheels", "3") != "4" || e->four_wheels) << k.engine << " has no four-wheel car";
     EXPECT_TRUE(seen.insert({k.scenario, k.engine + with}).second) << k.scenario << " on " << k.engine << with << " listed twice";
     for (const auto& [metric, ceiling] : k.metrics) {
@@ -354,7 +354,7 @@ TEST(Expectations, EveryEntryNamesWhatExists) {
       if (d.name == k.sweep) sw = &d;
     const Scenario* s = find_scenario(sw ? sw->scenario : outcome_sweep_scenario());
     if (!sw) EXPECT_EQ(k.sweep, "disk_outcomes");  // the outcome sweep
-    EXPECT_TRUE(s->vehicle == "car" ? bool(e->make_car) : bool(e->make_disks)) << k.engine << " does not run sweep " << k.sweep;
+    EXPECT_TRUE(s->vehicle == Vehicle::kCar ? bool(e->make_car) : bool(e->make_disks)) << k.engine << " does not run sweep " << k.sweep;
     for (const auto& [metric, ceiling] : k.metrics) EXPECT_NE(s->metric(metric), nullptr) << k.sweep << " has no metric " << metric;
     if (sw && (k.kind == KnownSweepFailure::kPoint || k.kind == KnownSweepFailure::kError))
       EXPECT_NE(std::find(sw->values.begin(), sw->values.end(), k.x), sw->values.end()) << k.sweep << " has no point " << k.x;
@@ -368,7 +368,7 @@ TEST(Expectations, EveryEntryNamesWhatExists) {
 TEST(Runner, InformationalMetricsAreNotCounted) {
   Scenario s;
   s.name = "test.informational";
-  s.vehicle = "car";
+  s.vehicle = Vehicle::kCar;
   s.metrics = {{"self", "1", TolKind::kAbsolute, {{TolRole::kDefault, 1.0}}, "compares a value with itself"},
                {"real", "1", TolKind::kAbsolute, {{TolRole::kDefault, 1.0}}, "measures the engine"}};
   double real_error = 0.5;

@@ -49,7 +49,7 @@ std::string first_differences(const std::string& expected, const std::string& go
 }
 
 bool offers(const EngineInfo& engine, const Scenario& scenario) {
-  return scenario.vehicle == "car" ? static_cast<bool>(engine.make_car) : static_cast<bool>(engine.make_disks);
+  return scenario.vehicle == Vehicle::kCar ? static_cast<bool>(engine.make_car) : static_cast<bool>(engine.make_disks);
 }
 
 /// A car scenario and a disk scenario on every configuration that has the vehicle. car.circle

@@ -293,11 +293,11 @@ EngineInfo bullet_engine() {
            {"disks", "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), sequential-impulse response"}},
           .knobs = {SettingSpec{{.key = "iterations", .kind = ParamKind::kInteger, .default_text = "100", .unit = "1",
                                  .help = "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", .min = 1, .max = 10000},
-                                "car", SettingRole::kSolverIterations},
-                    SettingSpec{{.key = "wheel", .kind = ParamKind::kChoice, .default_text = "sphere", .help = "wheel collision shape", .choices = {"sphere", "cylinder"}}, "car"},
+                                Vehicle::kCar, SettingRole::kSolverIterations},
+                    SettingSpec{{.key = "wheel", .kind = ParamKind::kChoice, .default_text = "sphere", .help = "wheel collision shape", .choices = {"sphere", "cylinder"}}, Vehicle::kCar},
                     SettingSpec{{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = "wheel",
                                  .help = "first friction direction: along the wheel's rolling direction, or the engine's default axes", .choices = {"wheel", "world"}},
-                                "car"}},
+                                Vehicle::kCar}},
           .four_wheels = true,
           .make_raw_car = make_raw_bullet_car};
 }

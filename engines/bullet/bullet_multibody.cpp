@@ -354,10 +354,10 @@ EngineInfo bullet_multibody_engine() {
            {"disks", "M: zero-link floating-base btMultiBody (radius 1, 1 kg, frictionless base collider), base velocity set to the command (z = 0) before each step; N: kinematic btRigidBody sphere placed on its path; contact from the step's manifolds (distance <= 0), multibody solver response, 10 iterations"}},
           .knobs = {SettingSpec{{.key = "iterations", .kind = ParamKind::kInteger, .default_text = std::to_string(kDefaultIterations), .unit = "1",
                                  .help = "solver iterations (btContactSolverInfo::m_numIterations)", .min = 1, .max = 10000},
-                                "car", SettingRole::kSolverIterations},
+                                Vehicle::kCar, SettingRole::kSolverIterations},
                     SettingSpec{{.key = "damping", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultDamping), .unit = "1",
                                  .help = "btMultiBody linear and angular damping", .min = 0, .max = 1},
-                                "car"}},
+                                Vehicle::kCar}},
           .make_raw_car = make_raw_bullet_multibody_car};
 }
 

@@ -363,11 +363,11 @@ EngineInfo bullet_raycast_engine() {
           .knobs = {SettingSpec{{.key = "suspension_stiffness", .kind = ParamKind::kNumber, .default_text = "10000", .unit = "1",
                                  .help = "suspension stiffness per unit chassis mass, 1/s^2 (btVehicleTuning::m_suspensionStiffness); damping follows as sqrt(3k)",
                                  .min = 0, .min_exclusive = true, .max = 1e6},
-                                "car"},
+                                Vehicle::kCar},
                     SettingSpec{{.key = "wheel_angle", .kind = ParamKind::kChoice, .default_text = "heading",
                                  .help = "the realized wheel angle: the front wheel's travel along its heading / R, or Bullet's m_rotation (travel along the chassis axis / R)",
                                  .choices = {"heading", "m_rotation"}},
-                                "car"}},
+                                Vehicle::kCar}},
           .make_raw_car = make_raw_bullet_raycast_car};
 }
 

@@ -357,7 +357,7 @@ EngineInfo make_info(Detector det) {
           .knobs = {SettingSpec{{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = "world",
                                  .help = "first friction direction: DART's default from the contact normal (world-fixed), or along the wheel's rolling direction (DynamicsAspect::setFirstFrictionDirection)",
                                  .choices = {"world", "wheel"}},
-                                "car"}},
+                                Vehicle::kCar}},
           .make_raw_car = prim ? make_raw_dart_primitive_car : make_raw_dart_car};
 }
 

@@ -432,7 +432,7 @@ EngineInfo mujoco_noslip_engine() {
           .settings = settings,
           .knobs = {SettingSpec{{.key = "noslip_iterations", .kind = ParamKind::kInteger, .default_text = std::to_string(kDefaultNoslip), .unit = "1",
                                  .help = "noslip post-solver iterations (option noslip_iterations; 0 turns it off)", .min = 0, .max = 1000},
-                                "car"}},
+                                Vehicle::kCar}},
           .make_raw_car = make_raw_mujoco_noslip_car};
 }
 
@@ -451,7 +451,7 @@ EngineInfo mujoco_stiff_engine() {
           .settings = settings,
           .knobs = {SettingSpec{{.key = "impratio", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultImpratio), .unit = "1",
                                  .help = "ratio of frictional to normal constraint impedance (option impratio)", .min = 0.0, .min_exclusive = true, .max = 1000.0},
-                                "car"}},
+                                Vehicle::kCar}},
           .make_raw_car = make_raw_mujoco_stiff_car};
 }
 

@@ -92,20 +92,20 @@ const char* const kServo = "rate = commanded rate + 40/s x angle error, torque l
 const char* const kDisks = "M: dynamic sphere (radius 1, 1 kg) whose linear velocity is set to the command before each step (dBodySetLinearVel); N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless";
 
 SettingSpec wheel_knob() {
-  return {{.key = "wheel", .kind = ParamKind::kChoice, .default_text = "sphere", .help = "wheel collision shape", .choices = {"sphere", "cylinder"}}, "car"};
+  return {{.key = "wheel", .kind = ParamKind::kChoice, .default_text = "sphere", .help = "wheel collision shape", .choices = {"sphere", "cylinder"}}, Vehicle::kCar};
 }
 SettingSpec friction_dirs_knob(const char* default_text) {
   return {{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = default_text,
            .help = "first friction direction: along the wheel's rolling direction (dContactFDir1), or ODE's default axes from the normal",
            .choices = {"wheel", "world"}},
-          "car"};
+          Vehicle::kCar};
 }
 
 }  // namespace
 
 EngineInfo ode_quick_engine() {
   std::vector<SettingSpec> knobs;
-  for (const char* vehicle : {"car", "disks"})
+  for (const Vehicle vehicle : kVehicles)
     knobs.push_back({{.key = "iterations", .kind = ParamKind::kInteger, .default_text = "50", .unit = "1",
                       .help = "quick-step iterations (dWorldSetQuickStepNumIterations; Gazebo's default 50)", .min = 1, .max = 10000},
                      vehicle, SettingRole::kSolverIterations});
@@ -113,7 +113,7 @@ EngineInfo ode_quick_engine() {
   // so w changes nothing for the disks and is a car setting only (an ignored setting is refused).
   knobs.push_back({{.key = "w", .kind = ParamKind::kNumber, .default_text = "1.3", .unit = "1",
                     .help = "successive over-relaxation factor (dWorldSetQuickStepW; Gazebo's sor 1.3)", .min = 0.0, .min_exclusive = true, .max = 2.0},
-                   "car"});
+                   Vehicle::kCar});
   knobs.push_back(wheel_knob());
   knobs.push_back(friction_dirs_knob("world"));
   return {.name = "ode-quick",

@@ -325,8 +325,9 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
   k.key = text_field(c, j, "key", where);
   if (k.key.empty() || k.key.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789_") != std::string::npos)
     c.fail(fmt::format("hello: {}key '{}' must be lower-case letters, digits and '_'", where, k.key));
-  k.vehicle = text_field(c, j, "vehicle", where);
-  if (k.vehicle != "car" && k.vehicle != "disks") c.fail(fmt::format("hello: {}vehicle must be 'car' or 'disks'", where));
+  const std::optional<Vehicle> vehicle = parse_vehicle(text_field(c, j, "vehicle", where));
+  if (!vehicle) c.fail(fmt::format("hello: {}vehicle must be 'car' or 'disks'", where));
+  k.vehicle = *vehicle;
   const std::string kind = text_field(c, j, "kind", where);
   const std::optional<ParamKind> named = setting_kind_named(kind);
   if (!named) c.fail(fmt::format("hello: {}kind must be integer, real or choice", where));
@@ -367,10 +368,11 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
   o->precision = e.precision;
   const auto v = r.find("vehicles");
   if (v == r.end() || !v->is_array()) c.fail("hello: 'vehicles' must be an array of \"car\" and \"disks\"");
-  std::set<std::string> vehicles;
+  std::set<Vehicle> vehicles;
   for (const auto& x : *v) {
-    if (!x.is_string() || (x != "car" && x != "disks")) c.fail("hello: 'vehicles' must hold \"car\" and/or \"disks\"");
-    vehicles.insert(x.get<std::string>());
+    const std::optional<Vehicle> vehicle = x.is_string() ? parse_vehicle(x.get<std::string>()) : std::nullopt;
+    if (!vehicle) c.fail("hello: 'vehicles' must hold \"car\" and/or \"disks\"");
+    vehicles.insert(*vehicle);
   }
   if (vehicles.empty()) c.fail("hello: 'vehicles' names no vehicle");
   if (r.contains("four_wheels") && !r["four_wheels"].is_boolean()) c.fail("hello: 'four_wheels' must be true or false");
@@ -380,9 +382,9 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
     if (!s->is_array()) c.fail("hello: 'settings' must be an array");
     for (size_t i = 0; i < s->size(); ++i) e.knobs.push_back(knob(c, (*s)[i], i));
   }
-  std::set<std::pair<std::string, std::string>> seen;
+  std::set<std::pair<std::string, Vehicle>> seen;
   for (const SettingSpec& k : e.knobs)
-    if (!seen.insert({k.key, k.vehicle}).second) c.fail(fmt::format("hello: setting '{}' declared twice for {}", k.key, k.vehicle));
+    if (!seen.insert({k.key, k.vehicle}).second) c.fail(fmt::format("hello: setting '{}' declared twice for {}", k.key, to_string(k.vehicle)));
   e.settings.clear();
   if (const auto f = r.find("fixed"); f != r.end()) {
     if (!f->is_array()) c.fail("hello: 'fixed' must be an array of [name, value] pairs");
@@ -392,8 +394,8 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
     }
   }
   e.settings.insert(e.settings.begin(), {"protocol", fmt::format("{} (docs/protocol.md), precision {}", fmt::join(e.command, " "), e.precision)});
-  if (vehicles.count("car")) e.make_car = [o](const Settings& s) { return std::make_unique<ProtocolCar>(o, s); };
-  if (vehicles.count("disks")) e.make_disks = [o](const Settings& s) { return std::make_unique<ProtocolDisks>(o, s); };
+  if (vehicles.count(Vehicle::kCar)) e.make_car = [o](const Settings& s) { return std::make_unique<ProtocolCar>(o, s); };
+  if (vehicles.count(Vehicle::kDisks)) e.make_disks = [o](const Settings& s) { return std::make_unique<ProtocolDisks>(o, s); };
 }
 
 /// A configuration whose hello failed: every run of it is an error record saying why.

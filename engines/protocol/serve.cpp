@@ -72,11 +72,11 @@ class ProtocolServer {
   }
 
   /// The request's settings, every knob of `vehicle` present (its default where not given).
-  Settings settings(const json& req, const std::string& vehicle) const {
+  Settings settings(const json& req, Vehicle vehicle) const {
     const Settings defaults = e_.defaults(vehicle);
     Overrides given;
     for (const auto& [k, v] : req.at("settings").items()) {
-      if (!defaults.has(k)) throw EngineError(fmt::format("'{}' has no setting '{}' for {}", e_.name, k, vehicle));
+      if (!defaults.has(k)) throw EngineError(fmt::format("'{}' has no setting '{}' for {}", e_.name, k, to_string(vehicle)));
       given.emplace_back(k, v.get<std::string>());
     }
     try {
@@ -88,7 +88,7 @@ class ProtocolServer {
 
   json car(const json& req) {
     disks_holder_.reset(), disks_ = nullptr, car_holder_.reset(), car_ = nullptr;
-    auto engine = e_.make_car(settings(req, "car"));
+    auto engine = e_.make_car(settings(req, Vehicle::kCar));
     car_ = dynamic_cast<RigidCar*>(engine.get());
     if (!car_) throw EngineError(fmt::format("'{}' is not a rigid-body car: it cannot be served", e_.name));
     car_holder_ = std::move(engine);
@@ -135,7 +135,7 @@ class ProtocolServer {
 
   json disks(const json& req) {
     disks_holder_.reset(), disks_ = nullptr, car_holder_.reset(), car_ = nullptr;
-    auto engine = e_.make_disks(settings(req, "disks"));
+    auto engine = e_.make_disks(settings(req, Vehicle::kDisks));
     disks_ = dynamic_cast<DrivenDisks*>(engine.get());
     if (!disks_) throw EngineError(fmt::format("'{}' has no stepped disks: they cannot be served", e_.name));
     disks_holder_ = std::move(engine);

@@ -132,7 +132,7 @@ class LateMotorDisks final : public OdeDisks {
 
 // ---- car faults ----------------------------------------------------------------------------
 
-Settings ode_defaults() { return find_engine("ode")->defaults("car"); }
+Settings ode_defaults() { return find_engine("ode")->defaults(Vehicle::kCar); }
 
 /// Wheels that slip 1% along the rolling direction: the contact's surface moves along the first
 /// friction direction at 1% of the wheel's ground speed (dContactMotion1).
@@ -151,7 +151,7 @@ class SlippingCar final : public OdeCar {
 /// The same 1% slip in a configuration with listed known failures (ode-quick, whose friction
 /// already creeps by up to 1.9 mm/s): judged under that configuration's name, so its known
 /// failures apply, the fault must still be flagged as worse than known.
-Settings quick_defaults() { return find_engine("ode-quick")->defaults("car"); }
+Settings quick_defaults() { return find_engine("ode-quick")->defaults(Vehicle::kCar); }
 class QuickSlippingCar final : public OdeCar {
  public:
   QuickSlippingCar() : OdeCar(quick_defaults(), OdeStepper::quick_from(quick_defaults())) {}

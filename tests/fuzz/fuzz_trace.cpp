@@ -12,7 +12,7 @@ using namespace liftcheck;
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size == 0) return 0;
-  const std::string vehicle = data[0] % 2 ? "car" : "disks";
+  const Vehicle vehicle = data[0] % 2 ? Vehicle::kCar : Vehicle::kDisks;
   const std::string text(reinterpret_cast<const char*>(data + 1), size - 1);
   try {
     const Trace tr = parse_trace(text, "fuzz.csv", vehicle);
