@@ -487,7 +487,8 @@ std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled
       const std::string name = entry.path().filename().string();
       if (entry.path().extension() == ".json" && name != "package.json" && name != "package-lock.json") files.push_back(entry.path());
     }
-    std::sort(files.begin(), files.end());
+    // By configuration name (the file's stem), so that "cannon" comes before "cannon-accurate".
+    std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.stem().string() < b.stem().string(); });
     for (const auto& f : files) {
       EngineInfo e;
       std::string problem;
