@@ -161,7 +161,6 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
   }
 }
 
-/// The last line: the verdict counts and where the results are.
 /// The simulated seconds the suite stepped, in all and per configuration, by kind of part.
 void print_simulated(const nlohmann::json& results) {
   if (!results.contains("simulated")) return;
@@ -178,6 +177,7 @@ void print_simulated(const nlohmann::json& results) {
     std::cout << fmt::format("  {:<18} {:8.1f} s  ({})\n", printable(config, 200), c["total_s"].get<double>(), kinds(c["by_part"]));
 }
 
+/// The last line: the verdict counts and where the results are.
 void print_summary(const nlohmann::json& results, const OutputOptions& o, const Gates& gates, const StagedOutput& staged) {
   print_simulated(results);
   const auto& sum = results["summary"];

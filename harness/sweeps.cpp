@@ -177,7 +177,7 @@ Overrides point_overrides(const SweepDef& s, double x) {
   const std::string value = fmt::format("{}", x);
   if (s.param_keys.empty()) ov.emplace_back(s.param, value);
   for (const auto& key : s.param_keys) ov.emplace_back(key, value);
-  for (const auto& [key, factor] : s.times_x) ov.emplace_back(key, fmt::format("{}", factor * x));
+  for (const auto& p : s.times_x) ov.emplace_back(p.key, fmt::format("{}", std::max(p.min, p.per_x * x)));
   return ov;
 }
 
@@ -391,11 +391,7 @@ std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const Engine
   for (const MapDef::Panel& panel : map.panels)
     for (const EngineInfo* e : engines)
       if (e->make_car)
-        for (const MapPoint& g : map_grid(map, *e)) {
-          Overrides ov = panel.fixed;
-          ov.insert(ov.end(), g.overrides.begin(), g.overrides.end());
-          runs.push_back({map_key(map, panel, *e, g), find_scenario(panel.scenario), e, ov});
-        }
+        for (const MapPoint& g : map_grid(map, *e)) runs.push_back({map_key(map, panel, *e, g), find_scenario(panel.scenario), e, g.overrides});
   return runs;
 }
 
@@ -509,7 +505,7 @@ nlohmann::json assemble_sweep(const SweepDef& s, const std::vector<const EngineI
                    {"fixed", s.fixed}, {"record", s.record}, {"engines", per_engine},
                    {"plot", {{"kind", s.plot}, {"x_label", s.x_label}, {"y_label", s.y_label}, {"log_x", s.log_x}, {"curves", curves}}}};
   if (s.marker > 0.0) j["marker"] = {{"x", s.marker}, {"label", s.marker_label}};
-  if (!s.times_x.empty()) j["times_x"] = s.times_x;
+  for (const auto& p : s.times_x) j["times_x"].push_back({{"key", p.key}, {"per_x", p.per_x}, {"min", p.min}});
   return j;
 }
 

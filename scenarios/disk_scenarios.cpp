@@ -576,10 +576,11 @@ std::vector<Scenario> disk_scenarios() {
       abs_("overlap_growth", "m", 0.0, 0.1, "growth of the overlap over the step after the first contact; tolerance in steps of closing travel"),
       abs_("penetration_max", "m", 0.0, kPenetrationSteps, "largest overlap 2 - |c_M - c_N| after the first contact; tolerance in steps of closing travel at the lift's closing speed"),
       min_d, final_d,
-      // Round-off: positions of at most 100 m carry 1.4e-14 m of it per step; a motor one step late
-      // is off by the change of its command times dt (2 mm on the first step from rest at 2 m/s).
+      // Round-off: float64 positions of at most 100 m carry 1.4e-14 m of it per step (float32: a few
+      // 1e-7 m at 10 m, so the floor scales with the declared precision); a motor one step late is
+      // off by the change of its command times dt (2 mm on the first step from rest at 2 m/s).
       {"step_displacement", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}},
-       "largest |step displacement of M - v_cmd dt| over the steps before the first contact"},
+       "largest |step displacement of M - v_cmd dt| over the free steps before the first contact (not the step in which the engine's contact stops M at touching)", {}, true},
       // Engines: the penetration penetration_max allows (kPenetrationSteps steps of closing travel, along n)
       // plus one step of travel along the tangent (contact is seen up to a step late, M went straight on).
       abs_("contact_path_error", "m", 1e-8, kPenetrationSteps + 1.0,

@@ -34,9 +34,10 @@ struct MetricDef {
   /// Absolute floor by role (relative metrics only): an absolute error at or below it
   /// passes, for quantities that can be tiny (round-off of a 1e-9 m holonomy is not an error).
   std::map<TolRole, double> floor = {};
-  /// Checks an engine's bookkeeping against itself (where it put N, what its contacts report
-  /// against its bodies), not physics: the tolerance scales with the precision the engine
-  /// declares (bookkeeping_factor in engines/engine.hpp).
+  /// A tolerance that is the round-off floor of the engine's own numbers: its bookkeeping against
+  /// itself (where it put N, what its contacts report against its bodies) or a free step against
+  /// its command: it scales with the precision the engine declares (bookkeeping_factor in
+  /// engines/engine.hpp). Physics tolerances do not.
   bool bookkeeping = false;
   /// A check of a paper's approximation (a leading-order formula against the exact model): the
   /// reference's business, shown for the other engines but not counted for them.

@@ -7,11 +7,6 @@
 
 namespace liftcheck {
 
-namespace {
-/// The drive of the circle sweeps' and the map's points, front-wheel metres (radius_vs_beta says why).
-constexpr const char* kSweepDrive_m = "4";
-}  // namespace
-
 std::string metric_field(const std::string& name) { return kMetricPrefix + name; }
 std::string detail_field(const std::string& key) { return kDetailPrefix + key; }
 
@@ -23,29 +18,28 @@ RecordedField recorded_field(const std::string& field) {
 
 const std::vector<SweepDef>& sweep_catalogue() {
   static const std::vector<SweepDef> all = {
-      // The circle sweeps' points drive kSweepDrive_m (the run drives 10 m): the fitted radius needs the
-      // steady circle, which the car reaches within its 0.25 s ramp to 0.5 m/s, and an arc long enough
-      // to fit, 0.4 rad on the largest circle (l/sin 0.1 = 10 m) and 2.9 rad on the smallest. The same
-      // drive in every circle sweep and the map makes their default points one run.
       {.name = "radius_vs_beta", .title = "Circle radius error against steering angle (exact: appendix D, l/sin beta0 and l/tan beta0)",
-       .scenario = "car.circle", .param = "beta", .values = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8}, .fixed = {{"drive", kSweepDrive_m}},
+       .scenario = "car.circle", .param = "beta", .values = {0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8},
        .record = {metric_field("front_radius"), metric_field("rear_radius")},
        .plot = "values", .x_label = "beta_0 [rad]", .y_label = "relative radius error (front solid, rear dashed)",
        .curves = {{"1.0/sin(x)", "l/sin(beta_0)"}, {"1.0/tan(x)", "l/tan(beta_0)"}}},
       {.name = "error_vs_dt", .title = "Front circle radius error against the engine time step",
-       .scenario = "car.circle", .param = "dt", .values = {0.0005, 0.001, 0.002, 0.005, 0.01}, .fixed = {{"drive", kSweepDrive_m}},
+       .scenario = "car.circle", .param = "dt", .values = {0.0005, 0.001, 0.002, 0.005, 0.01},
        .record = {metric_field("front_radius"), metric_field("final_offset")},
        .x_label = "dt [s]", .y_label = "relative error of the front radius", .log_x = true},
       // mu = 0.3 on the 3.38 m circle: v^2/(r g) reaches mu at sqrt(0.3 * 9.81 * 3.3839) = 3.155 m/s.
-      // Each point drives 5 s of the cruise speed's travel (2.5 m at 0.5 m/s, 20 m at 4 m/s: 0.7 to 5.9
-      // rad of the circle, after a ramp of v / (1 m/s^2)): the same time at every speed for a creep or
-      // a slide to show, not the same 40 m (80 s at 0.5 m/s).
+      // Each point drives 8 s of the cruise speed's travel, and at least car.circle's 10 m (10 m at 0.5
+      // and 1 m/s, 32 m at 4 m/s; after a ramp of v / (1 m/s^2)): the time for a creep or a slide to
+      // show at every speed, not the same 40 m (80 s at 0.5 m/s). Shorter drives let the start weigh
+      // on the fitted radius (4 m at 0.5 m/s: mujoco's error 9.4e-4 against 1.5e-4 at 40 m), and at
+      // 5 s the quick step's slide at 3.5 m/s fell under the slide gate (front radius +0.41%, lateral
+      // slip 0.098 m/s; at 8 s +6.2% and 2.2 m/s).
       {.name = "error_vs_speed", .title = "Front circle radius error against speed (mu = 0.3)",
        .scenario = "car.circle", .param = "speed", .values = {0.5, 1.0, 1.5, 2.0, 2.5, 3.0, 3.5, 4.0},
        .fixed = {{"mu", "0.3"}},
        .record = {metric_field("front_radius"), metric_field("slip_across_max"), detail_field(detail_key::kGripUse)},
        .marker = std::sqrt(0.3 * 9.81 / std::sin(0.3)), .marker_label = "v^2/(r g) = mu",
-       .x_label = "speed [m/s]", .y_label = "relative error of the front radius", .times_x = {{"drive", 5.0}},
+       .x_label = "speed [m/s]", .y_label = "relative error of the front radius", .times_x = {{.key = "drive", .per_x = 8.0, .min = 10.0}},
        .slide_past_marker = true},
       {.name = "holonomy_vs_eps", .title = "Simple parking cycle: holonomy against eps (slope 2)",
        .scenario = "car.cycle", .param = "eps", .values = {0.01, 0.02, 0.05, 0.1, 0.2, 0.4},
@@ -64,7 +58,7 @@ const std::vector<SweepDef>& sweep_catalogue() {
       // proportions (as heavy as the wheel, the default) down to the 0.05 kg liftcheck built before,
       // mass ratios of 40 and 800 along the chain, which iterative solvers are known to struggle with.
       {.name = "knuckle_mass", .title = "Circle against the steering knuckle's mass (chassis 40 kg, wheels 2 kg)",
-       .scenario = "car.circle", .param = "knuckle_mass", .values = {0.05, 0.2, 0.5, 2.0}, .fixed = {{"drive", kSweepDrive_m}},
+       .scenario = "car.circle", .param = "knuckle_mass", .values = {0.05, 0.2, 0.5, 2.0},
        .record = {metric_field("front_radius"), metric_field("heading_residual"), metric_field("slip_across_max")},
        .x_label = "knuckle mass [kg]", .y_label = "relative error of the front radius", .log_x = true},
   };
@@ -80,7 +74,7 @@ const MapDef& speed_accuracy_map() {
   static const MapDef m = {
       .title = "Speed against accuracy: error against the exact reference and wall-clock cost per simulated second, "
                "over dt (0.25 to 10 ms) and solver iterations (5 to 200)",
-      .panels = {{.scenario = "car.circle", .fixed = {{"drive", kSweepDrive_m}}, .error_metrics = {"front_radius", "rear_radius"}, .error_label = "relative error of the circle radii"},
+      .panels = {{.scenario = "car.circle", .error_metrics = {"front_radius", "rear_radius"}, .error_label = "relative error of the circle radii"},
                  {.scenario = "car.cycle", .error_metrics = {"dx", "dy", "dphi"}, .error_label = "relative error of the holonomy"}},
       .dt_s = {0.00025, 0.0005, 0.001, 0.002, 0.005, 0.01},
       .iterations = {5, 10, 20, 50, 100, 200},

@@ -52,9 +52,13 @@ struct SweepDef {
   bool log_x = false;
   /// The scenario parameters the swept value sets (empty: `param` itself).
   std::vector<std::string> param_keys = {};
-  /// Parameters set to a multiple of the swept value at each point (the speed sweep's drive: the
-  /// same seconds of arc at every speed, not the same metres).
-  std::vector<std::pair<std::string, double>> times_x = {};
+  /// A parameter set to a multiple of the swept value at each point, and at least `min` (the speed
+  /// sweep's drive: the same seconds of arc at every speed, not the same metres).
+  struct Scaled {
+    std::string key;
+    double per_x = 1.0, min = 0.0;
+  };
+  std::vector<Scaled> times_x = {};
   /// Exact curves drawn under the points: a gnuplot expression in x and its title.
   std::vector<std::pair<std::string, std::string>> curves = {};
   /// Past the marker (the grip limit) a configuration with contact dynamics must slide: each point
@@ -77,7 +81,6 @@ struct MapDef {
   std::string title;
   struct Panel {
     std::string scenario;
-    Overrides fixed = {};  ///< parameters held at every point (the sweeps' drive, so that their points are shared)
     std::vector<std::string> error_metrics;  ///< the point's error: the largest relative error among these
     std::string error_label;
   };

@@ -66,6 +66,7 @@ def main():
     ap.add_argument("--reasons", default=None)
     ap.add_argument("--engines", default=None, help="only these configurations (default: every one the results hold)")
     ap.add_argument("--only", choices=["runs", "sweeps"], default=None, help="re-measure only the runs or only the sweep points")
+    ap.add_argument("--sweep", default=None, help="re-measure only this sweep's points")
     ap.add_argument("--write", action="store_true")
     a = ap.parse_args()
     res = json.load(open(a.results))
@@ -125,7 +126,7 @@ def main():
     new_sp, listed_sp = [], set()
     for e in exp["sweep_points"]:
         eng = e["engines"][0]
-        if eng not in engines or e["sweep"] == "disk_outcomes" or (e["sweep"], eng) not in sweeps or a.only == "runs":
+        if eng not in engines or e["sweep"] == "disk_outcomes" or (e["sweep"], eng) not in sweeps or a.only == "runs" or (a.sweep and e["sweep"] != a.sweep):
             new_sp.append(e)
             continue
         listed_sp.add((e["sweep"], eng))
@@ -144,7 +145,7 @@ def main():
         e["measured"] = points_text(sweeps[(e["sweep"], eng)]["points"])
         new_sp.append(e)
     for (name, eng), s in sorted(sweeps.items()):
-        if eng not in engines or (name, eng) in listed_sp or a.only == "runs":
+        if eng not in engines or (name, eng) in listed_sp or a.only == "runs" or (a.sweep and name != a.sweep):
             continue
         pts = [{"x": p["x"], "metrics": {n: ceil2(v) for n, v in sorted(p["errors"].items())}} for p in s["points"] if p["status"] == "fail" and p["errors"]]
         if not pts:
