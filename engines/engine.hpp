@@ -24,7 +24,10 @@ namespace liftcheck {
 
 /// What a setting is for, where the harness needs to know it (the speed-accuracy map sweeps the
 /// solver's iteration count of every configuration that has one), whatever the engine calls it.
-enum class SettingRole { kNone, kSolverIterations };
+/// What a setting is, where a check needs to find it whatever its key: the solver's iteration count
+/// (the iterations sweep), a velocity damping the engine applies by default (the gravity check
+/// turns it off to see gravity alone).
+enum class SettingRole { kNone, kSolverIterations, kDamping };
 
 /// A setting only some engines have (solver iterations, wheel shape, friction directions):
 /// declared, typed and ranged by the engine that has it as a scenario parameter is (ParamSpec: the

@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fmt/format.h>
 #include <iostream>
 
+#include "harness/expectations.hpp"
 #include "harness/external.hpp"
 #include "harness/runner.hpp"
 
@@ -15,14 +17,21 @@ using namespace liftcheck;
 
 namespace {
 
-/// Every compiled-in configuration in the registry, and every scenario in the catalogue. The outside
-/// configurations of the default suite (engines/outside/suite/) are judged on the same expectations
-/// by validate (make validate, in CI), their road by tests/protocol (ode over the protocol gives
-/// ode's records) and their faults by test_outside_faults.
+/// Every compiled-in configuration in the registry. The outside configurations of the default
+/// suite (engines/outside/suite/) are judged on the same expectations by validate (make validate,
+/// in CI), their road by tests/protocol (ode over the protocol gives ode's records) and their
+/// faults by test_outside_faults; the per-configuration checks below that need no expectations
+/// (AnyConfiguration: settings, determinism, signs, gravity) run on them too.
 std::vector<std::string> engine_names() {
   std::vector<std::string> v;
   for (const auto& e : engines())
     if (e.command.empty()) v.push_back(e.name);
+  return v;
+}
+/// Every configuration in the registry, compiled-in and outside.
+std::vector<std::string> all_engine_names() {
+  std::vector<std::string> v;
+  for (const auto& e : engines()) v.push_back(e.name);
   return v;
 }
 std::vector<std::string> scenario_names() {
@@ -38,6 +47,8 @@ std::string test_name(std::string n) {
 
 class Conformance : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {};
 class PerEngine : public ::testing::TestWithParam<std::string> {};
+/// The checks that hold on any configuration, compiled-in or outside.
+class AnyConfiguration : public ::testing::TestWithParam<std::string> {};
 
 // The default run of every scenario on every configuration is as the reviewed expectations say:
 // a pass, or a listed known failure failing only in its listed metrics.
@@ -69,7 +80,7 @@ TEST_P(Conformance, DefaultRunIsAsExpected) {
 }
 
 // Same inputs, same numbers: a car and a disk scenario run twice give identical records.
-TEST_P(PerEngine, SameInputsSameNumbers) {
+TEST_P(AnyConfiguration, SameInputsSameNumbers) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
   for (const char* name : {"car.cycle", "disks.repel"}) {
@@ -84,7 +95,7 @@ TEST_P(PerEngine, SameInputsSameNumbers) {
 // Sign conventions on every engine with a car: steering left is positive beta, forward is positive
 // alpha. Driving forward with beta > 0 turns the car left (phi grows) and moves the front axle
 // along its heading.
-TEST_P(PerEngine, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
+TEST_P(AnyConfiguration, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
   if (lacks(*e, {.vehicle = Vehicle::kCar}) != Lack::kNothing) GTEST_SKIP();
@@ -96,39 +107,66 @@ TEST_P(PerEngine, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
     const car::BasePath path({{2.0, 0.0}}, 0.0, beta, setup.drive);
     const auto trace = car->drive(path);
     const car::Config& end = trace.back().q;
-    EXPECT_NEAR(end.alpha_rad, 2.0, 1e-3);
-    EXPECT_NEAR(end.beta_rad, beta, 1e-3);
-    EXPECT_GT((end.x_m - q0.x_m) * std::cos(0.5) + (end.y_m - q0.y_m) * std::sin(0.5), 0.5);  // went forward
+    // Signs, not accuracy (the car scenarios judge that): the rolling and steering angles within
+    // 2% of the command, more than half the wheel's 0.6 m arc forward.
+    EXPECT_NEAR(end.alpha_rad, 2.0, 4e-2);
+    EXPECT_NEAR(end.beta_rad, beta, 6e-3);
+    EXPECT_GT((end.x_m - q0.x_m) * std::cos(0.5) + (end.y_m - q0.y_m) * std::sin(0.5), 0.3);  // went forward
     EXPECT_GT((end.phi_rad - q0.phi_rad) * beta, 0.0);                                          // turned to the steered side
   }
   // Steering alone: the realized beta follows the command with its sign.
   const car::Config q0{0.0, 0.0, 0.0, 0.0, 0.0};
   car->reset(setup, q0);
   const auto trace = car->drive(car::BasePath({{0.0, 0.4}}, 0.0, 0.0, setup.drive));
-  EXPECT_NEAR(trace.back().q.beta_rad, 0.4, 1e-3);
+  EXPECT_NEAR(trace.back().q.beta_rad, 0.4, 8e-3);
 }
 
 // car.slope's exact reference does not see gravity, so it cannot tell an engine that ignored the
-// tilt: here the same tilted gravity (0.3 rad) with mu = 0.2 < tan(0.3) must make the parked car,
-// wheels held, slide downhill as a Coulomb block would, about (1/2) g (sin 0.3 - 0.2 cos 0.3) t^2
-// = 2.0 m in 2 s. An engine that dropped the tilt would stand still.
-TEST_P(PerEngine, TiltedGravityIsFelt) {
+// tilt or got its size wrong: here gravity tilted by 0.3 rad on all but frictionless level ground
+// (mu = 1e-3) must make the parked car, wheels held, slide downhill as a block does, at
+// a = g (sin 0.3 - mu cos 0.3) = 2.89 m/s^2 (the normal forces have no component along the
+// ground), with a damping the engine applies by default turned off. An engine that dropped the
+// tilt would stand still; one with gravity 10% off is 3.5 times outside the 3% allowed. Sliding
+// against friction is car.coulomb's verdict: where the reviewed expectations list car.coulomb as a
+// known failure of the configuration (its friction does not follow Coulomb's law), even mu = 1e-3
+// may hold the car back, and the check asks only that it slide downhill at more than a quarter of
+// the block's acceleration (the tilt is felt, in its direction).
+TEST_P(AnyConfiguration, TiltedGravityIsFelt) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
   if (lacks(*e, {.vehicle = Vehicle::kCar, .contact_dynamics = true}) != Lack::kNothing) GTEST_SKIP() << GetParam() << " has no car with contact forces";
   const double slope = 0.3, slope_dir = 0.4, hold_s = 2.0;
   CarSetup setup;
-  setup.mu = 0.2;
+  setup.mu = 1e-3;  // a block's a = g (sin - mu cos) is 0.3% short of g sin; mu = 0 is degenerate for a no-slip solver
   setup.gravity_dir_W = {-std::sin(slope_dir) * std::sin(slope), std::cos(slope_dir) * std::sin(slope), -std::cos(slope)};
   const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
-  auto car = e->make_car(e->defaults(Vehicle::kCar));
+  Settings settings = e->defaults(Vehicle::kCar);
+  for (const SettingSpec& k : e->knobs)
+    if (k.vehicle == Vehicle::kCar && k.role == SettingRole::kDamping) settings[k.key] = 0.0;  // gravity alone
+  auto car = e->make_car(settings);
   const car::Config q0{0.0, 0.3, 0.0, 0.0, slope_dir};  // across the slope
   car->reset(setup, q0);
   const auto trace = car->drive(car::BasePath({{0.0, 0.0, hold_s}}, 0.0, q0.beta_rad, setup.drive));
-  const Eigen::Vector2d moved(trace.back().q.x_m - q0.x_m, trace.back().q.y_m - q0.y_m);
-  const double coulomb_m = 0.5 * setup.gravity_mps2 * (std::sin(slope) - setup.mu * std::cos(slope)) * hold_s * hold_s;
-  EXPECT_GT(moved.dot(downhill), 0.25 * coulomb_m) << GetParam() << " did not slide down a slope steeper than its friction";
-  EXPECT_GT(moved.dot(downhill), 0.9 * moved.norm()) << GetParam() << " moved, but not downhill";
+  // Along the (level) ground the slide accelerates at the tilted gravity's horizontal g sin(slope):
+  // a = 4 (s(T) - 2 s(T/2) + s(0)) / T^2 from three samples of the downhill distance s(t), exact for
+  // a constant acceleration whatever speed the car had at t = 0 (it may slide while it settles).
+  const auto at = [&](double t_s) {
+    const auto it = std::min_element(trace.begin(), trace.end(), [&](const auto& a, const auto& b) { return std::abs(a.t_s - t_s) < std::abs(b.t_s - t_s); });
+    return Eigen::Vector2d(it->q.x_m - q0.x_m, it->q.y_m - q0.y_m);
+  };
+  const double T_s = trace.back().t_s - trace.front().t_s;
+  ASSERT_GT(T_s, 1.9);
+  const Eigen::Vector2d moved = at(trace.back().t_s) - at(trace.front().t_s);
+  const double a_mps2 = 4.0 * (at(trace.back().t_s) - 2.0 * at(trace.front().t_s + 0.5 * T_s) + at(trace.front().t_s)).dot(downhill) / (T_s * T_s);
+  const double block_mps2 = setup.gravity_mps2 * (std::sin(slope) - setup.mu * std::cos(slope));
+  const KnownFailure* coulomb = find_known_failure("car.coulomb", e->name);
+  if (coulomb && std::abs(a_mps2 - block_mps2) > 0.03 * block_mps2) {
+    std::cout << "  " << e->name << ": a = " << a_mps2 << " m/s^2 against " << block_mps2 << "; car.coulomb is a known failure: " << coulomb->reason << "\n";
+    EXPECT_GT(a_mps2, 0.25 * block_mps2) << GetParam() << " did not slide down an all but frictionless slope";
+  } else {
+    EXPECT_NEAR(a_mps2, block_mps2, 0.03 * block_mps2) << GetParam() << " did not slide down an all but frictionless slope as gravity pulls";
+  }
+  EXPECT_GT(moved.dot(downhill), 0.99 * moved.norm()) << GetParam() << " moved, but not downhill";
 }
 
 /// Wraps a configuration's car and keeps the full trace of its (single) drive and the path's length.
@@ -215,28 +253,59 @@ TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
   }
 }
 
+/// Values of setting k other than its default, in the order tried: an iteration count a twentieth
+/// of the default (four times it where that is the least allowed), half a real default, then the
+/// least value allowed (a slop, say, that acts only below the penetrations a run reaches); a
+/// choice's other choices.
+std::vector<std::string> other_values(const SettingSpec& k) {
+  std::vector<std::string> v;
+  if (k.kind == ParamKind::kInteger) {
+    const long d = std::stol(k.default_text), lo = static_cast<long>(k.min), hi = static_cast<long>(k.max);
+    const long x = std::max(lo, d / 20);
+    v.push_back(fmt::format("{}", x != d ? x : std::min(hi, 4 * d + 1)));
+  } else if (k.kind == ParamKind::kNumber) {
+    const double d = std::stod(k.default_text);
+    if (d != 0.0) v.push_back(fmt::format("{:g}", 0.5 * d));
+    if (std::isfinite(k.min) && k.min != d) v.push_back(fmt::format("{:g}", k.min));
+  } else {
+    for (const auto& c : k.choices)
+      if (c != k.default_text) v.push_back(c);
+  }
+  return v;
+}
+
 // Honest settings: every setting the engine declares changes some result when changed (a setting
-// the engine ignores must not be declared).
-TEST_P(PerEngine, EveryDeclaredSettingChangesAResult) {
+// the engine ignores must not be declared): the first of other_values(k) the engine accepts whose
+// run differs from the default's. A value the range refuses (an open bound) is bad input.
+TEST_P(AnyConfiguration, EveryDeclaredSettingChangesAResult) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
   for (const SettingSpec& k : e->knobs) {
     const Scenario* sc = find_scenario(k.vehicle == Vehicle::kCar ? "car.circle" : "disks.repel");
-    std::string other;
-    if (k.kind == ParamKind::kInteger) other = fmt::format("{}", std::max<long>(static_cast<long>(k.min), std::stol(k.default_text) / 20));
-    else if (k.kind == ParamKind::kNumber) other = fmt::format("{:g}", std::stod(k.default_text) * 0.5);
-    else
-      for (const auto& c : k.choices)
-        if (c != k.default_text && other.empty()) other = c;
-    ASSERT_FALSE(other.empty()) << k.key;
-    ASSERT_NE(other, k.default_text) << k.key;
     const Overrides base = k.vehicle == Vehicle::kCar ? Overrides{{"drive", "3"}} : Overrides{};
-    Overrides changed = base;
-    changed.emplace_back(k.key, other);
-    const auto a = run_scenario(*sc, *e, base).to_json(), b = run_scenario(*sc, *e, changed).to_json();
+    const auto a = run_scenario(*sc, *e, base).to_json();
     EXPECT_EQ(a["settings"][k.key], k.default_text);
-    EXPECT_EQ(b["settings"][k.key], other);
-    EXPECT_NE(a["details"]["trace"], b["details"]["trace"]) << k.key << " = " << other << " changed nothing";
+    const std::vector<std::string> others = other_values(k);
+    ASSERT_FALSE(others.empty()) << k.key;
+    std::string tried, changed_by;
+    for (const std::string& other : others) {
+      ASSERT_NE(other, k.default_text) << k.key;
+      Overrides changed = base;
+      changed.emplace_back(k.key, other);
+      nlohmann::json b;
+      try {
+        b = run_scenario(*sc, *e, changed).to_json();
+      } catch (const InputError&) {
+        continue;  // outside an open bound of the range
+      }
+      EXPECT_EQ(b["settings"][k.key], other);
+      tried += " " + other;
+      if (a["details"]["trace"] != b["details"]["trace"]) {
+        changed_by = other;
+        break;
+      }
+    }
+    EXPECT_FALSE(changed_by.empty()) << GetParam() << ": " << k.key << " =" << tried << " changed nothing";
   }
 }
 
@@ -255,7 +324,7 @@ TEST_P(FourWheels, AsExpectedAndNoWorseThanTheTricycleUnlessListed) {
   ASSERT_NE(s, nullptr);
   const Needs needs{.vehicle = Vehicle::kCar, .four_wheels = true};
   if (const Lack lack = lacks(*e, needs); lack != Lack::kNothing)
-    GTEST_SKIP() << engine << " " << lack_text(lack, needs) << " (PerEngine.FourWheelsRefusedWhereNotBuilt)";
+    GTEST_SKIP() << engine << " " << lack_text(lack, needs) << " (AnyConfiguration.FourWheelsRefusedWhereNotBuilt)";
   const Overrides four{{"wheels", "4"}};
   const RunRecord r4 = run_scenario(*s, *e, four);
   for (const auto& m : r4.metrics)
@@ -271,7 +340,7 @@ TEST_P(FourWheels, AsExpectedAndNoWorseThanTheTricycleUnlessListed) {
 }
 
 // A configuration without a four-wheel car refuses wheels=4 as bad input, never running a tricycle.
-TEST_P(PerEngine, FourWheelsRefusedWhereNotBuilt) {
+TEST_P(AnyConfiguration, FourWheelsRefusedWhereNotBuilt) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
   if (lacks(*e, {.vehicle = Vehicle::kCar, .four_wheels = true}) != Lack::kFourWheels) GTEST_SKIP() << GetParam() << " builds four-wheel cars or none";
@@ -302,6 +371,8 @@ INSTANTIATE_TEST_SUITE_P(Registry, FourWheels,
 INSTANTIATE_TEST_SUITE_P(Registry, Conformance, ::testing::Combine(::testing::ValuesIn(engine_names()), ::testing::ValuesIn(scenario_names())),
                          [](const auto& info) { return test_name(std::get<0>(info.param) + "__" + std::get<1>(info.param)); });
 INSTANTIATE_TEST_SUITE_P(Registry, PerEngine, ::testing::ValuesIn(engine_names()),
+                         [](const auto& info) { return test_name(info.param); });
+INSTANTIATE_TEST_SUITE_P(Registry, AnyConfiguration, ::testing::ValuesIn(all_engine_names()),
                          [](const auto& info) { return test_name(info.param); });
 
 }  // namespace

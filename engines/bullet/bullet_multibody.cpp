@@ -357,7 +357,7 @@ EngineInfo bullet_multibody_engine() {
                                 Vehicle::kCar, SettingRole::kSolverIterations},
                     SettingSpec{{.key = "damping", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultDamping), .unit = "1",
                                  .help = "btMultiBody linear and angular damping", .min = 0, .max = 1},
-                                Vehicle::kCar}},
+                                Vehicle::kCar, SettingRole::kDamping}},
           .make_raw_car = make_raw_bullet_multibody_car};
 }
 
