@@ -8,8 +8,8 @@
 #include <cstring>
 #include <fmt/format.h>
 #include <iostream>
+#include <optional>
 
-#include "harness/expectations.hpp"
 #include "harness/external.hpp"
 #include "harness/runner.hpp"
 
@@ -107,10 +107,12 @@ TEST_P(AnyConfiguration, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
     const car::BasePath path({{2.0, 0.0}}, 0.0, beta, setup.drive);
     const auto trace = car->drive(path);
     const car::Config& end = trace.back().q;
-    // Signs, not accuracy (the car scenarios judge that): the rolling and steering angles within
-    // 2% of the command, more than half the wheel's 0.6 m arc forward.
-    EXPECT_NEAR(end.alpha_rad, 2.0, 4e-2);
-    EXPECT_NEAR(end.beta_rad, beta, 6e-3);
+    // Signs, not accuracy (the car scenarios judge that: beta_reached, trace_shape_error): the
+    // rolling angle within 5 mrad of the command (jolt's servo ends 1.1 mrad short), the steering
+    // angle within 1 mrad, and forward by more than half the wheel's 0.6 m arc (the exact lift
+    // 0.55 m; havok as shipped slips to 0.38 m, its car.* listings).
+    EXPECT_NEAR(end.alpha_rad, 2.0, 5e-3);
+    EXPECT_NEAR(end.beta_rad, beta, 1e-3);
     EXPECT_GT((end.x_m - q0.x_m) * std::cos(0.5) + (end.y_m - q0.y_m) * std::sin(0.5), 0.3);  // went forward
     EXPECT_GT((end.phi_rad - q0.phi_rad) * beta, 0.0);                                          // turned to the steered side
   }
@@ -118,26 +120,26 @@ TEST_P(AnyConfiguration, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
   const car::Config q0{0.0, 0.0, 0.0, 0.0, 0.0};
   car->reset(setup, q0);
   const auto trace = car->drive(car::BasePath({{0.0, 0.4}}, 0.0, 0.0, setup.drive));
-  EXPECT_NEAR(trace.back().q.beta_rad, 0.4, 8e-3);
+  EXPECT_NEAR(trace.back().q.beta_rad, 0.4, 1e-3);
 }
 
 // car.slope's exact reference does not see gravity, so it cannot tell an engine that ignored the
 // tilt or got its size wrong: here gravity tilted by 0.3 rad on all but frictionless level ground
-// (mu = 1e-3) must make the parked car, wheels held, slide downhill as a block does, at
-// a = g (sin 0.3 - mu cos 0.3) = 2.89 m/s^2 (the normal forces have no component along the
-// ground), with a damping the engine applies by default turned off. An engine that dropped the
-// tilt would stand still; one with gravity 10% off is 3.5 times outside the 3% allowed. Sliding
-// against friction is car.coulomb's verdict: where the reviewed expectations list car.coulomb as a
-// known failure of the configuration (its friction does not follow Coulomb's law), even mu = 1e-3
-// may hold the car back, and the check asks only that it slide downhill at more than a quarter of
-// the block's acceleration (the tilt is felt, in its direction).
+// (mu = 1e-4) must make the parked car, wheels held, slide downhill as a block does, at
+// a = g (sin 0.3 - mu cos 0.3) = 2.899 m/s^2 (the normal forces have no component along the
+// ground), within 5%, with a damping the engine applies by default turned off. An engine that
+// dropped the tilt would stand still; gravity 10% off is twice the tolerance. Measured: every
+// configuration within 0.4% (DART's +0.32% the farthest) but cannon-es's two, 3.1% short: its
+// friction bound of mu g m per step (a force of mu g m / dt) holds the car back even at mu = 1e-4,
+// the finding car.coulomb lists. Smaller mu does not isolate gravity further: at 1e-5
+// mujoco-noslip's wheels blow up.
 TEST_P(AnyConfiguration, TiltedGravityIsFelt) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
   if (lacks(*e, {.vehicle = Vehicle::kCar, .contact_dynamics = true}) != Lack::kNothing) GTEST_SKIP() << GetParam() << " has no car with contact forces";
   const double slope = 0.3, slope_dir = 0.4, hold_s = 2.0;
   CarSetup setup;
-  setup.mu = 1e-3;  // a block's a = g (sin - mu cos) is 0.3% short of g sin; mu = 0 is degenerate for a no-slip solver
+  setup.mu = 1e-4;  // a block's a = g (sin - mu cos) is 0.03% short of g sin; mu = 0 is outside every scenario's range
   setup.gravity_dir_W = {-std::sin(slope_dir) * std::sin(slope), std::cos(slope_dir) * std::sin(slope), -std::cos(slope)};
   const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
   Settings settings = e->defaults(Vehicle::kCar);
@@ -159,13 +161,7 @@ TEST_P(AnyConfiguration, TiltedGravityIsFelt) {
   const Eigen::Vector2d moved = at(trace.back().t_s) - at(trace.front().t_s);
   const double a_mps2 = 4.0 * (at(trace.back().t_s) - 2.0 * at(trace.front().t_s + 0.5 * T_s) + at(trace.front().t_s)).dot(downhill) / (T_s * T_s);
   const double block_mps2 = setup.gravity_mps2 * (std::sin(slope) - setup.mu * std::cos(slope));
-  const KnownFailure* coulomb = find_known_failure("car.coulomb", e->name);
-  if (coulomb && std::abs(a_mps2 - block_mps2) > 0.03 * block_mps2) {
-    std::cout << "  " << e->name << ": a = " << a_mps2 << " m/s^2 against " << block_mps2 << "; car.coulomb is a known failure: " << coulomb->reason << "\n";
-    EXPECT_GT(a_mps2, 0.25 * block_mps2) << GetParam() << " did not slide down an all but frictionless slope";
-  } else {
-    EXPECT_NEAR(a_mps2, block_mps2, 0.03 * block_mps2) << GetParam() << " did not slide down an all but frictionless slope as gravity pulls";
-  }
+  EXPECT_NEAR(a_mps2, block_mps2, 0.05 * block_mps2) << GetParam() << " did not slide down an all but frictionless slope as gravity pulls";
   EXPECT_GT(moved.dot(downhill), 0.99 * moved.norm()) << GetParam() << " moved, but not downhill";
 }
 
@@ -276,14 +272,19 @@ std::vector<std::string> other_values(const SettingSpec& k) {
 
 // Honest settings: every setting the engine declares changes some result when changed (a setting
 // the engine ignores must not be declared): the first of other_values(k) the engine accepts whose
-// run differs from the default's. A value the range refuses (an open bound) is bad input.
+// run differs from the default's, on car.circle (3 m) for a car setting and disks.forced (M pushed
+// into N, the contact held) for a disk setting. A value the range refuses (an open bound) is bad
+// input; an error record is a failure, never a change.
 TEST_P(AnyConfiguration, EveryDeclaredSettingChangesAResult) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
   for (const SettingSpec& k : e->knobs) {
-    const Scenario* sc = find_scenario(k.vehicle == Vehicle::kCar ? "car.circle" : "disks.repel");
+    const Scenario* sc = find_scenario(k.vehicle == Vehicle::kCar ? "car.circle" : "disks.forced");
     const Overrides base = k.vehicle == Vehicle::kCar ? Overrides{{"drive", "3"}} : Overrides{};
-    const auto a = run_scenario(*sc, *e, base).to_json();
+    const RunRecord ra = run_scenario(*sc, *e, base);
+    ASSERT_NE(ra.status, Status::kError) << ra.message;
+    const nlohmann::json a = ra.to_json();
+    ASSERT_TRUE(a["details"].contains("trace")) << sc->name << " keeps no trace";
     EXPECT_EQ(a["settings"][k.key], k.default_text);
     const std::vector<std::string> others = other_values(k);
     ASSERT_FALSE(others.empty()) << k.key;
@@ -292,12 +293,17 @@ TEST_P(AnyConfiguration, EveryDeclaredSettingChangesAResult) {
       ASSERT_NE(other, k.default_text) << k.key;
       Overrides changed = base;
       changed.emplace_back(k.key, other);
-      nlohmann::json b;
+      std::optional<RunRecord> rb;
       try {
-        b = run_scenario(*sc, *e, changed).to_json();
+        rb = run_scenario(*sc, *e, changed);
       } catch (const InputError&) {
         continue;  // outside an open bound of the range
       }
+      // An error record is not a changed result: a setting whose other values the engine refuses
+      // or blows up on must not pass for one that acts.
+      EXPECT_NE(rb->status, Status::kError) << k.key << " = " << other << ": " << rb->message;
+      if (rb->status == Status::kError) continue;
+      const nlohmann::json b = rb->to_json();
       EXPECT_EQ(b["settings"][k.key], other);
       tried += " " + other;
       if (a["details"]["trace"] != b["details"]["trace"]) {
