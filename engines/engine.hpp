@@ -22,11 +22,10 @@
 
 namespace liftcheck {
 
-/// What a setting is for, where the harness needs to know it (the speed-accuracy map sweeps the
-/// solver's iteration count of every configuration that has one), whatever the engine calls it.
-/// What a setting is, where a check needs to find it whatever its key: the solver's iteration count
-/// (the iterations sweep), a velocity damping the engine applies by default (the gravity check
-/// turns it off to see gravity alone).
+/// What a setting is for, where the harness or a check needs to know it, whatever the engine calls
+/// it: the solver's iteration count (the speed-accuracy map sweeps it on every configuration that
+/// has one), a velocity damping the engine applies by default (the gravity check turns it off to
+/// see gravity alone).
 enum class SettingRole { kNone, kSolverIterations, kDamping };
 
 /// A setting only some engines have (solver iterations, wheel shape, friction directions):

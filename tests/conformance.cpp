@@ -17,21 +17,16 @@ using namespace liftcheck;
 
 namespace {
 
-/// Every compiled-in configuration in the registry. The outside configurations of the default
-/// suite (engines/outside/suite/) are judged on the same expectations by validate (make validate,
-/// in CI), their road by tests/protocol (ode over the protocol gives ode's records) and their
-/// faults by test_outside_faults; the per-configuration checks below that need no expectations
-/// (AnyConfiguration: settings, determinism, signs, gravity) run on them too.
-std::vector<std::string> engine_names() {
+/// Every compiled-in configuration in the registry, and with `outside` the outside ones too. The
+/// outside configurations of the default suite (engines/outside/suite/) are judged on the same
+/// expectations by validate (make validate, in CI), their road by tests/protocol (ode over the
+/// protocol gives ode's records) and their faults by test_outside_faults; the per-configuration
+/// checks below that need no expectations (AnyConfiguration: settings, determinism, signs,
+/// gravity) run on them too.
+std::vector<std::string> engine_names(bool outside = false) {
   std::vector<std::string> v;
   for (const auto& e : engines())
-    if (e.command.empty()) v.push_back(e.name);
-  return v;
-}
-/// Every configuration in the registry, compiled-in and outside.
-std::vector<std::string> all_engine_names() {
-  std::vector<std::string> v;
-  for (const auto& e : engines()) v.push_back(e.name);
+    if (outside || e.command.empty()) v.push_back(e.name);
   return v;
 }
 std::vector<std::string> scenario_names() {
@@ -152,14 +147,14 @@ TEST_P(AnyConfiguration, TiltedGravityIsFelt) {
   // Along the (level) ground the slide accelerates at the tilted gravity's horizontal g sin(slope):
   // a = 4 (s(T) - 2 s(T/2) + s(0)) / T^2 from three samples of the downhill distance s(t), exact for
   // a constant acceleration whatever speed the car had at t = 0 (it may slide while it settles).
-  const auto at = [&](double t_s) {
+  const auto s_at = [&](double t_s) {  // downhill distance of the sample nearest t_s
     const auto it = std::min_element(trace.begin(), trace.end(), [&](const auto& a, const auto& b) { return std::abs(a.t_s - t_s) < std::abs(b.t_s - t_s); });
-    return Eigen::Vector2d(it->q.x_m - q0.x_m, it->q.y_m - q0.y_m);
+    return Eigen::Vector2d(it->q.x_m - q0.x_m, it->q.y_m - q0.y_m).dot(downhill);
   };
   const double T_s = trace.back().t_s - trace.front().t_s;
   ASSERT_GT(T_s, 1.9);
-  const Eigen::Vector2d moved = at(trace.back().t_s) - at(trace.front().t_s);
-  const double a_mps2 = 4.0 * (at(trace.back().t_s) - 2.0 * at(trace.front().t_s + 0.5 * T_s) + at(trace.front().t_s)).dot(downhill) / (T_s * T_s);
+  const Eigen::Vector2d moved(trace.back().q.x_m - trace.front().q.x_m, trace.back().q.y_m - trace.front().q.y_m);
+  const double a_mps2 = 4.0 * (s_at(trace.back().t_s) - 2.0 * s_at(trace.front().t_s + 0.5 * T_s) + s_at(trace.front().t_s)) / (T_s * T_s);
   const double block_mps2 = setup.gravity_mps2 * (std::sin(slope) - setup.mu * std::cos(slope));
   EXPECT_NEAR(a_mps2, block_mps2, 0.05 * block_mps2) << GetParam() << " did not slide down an all but frictionless slope as gravity pulls";
   EXPECT_GT(moved.dot(downhill), 0.99 * moved.norm()) << GetParam() << " moved, but not downhill";
@@ -305,7 +300,7 @@ TEST_P(AnyConfiguration, EveryDeclaredSettingChangesAResult) {
       if (rb->status == Status::kError) continue;
       const nlohmann::json b = rb->to_json();
       EXPECT_EQ(b["settings"][k.key], other);
-      tried += " " + other;
+      tried.append(" ").append(other);
       if (a["details"]["trace"] != b["details"]["trace"]) {
         changed_by = other;
         break;
@@ -378,7 +373,7 @@ INSTANTIATE_TEST_SUITE_P(Registry, Conformance, ::testing::Combine(::testing::Va
                          [](const auto& info) { return test_name(std::get<0>(info.param) + "__" + std::get<1>(info.param)); });
 INSTANTIATE_TEST_SUITE_P(Registry, PerEngine, ::testing::ValuesIn(engine_names()),
                          [](const auto& info) { return test_name(info.param); });
-INSTANTIATE_TEST_SUITE_P(Registry, AnyConfiguration, ::testing::ValuesIn(all_engine_names()),
+INSTANTIATE_TEST_SUITE_P(Registry, AnyConfiguration, ::testing::ValuesIn(engine_names(true)),
                          [](const auto& info) { return test_name(info.param); });
 
 }  // namespace
