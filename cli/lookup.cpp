@@ -109,7 +109,7 @@ void print_record(const nlohmann::json& r) {
 int run_one(const SuitePlan& plan, const RunnerDef& runner, bool json, const std::string& during) {
   std::vector<nlohmann::json> records;
   try {
-    records = run_items(plan, {0}, runner, [](size_t, const nlohmann::json&) {});
+    records = run_items(plan, {0}, runner, [](size_t, const nlohmann::json&, double) {});
   } catch (const RunnerStopped& e) {
     throw Interrupted(pending_signal(), e.what());
   }

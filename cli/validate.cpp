@@ -50,9 +50,19 @@ SuiteDef suite_def(const ValidateOptions& v, const RunnerDef& runner) {
 /// The records of a share by key, with what they cost in engine seconds.
 struct Ran {
   std::map<std::string, nlohmann::json> by_key;
-  double wall_s = 0.0, runs_s = 0.0, points_s = 0.0;
+  double wall_s = 0.0, runs_s = 0.0, points_s = 0.0, held_s = 0.0;
   std::map<std::string, double> cost_by_part, cost_by_config;
+  /// Wall seconds the items held a worker (an outside engine's protocol included), likewise.
+  std::map<std::string, double> held_by_part, held_by_config;
 };
+
+/// A run's line: its verdict, scenario, configuration, engine seconds and message.
+void print_run_line(const nlohmann::json& r) {
+  const bool known = r["expectation"].is_object() && r["as_expected"].get<bool>();
+  std::cout << fmt::format("{} {:<22} {:<16} {:8.3f} s  {}{}\n", coloured_verdict(r["verdict"].get<std::string>(), 15), printable(r["scenario"].get<std::string>(), 200),
+                           printable(r["engine"].get<std::string>(), 200), r["wall_s"].get<double>(), printable(r["message"].get<std::string>(), 1000),
+                           known ? fmt::format(" (known: {})", r["expectation"]["reason"].get<std::string>()) : "");
+}
 
 /// One line per run as it ends (the points only count), the progress line between.
 Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner) {
@@ -60,18 +70,20 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
   const auto t0 = std::chrono::steady_clock::now();
   Progress progress;
   std::vector<nlohmann::json> records;
-  const auto done = [&](size_t i, const nlohmann::json& r) {
+  const auto done = [&](size_t i, const nlohmann::json& r, double held_s) {
     const SuiteItem& it = plan.items[i];
     (it.kind == SuiteItem::kRun ? ran.runs_s : ran.points_s) += r["wall_s"].get<double>();
-    // Where the time goes: engine seconds by part of the suite and by configuration.
+    // Where the time goes: engine seconds by part of the suite and by configuration, and the
+    // worker's wall seconds likewise.
     ran.cost_by_part[item_part(it)] += r["wall_s"].get<double>();
     ran.cost_by_config[it.engine->name] += r["wall_s"].get<double>();
+    ran.held_s += held_s;
+    ran.held_by_part[item_part(it)] += held_s;
+    ran.held_by_config[it.engine->name] += held_s;
     if (it.kind != SuiteItem::kRun) return;
     progress.clear();
-    const bool known = r["expectation"].is_object() && r["as_expected"].get<bool>();
-    std::cout << fmt::format("{} {:<22} {:<16} {:8.3f} s  {}{}\n", coloured_verdict(r["verdict"].get<std::string>(), 15), it.scenario->name, printable(it.engine->name, 200),
-                             r["wall_s"].get<double>(), printable(r["message"].get<std::string>(), 1000),
-                             known ? fmt::format(" (known: {})", r["expectation"]["reason"].get<std::string>()) : "");
+    print_run_line(r);
+    for (const auto& judged : r.value("shared", nlohmann::json::array())) print_run_line(judged);  // the same drive, judged again
   };
   try {
     records = run_items(plan, which, runner, done, [&](size_t n, size_t total) { progress.update(n, total); });
@@ -82,6 +94,7 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
   progress.clear();
   ran.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (size_t k = 0; k < which.size(); ++k) ran.by_key[plan.items[which[k]].key] = records[k];
+  take_shared_records(plan, ran.by_key);
   return ran;
 }
 
@@ -89,8 +102,12 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
 nlohmann::json shard_results(const SuitePlan& plan, const std::vector<size_t>& which, const Ran& ran, const nlohmann::json& context,
                              int shard_index, int shard_total) {
   nlohmann::json runs = nlohmann::json::array(), points = nlohmann::json::object();
-  for (size_t i : which)
-    (plan.items[i].kind == SuiteItem::kRun ? runs.push_back(ran.by_key.at(plan.items[i].key)) : (void)(points[plan.items[i].key] = ran.by_key.at(plan.items[i].key)));
+  // Its items and the runs that judged their drives, in plan order (ran.by_key holds exactly those).
+  for (const SuiteItem& it : plan.items) {
+    const auto rec = ran.by_key.find(it.key);
+    if (rec == ran.by_key.end()) continue;
+    (it.kind == SuiteItem::kRun ? runs.push_back(rec->second) : (void)(points[it.key] = rec->second));
+  }
   nlohmann::json results = results_from_records(runs, context);
   results["sweeps"] = nlohmann::json::array();
   results["maps"] = nlohmann::json::array();
@@ -131,6 +148,9 @@ int cmd_validate(const ValidateOptions& v) {
   context["points_s"] = ran.points_s;
   context["engine_s_by_part"] = ran.cost_by_part;
   context["engine_s_by_configuration"] = ran.cost_by_config;
+  context["worker_s_by_part"] = ran.held_by_part;
+  context["worker_s_by_configuration"] = ran.held_by_config;
+  context["worker_s"] = ran.held_s;
   context["jobs"] = runner.jobs;
   context["timeout_s"] = runner.timeout_s;
   context["memory_limit_mib"] = runner.memory_limit_mib;
@@ -155,7 +175,7 @@ Command add_validate(CLI::App& app) {
   validate->add_option("--set", v->sets, "KEY=VALUE for every run whose scenario has that parameter or whose configuration has that setting (repeatable; the sweeps keep their own values)")->allow_extra_args(false);
   validate->add_option("--trace-dir", v->trace_dir, "score every SCENARIO.csv (or .json) in this folder as a run of the configuration named after it");
   validate->add_flag("--no-sweeps", v->no_sweeps, "skip the parameter sweeps");
-  validate->add_flag("--all-points", v->all_points, "run the parameter sweeps and the outcome grid also on the configurations registered for the runs and the map only (\"points\": \"map\")");
+  validate->add_flag("--all-points", v->all_points, "run the parameter sweeps, the outcome grid and the map's axes also on the configurations registered for fewer points (\"points\": \"map\" or \"runs\")");
   validate->add_flag("--no-report", v->no_report, "write results.json only (no snapshots, plots or HTML)");
   validate->add_option("--jobs,-j", v->jobs, "runs at once (default: the number of cores)")->capture_default_str();
   validate->add_option("--timeout", v->timeout_s, "limit of each run's or sweep point's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();

@@ -252,10 +252,12 @@ struct EngineInfo {
   /// argument vector that starts it; empty for a compiled-in configuration.
   std::string registration = {};
   std::vector<std::string> command = {};
-  /// Joins a suite's parameter sweeps and outcome grid (its runs and the speed-accuracy map it
-  /// always joins). False for an outside configuration registered with "points": "map", whose
-  /// stepping cost would make those points the suite's longest part (validate --all-points).
-  bool all_points = true;
+  /// Which of a suite's points it joins besides its runs (an outside configuration's registration,
+  /// "points"): every sweep, outcome case and map point (kAll); the speed-accuracy map's dt and
+  /// iteration axes, no sweep or outcome point (kMap); or none, the map showing its default run
+  /// (kRuns). validate --all-points gives every configuration all of them.
+  enum class Points { kAll, kMap, kRuns };
+  Points points = Points::kAll;
   /// False until an outside configuration's hello has been read (find_engine reads it).
   bool described = true;
   /// Why an outside configuration cannot run (its command did not start, its hello was wrong);

@@ -211,77 +211,123 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
   return run_scenario(resolve_run(scenario, engine, overrides));
 }
 
-RunRecord run_scenario(const ResolvedRun& run) {
+namespace {
+
+/// A run's record before the engine works: what it runs, its known failure, and a skip where the
+/// configuration lacks what the scenario needs (`skipped`). InputError for a four-wheel car on a
+/// configuration without one.
+RunRecord begin_record(const ResolvedRun& run, bool& skipped) {
   const Scenario& scenario = *run.scenario;
   const EngineInfo& engine = *run.engine;
-  const Params& params = run.params;
-  const Settings& settings = run.settings;
   RunRecord r;
   r.scenario = scenario.name;
   r.engine = engine.name;
   r.vehicle = scenario.vehicle;
-  r.params = params.to_json();
-  for (const auto& [key, value] : settings.texts()) r.settings[key] = value;
+  r.params = run.params.to_json();
+  for (const auto& [key, value] : run.settings.texts()) r.settings[key] = value;
   const Needs needs = needs_of(scenario, r.params);
   const Lack lack = lacks(engine, needs);
   // A car with four wheels needs a configuration that builds one: never a tricycle instead.
   if (lack == Lack::kFourWheels) throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
   // The expectations describe the default suite and the runs they name with changed parameters
   // ("params"); a run with anything else changed, or any setting, is judged on its own.
-  const Settings default_settings = engine.defaults(scenario.vehicle);
-  if (settings == default_settings)
+  if (run.settings == engine.defaults(scenario.vehicle))
     for (const KnownFailure* k : known_failures_of(scenario.name, engine.name))
       if (r.params == Params::resolve(scenario.params, k->params, scenario.name).to_json()) r.known = k;
-  if (lack != Lack::kNothing) {
+  skipped = lack != Lack::kNothing;
+  if (skipped) {
     r.status = Status::kSkip;
     r.message = fmt::format("engine '{}' {}", engine.name, lack_text(lack, needs));
-    return r;
   }
+  return r;
+}
+
+/// Scores the outcome into the record and gives it its status.
+void finish_record(RunRecord& r, const ResolvedRun& run, const Outcome& outcome) {
+  r.metrics = score(*run.scenario, tolerance_role(*run.engine), outcome, liftcheck::bookkeeping_factor(run.engine->precision));
+  r.details = outcome.details;
+  // A pass needs at least one counted metric; informational ones neither pass nor fail a run.
+  bool finite = true, pass = false, any_fail = false;
+  for (const auto& m : r.metrics) {
+    if (m.informational) continue;
+    finite = finite && std::isfinite(m.measured);
+    pass = true;
+    any_fail = any_fail || !m.pass;
+  }
+  pass = pass && !any_fail;
+  if (!finite) {
+    r.status = Status::kError;
+    r.message = "engine produced a non-finite measurement";
+  } else if (std::none_of(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return !m.informational; })) {
+    r.status = Status::kError;
+    r.message = "no metric measured the engine (every one is informational)";
+  } else {
+    r.status = pass ? Status::kPass : Status::kFail;
+    if (!pass) r.message = fmt::format("out of tolerance: {}", fmt::join(r.failed_metrics(), ", "));
+    if (!pass && r.known && !r.beyond_known().empty())
+      r.message += fmt::format("; worse than its known failure: {}", fmt::join(r.beyond_known(), "; "));
+  }
+}
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+RunRecord run_scenario(const ResolvedRun& run) {
+  const Scenario& scenario = *run.scenario;
+  const EngineInfo& engine = *run.engine;
+  bool skipped = false;
+  RunRecord r = begin_record(run, skipped);
+  if (skipped) return r;
   const auto t0 = std::chrono::steady_clock::now();
   try {
     Outcome outcome;
     if (scenario.vehicle == Vehicle::kDisks) {
-      auto d = engine.make_disks(settings);
-      outcome = scenario.run_disks(params, *d);
+      auto d = engine.make_disks(run.settings);
+      outcome = scenario.run_disks(run.params, *d);
       r.simulated_s = d->simulated_s();
       r.engine_s = d->reported_engine_s();
     } else {
-      auto car = engine.make_car(settings);
-      outcome = scenario.run_car(params, *car);
+      auto car = engine.make_car(run.settings);
+      outcome = scenario.run_car(run.params, *car);
       r.simulated_s = car->simulated_s();
       r.engine_s = car->reported_engine_s();
     }
-    r.metrics = score(scenario, tolerance_role(engine), outcome, liftcheck::bookkeeping_factor(engine.precision));
-    r.details = outcome.details;
-    // A pass needs at least one counted metric; informational ones neither pass nor fail a run.
-    bool finite = true, pass = false, any_fail = false;
-    for (const auto& m : r.metrics) {
-      if (m.informational) continue;
-      finite = finite && std::isfinite(m.measured);
-      pass = true;
-      any_fail = any_fail || !m.pass;
-    }
-    pass = pass && !any_fail;
-    if (!finite) {
-      r.status = Status::kError;
-      r.message = "engine produced a non-finite measurement";
-    } else if (std::none_of(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return !m.informational; })) {
-      r.status = Status::kError;
-      r.message = "no metric measured the engine (every one is informational)";
-    } else {
-      r.status = pass ? Status::kPass : Status::kFail;
-      if (!pass) r.message = fmt::format("out of tolerance: {}", fmt::join(r.failed_metrics(), ", "));
-      if (!pass && r.known && !r.beyond_known().empty())
-        r.message += fmt::format("; worse than its known failure: {}", fmt::join(r.beyond_known(), "; "));
-    }
+    finish_record(r, run, outcome);
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
     r.status = Status::kError;
     r.message = e.what();
   }
-  r.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.wall_s = seconds_since(t0);
   return r;
+}
+
+std::vector<RunRecord> run_shared_drive(const std::vector<ResolvedRun>& runs) {
+  std::vector<RunRecord> records;
+  bool skipped = false;
+  for (const ResolvedRun& run : runs) records.push_back(begin_record(run, skipped));
+  if (skipped || runs.empty()) return records;  // the same configuration and needs: all skip alike
+  const ResolvedRun& first = runs.front();
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    auto car = first.engine->make_car(first.settings);
+    const Outcome drive = first.scenario->shared_drive->drive(first.params, *car);
+    for (size_t i = 0; i < runs.size(); ++i) {
+      records[i].simulated_s = car->simulated_s();
+      records[i].engine_s = car->reported_engine_s();
+      finish_record(records[i], runs[i], runs[i].scenario->shared_drive->judge(runs[i].params, drive));
+    }
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    for (RunRecord& r : records) r.status = Status::kError, r.message = e.what();
+  }
+  for (RunRecord& r : records) r.wall_s = seconds_since(t0);
+  return records;
 }
 
 }  // namespace liftcheck

@@ -75,6 +75,11 @@ ResolvedRun resolve_run(const Scenario& scenario, const EngineInfo& engine, cons
 RunRecord run_scenario(const ResolvedRun& run);
 /// run_scenario(resolve_run(scenario, engine, overrides)).
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides = {});
+/// Runs of scenarios that judge one drive (Scenario::shared_drive of the same name, the same
+/// configuration, parameters and settings): the drive is made once, by the first run's scenario,
+/// and each record is its own scenario's judgement of it, as run_scenario would give it (the drive's
+/// simulated and engine seconds in each). Engine failures make every record an error.
+std::vector<RunRecord> run_shared_drive(const std::vector<ResolvedRun>& runs);
 
 /// The checks of run_scenario that come before the engine works, without running it: the
 /// parameters and settings, the configuration's wheels, and the scenario's own checks up to its

@@ -138,7 +138,7 @@ void add_points(SuitePlan& plan, const SuiteDef& def) {
   const MapDef& map = speed_accuracy_map();
   if (std::any_of(map.panels.begin(), map.panels.end(), [&](const MapDef::Panel& p) { return matches_any(def.globs, p.scenario); })) {
     plan.map = true;
-    const auto runs = map_runs(map, def.engines);
+    const auto runs = map_runs(map, def.engines, def.all_points);
     points.insert(points.end(), runs.begin(), runs.end());
   }
   for (PointRun& p : points) {
@@ -156,22 +156,27 @@ void resolve_items(SuitePlan& plan) {
   std::set<std::string> keys;
   for (const SuiteItem& it : plan.items)
     if (!keys.insert(it.key).second) throw std::logic_error(fmt::format("two suite items share the key '{}'", it.key));
-  // The same run asked for twice (the default run is a sweep's point and a map point too) runs once.
-  std::map<std::string, long> first;
+  // The same run asked for twice (the default run is a sweep's point and a map point too) runs once,
+  // and runs that judge one drive (Scenario::shared_drive) make it once.
+  std::map<std::string, long> first, drive_maker;
   for (size_t i = 0; i < plan.items.size(); ++i) {
     SuiteItem& it = plan.items[i];
     if (it.owned) continue;
-    std::string identity;
+    nlohmann::json identity;
     try {
       const ResolvedRun run = resolve_run(*it.scenario, *it.engine, it.overrides);
       it.cost = cost_estimate(run);
-      identity = nlohmann::json{{"scenario", it.scenario->name}, {"engine", it.engine->name},
-                                {"params", run.params.to_json()}, {"settings", run.settings.texts()}}.dump();
+      identity = {{"engine", it.engine->name}, {"params", run.params.to_json()}, {"settings", run.settings.texts()}};
     } catch (const InputError&) {
       continue;  // it will be an error record of its own
     }
-    const auto [where, inserted] = first.emplace(identity, static_cast<long>(i));
+    const auto [where, inserted] = first.emplace(nlohmann::json{{"scenario", it.scenario->name}, {"run", identity}}.dump(), static_cast<long>(i));
     if (!inserted) it.same_as = where->second;
+    if (!inserted || it.kind != SuiteItem::kRun || !it.scenario->shared_drive) continue;
+    const auto [maker, first_judge] = drive_maker.emplace(nlohmann::json{{"drive", it.scenario->shared_drive->name}, {"run", identity}}.dump(), static_cast<long>(i));
+    if (first_judge) continue;
+    it.judges_drive_of = maker->second;
+    plan.items[static_cast<size_t>(maker->second)].drive_judges.push_back(it.scenario);
   }
 }
 
@@ -180,7 +185,7 @@ void resolve_items(SuitePlan& plan) {
 std::vector<const EngineInfo*> sweep_engines(const SuiteDef& def) {
   std::vector<const EngineInfo*> v;
   for (const EngineInfo* e : def.engines)
-    if (e->all_points || def.all_points) v.push_back(e);
+    if (e->points == EngineInfo::Points::kAll || def.all_points) v.push_back(e);
   return v;
 }
 
@@ -206,7 +211,7 @@ std::vector<size_t> shard_share(const SuitePlan& plan, int index, int total) {
   std::vector<size_t> out;
   size_t k = 0;
   for (size_t i = 0; i < plan.items.size(); ++i)
-    if (plan.items[i].same_as < 0 && k++ % static_cast<size_t>(total) == static_cast<size_t>(index - 1)) out.push_back(i);
+    if (plan.items[i].runs_itself() && k++ % static_cast<size_t>(total) == static_cast<size_t>(index - 1)) out.push_back(i);
   return out;
 }
 
@@ -265,11 +270,27 @@ void set_memory_limit(double mib) {
 #endif
 }
 
+namespace {
+
+/// The record of a run whose drive later runs judge too, with theirs in its "shared" list.
+nlohmann::json shared_drive_record(const SuiteItem& item) {
+  std::vector<ResolvedRun> runs{resolve_run(*item.scenario, *item.engine, item.overrides)};
+  for (const Scenario* s : item.drive_judges) runs.push_back(resolve_run(*s, *item.engine, item.overrides));
+  const std::vector<RunRecord> records = run_shared_drive(runs);
+  nlohmann::json j = records.front().to_json();
+  j["shared"] = nlohmann::json::array();
+  for (size_t i = 1; i < records.size(); ++i) j["shared"].push_back(records[i].to_json());
+  return nlohmann::json::parse(j.dump());  // as results.json stores it: no infinities, no NaN
+}
+
+}  // namespace
+
 nlohmann::json run_item(const SuiteItem& item) {
   RunRecord r;
   bool input_error = false;
   try {
     test_hook_allocate(item);
+    if (!item.drive_judges.empty()) return shared_drive_record(item);
     r = run_scenario(resolve_run(*item.scenario, *item.engine, item.overrides));
   } catch (const std::bad_alloc&) {
     r = RunRecord{};
@@ -451,11 +472,41 @@ int usable_cores() {
   return static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
 }
 
+namespace {
+
+/// The CPUs this process may run on, in order (empty where the affinity cannot be read).
+std::vector<int> usable_cpus() {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  std::vector<int> cpus;
+  if (sched_getaffinity(0, sizeof set, &set) != 0) return cpus;
+  for (int c = 0; c < CPU_SETSIZE; ++c)
+    if (CPU_ISSET(c, &set)) cpus.push_back(c);
+  return cpus;
+}
+
+/// Binds worker `pid` to `cpu`, before it is given an item: an outside engine it starts inherits
+/// the binding, so the protocol's round trip between the two processes stays on one core (a
+/// wake-up on the other core costs 10 to 40 us a step on a virtual machine; on one core the
+/// round trip is about 14 us, make bench). Best effort: a binding refused leaves the worker free.
+void bind_worker(pid_t pid, int cpu) {
+  cpu_set_t set;
+  CPU_ZERO(&set);
+  CPU_SET(cpu, &set);
+  (void)sched_setaffinity(pid, sizeof set, &set);
+}
+
+}  // namespace
+
 nlohmann::json item_request(const SuiteItem& item) {
   nlohmann::json ov = nlohmann::json::array();
   for (const auto& [k, v] : item.overrides) ov.push_back({k, v});
   nlohmann::json j{{"kind", item.kind == SuiteItem::kRun ? "run" : "point"}, {"scenario", item.scenario->name},
                    {"engine", item.engine->name}, {"overrides", ov}};
+  if (!item.drive_judges.empty()) {
+    j["drive_judges"] = nlohmann::json::array();
+    for (const Scenario* s : item.drive_judges) j["drive_judges"].push_back(s->name);
+  }
   if (item.owned) j["trace_file"] = item.trace_file;
   return j;
 }
@@ -493,6 +544,12 @@ SuiteItem item_from_request(const nlohmann::json& j) {
     if (!it.engine) throw InputError(fmt::format("worker: unknown configuration '{}'", engine));
   }
   for (const auto& kv : j.at("overrides")) it.overrides.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<std::string>());
+  for (const auto& name : j.value("drive_judges", nlohmann::json::array())) {
+    const Scenario* s = find_scenario(name.get<std::string>());
+    if (!s || !s->shared_drive || !it.scenario->shared_drive || s->shared_drive->name != it.scenario->shared_drive->name)
+      throw InputError(fmt::format("worker: '{}' does not judge the drive of '{}'", name.get<std::string>(), it.scenario->name));
+    it.drive_judges.push_back(s);
+  }
   it.key = j.value("key", "");
   return it;
 }
@@ -531,6 +588,47 @@ std::vector<size_t> schedule_order(const SuitePlan& plan, const std::vector<size
   });
   return order;
 }
+
+/// Hands out items in schedule order, keeping each outside configuration to one worker where it
+/// can: its engine process (and the engine's compiled code) is warm in the worker that started it,
+/// and a second worker pays the start-up again (for a WASM engine 0.2 to 2 s of CPU before its
+/// steps reach full speed). A worker takes the first item left that is compiled in, of an outside
+/// configuration it already runs, or of one no worker runs yet; when only other workers'
+/// configurations are left, it takes the first of those rather than wait.
+class Dispenser {
+ public:
+  Dispenser(const SuitePlan& plan, const std::vector<size_t>& which, std::vector<size_t> order)
+      : plan_(plan), which_(which), order_(std::move(order)), handed_(order_.size(), 0) {}
+  bool empty() const { return left_ == 0 || first_ >= order_.size(); }
+  /// The next item (its index in `which`) for worker `w`.
+  size_t next_for(size_t w) {
+    while (first_ < order_.size() && handed_[first_]) ++first_;
+    size_t pick = first_;
+    for (size_t k = first_; k < order_.size(); ++k)
+      if (!handed_[k] && fits(order_[k], w)) {
+        pick = k;
+        break;
+      }
+    handed_[pick] = 1, --left_;
+    const EngineInfo* e = plan_.items[which_[order_[pick]]].engine;
+    if (!e->registration.empty()) owner_.emplace(e, w);
+    return order_[pick];
+  }
+
+ private:
+  bool fits(size_t i, size_t w) const {
+    const EngineInfo* e = plan_.items[which_[i]].engine;
+    if (e->registration.empty()) return true;
+    const auto o = owner_.find(e);
+    return o == owner_.end() || o->second == w;
+  }
+  const SuitePlan& plan_;
+  const std::vector<size_t>& which_;
+  std::vector<size_t> order_;
+  std::vector<char> handed_;
+  std::map<const EngineInfo*, size_t> owner_;
+  size_t first_ = 0, left_ = order_.size();
+};
 
 /// Waits for output of the busy workers, an end or the nearest wall-clock limit; returns the
 /// (worker, stdout?) pipes that are readable or closed.
@@ -574,23 +672,27 @@ std::optional<nlohmann::json> read_record(Worker& w, const SuiteItem& item, doub
 }  // namespace
 
 std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
-                                      const std::function<void(size_t, const nlohmann::json&)>& done,
+                                      const std::function<void(size_t, const nlohmann::json&, double)>& done,
                                       const std::function<void(size_t, size_t)>& progress) {
   using clock = std::chrono::steady_clock;
   const size_t n = which.size();
   std::vector<nlohmann::json> records(n);
+  std::vector<double> held_s(n, 0.0);
   std::vector<char> ready(n, 0);
-  const std::vector<size_t> order = schedule_order(plan, which);
+  Dispenser dispenser(plan, which, schedule_order(plan, which));
   const RunningBinary binary(runner.exe);
   std::signal(SIGPIPE, SIG_IGN);  // a worker that died is seen at its pipe's end, not by a signal
   const int jobs = std::min({runner.jobs, usable_cores(), static_cast<int>(std::max<size_t>(n, 1))});
   std::vector<Worker> workers(static_cast<size_t>(std::max(1, jobs)));
+  // Worker k keeps to the k-th usable core (with its outside engine): jobs never exceed the cores.
+  const std::vector<int> cpus = usable_cpus();
   // The time limit is the run's own CPU time, counted by its worker; this wall-clock limit only
   // catches a run that waits instead of computing (it is never reached by one that computes).
   const double wall_limit_s = std::max(kWallFactor * runner.timeout_s, runner.timeout_s + kWallGrace_s);
-  size_t next = 0, finished = 0, printed = 0;
+  size_t finished = 0, printed = 0;
   const auto finish = [&](Worker& w, nlohmann::json record) {
     records[static_cast<size_t>(w.slot)] = std::move(record);
+    held_s[static_cast<size_t>(w.slot)] = std::chrono::duration<double>(clock::now() - w.started).count();
     ready[static_cast<size_t>(w.slot)] = 1;
     ++finished;
     w.slot = -1;
@@ -604,10 +706,14 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
     while (printed < n) {
       if (runner.stop && runner.stop()) throw RunnerStopped(fmt::format("stopped after {} of {} items", finished, n));
       // Hand out work.
-      for (Worker& w : workers) {
-        if (w.slot >= 0 || next >= n) continue;
-        if (w.pid < 0) w = spawn_worker(binary.path, binary.shown);
-        w.slot = static_cast<long>(order[next++]);
+      for (size_t k = 0; k < workers.size(); ++k) {
+        Worker& w = workers[k];
+        if (w.slot >= 0 || dispenser.empty()) continue;
+        if (w.pid < 0) {
+          w = spawn_worker(binary.path, binary.shown);
+          if (!cpus.empty()) bind_worker(w.pid, cpus[k % cpus.size()]);
+        }
+        w.slot = static_cast<long>(dispenser.next_for(k));
         w.started = clock::now();
         nlohmann::json request = item_request(plan.items[which[static_cast<size_t>(w.slot)]]);
         request["cpu_limit_s"] = runner.timeout_s;
@@ -636,7 +742,7 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
         }
       std::vector<size_t> now;
       while (printed < n && ready[printed]) now.push_back(printed++);
-      for (size_t k : now) done(which[k], records[k]);
+      for (size_t k : now) done(which[k], records[k], held_s[k]);
       if (progress) progress(finished, n);
     }
   } catch (...) {
@@ -646,6 +752,21 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
   for (Worker& w : workers)
     if (w.pid > 0) end_worker(w, false);
   return records;
+}
+
+void take_shared_records(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records) {
+  std::set<std::string> makers;
+  for (const SuiteItem& it : plan.items) {
+    if (it.judges_drive_of < 0) continue;
+    const auto maker = records.find(plan.items[static_cast<size_t>(it.judges_drive_of)].key);
+    if (maker == records.end()) continue;
+    makers.insert(maker->first);
+    const nlohmann::json& shared = maker->second.contains("shared") ? maker->second["shared"] : nlohmann::json::array();
+    const auto mine = std::find_if(shared.begin(), shared.end(), [&](const nlohmann::json& r) { return r.value("scenario", "") == it.scenario->name; });
+    // A maker that ended without recording the others (its worker died): theirs say so.
+    records[it.key] = mine != shared.end() ? *mine : error_record(it, maker->second.value("message", "no record of the shared drive"));
+  }
+  for (const std::string& key : makers) records[key].erase("shared");
 }
 
 nlohmann::json assemble_suite(const SuitePlan& plan, const std::map<std::string, nlohmann::json>& records) {
@@ -659,7 +780,7 @@ nlohmann::json assemble_suite(const SuitePlan& plan, const std::map<std::string,
   for (const SweepDef* sw : plan.sweeps) out["sweeps"].push_back(assemble_sweep(*sw, swept, lookup));
   if (plan.outcome_sweep) out["sweeps"].push_back(assemble_outcome_sweep(swept, lookup));
   out["maps"] = nlohmann::json::array();
-  if (plan.map) out["maps"].push_back(assemble_map(speed_accuracy_map(), plan.def.engines, lookup));
+  if (plan.map) out["maps"].push_back(assemble_map(speed_accuracy_map(), plan.def.engines, lookup, plan.def.all_points));
   return out;
 }
 
@@ -675,7 +796,7 @@ nlohmann::json simulated_budget(const SuitePlan& plan, const std::map<std::strin
   std::map<std::string, std::map<std::string, double>> by_config;
   for (const SuiteItem& it : plan.items) {
     const auto rec = records.find(it.key);
-    if (it.same_as >= 0 || rec == records.end()) continue;
+    if (!it.runs_itself() || rec == records.end()) continue;
     const double s = rec->second.value("simulated_s", 0.0);
     total_s += s;
     by_part[item_part(it)] += s;

@@ -27,7 +27,7 @@ struct SuiteDef {
   Overrides set;                           ///< --set KEY=VALUE, applied where a run takes it
   bool sweeps = true;                      ///< the sweeps, the outcome sweep and the map
   /// The parameter sweeps and the outcome grid on every configuration, also those registered for
-  /// the runs and the map only (EngineInfo::all_points false; validate --all-points).
+  /// fewer points (EngineInfo::points; validate --all-points).
   bool all_points = false;
   double timeout_s = 120.0;                ///< each item's wall-clock limit (a timed-out item is an error record)
   std::string external_name;               ///< --trace-dir: the outside simulator's name
@@ -50,6 +50,14 @@ struct SuiteItem {
   /// The earlier item with the same scenario, configuration, parameters and settings (-1: none):
   /// its record is this item's too (same inputs, same numbers), so it runs once.
   long same_as = -1;
+  /// The earlier run whose drive this run judges too (Scenario::shared_drive, the same configuration,
+  /// parameters and settings; -1: none): that run's worker makes the drive once and returns this
+  /// run's record with its own (take_shared_records), so this item is not handed out.
+  long judges_drive_of = -1;
+  /// The scenarios of the later runs that judge this run's drive.
+  std::vector<const Scenario*> drive_judges;
+  /// Run by a worker of its own: neither the same as an earlier item nor judging another's drive.
+  bool runs_itself() const { return same_as < 0 && judges_drive_of < 0; }
 };
 
 struct SuitePlan {
@@ -105,11 +113,13 @@ struct RunnerStopped : std::runtime_error {
 };
 
 /// Runs `which` in worker processes, the runs first and each group longest first; `done(i,
-/// record)` is called in plan order, `progress(done, total)` between. Returns the records in the
-/// order of `which`. An item past its time limit, or whose worker dies, gets an error record
-/// saying so (with the end of the worker's stderr).
+/// record, held_s)` is called in plan order, `progress(done, total)` between; held_s is the wall
+/// time the item held its worker (from its request to its record: an outside engine's protocol and
+/// waits included, which the record's engine seconds are not). Returns the records in the order of
+/// `which`. An item past its time limit, or whose worker dies, gets an error record saying so (with
+/// the end of the worker's stderr).
 std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
-                                      const std::function<void(size_t, const nlohmann::json&)>& done,
+                                      const std::function<void(size_t, const nlohmann::json&, double)>& done,
                                       const std::function<void(size_t, size_t)>& progress = {});
 
 /// Limits this process's address space to `mib` MiB (RLIMIT_AS, the soft limit; 0: no change): the
@@ -125,6 +135,10 @@ int worker_main();
 
 /// Gives each item that is the same as an earlier one that item's record (a point's without traces).
 void fill_duplicates(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records);
+
+/// The records of the runs that judge another run's drive, from that run's record (its "shared"
+/// list, removed), for every such run whose drive-maker is in `records`.
+void take_shared_records(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records);
 
 /// {"runs", "sweeps", "maps"} assembled from every item's record (by key): std::out_of_range when
 /// one is missing.

@@ -205,10 +205,7 @@ struct OutcomeCase {
   double T_s;  ///< its horizon (linear_outcome_horizon_s)
 };
 
-/// The outcome grid's horizon: every case may run kOutcomeTmax_s (the last exact contact of the grid
-/// starts at 7.5 s); a case the exact motion never brings into contact stops 0.5 s after (43) last
-/// keeps the disks within 1 m of touching, and runs at least 2 s.
-constexpr double kOutcomeTmax_s = 8.0, kOutcomeClearance_m = 1.0, kOutcomeAfter_s = 0.5, kOutcomeTmin_s = 2.0;
+constexpr double kOutcomeTmax_s = kOutcomeHorizon.t_max_s;
 
 const std::vector<double>& outcome_as() { static const std::vector<double> v{-1.0, 0.0, 0.5, 0.9, 1.5, 2.0, 3.0}; return v; }
 const std::vector<double>& outcome_bs() { static const std::vector<double> v{-1.0, 0.0, 0.5, 1.0}; return v; }
@@ -219,7 +216,7 @@ OutcomeCase outcome_case(double a, double b, const std::string& path) {
   const Scenario& s = *find_scenario(outcome_sweep_scenario());
   Overrides full = c.overrides;
   full.emplace_back("T", fmt::format("{}", kOutcomeTmax_s));
-  c.T_s = linear_outcome_horizon_s(Params::resolve(s.params, full, s.name), kOutcomeClearance_m, kOutcomeAfter_s, kOutcomeTmin_s);
+  c.T_s = linear_outcome_horizon_s(Params::resolve(s.params, full, s.name), kOutcomeHorizon.clearance_m, kOutcomeHorizon.after_s, kOutcomeHorizon.t_min_s);
   c.overrides.emplace_back("T", fmt::format("{}", c.T_s));
   return c;
 }
@@ -360,7 +357,7 @@ nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engi
           {"title", fmt::format("Collision outcomes of {} over (a, b) and N's paths: each configuration against the reference", outcome_sweep_scenario())},
           {"scenario", outcome_sweep_scenario()}, {"grid", {{"a", outcome_as()}, {"b", outcome_bs()}, {"path", outcome_paths()}}},
           {"fixed", {{"cM", "0,0"}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"dt", "0.001"}}},
-          {"horizon", {{"T_max_s", kOutcomeTmax_s}, {"clearance_m", kOutcomeClearance_m}, {"after_s", kOutcomeAfter_s}, {"T_min_s", kOutcomeTmin_s}}},
+          {"horizon", {{"T_max_s", kOutcomeHorizon.t_max_s}, {"clearance_m", kOutcomeHorizon.clearance_m}, {"after_s", kOutcomeHorizon.after_s}, {"T_min_s", kOutcomeHorizon.t_min_s}}},
           {"near_boundary_m", near_m}, {"engines", per_engine}};
 }
 
@@ -369,10 +366,11 @@ namespace {
 struct MapPoint { std::string knob; double value; Overrides overrides; };
 
 /// One configuration's grid: every dt at its default settings and, for an iterative solver, every
-/// iteration count at the default dt; the exact model has no step and gets one point.
-std::vector<MapPoint> map_grid(const MapDef& map, const EngineInfo& e) {
+/// iteration count at the default dt; the exact model has no step and gets one point, and so does
+/// a configuration registered for its runs only (its default run, which steps nothing more).
+std::vector<MapPoint> map_grid(const MapDef& map, const EngineInfo& e, bool all_points) {
   std::vector<MapPoint> grid;
-  if (e.is_reference) return {{kMapDefault, 0.0, {}}};
+  if (e.is_reference || (e.points == EngineInfo::Points::kRuns && !all_points)) return {{kMapDefault, 0.0, {}}};
   for (double dt : map.dt_s) grid.push_back({kMapDt, dt, {{"dt", fmt::format("{}", dt)}}});
   for (const SettingSpec& k : e.knobs)
     if (k.vehicle == Vehicle::kCar && k.role == SettingRole::kSolverIterations)
@@ -386,24 +384,24 @@ std::string map_key(const MapDef& map, const MapDef::Panel& panel, const EngineI
 
 }  // namespace
 
-std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const EngineInfo*>& engines) {
+std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const EngineInfo*>& engines, bool all_points) {
   std::vector<PointRun> runs;
   for (const MapDef::Panel& panel : map.panels)
     for (const EngineInfo* e : engines)
       if (e->make_car)
-        for (const MapPoint& g : map_grid(map, *e)) runs.push_back({map_key(map, panel, *e, g), find_scenario(panel.scenario), e, g.overrides});
+        for (const MapPoint& g : map_grid(map, *e, all_points)) runs.push_back({map_key(map, panel, *e, g), find_scenario(panel.scenario), e, g.overrides});
   return runs;
 }
 
-nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines, const RecordLookup& record) {
+nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines, const RecordLookup& record, bool all_points) {
   nlohmann::json panels = nlohmann::json::array();
   for (const MapDef::Panel& panel : map.panels) {
     nlohmann::json curves = nlohmann::json::array();
-    std::vector<nlohmann::json*> all_points;
+    std::vector<nlohmann::json*> candidates;
     for (const EngineInfo* e : engines) {
       if (!e->make_car) continue;
       nlohmann::json points = nlohmann::json::array();
-      for (const MapPoint& g : map_grid(map, *e)) {
+      for (const MapPoint& g : map_grid(map, *e, all_points)) {
         const nlohmann::json& r = record(map_key(map, panel, *e, g));
         double err = NAN;
         const nlohmann::json metrics = r["metrics"];
@@ -426,12 +424,12 @@ nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInf
     for (auto& c : curves) {
       if (find_engine(c["engine"].get<std::string>())->is_reference) continue;  // the yardstick, not a contender
       for (auto& p : c["points"])
-        if (p["error"].is_number() && p["cost_s_per_s"].is_number()) all_points.push_back(&p);
+        if (p["error"].is_number() && p["cost_s_per_s"].is_number()) candidates.push_back(&p);
     }
-    for (nlohmann::json* p : all_points) {
+    for (nlohmann::json* p : candidates) {
       const double e0 = (*p)["error"], c0 = (*p)["cost_s_per_s"];
       bool dominated = false;
-      for (const nlohmann::json* q : all_points) {
+      for (const nlohmann::json* q : candidates) {
         if (q == p) continue;
         const double e1 = (*q)["error"], c1 = (*q)["cost_s_per_s"];
         if (e1 <= e0 && c1 <= c0 && (e1 < e0 || c1 < c0)) dominated = true;

@@ -68,6 +68,16 @@ nlohmann::json assemble_sweep(const SweepDef& sweep, const std::vector<const Eng
 /// of the collision domain (analytic closest approach within `near_m` of contact) labelled. The
 /// runs include the reference's on every case, whether or not the reference is among `engines`.
 std::vector<PointRun> outcome_runs(const std::vector<const EngineInfo*>& engines);
+/// The outcome grid's horizon (linear_outcome_horizon_s): every case may run t_max_s (the last exact
+/// contact of the grid starts at 7.5 s); a case stops after_s after the exact motion ((43), then
+/// the contact response after a contact) last keeps the disks within clearance_m of touching, and
+/// runs at least t_min_s; a contact that lasts to t_max_s keeps it. 0.5 m is 50 times the path
+/// tolerance (path_error, 1e-2 m): an engine that strays far enough from the exact motion to touch
+/// N after the horizon fails its run.
+struct OutcomeHorizon {
+  double t_max_s = 8.0, clearance_m = 0.5, after_s = 0.5, t_min_s = 1.0;
+};
+inline constexpr OutcomeHorizon kOutcomeHorizon{};
 nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engines, const RecordLookup& record, double near_m = 0.01);
 
 /// What a map point varies, as its record names it ("knob"): nothing (the exact model), dt, or the
@@ -78,7 +88,9 @@ inline constexpr const char* kMapIterations = "iterations";
 
 /// The speed-accuracy map's runs (configurations with an iterative solver also over the iteration
 /// count) and the map assembled from their records, with the Pareto front marked.
-std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const EngineInfo*>& engines);
-nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines, const RecordLookup& record);
+/// `all_points`: validate --all-points (a configuration registered for its runs only gets the map's
+/// axes too; without it, its default run is its one point).
+std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const EngineInfo*>& engines, bool all_points);
+nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines, const RecordLookup& record, bool all_points);
 
 }  // namespace liftcheck

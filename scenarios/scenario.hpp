@@ -97,6 +97,17 @@ struct Headline {
   nlohmann::json to_json() const;
 };
 
+/// One car drive that more than one scenario judges (car.slip and car.beyond-grip judge the same
+/// circle past the grip limit): `drive` makes it and gives its full outcome, `judge` this
+/// scenario's outcome from that. A scenario with one runs `judge(drive)` when it runs alone; a
+/// suite that runs several scenarios judging the same drive (same name, configuration, parameters
+/// and settings) makes it once.
+struct SharedDrive {
+  std::string name;
+  std::function<Outcome(const Params&, CarEngine&)> drive;
+  std::function<Outcome(const Params&, const Outcome&)> judge;
+};
+
 struct Scenario {
   std::string name;
   Vehicle vehicle = Vehicle::kCar;  ///< the engine must offer make_car or make_disks
@@ -106,6 +117,8 @@ struct Scenario {
   std::vector<MetricDef> metrics;
   std::function<Outcome(const Params&, CarEngine&)> run_car;
   std::function<Outcome(const Params&, DiskEngine&)> run_disks;
+  /// Set where run_car is a judgement of a drive other scenarios judge too.
+  std::optional<SharedDrive> shared_drive;
   /// Runs only on engines with contact dynamics (skipped elsewhere).
   bool needs_contact_dynamics = false;
   /// A negative control: its comparison is meant to fail; validation counts a fail as expected.

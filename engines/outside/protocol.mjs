@@ -4,10 +4,11 @@
 // step(request) of its own); this loop does the framing, steps whichever world the last build
 // made (none after a build that failed), and the error replies. Everything the adapter logs goes to standard error.
 //
-// Per step it costs one chunk read from standard input (no line interface), one JSON.parse, one
-// JSON.stringify and one write; the reply is searched for non-finite numbers only when its text
+// Per step it costs one blocking read of standard input (no event loop, no line interface), one
+// JSON.parse, one JSON.stringify and one write; the reply is searched for non-finite numbers only when its text
 // has a null in it (JSON.stringify writes NaN and Infinity as null).
-import { writeSync } from 'node:fs';
+import { readSync, writeSync } from 'node:fs';
+import { StringDecoder } from 'node:string_decoder';
 
 export const PROTOCOL = 1;
 
@@ -36,12 +37,25 @@ function okText(reply) {
   return text === '{}' ? '{"ok":true}' : `{"ok":true,${text.slice(1)}`;
 }
 
-/// The lines of standard input, read in chunks as large as the pipe gives them.
-async function* lines(input) {
+/// The lines of standard input, read with blocking reads of fd 0 as large as the pipe gives them
+/// (no event loop turn between a request and its reply). fd 0 is never handed to process.stdin,
+/// so it stays as the parent made it; a non-blocking one (EAGAIN) is waited on in 1 ms sleeps.
+function* lines() {
+  const buf = Buffer.allocUnsafe(1 << 16);
+  const nap = new Int32Array(new SharedArrayBuffer(4));
+  const utf8 = new StringDecoder('utf8');  // a character split between two reads is joined
   let rest = '';
-  input.setEncoding('utf8');
-  for await (const chunk of input) {
-    rest += chunk;
+  for (;;) {
+    let got;
+    try {
+      got = readSync(0, buf, 0, buf.length, null);
+    } catch (e) {
+      if (e.code === 'EAGAIN') { Atomics.wait(nap, 0, 0, 1); continue; }
+      if (e.code === 'EOF') break;
+      throw e;
+    }
+    if (got === 0) break;
+    rest += utf8.write(buf.subarray(0, got));
     let nl;
     while ((nl = rest.indexOf('\n')) >= 0) {
       const line = rest.slice(0, nl);
@@ -49,6 +63,7 @@ async function* lines(input) {
       yield line.endsWith('\r') ? line.slice(0, -1) : line;
     }
   }
+  rest += utf8.end();
   if (rest) yield rest;
 }
 
@@ -80,7 +95,7 @@ function step(adapter, req) {
 
 export async function serve(adapter) {
   console.log = console.error;  // keep standard output for replies only
-  for await (const line of lines(process.stdin)) {
+  for (const line of lines()) {
     let req;
     try {
       req = JSON.parse(line);

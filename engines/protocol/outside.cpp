@@ -439,11 +439,12 @@ bool read_registration(const std::filesystem::path& file, EngineInfo& e, std::st
   e.color = str("color");
   const bool hex = e.color.size() == 7 && e.color[0] == '#' && e.color.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos;
   if (!hex) return problem = registration_problem(file, "'color' must be \"#rrggbb\""), false;
-  // "points": "map": the configuration joins a suite's runs and its speed-accuracy map only (the
-  // parameter sweeps and the outcome grid with validate --all-points).
+  // "points": "map": the configuration joins a suite's runs and its speed-accuracy map only; "runs":
+  // its runs only, the map showing its default run (the rest with validate --all-points).
   const std::string points = j.contains("points") ? str("points") : "all";
-  if (points != "all" && points != "map") return problem = registration_problem(file, "'points' must be \"all\" or \"map\""), false;
-  e.all_points = points == "all";
+  if (points != "all" && points != "map" && points != "runs")
+    return problem = registration_problem(file, "'points' must be \"all\", \"map\" or \"runs\""), false;
+  e.points = points == "all" ? EngineInfo::Points::kAll : points == "map" ? EngineInfo::Points::kMap : EngineInfo::Points::kRuns;
   e.registration = std::filesystem::absolute(file).lexically_normal().string();
   return true;
 }

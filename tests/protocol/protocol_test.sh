@@ -42,30 +42,36 @@ if "$LIFTCHECK" list --engine-dir "$TMP/bad" >/dev/null 2>"$TMP/err"; then exit 
 test "$(wc -l < "$TMP/err")" -eq 1 && grep -q "bad.json" "$TMP/err"
 printf '{"name": "bad", "command": ["x"], "color": "#000000", "points": "some"}\n' > "$TMP/bad/bad.json"
 if "$LIFTCHECK" list --engine-dir "$TMP/bad" >/dev/null 2>"$TMP/err"; then exit 1; else test $? -eq 2; fi
-grep -q "'points' must be \"all\" or \"map\"" "$TMP/err"
+grep -q "'points' must be \"all\", \"map\" or \"runs\"" "$TMP/err"
 
-# "points": "map": the configuration's runs and map points, no sweep or outcome points (and all
-# of them with --all-points).
+# "points": "map": the configuration's runs and map points, no sweep or outcome points; "runs": its
+# runs only, its default run its one point of the map (all of them with --all-points).
 mkdir "$TMP/map"
-python3 - "$LIFTCHECK" "$TMP/map/ode-map.json" <<'PY'
+python3 - "$LIFTCHECK" "$TMP/map" <<'PY'
 import json, os, sys
-json.dump({"name": "ode-map", "command": [os.path.abspath(sys.argv[1]), "serve", "ode"], "color": "#aec7e8", "points": "map"}, open(sys.argv[2], "w"))
+for points in ["map", "runs"]:
+    json.dump({"name": f"ode-{points}", "command": [os.path.abspath(sys.argv[1]), "serve", "ode"], "color": "#aec7e8", "points": points},
+              open(f"{sys.argv[2]}/ode-{points}.json", "w"))
 PY
 for all in "" --all-points; do
   status=0
-  "$LIFTCHECK" validate --engine-dir "$TMP/map" --engines ode,ode-map --filter 'car.cycle' $all --no-report --out "$TMP/map-out" >"$TMP/map.log" || status=$?
+  "$LIFTCHECK" validate --engine-dir "$TMP/map" --engines ode,ode-map,ode-runs --filter 'car.circle,car.cycle' $all --no-report --out "$TMP/map-out" >"$TMP/map.log" || status=$?
   test "$status" -le 1 || { cat "$TMP/map.log"; exit 1; }
   python3 - "$TMP/map-out/results.json" "$all" <<'PY'
 import json, sys
 r = json.load(open(sys.argv[1]))
 swept = {e["engine"] for s in r["sweeps"] for e in s["engines"]}
-mapped = {c["engine"] for p in r["maps"][0]["panels"] for c in p["curves"]}
-parts = r["simulated"]["by_configuration"]["ode-map"]["by_part"]
-assert "ode" in swept and "ode-map" in mapped, (swept, mapped)
+curves = {c["engine"]: c["points"] for p in r["maps"][0]["panels"] for c in p["curves"]}
+parts = {e: r["simulated"]["by_configuration"][e]["by_part"] for e in ["ode-map", "ode-runs"]}
+assert "ode" in swept and "ode-map" in curves and "ode-runs" in curves, (swept, list(curves))
 if sys.argv[2]:
-    assert "ode-map" in swept and any(k.startswith("sweep/") for k in parts), (swept, parts)
+    for e in ["ode-map", "ode-runs"]:
+        assert e in swept and any(k.startswith("sweep/") for k in parts[e]) and len(curves[e]) > 1, (e, swept, parts[e])
 else:
-    assert "ode-map" not in swept and sorted(parts) == ["map/speed_accuracy", "runs"], (swept, parts)
+    assert "ode-map" not in swept and sorted(parts["ode-map"]) == ["map/speed_accuracy", "runs"], (swept, parts)
+    assert "ode-runs" not in swept and sorted(parts["ode-runs"]) == ["runs"], (swept, parts)
+    # Its one point is its default run: the run's own cost and error, nothing stepped for it.
+    assert [p["knob"] for p in curves["ode-runs"]] == ["default"] and curves["ode-runs"][0]["error"] is not None, curves["ode-runs"]
 PY
 done
 
