@@ -6,9 +6,11 @@ namespace liftcheck {
 /// disks.moving-away, disks.extended, disks.target.
 std::vector<Scenario> disk_scenarios();
 
-/// disks.linear's horizon for a collision outcome (the outcome grid's runs): its duration T when the
-/// exact motion (43) brings the disks into contact, else the time after which (43) keeps them at
-/// least `clearance_m` apart up to T, plus `after_s`, but not less than `min_s`. An engine whose M
-/// strays less than `clearance_m` from (43) cannot touch N after it.
+/// disks.linear's horizon for a collision outcome (the outcome grid's runs): the time after which the
+/// exact motion keeps the disks at least `clearance_m` apart up to T, plus `after_s`, but not less
+/// than `min_s` (nor more than T). The exact motion is (43) up to a first contact and the contact
+/// response after it; a contact that lasts to T keeps T. An engine whose M strays less than
+/// `clearance_m` from the exact motion cannot touch N after the horizon, and one whose contact lasts
+/// longer than the exact one by `after_s` shows it in its contact duration.
 double linear_outcome_horizon_s(const Params& p, double clearance_m, double after_s, double min_s);
 }  // namespace liftcheck

@@ -153,7 +153,7 @@ PY
 # A simulator outside liftcheck: the path out, the example simulator, the trace scored.
 check path-csv 0 "$bin" path car.circle
 cp "$tmp/out" "$tmp/path.csv"
-grep -q "^t,alpha,beta$" "$tmp/path.csv" && grep -q "^# param speed = 0.5$" "$tmp/path.csv" && passes=$((passes + 1)) || { echo "FAIL path csv"; fails=$((fails + 1)); }
+grep -q "^t,alpha,beta$" "$tmp/path.csv" && grep -q "^# param speed = 2.0$" "$tmp/path.csv" && passes=$((passes + 1)) || { echo "FAIL path csv"; fails=$((fails + 1)); }
 check path-json 0 "$bin" path disks.repel --format json
 python3 -c 'import json,sys; p=json.load(open(sys.argv[1])); assert p["columns"] == ["t","cNx","cNy"] and len(p["rows"]) > 100, p["columns"]' "$tmp/out" \
   && passes=$((passes + 1)) || { echo "FAIL path json"; fails=$((fails + 1)); }
@@ -258,7 +258,7 @@ bad_input validate-set-unknown "--set bogus: no scenario run here has a paramete
 check baseline-committed 0 "$bin" validate --filter car.cycle --engines ode,bullet --no-sweeps --no-report --baseline "$(dirname "$0")/../reports/baselines/default.json" --out "$tmp/bl0"
 check baseline-write 0 "$bin" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/base.json" --update-baseline --out "$tmp/bl1"
 check baseline-worse 1 "$bin" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/base.json" --set iterations=3 --out "$tmp/bl2"
-grep -q "^REGRESSION car.circle on bullet: pass -> fail" "$tmp/out" && grep -q "^worse      car.circle on bullet: heading_residual measured .* (was .*), 1.51 of tolerance (was 0.0323)" "$tmp/out" \
+grep -q "^REGRESSION car.circle on bullet: pass -> fail" "$tmp/out" && grep -q "^worse      car.circle on bullet: heading_residual measured .* (was .*), 12.5 of tolerance (was 0.122)" "$tmp/out" \
   && grep -q "Against the baseline" "$tmp/bl2/summary.md" && passes=$((passes + 1)) || { echo "FAIL baseline worse"; cat "$tmp/out"; fails=$((fails + 1)); }
 bad_input baseline-malformed "is not JSON" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/broken.json" --out "$tmp/bl3"
 
@@ -292,7 +292,7 @@ bad_input jobs-zero "--jobs 0 must be at least 1" "${sub[@]}" --jobs 0 --out "$t
 check timeout 1 "$bin" validate --filter 'car.covariance,disks.copy' --engines bullet --no-sweeps --no-report --timeout 0.5 --out "$tmp/to"
 python3 -c 'import json,sys; d={r["scenario"]: r for r in json.load(open(sys.argv[1]))["runs"]}; assert d["car.covariance"]["status"] == "error" and "timed out: still running after 0.5 s" in d["car.covariance"]["message"] and d["disks.copy"]["status"] == "pass", d' \
   "$tmp/to/results.json" && passes=$((passes + 1)) || { echo "FAIL timeout"; fails=$((fails + 1)); }
-check run-timeout 1 "$bin" run car.covariance --engine bullet --timeout 0.5
+check run-timeout 1 "$bin" run car.covariance --engine bullet --set headings=24 --timeout 0.5
 grep -q "error (timed out" "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL run --timeout"; cat "$tmp/out"; fails=$((fails + 1)); }
 bad_input timeout-zero "--timeout 0 must be a positive number of seconds" run car.circle --timeout 0
 # A run made to blow up (the raycast vehicle's explicit suspension at 5 ms) ends as an error that
@@ -302,8 +302,8 @@ python3 -c 'import json,sys; d={r["engine"]: r for r in json.load(open(sys.argv[
   "$tmp/bu/results.json" && passes=$((passes + 1)) || { echo "FAIL blow-up"; fails=$((fails + 1)); }
 
 # An engine that ends its process (a crash, an abort, MuJoCo's shipped error handler) takes only
-# its run with it: here the worker running Bullet's car.covariance is killed from outside.
-"$bin" validate --filter 'car.covariance,disks.copy' --engines bullet --no-sweeps --no-report --jobs 1 --out "$tmp/kw" >"$tmp/kw.out" 2>"$tmp/kw.err" &
+# its run with it: here the worker running Bullet's car.covariance (24 headings, 5 s) is killed from outside.
+"$bin" validate --filter 'car.covariance,disks.copy' --engines bullet --no-sweeps --no-report --jobs 1 --set headings=24 --out "$tmp/kw" >"$tmp/kw.out" 2>"$tmp/kw.err" &
 vpid=$!
 for _ in $(seq 50); do wpid=$(pgrep -P "$vpid" -f 'liftcheck worker' | head -1); [ -n "$wpid" ] && break; sleep 0.1; done
 sleep 1
@@ -317,7 +317,7 @@ python3 -c 'import json,sys; d={r["scenario"]: r for r in json.load(open(sys.arg
 # it was, no half-written folder beside it, and says where it stopped (exit 128 + SIGTERM).
 check before-interrupt 0 "$bin" validate --filter disks.copy --engines analytic --no-sweeps --out "$tmp/int"
 cp "$tmp/int/results.json" "$tmp/int-before.json"
-"$bin" validate --filter 'car.*' --engines bullet --no-sweeps --out "$tmp/int" >"$tmp/int.out" 2>"$tmp/int.err" &
+"$bin" validate --filter 'car.*' --engines bullet --no-sweeps --set headings=24 --out "$tmp/int" >"$tmp/int.out" 2>"$tmp/int.err" &
 vpid=$!
 sleep 3
 kill -TERM "$vpid"
@@ -448,9 +448,9 @@ bad_input rel-folder-trace "trace '$tmp' is a folder, not a file" score car.circ
 bad_input rel-missing-trace "cannot read trace '$tmp/none.csv': No such file or directory" score car.circle --trace "$tmp/none.csv"
 # dt and sample_dt are bounded below by the run's duration (no overflowing step count, no trace
 # that outgrows memory): each names the parameter and its bound.
-bad_input rel-dt-tiny "parameter 'dt' = 1e-20 s asks for 2.08e+21 engine steps over the run's 20.7854 s: at most 1e+08 (dt >= 2.08e-07 s here)" run car.circle --set dt=1e-20
+bad_input rel-dt-tiny "parameter 'dt' = 1e-20 s asks for 6.57e+20 engine steps over the run's 6.5708 s: at most 1e+08 (dt >= 6.57e-08 s here)" run car.circle --set dt=1e-20
 bad_input rel-dt-denormal "parameter 'dt' = 1e-300 s asks for" run car.circle --set dt=1e-300
-bad_input rel-sample-dt-tiny "parameter 'sample_dt' = 1e-09 s asks for 2.08e+10 recorded samples" run car.circle --set sample_dt=1e-9
+bad_input rel-sample-dt-tiny "parameter 'sample_dt' = 1e-09 s asks for 6.57e+09 recorded samples" run car.circle --set sample_dt=1e-9
 bad_input rel-path-sample-dt "parameter 'sample_dt' = 1e-09 s asks for" path car.circle --set sample_dt=1e-9
 bad_input rel-disk-path-rows "rows of the path (one per engine step)" path disks.copy --set dt=1e-6 --set T=100
 # Every extreme of dt and sample_dt is bad input (exit 2, one line naming the parameter) on run,
@@ -464,7 +464,7 @@ for k in dt sample_dt; do
   done
 done
 [ ! -e "$tmp/rdt" ] && passes=$((passes + 1)) || { echo "FAIL a refused --set wrote an output"; fails=$((fails + 1)); }
-bad_input rel-validate-dt-tiny "--set: car.circle on analytic: parameter 'dt' = 1e-20 s asks for 2.08e+21 engine steps over the run's 20.7854 s: at most 1e+08 (dt >= 2.08e-07 s here)" \
+bad_input rel-validate-dt-tiny "--set: car.circle on analytic: parameter 'dt' = 1e-20 s asks for 6.57e+20 engine steps over the run's 6.5708 s: at most 1e+08 (dt >= 6.57e-08 s here)" \
   validate --engines analytic --filter car.circle --no-sweeps --no-report --set dt=1e-20 --out "$tmp/rdt"
 # A key given twice in one object is refused: a baseline ending in "runs": [] compared nothing.
 python3 -c 'import sys; t=open(sys.argv[1]).read().rstrip(); open(sys.argv[2], "w").write(t[:-1] + ", \"runs\": []}\n")' "$tmp/report/results.json" "$tmp/dupkey.json"
@@ -509,7 +509,7 @@ PY
 # Workers start from the running binary's own file: replaced mid-suite by another program, the
 # rest of the suite still runs this build (here a worker is re-launched after a time-out).
 mkdir -p "$tmp/rb" && cp "$bin" "$tmp/rb/liftcheck"
-"$tmp/rb/liftcheck" validate --filter 'car.covariance,disks.copy' --engines bullet --no-sweeps --no-report --jobs 1 --timeout 0.5 --out "$tmp/rbo" >"$tmp/rb.out" 2>"$tmp/rb.err" &
+"$tmp/rb/liftcheck" validate --filter 'car.covariance,disks.copy' --engines bullet --no-sweeps --no-report --jobs 1 --set headings=24 --timeout 0.5 --out "$tmp/rbo" >"$tmp/rb.out" 2>"$tmp/rb.err" &
 vpid=$!
 for _ in $(seq 50); do pgrep -P "$vpid" >/dev/null && break; sleep 0.1; done
 rm "$tmp/rb/liftcheck" && printf '#!/bin/sh\ntouch "%s/rb/REPLACED"\nexit 1\n' "$tmp" >"$tmp/rb/liftcheck" && chmod +x "$tmp/rb/liftcheck"
@@ -573,14 +573,14 @@ check rel-stale-stage 0 "$bin" "${V[@]}" --out "$tmp/st/o"
 # SIGKILL mid-suite (a second into its runs, a worker running): the previous output is as it was, the staging
 # folder left names the killed process, and the next run removes it. One that names a process still
 # running (this shell, with its start time) is not liftcheck's to remove.
-# (Bullet's car.covariance runs for a second, to its time limit: the kill lands mid-suite.)
-K=(validate --engines analytic,bullet --filter car.circle,car.covariance --no-sweeps --no-report --jobs 1 --timeout 1)
+# (Bullet's car.covariance from 24 headings runs for 3 s, to its time limit: the kill lands mid-suite.)
+K=(validate --engines analytic,bullet --filter car.circle,car.covariance --no-sweeps --no-report --jobs 1 --set headings=24 --timeout 3)
 check rel-before-sigkill 1 "$bin" "${K[@]}" --out "$tmp/st/k"
 cp "$tmp/st/k/results.json" "$tmp/k-before.json" && cp "$tmp/st/k/.liftcheck-output" "$tmp/k-before.manifest"
 "$bin" "${K[@]}" --out "$tmp/st/k" >"$tmp/k.out" 2>&1 &
 vpid=$!
 for _ in $(seq 300); do [ -n "$(find "$tmp/st" -maxdepth 1 -name ".k.partial-$vpid-*")" ] && pgrep -P "$vpid" >/dev/null && break; sleep 0.05; done
-sleep 1  # a second into the runs (they take five): mid-suite, a worker running
+sleep 1  # a second into the runs (they take four): mid-suite, a worker running
 pgrep -P "$vpid" >/dev/null && running=yes || running=no
 kill -KILL "$vpid"; wait "$vpid" 2>/dev/null
 killed=$(find "$tmp/st" -maxdepth 1 -name ".k.partial-$vpid-*")
@@ -619,8 +619,8 @@ else
   cp "$tmp/mnt/results.json" "$tmp/mnt-before.json"
   python3 -c 'import json,sys; json.load(open(sys.argv[1]))' "$tmp/mnt/results.json" && [ -z "$(ls -A "$tmp/mnt" | grep liftcheck-new)" ] \
     && passes=$((passes + 1)) || { echo "FAIL mount point output"; ls -la "$tmp/mnt"; fails=$((fails + 1)); }
-  # Now too small: validate with the report (snapshots) does not fit beside the old output.
-  "$bin" validate --engines analytic,ode --filter car.circle --no-sweeps --out "$tmp/mnt" >"$tmp/out" 2>"$tmp/err"
+  # Now too small: validate with the report (snapshots, about 940 KiB) does not fit beside the old output.
+  "$bin" validate --engines analytic,ode --filter car.circle,car.cycle --no-sweeps --out "$tmp/mnt" >"$tmp/out" 2>"$tmp/err"
   st=$?
   kept=$(sed -n "s/.*the results are kept in '\([^']*\)').*/\1/p" "$tmp/err")
   [ "$st" -eq 2 ] && grep -q "the previous output is as it was" "$tmp/err" && cmp -s "$tmp/mnt/results.json" "$tmp/mnt-before.json" && [ -s "$kept/results.json" ] \

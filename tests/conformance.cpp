@@ -349,8 +349,8 @@ TEST_P(AnyConfiguration, FourWheelsRefusedWhereNotBuilt) {
 }
 
 // Parallel steering is the four-wheel car's negative control: the front wheels scrub, and the
-// contact-slip residual measures it (tolerance 0.1 mm/s; ode and bullet measure 17 to 19 mm/s across,
-// ode-quick 39 mm/s: harness/expectations.json).
+// contact-slip residual measures it (tolerance 0.1 mm/s; ode and bullet measure 71 and 87 mm/s across,
+// ode-quick 138 mm/s: harness/expectations.json).
 TEST_P(PerEngine, ParallelSteeringScrubs) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);

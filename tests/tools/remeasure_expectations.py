@@ -46,14 +46,14 @@ def measured_text(fails):
     return "validate at the defaults: " + "; ".join(parts)
 
 
-def points_text(points):
-    """'N of M points fail; worst NAME v, ...' over the failing points' errors."""
+def points_text(points, total=None):
+    """'N of M points fail; worst NAME v, ...' over the failing points' errors (M: total, or len(points))."""
     worst = {}
     for p in points:
         for n, v in p["errors"].items():
             worst[n] = max(worst.get(n, 0.0), v)
     failing = sum(1 for p in points if p["status"] == "fail" and p["errors"])
-    return f"{failing} of {len(points)} points fail; worst " + ", ".join(f"{n} {v:.2g}" for n, v in sorted(worst.items()))
+    return f"{failing} of {total or len(points)} points fail; worst " + ", ".join(f"{n} {v:.2g}" for n, v in sorted(worst.items()))
 
 
 def key_of(entry):
@@ -124,17 +124,26 @@ def main():
     # Sweep points.
     sweeps = {(s["name"], e["engine"]): e for s in res["sweeps"] if s.get("kind") != "outcomes" and s["name"] != "disk_outcomes" for e in s["engines"]}
     new_sp, listed_sp = [], set()
+    # A sweep may be listed for one configuration in more than one entry (each with its own reason and
+    # points): each keeps the points it lists; a failing point no entry lists goes to the first.
+    claimed = {}
+    for e in exp["sweep_points"]:
+        if "points" in e:
+            claimed.setdefault((e["sweep"], e["engines"][0]), set()).update(p["x"] for p in e["points"])
     for e in exp["sweep_points"]:
         eng = e["engines"][0]
         if eng not in engines or e["sweep"] == "disk_outcomes" or (e["sweep"], eng) not in sweeps or a.only == "runs" or (a.sweep and e["sweep"] != a.sweep):
             new_sp.append(e)
             continue
+        first = (e["sweep"], eng) not in listed_sp
         listed_sp.add((e["sweep"], eng))
         if "points" not in e:  # a gate-level listing (the grip limit's slide): kept as written
             new_sp.append(e)
             continue
-        pts = [{"x": p["x"], "metrics": {n: ceil2(v) for n, v in sorted(p["errors"].items())}}
-               for p in sweeps[(e["sweep"], eng)]["points"] if p["status"] == "fail" and p["errors"]]
+        own = {p["x"] for p in e["points"]}
+        mine = [p for p in sweeps[(e["sweep"], eng)]["points"]
+                if p["status"] == "fail" and p["errors"] and (p["x"] in own or (first and p["x"] not in claimed[(e["sweep"], eng)]))]
+        pts = [{"x": p["x"], "metrics": {n: ceil2(v) for n, v in sorted(p["errors"].items())}} for p in mine]
         if not pts:
             dropped.append(f"sweep {e['sweep']} on {eng}: every point passes now")
             continue
@@ -142,7 +151,7 @@ def main():
             new_sp.append(e)
             continue
         e["points"] = pts
-        e["measured"] = points_text(sweeps[(e["sweep"], eng)]["points"])
+        e["measured"] = points_text(mine, len(sweeps[(e["sweep"], eng)]["points"]))
         new_sp.append(e)
     for (name, eng), s in sorted(sweeps.items()):
         if eng not in engines or (name, eng) in listed_sp or a.only == "runs" or (a.sweep and name != a.sweep):
