@@ -369,15 +369,20 @@ Image downsample(const std::vector<std::uint8_t>& buffer, int W, const Scene& s)
   img.width = s.width_px;
   img.height = s.height_px;
   img.rgba.resize(static_cast<std::size_t>(img.width) * img.height * 4);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x)
-      for (int ch = 0; ch < 4; ++ch) {
-        int sum = 0;
-        for (int j = 0; j < kSuper; ++j)
-          for (int i = 0; i < kSuper; ++i)
-            sum += buffer[(static_cast<std::size_t>(y * kSuper + j) * W + (x * kSuper + i)) * 4 + ch];
-        img.rgba[(static_cast<std::size_t>(y) * img.width + x) * 4 + ch] = static_cast<std::uint8_t>(sum / (kSuper * kSuper));
-      }
+  const std::size_t row_bytes = static_cast<std::size_t>(W) * 4, out_row = static_cast<std::size_t>(img.width) * 4;
+  std::vector<int> sums(out_row);
+  for (int y = 0; y < img.height; ++y) {
+    // Sum each output pixel's kSuper x kSuper block row by row (one pass over each input row).
+    std::fill(sums.begin(), sums.end(), 0);
+    for (int j = 0; j < kSuper; ++j) {
+      const std::uint8_t* in = buffer.data() + static_cast<std::size_t>(y * kSuper + j) * row_bytes;
+      for (std::size_t x = 0; x < out_row; x += 4)
+        for (int i = 0; i < kSuper; ++i)
+          for (int ch = 0; ch < 4; ++ch) sums[x + ch] += in[(x / 4 * kSuper + i) * 4 + ch];
+    }
+    std::uint8_t* out = img.rgba.data() + static_cast<std::size_t>(y) * out_row;
+    for (std::size_t k = 0; k < out_row; ++k) out[k] = static_cast<std::uint8_t>(sums[k] / (kSuper * kSuper));
+  }
   for (std::size_t i = 3; i < img.rgba.size(); i += 4) img.rgba[i] = 255;
   return img;
 }
@@ -446,7 +451,8 @@ Image Renderer::render(const Scene& s) {
     if (!impl_->ctx) throw std::runtime_error("OSMesa: cannot create a GL context");
   }
   const int W = s.width_px * kSuper, H = s.height_px * kSuper;
-  impl_->buffer.assign(static_cast<std::size_t>(W) * H * 4, 0);
+  // glClear below sets every pixel: the buffer only grows (no fill of 7.7 MB per picture).
+  if (impl_->buffer.size() < static_cast<std::size_t>(W) * H * 4) impl_->buffer.resize(static_cast<std::size_t>(W) * H * 4);
   if (!OSMesaMakeCurrent(impl_->ctx, impl_->buffer.data(), GL_UNSIGNED_BYTE, W, H))
     throw std::runtime_error("OSMesa: cannot make the context current");
   OSMesaPixelStore(OSMESA_Y_UP, 0);  // rows from the top
