@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <ctime>
+#include <sched.h>
 #include <fmt/format.h>
 #include <limits>
 #include <string>
@@ -139,12 +140,33 @@ const bool kRegistered = [] {
 
 namespace {
 
+/// Keeps the calling thread, and the engine processes it starts, on the core it runs on, as
+/// validate keeps each worker with its outside engine (harness/suite.cpp, bind_worker); the thread's
+/// own affinity comes back at the end of the scope.
+struct OnOneCore {
+  cpu_set_t before{};
+  bool ok = false;
+  OnOneCore() {
+    ok = sched_getaffinity(0, sizeof before, &before) == 0;
+    const int cpu = sched_getcpu();
+    if (!ok || cpu < 0) return;
+    cpu_set_t one;
+    CPU_ZERO(&one);
+    CPU_SET(cpu, &one);
+    ok = sched_setaffinity(0, sizeof one, &one) == 0;
+  }
+  ~OnOneCore() {
+    if (ok) sched_setaffinity(0, sizeof before, &before);
+  }
+};
+
 /// The engine protocol's round trip per step: car.circle's drive on `ode` served by `liftcheck
 /// serve ode` (a child process, JSON lines over pipes) against the same drive on `ode` in process,
 /// wall clock (the engine runs in the other process). `protocol_us_per_step` is what the protocol
 /// adds to a step; `engine_us_per_step` the server's own stepping time as it reports it
 /// (engine_s, the cost the tables count for an outside engine).
 void BM_ProtocolRoundTrip(benchmark::State& state) {
+  const OnOneCore pinned;
   static const EngineInfo served = outside_engine("ode-protocol", {LIFTCHECK_EXE, "serve", "ode"}, ".");
   const EngineInfo* ode = find_engine("ode");
   if (!served.unavailable.empty()) {
@@ -183,22 +205,24 @@ void BM_ProtocolRoundTrip(benchmark::State& state) {
 }
 BENCHMARK(BM_ProtocolRoundTrip)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(5);
 
-/// The same round trip to the cheapest outside adapter, cannon-es (engines/outside/cannon.mjs
-/// under Node): its own stepping time (engine_s, world.step timed by the adapter: the in-process
-/// loop of the same engine) against the wall clock per step over the protocol, which adds the
-/// request's encoding and the reply's reading on both sides, the pipes and the waits for the
-/// other process. Skipped where Node or the npm packages are missing.
-void BM_ProtocolCannon(benchmark::State& state) {
-  static const EngineInfo served = outside_engine("cannon", {"node", "cannon.mjs", "--config", "default"}, LIFTCHECK_ADAPTERS_DIR);
-  if (!served.unavailable.empty()) {
-    for (auto _ : state) state.SkipWithError(served.unavailable.c_str());
+/// The same round trip to each outside configuration of the default suite (engines/outside/suite:
+/// Rapier, Jolt, Havok, cannon-es and MuJoCo 3 under Node): the engine's own stepping time as its
+/// adapter reports it (engine_s, the step timed inside the adapter: the engine's own loop) against
+/// the wall clock per step over the protocol, which adds the request's encoding and the reply's
+/// reading on both sides, the pipes and the waits for the other process. Both processes on one core,
+/// as validate runs them; the engine process is started before the first iteration and warm in the
+/// others (the fastest of five counts). Skipped where Node or the npm packages are missing.
+void BM_ProtocolOutside(benchmark::State& state, const EngineInfo* outside) {
+  if (!outside->unavailable.empty()) {
+    for (auto _ : state) state.SkipWithError(outside->unavailable.c_str());
     return;
   }
+  const OnOneCore pinned;
   const CarSetup setup = circle_setup();
   const car::BasePath path({{kDrive_m / setup.car.R_m, 0.0}}, 0.0, kStart.beta_rad, setup.drive);
   double best_wall_s = INFINITY, engine_s = 0.0, steps = 0.0, client_cpu_s = INFINITY;
   for (auto _ : state) {
-    auto over = served.make_car(served.defaults(Vehicle::kCar));
+    auto over = outside->make_car(outside->defaults(Vehicle::kCar));
     over->reset(setup, kStart);
     const double cpu0 = thread_cpu_s();
     const auto t0 = std::chrono::steady_clock::now();
@@ -213,8 +237,18 @@ void BM_ProtocolCannon(benchmark::State& state) {
   state.counters["wall_us_per_step"] = 1e6 * best_wall_s / steps;
   state.counters["engine_us_per_step"] = 1e6 * engine_s / steps;
   state.counters["protocol_us_per_step"] = 1e6 * (best_wall_s - engine_s) / steps;
+  state.counters["protocol_share_pct"] = 100.0 * (best_wall_s - engine_s) / best_wall_s;
   state.counters["client_cpu_us_per_step"] = 1e6 * client_cpu_s / steps;
 }
-BENCHMARK(BM_ProtocolCannon)->UseManualTime()->Unit(benchmark::kMillisecond)->Iterations(5);
+
+const bool kOutsideRegistered = [] {
+  for (const EngineInfo& e : engines())
+    if (!e.registration.empty())
+      benchmark::RegisterBenchmark(("BM_ProtocolOutside/" + e.name).c_str(), BM_ProtocolOutside, &e)
+          ->UseManualTime()
+          ->Unit(benchmark::kMillisecond)
+          ->Iterations(5);
+  return true;
+}();
 
 }  // namespace
