@@ -124,6 +124,7 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
     if (o.report) {
       ReportDef def;
       def.snapshots = o.snapshots;
+      def.threads = o.threads;
       write_report_isolated(results, out, def);
       std::cout << fmt::format("report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", results["report"]["report_s"].get<double>(),
                                results["report"]["snapshots"].size(), results["report"]["strips"].size(),

@@ -16,6 +16,7 @@ struct OutputOptions {
   std::string baseline_path;  ///< compare with it (or rewrite it)
   bool update_baseline = false;
   bool snapshots = true;  ///< the report's snapshots (off: the pages and plots only)
+  int threads = 2;        ///< the report's rendering threads (validate: its --jobs, the cores it may use)
 };
 
 /// The sweeps' gates, the baseline comparison (of the runs made only: a filtered or sharded run

@@ -124,10 +124,11 @@ nlohmann::json shard_results(const SuitePlan& plan, const std::vector<size_t>& w
 }
 
 int cmd_validate(const ValidateOptions& v) {
-  const OutputOptions& o = v.out;
+  const RunnerDef runner = runner_def(v.jobs, v.timeout_s, v.memory_limit_mib);
+  OutputOptions o = v.out;
+  o.threads = runner.jobs;  // --jobs 1 renders on one core too
   const nlohmann::json baseline = read_baseline(o.baseline_path, o.update_baseline);
   const auto [shard_index, shard_total] = parse_shard(v.shard);
-  const RunnerDef runner = runner_def(v.jobs, v.timeout_s, v.memory_limit_mib);
   SuiteDef def = suite_def(v, runner);
   std::vector<const EngineInfo*> listed = def.engines;
   TraceFolder outside;
