@@ -212,7 +212,8 @@ BENCHMARK(BM_ProtocolRoundTrip)->UseManualTime()->Unit(benchmark::kMillisecond)-
 /// reading on both sides, the pipes and the waits for the other process. Both processes on one core,
 /// as validate runs them; the engine process is started before the first iteration and warm in the
 /// others (the fastest of five counts). Skipped where Node or the npm packages are missing.
-void BM_ProtocolOutside(benchmark::State& state, const EngineInfo* outside) {
+void BM_ProtocolOutside(benchmark::State& state, const std::string& name) {
+  const EngineInfo* outside = find_engine(name);  // read its hello (its knobs, or why it cannot run)
   if (!outside->unavailable.empty()) {
     for (auto _ : state) state.SkipWithError(outside->unavailable.c_str());
     return;
@@ -244,7 +245,7 @@ void BM_ProtocolOutside(benchmark::State& state, const EngineInfo* outside) {
 const bool kOutsideRegistered = [] {
   for (const EngineInfo& e : engines())
     if (!e.registration.empty())
-      benchmark::RegisterBenchmark(("BM_ProtocolOutside/" + e.name).c_str(), BM_ProtocolOutside, &e)
+      benchmark::RegisterBenchmark(("BM_ProtocolOutside/" + e.name).c_str(), BM_ProtocolOutside, e.name)
           ->UseManualTime()
           ->Unit(benchmark::kMillisecond)
           ->Iterations(5);
