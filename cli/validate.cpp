@@ -83,7 +83,7 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
     if (it.kind != SuiteItem::kRun) return;
     progress.clear();
     print_run_line(r);
-    for (const auto& judged : r.value("shared", nlohmann::json::array())) print_run_line(judged);  // the same drive, judged again
+    for (const auto& [k, judged] : shared_records(plan, i, r)) print_run_line(judged);  // the same drive, judged again
   };
   try {
     records = run_items(plan, which, runner, done, [&](size_t n, size_t total) { progress.update(n, total); });

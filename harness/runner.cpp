@@ -319,7 +319,13 @@ std::vector<RunRecord> run_shared_drive(const std::vector<ResolvedRun>& runs) {
     for (size_t i = 0; i < runs.size(); ++i) {
       records[i].simulated_s = car->simulated_s();
       records[i].engine_s = car->reported_engine_s();
-      finish_record(records[i], runs[i], runs[i].scenario->shared_drive->judge(runs[i].params, drive));
+      try {  // a judgement that fails is its own run's error, as it would be alone
+        finish_record(records[i], runs[i], runs[i].scenario->shared_drive->judge(runs[i].params, drive));
+      } catch (const InputError&) {
+        throw;
+      } catch (const std::exception& e) {
+        records[i].status = Status::kError, records[i].message = e.what();
+      }
     }
   } catch (const InputError&) {
     throw;

@@ -684,8 +684,10 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
   std::signal(SIGPIPE, SIG_IGN);  // a worker that died is seen at its pipe's end, not by a signal
   const int jobs = std::min({runner.jobs, usable_cores(), static_cast<int>(std::max<size_t>(n, 1))});
   std::vector<Worker> workers(static_cast<size_t>(std::max(1, jobs)));
-  // Worker k keeps to the k-th usable core (with its outside engine): jobs never exceed the cores.
-  const std::vector<int> cpus = usable_cpus();
+  // Worker k keeps to the k-th usable core (with its outside engine) when the suite takes every core
+  // it may use; with fewer jobs the workers are left free, so that two suites at once (parallel
+  // shards, ctest -j) never crowd onto the same core.
+  const std::vector<int> cpus = jobs == usable_cores() ? usable_cpus() : std::vector<int>{};
   // The time limit is the run's own CPU time, counted by its worker; this wall-clock limit only
   // catches a run that waits instead of computing (it is never reached by one that computes).
   const double wall_limit_s = std::max(kWallFactor * runner.timeout_s, runner.timeout_s + kWallGrace_s);
@@ -754,19 +756,27 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
   return records;
 }
 
-void take_shared_records(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records) {
-  std::set<std::string> makers;
-  for (const SuiteItem& it : plan.items) {
-    if (it.judges_drive_of < 0) continue;
-    const auto maker = records.find(plan.items[static_cast<size_t>(it.judges_drive_of)].key);
-    if (maker == records.end()) continue;
-    makers.insert(maker->first);
-    const nlohmann::json& shared = maker->second.contains("shared") ? maker->second["shared"] : nlohmann::json::array();
+std::vector<std::pair<size_t, nlohmann::json>> shared_records(const SuitePlan& plan, size_t maker, const nlohmann::json& record) {
+  std::vector<std::pair<size_t, nlohmann::json>> out;
+  const nlohmann::json shared = record.contains("shared") ? record["shared"] : nlohmann::json::array();
+  for (size_t i = 0; i < plan.items.size(); ++i) {
+    const SuiteItem& it = plan.items[i];
+    if (it.judges_drive_of != static_cast<long>(maker)) continue;
     const auto mine = std::find_if(shared.begin(), shared.end(), [&](const nlohmann::json& r) { return r.value("scenario", "") == it.scenario->name; });
-    // A maker that ended without recording the others (its worker died): theirs say so.
-    records[it.key] = mine != shared.end() ? *mine : error_record(it, maker->second.value("message", "no record of the shared drive"));
+    // A maker that ended without recording the others (its worker died, its time ran out): theirs say so.
+    out.emplace_back(i, mine != shared.end() ? *mine : error_record(it, record.value("message", "no record of the shared drive")));
   }
-  for (const std::string& key : makers) records[key].erase("shared");
+  return out;
+}
+
+void take_shared_records(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records) {
+  for (size_t m = 0; m < plan.items.size(); ++m) {
+    if (plan.items[m].drive_judges.empty()) continue;
+    const auto maker = records.find(plan.items[m].key);
+    if (maker == records.end()) continue;
+    for (auto& [i, rec] : shared_records(plan, m, maker->second)) records[plan.items[i].key] = std::move(rec);
+    maker->second.erase("shared");
+  }
 }
 
 nlohmann::json assemble_suite(const SuitePlan& plan, const std::map<std::string, nlohmann::json>& records) {

@@ -136,8 +136,11 @@ int worker_main();
 /// Gives each item that is the same as an earlier one that item's record (a point's without traces).
 void fill_duplicates(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records);
 
-/// The records of the runs that judge another run's drive, from that run's record (its "shared"
-/// list, removed), for every such run whose drive-maker is in `records`.
+/// The records of the runs that judge the drive item `maker` made, by item index: from its record's
+/// "shared" list, or error records saying what became of the maker where the list is missing.
+std::vector<std::pair<size_t, nlohmann::json>> shared_records(const SuitePlan& plan, size_t maker, const nlohmann::json& record);
+/// shared_records of every drive-maker in `records`, put under their own keys (the makers' "shared"
+/// lists removed).
 void take_shared_records(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records);
 
 /// {"runs", "sweeps", "maps"} assembled from every item's record (by key): std::out_of_range when

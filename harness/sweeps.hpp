@@ -71,9 +71,11 @@ std::vector<PointRun> outcome_runs(const std::vector<const EngineInfo*>& engines
 /// The outcome grid's horizon (linear_outcome_horizon_s): every case may run t_max_s (the last exact
 /// contact of the grid starts at 7.5 s); a case stops after_s after the exact motion ((43), then
 /// the contact response after a contact) last keeps the disks within clearance_m of touching, and
-/// runs at least t_min_s; a contact that lasts to t_max_s keeps it. 0.5 m is 50 times the path
-/// tolerance (path_error, 1e-2 m): an engine that strays far enough from the exact motion to touch
-/// N after the horizon fails its run.
+/// runs at least t_min_s; a contact that lasts to t_max_s keeps it. An engine that could touch N
+/// after the horizon fails its run inside it: before a first contact its M must stay within 1e-2 m
+/// of (43) (path_error; 0.5 m is 50 times that), after one within a few steps' travel of the exact
+/// response (contact_path_error), and a contact that does not release when the exact one does
+/// fails contact_duration by the 0.5 s left after the release at least.
 struct OutcomeHorizon {
   double t_max_s = 8.0, clearance_m = 0.5, after_s = 0.5, t_min_s = 1.0;
 };

@@ -14,6 +14,7 @@
 
 #include "harness/results.hpp"
 #include "harness/runner.hpp"
+#include "harness/suite.hpp"
 #include "harness/sweeps.hpp"
 #include "scenarios/disk_scenarios.hpp"
 #include "models/holonomy.hpp"
@@ -491,4 +492,78 @@ TEST(Runner, OutcomeHorizonsLoseNoContactOfTheExactModel) {
   EXPECT_GT(shortened, 50);          // the contact-free cases mostly stop early, and released contacts too
   EXPECT_GT(contacts_shortened, 5);
   EXPECT_LT(total_s, 0.34 * 84 * 8.0);  // 223.7 of 672 s
+}
+
+// car.slip and car.beyond-grip judge one drive (Scenario::shared_drive): made once for both, each
+// record is the one the scenario gives alone (same metrics, details, simulated time).
+TEST(SharedDrive, RecordsEqualTheRunsMadeAlone) {
+  const Scenario& slip = *find_scenario("car.slip");
+  const Scenario& beyond = *find_scenario("car.beyond-grip");
+  ASSERT_TRUE(slip.shared_drive && beyond.shared_drive);
+  EXPECT_EQ(slip.shared_drive->name, beyond.shared_drive->name);
+  const EngineInfo& ode = *find_engine("ode");
+  const std::vector<RunRecord> shared = run_shared_drive({resolve_run(beyond, ode, {}), resolve_run(slip, ode, {})});
+  ASSERT_EQ(shared.size(), 2u);
+  for (const auto& [i, s] : {std::pair{0, &beyond}, std::pair{1, &slip}}) {
+    const nlohmann::json alone = run_scenario(*s, ode).to_json(), both = shared[static_cast<size_t>(i)].to_json();
+    EXPECT_EQ(alone["metrics"], both["metrics"]) << s->name;
+    EXPECT_EQ(alone["details"], both["details"]) << s->name;
+    EXPECT_EQ(alone["status"], both["status"]) << s->name;
+    EXPECT_DOUBLE_EQ(alone["simulated_s"].get<double>(), both["simulated_s"].get<double>()) << s->name;
+  }
+  EXPECT_TRUE(shared[0].as_expected()) << shared[0].message;  // ode's excess grip past the limit, listed
+  EXPECT_EQ(shared[1].status, Status::kFail);  // the car slides: the no-slip comparison fails (the negative control)
+}
+
+// A suite with both makes the drive once: the later run judges the earlier one's drive, is not
+// handed out or dealt to a shard, and is counted once in the simulated seconds; a drive-maker whose
+// worker ended without the others' records gives them error records saying why.
+TEST(SharedDrive, PlannedOnceAndItsRecordsShared) {
+  SuiteDef def;
+  def.engines = {find_engine("ode"), find_engine("analytic")};
+  def.globs = {"car.slip", "car.beyond-grip"};
+  def.sweeps = false;
+  const SuitePlan plan = plan_suite(def);
+  ASSERT_EQ(plan.items.size(), 4u);
+  std::vector<size_t> makers, judges;
+  for (size_t i = 0; i < plan.items.size(); ++i) {
+    if (!plan.items[i].drive_judges.empty()) makers.push_back(i);
+    if (plan.items[i].judges_drive_of >= 0) judges.push_back(i);
+  }
+  ASSERT_EQ(makers.size(), 2u);  // one drive per configuration
+  ASSERT_EQ(judges.size(), 2u);
+  for (size_t j : judges) {
+    const SuiteItem& judge = plan.items[j];
+    const SuiteItem& maker = plan.items[static_cast<size_t>(judge.judges_drive_of)];
+    EXPECT_EQ(judge.engine, maker.engine);
+    EXPECT_NE(judge.scenario, maker.scenario);
+    EXPECT_FALSE(judge.runs_itself());
+  }
+  std::set<size_t> dealt;
+  for (int k = 1; k <= 3; ++k)
+    for (size_t i : shard_share(plan, k, 3)) EXPECT_TRUE(dealt.insert(i).second);
+  EXPECT_EQ(dealt, std::set<size_t>(makers.begin(), makers.end()));
+  // The makers' records, one with its judges' records and one from a worker that died.
+  std::map<std::string, nlohmann::json> records;
+  const nlohmann::json died{{"scenario", plan.items[makers[1]].scenario->name}, {"status", "error"}, {"message", "the engine ended its process (killed by signal 9)"}};
+  records[plan.items[makers[0]].key] = run_item(plan.items[makers[0]]);
+  records[plan.items[makers[1]].key] = died;
+  ASSERT_TRUE(records[plan.items[makers[0]].key].contains("shared"));
+  take_shared_records(plan, records);
+  EXPECT_EQ(records.size(), 4u);
+  for (size_t j : judges) {
+    const nlohmann::json& rec = records.at(plan.items[j].key);
+    EXPECT_EQ(rec["scenario"], plan.items[j].scenario->name);
+    EXPECT_EQ(rec["engine"], plan.items[j].engine->name);
+    if (plan.items[j].judges_drive_of == static_cast<long>(makers[1])) {
+      EXPECT_EQ(rec["status"], "error");
+      EXPECT_EQ(rec["message"], died["message"]);
+    } else {
+      EXPECT_NE(rec["status"], "error");
+    }
+  }
+  for (size_t m : makers) EXPECT_FALSE(records.at(plan.items[m].key).contains("shared"));
+  const nlohmann::json budget = simulated_budget(plan, records);
+  EXPECT_NEAR(budget["by_configuration"][plan.items[makers[0]].engine->name]["total_s"].get<double>(),
+              records.at(plan.items[makers[0]].key)["simulated_s"].get<double>(), 1e-6);  // one drive, counted once
 }

@@ -85,9 +85,9 @@ TEST(OutsideFaults, CannonContactReportedOneStepLate) {
 // The chassis pose (x, y, heading) of the step before, the wheels' state on time: the
 // realized-lift error grows by about one step's travel at the front axle (2 mm at car.circle's
 // 2 m/s and 1 ms: 1.7 mm along the fitted lift), as PoseReportedOneStepLate on ode. cannon-es's own wheel
-// creep (slip_along_max 1.2%) puts its unbroken realized_lift_error at 12.5 mm, 125 times the
-// 0.1 mm tolerance, so in car.circle the fault is measured by the metric but flagged only where
-// cannon's listing is below the sum.
+// creep puts its unbroken realized_lift_error at 91 mm, over 200 times the 0.4 mm tolerance (0.2 v dt
+// at 2 m/s), so in car.circle the fault is measured by the metric but flagged only where cannon's
+// listing is below the sum.
 TEST(OutsideFaults, CannonPoseReportedOneStepLate) {
   if (const std::string why = missing(); !why.empty()) GTEST_SKIP() << why;
   const auto [clean, stale] = clean_and_broken("car.circle", "stale-pose");
