@@ -205,17 +205,15 @@ struct OutcomeCase {
   double T_s;  ///< its horizon (linear_outcome_horizon_s)
 };
 
-constexpr double kOutcomeTmax_s = kOutcomeHorizon.t_max_s;
-
 const std::vector<double>& outcome_as() { static const std::vector<double> v{-1.0, 0.0, 0.5, 0.9, 1.5, 2.0, 3.0}; return v; }
 const std::vector<double>& outcome_bs() { static const std::vector<double> v{-1.0, 0.0, 0.5, 1.0}; return v; }
 const std::vector<std::string>& outcome_paths() { static const std::vector<std::string> v{"line", "circle", "figure8"}; return v; }
 
 OutcomeCase outcome_case(double a, double b, const std::string& path) {
-  OutcomeCase c{a, b, path, {{"a", fmt::format("{}", a)}, {"b", fmt::format("{}", b)}, {"path", path}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}}, kOutcomeTmax_s};
+  OutcomeCase c{a, b, path, {{"a", fmt::format("{}", a)}, {"b", fmt::format("{}", b)}, {"path", path}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}}, kOutcomeHorizon.t_max_s};
   const Scenario& s = *find_scenario(outcome_sweep_scenario());
   Overrides full = c.overrides;
-  full.emplace_back("T", fmt::format("{}", kOutcomeTmax_s));
+  full.emplace_back("T", fmt::format("{}", kOutcomeHorizon.t_max_s));
   c.T_s = linear_outcome_horizon_s(Params::resolve(s.params, full, s.name), kOutcomeHorizon.clearance_m, kOutcomeHorizon.after_s, kOutcomeHorizon.t_min_s);
   c.overrides.emplace_back("T", fmt::format("{}", c.T_s));
   return c;
