@@ -23,9 +23,23 @@ TricycleDef TricycleDef::from(const CarSetup& setup) {
   return d;
 }
 
+double ServoDef::front_wheel_load_N(const CarSetup& setup, const TricycleDef& car) {
+  const int n_front = car.wheels == 4 ? 2 : 1;
+  const double front_kg = 0.5 * car.chassis_mass_kg + n_front * (car.wheel_mass_kg + car.knuckle_mass_kg);
+  return setup.gravity_mps2 * front_kg / n_front;
+}
+
+ServoDef ServoDef::for_car(const CarSetup& setup, const TricycleDef& car) {
+  ServoDef s;
+  s.spin_torque_max_Nm = kGripMultiple * setup.mu * front_wheel_load_N(setup, car) * car.R_m;
+  s.steer_torque_max_Nm = s.spin_torque_max_Nm;
+  return s;
+}
+
 void RigidCar::reset(const CarSetup& setup, const car::Config& q0) {
   setup_ = setup;
   def_ = TricycleDef::from(setup);
+  servo_ = ServoDef::for_car(setup_, def_);
   if (def_.wheels == 4 && !four_wheels()) throw EngineError("this configuration builds only the tricycle (wheels=3)");
   q0_ = q0;
   build(setup_, def_, q0_);

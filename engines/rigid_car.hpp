@@ -43,8 +43,20 @@ struct ServoDef {
   double hold_s = 0.2;
   double spin_gain_per_s = 40.0;
   double steer_gain_per_s = 40.0;
-  double spin_torque_max_Nm = 500.0;
-  double steer_torque_max_Nm = 500.0;
+  double spin_torque_max_Nm = 0.0;   ///< for_car: kGripMultiple x mu N R of a driven wheel
+  double steer_torque_max_Nm = 0.0;  ///< for_car: the same limit
+  /// A real drive is sized to its grip: the motor can lock its wheel against the full Coulomb
+  /// torque mu N R with half as much again to spare, and can never overpower the grip by more.
+  /// (A 500 N m limit, seven times the grip of the default car's front wheel, let the motor spin
+  /// the wheel against friction an iterative solver had not yet converged at the start of a drive.)
+  static constexpr double kGripMultiple = 1.5;
+  /// The static normal load on each driven (front) wheel, N: half the chassis (a box from the rear
+  /// to the front axle, its centre of mass at l/2) and the front wheels with their knuckles, shared
+  /// by the front wheels.
+  static double front_wheel_load_N(const CarSetup& setup, const TricycleDef& car);
+  /// The servo of `setup`'s car: the gains above, both torque limits kGripMultiple x mu N R (for
+  /// the default car, mu = 1: 1.5 x 235 N x 0.3 m = 106 N m).
+  static ServoDef for_car(const CarSetup& setup, const TricycleDef& car);
 };
 
 /// Rates for the steered and driven front wheels: index 0 is the tricycle's one front wheel or the

@@ -250,7 +250,7 @@ class RawBulletCar final : public RawCar {
   RawBulletCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) { car_.reset(setup, q0); }
 
   void run(long steps, double spin_radps) override {
-    const ServoDef servo;
+    const ServoDef& servo = car_.servo_;  // the run's own limits (ServoDef::for_car)
     car_.hinge2_[0]->setTargetVelocity(3, -spin_radps);  // negated as in BulletCar::actuate
     car_.hinge2_[0]->setMaxMotorForce(3, servo.spin_torque_max_Nm);
     car_.hinge2_[0]->setTargetVelocity(5, 0.0);
@@ -289,7 +289,7 @@ EngineInfo bullet_engine() {
            {"rear wheels", "btHingeConstraint each"},
            {"contact", "friction = mu x 1 (Bullet multiplies both bodies' coefficients)"},
            {"friction directions", "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},
-           {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
+           {"servo", "rate = commanded rate + 40/s x angle error, torque limit 1.5 mu N R of the driven wheel (106 N m for the default car); settle 0.5 s, hold 0.2 s"},
            {"disks", "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), sequential-impulse response"}},
           .knobs = {SettingSpec{{.key = "iterations", .kind = ParamKind::kInteger, .default_text = "100", .unit = "1",
                                  .help = "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", .min = 1, .max = 10000},

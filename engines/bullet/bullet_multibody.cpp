@@ -309,7 +309,7 @@ class RawMultiBodyCar final : public RawCar {
   RawMultiBodyCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) { car_.reset(setup, q0); }
 
   void run(long steps, double spin_radps) override {
-    const ServoDef servo;
+    const ServoDef& servo = car_.servo_;  // the run's own limits (ServoDef::for_car)
     car_.spin_motor_->setVelocityTarget(spin_radps);
     car_.spin_motor_->setMaxAppliedImpulse(servo.spin_torque_max_Nm * dt_s_);
     car_.steer_motor_->setVelocityTarget(0.0);
@@ -350,7 +350,7 @@ EngineInfo bullet_multibody_engine() {
            {"contact", "btMultiBodyLinkCollider spheres on a static plane; friction = mu x 1 (Bullet multiplies both bodies' coefficients); other btContactSolverInfo fields at Bullet's defaults"},
            {"friction directions", "two (SOLVER_USE_2_FRICTION_DIRECTIONS, set by btMultiBodyDynamicsWorld): world plane-space axes of the contact normal; custom directions are ignored by btMultiBodyConstraintSolver, so they cannot follow the wheel"},
            {"damping", "btMultiBody linear and angular damping: car --set damping (default 0.04, Bullet's); disk M fixed at Bullet's 0.04"},
-           {"servo", "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s"},
+           {"servo", "rate = commanded rate + 40/s x angle error, torque limit 1.5 mu N R of the driven wheel (106 N m for the default car); settle 0.5 s, hold 0.2 s"},
            {"disks", "M: zero-link floating-base btMultiBody (radius 1, 1 kg, frictionless base collider), base velocity set to the command (z = 0) before each step; N: kinematic btRigidBody sphere placed on its path; contact from the step's manifolds (distance <= 0), multibody solver response, 10 iterations"}},
           .knobs = {SettingSpec{{.key = "iterations", .kind = ParamKind::kInteger, .default_text = std::to_string(kDefaultIterations), .unit = "1",
                                  .help = "solver iterations (btContactSolverInfo::m_numIterations)", .min = 1, .max = 10000},

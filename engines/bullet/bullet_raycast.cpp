@@ -300,7 +300,7 @@ class RawRaycastCar final : public RawCar {
   RawRaycastCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) { car_.reset(setup, q0); }
 
   void run(long steps, double spin_radps) override {
-    const ServoDef servo;
+    const ServoDef& servo = car_.servo_;  // the run's own limits (ServoDef::for_car)
     btRaycastVehicle& v = *car_.vehicle_;
     btDiscreteDynamicsWorld& world = *car_.world_;
     if (spin_radps == 0.0) {
@@ -354,7 +354,7 @@ EngineInfo bullet_raycast_engine() {
                {"chassis", "box l x track x height of the car's total mass (chassis + 3 wheels + knuckle), centre of mass at the middle of the tie rod at axle height, collides with nothing; ground: static btRigidBody plane"},
                {"suspension", "stiffness k per unit chassis mass (knob), damping sqrt(3k) per unit mass in compression and relaxation (173 at k = 1e4), max force 1e6 N; connection points R/3 above the centre of mass, rest lengths R/3 + static sag (g/(2k) front, g/(4k) rear), so the chassis starts level and at rest with wheel centres at z = R; max travel rest + R (never binds)"},
                {"friction", "one Jacobi side-impulse pass per wheel per step (resolveSingleBilateral with Bullet's hard-coded 0.2 damping, 0.2 of the impulse that cancels the wheel's lateral velocity): not a no-slip model, the lateral slip carries the centripetal force; m_frictionSlip = mu caps the combined impulse at mu x suspension force x dt; roll influence 0.1 (Bullet default)"},
-               {"speed", "engine force on the front wheel F = M x 160/s x (spin command x R - forward speed of the front wheel centre along the wheel's heading), capped at torque limit / R = 500 N m / R; no feed-forward; 160/s = 4 x the 40/s angle servo: the cascade is critically damped"},
+               {"speed", "engine force on the front wheel F = M x 160/s x (spin command x R - forward speed of the front wheel centre along the wheel's heading), capped at the servo's torque limit / R (1.5 mu N of the front wheel: 353 N for the default car); no feed-forward; 160/s = 4 x the 40/s angle servo: the cascade is critically damped"},
                {"steering", "kinematic: setSteeringValue with the commanded steering rate integrated over each step (left positive)"},
                {"hold", "for the first settle_s (0.5 s) after build all three wheels are braked (setBrake, impulse cap mu M g dt per wheel) with engine force 0; afterwards no brakes"},
                {"wheel angle", "no spin state (along-slip not measured): heading = the front wheel's travel along its own heading / R, integrated like Bullet's m_rotation; m_rotation = Bullet's own value, which projects the velocity on the chassis axis, so the steered wheel turns cos(beta) too slowly; the spin reported for the slip metrics is the angle's change per step (m_deltaRotation before Bullet's 0.99 decay)"},

@@ -311,7 +311,7 @@ std::vector<std::pair<std::string, std::string>> settings_for(Detector det) {
       {"friction directions", "world (DART's default): derived from the contact normal alone, so fixed to the world axes; wheel: DynamicsAspect first friction direction x of the knuckle (front) or chassis (rear), the rolling direction"},
       {"joints", "Skeleton: FreeJoint chassis (frame at the front-axle centre, a box of the scenario's chassis_mass, centre of mass l/2 behind, no collision shape); RevoluteJoint steering knuckle (knuckle_mass, isotropic inertia knuckle_mass x 2e-3 m^2) about the chassis z; RevoluteJoint front wheel about the knuckle's y; RevoluteJoint rear wheels about the chassis y; sphere wheels of wheel_mass"},
       {"ground", "static skeleton (WeldJoint, not mobile): a 200 x 200 x 1 m BoxShape with its top face at z = 0"},
-      {"servo", "Joint::SERVO actuators on steering and spin (command = joint velocity, solved with the contacts), force limits +-500 N m; rate = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s"},
+      {"servo", "Joint::SERVO actuators on steering and spin (command = joint velocity, solved with the contacts), force limits +-(1.5 mu N R of the driven wheel: 106 N m for the default car); rate = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s"},
       {"disks", "M: skeleton on a TranslationalJoint with SERVO actuators (radius 1, 1 kg, frictionless, no gravity), commands = the commanded velocity (z 0), force limits +-1e5 N; N: skeleton on a TranslationalJoint with VELOCITY actuators (kinematic) commanded to land on its path each step; contact from World::getLastCollisionResult() (the collision pass at the start of the step), depth >= 0"},
   };
 }
@@ -323,7 +323,7 @@ class RawDartCar final : public RawCar {
   RawDartCar(const Settings& s, Detector det, const CarSetup& setup, const car::Config& q0) : car_(s, det) { car_.reset(setup, q0); }
 
   void run(long steps, double spin_radps) override {
-    const ServoDef servo;
+    const ServoDef& servo = car_.servo_;  // the run's own limits (ServoDef::for_car)
     car_.spin_->setForceLowerLimit(0, -servo.spin_torque_max_Nm);
     car_.spin_->setForceUpperLimit(0, servo.spin_torque_max_Nm);
     car_.steer_->setForceLowerLimit(0, -servo.steer_torque_max_Nm);

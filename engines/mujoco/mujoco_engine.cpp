@@ -345,7 +345,7 @@ std::string version() { return fmt::format("{} (header {})", mj_versionString(),
 
 const char* const kServo =
     "MuJoCo velocity actuators (force = kv (ctrl - qvel), explicit in the Euler step) on the spin and steering hinges, kv = I / dt "
-    "for the joint's own inertia I (deadbeat when unloaded: 72 N m s at R = 0.3 m, dt = 1 ms), force limited to 500 N m; "
+    "for the joint's own inertia I (deadbeat when unloaded: 72 N m s at R = 0.3 m, dt = 1 ms), force limited to the servo's torque limit (1.5 mu N R of the driven wheel, 106 N m for the default car); "
     "ctrl = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s";
 const char* const kJoints =
     "chassis: free joint at the front-axle centre (box of the scenario's chassis_mass l/2 behind it, no collision); steering knuckle (knuckle_mass, isotropic inertia knuckle_mass x 2e-3 m^2) hinged "

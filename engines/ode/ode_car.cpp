@@ -88,7 +88,7 @@ void OdeWorld::step(double dt_s) {
 
 namespace {
 
-const char* const kServo = "rate = commanded rate + 40/s x angle error, torque limit 500 N m; settle 0.5 s, hold 0.2 s";
+const char* const kServo = "rate = commanded rate + 40/s x angle error, torque limit 1.5 mu N R of the driven wheel (106 N m for the default car); settle 0.5 s, hold 0.2 s";
 const char* const kDisks = "M: dynamic sphere (radius 1, 1 kg) whose linear velocity is set to the command before each step (dBodySetLinearVel); N: kinematic sphere (dBodySetKinematic) moved along its path; contact joints from dCollide in the step's near callback, frictionless";
 
 SettingSpec wheel_knob() {

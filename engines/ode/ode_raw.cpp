@@ -15,7 +15,7 @@ class OdeRawCar final : public RawCar {
   }
 
   void run(long steps, double spin_radps) override {
-    const ServoDef servo;
+    const ServoDef& servo = car_.servo_;  // the run's own limits (ServoDef::for_car)
     // Body 1 (chassis) relative to body 2 (wheel): rates negated, as OdeCar::actuate does.
     dJointSetHinge2Param(car_.steer_joint_[0], dParamVel, 0.0);
     dJointSetHinge2Param(car_.steer_joint_[0], dParamFMax, servo.steer_torque_max_Nm);
