@@ -24,5 +24,6 @@ Command add_score(CLI::App& app);     // cli/score.cpp
 Command add_diff(CLI::App& app);      // cli/diff.cpp
 Command add_report(CLI::App& app);    // cli/report.cpp
 Command add_serve(CLI::App& app);     // cli/serve.cpp
+Command add_explain(CLI::App& app);   // cli/explain.cpp
 
 }  // namespace liftcheck::cli

@@ -32,6 +32,51 @@ std::vector<std::string> beyond_ceilings(const Ceilings& ceilings, const std::ve
   return problems;
 }
 
+bool Evidence::holds(double from_now, double to_now, double tolerance) const {
+  const auto near = [&](double now, double recorded) {
+    if (recorded <= tolerance) return now <= tolerance;
+    return now <= kReproduce * recorded && now >= recorded / kReproduce;
+  };
+  const bool moved = to < from ? to_now * kMove <= from_now : to_now >= kMove * from_now;
+  return std::isfinite(from_now) && std::isfinite(to_now) && near(from_now, from) && near(to_now, to) && moved;
+}
+
+std::string Evidence::change_text() const {
+  std::string s;
+  for (const auto& [k, v] : change) s += (s.empty() ? "" : ", ") + k + "=" + v;
+  return s;
+}
+
+bool is_negative_control(const std::string& reason) { return reason.rfind("negative control", 0) == 0; }
+
+std::vector<Evidence> parse_evidence(const nlohmann::json& listing, const std::string& where) {
+  std::vector<Evidence> v;
+  const auto fail = [&](const std::string& what) {
+    return std::logic_error(fmt::format("harness/expectations.json: {}: \"evidence\" {}", where, what));
+  };
+  const nlohmann::json list = listing.value("evidence", nlohmann::json::array());
+  if (!list.is_array()) throw fail("must be a list of experiments");
+  for (const auto& e : list) {
+    Evidence ev;
+    if (!e.is_object() || !e.contains("change") || !e.at("change").is_object() || e.at("change").empty())
+      throw fail("needs \"change\": {KEY: VALUE} (what --set changes)");
+    for (const auto& [key, value] : e.at("change").items()) {
+      if (!value.is_string()) throw fail(fmt::format("values are text, as given to --set ('{}')", key));
+      ev.change.emplace_back(key, value.get<std::string>());
+    }
+    if (!e.contains("metric") || !e.at("metric").is_string()) throw fail("needs the \"metric\" whose figure moves");
+    ev.metric = e.at("metric");
+    for (const char* k : {"from", "to"})
+      if (!e.contains(k) || !e.at(k).is_number() || !(e.at(k).get<double>() >= 0.0))
+        throw fail(fmt::format("needs \"{}\": the compared error measured", k));
+    ev.from = e.at("from"), ev.to = e.at("to");
+    if (ev.from == ev.to) throw fail("records no move (\"from\" equals \"to\")");
+    ev.x = e.value("x", 0.0);
+    v.push_back(std::move(ev));
+  }
+  return v;
+}
+
 const std::vector<KnownFailure>& known_run_failures() {
   static const std::vector<KnownFailure> all = [] {
     std::vector<KnownFailure> v;
@@ -49,10 +94,25 @@ const std::vector<KnownFailure>& known_run_failures() {
         if (e.contains("error")) {
           if (!e.at("error").is_string() || e.at("error").get<std::string>().empty() || e.contains("metrics"))
             throw std::logic_error(fmt::format("harness/expectations.json: {}: \"error\" is the start of the error message, given instead of \"metrics\"", where));
-          v.push_back({e.at("scenario"), engine, params, {}, e.at("reason"), e.at("measured"), e.at("error").get<std::string>()});
+          v.push_back({e.at("scenario"), engine, params, {}, e.at("reason"), e.at("measured"), e.at("error").get<std::string>(), parse_evidence(e, where)});
           continue;
         }
-        v.push_back({e.at("scenario"), engine, params, parse_ceilings(e.at("metrics"), where), e.at("reason"), e.at("measured")});
+        v.push_back({e.at("scenario"), engine, params, parse_ceilings(e.at("metrics"), where), e.at("reason"), e.at("measured"), {}, parse_evidence(e, where)});
+      }
+    return v;
+  }();
+  return all;
+}
+
+const std::vector<ListedReason>& listed_reasons() {
+  static const std::vector<ListedReason> all = [] {
+    std::vector<ListedReason> v;
+    const nlohmann::json j = nlohmann::json::parse(kExpectationsJson);
+    for (const KnownFailure& k : known_run_failures()) v.push_back({k.scenario, false, k.engine, k.params, k.reason, k.evidence});
+    for (const auto& e : j.value("sweep_points", nlohmann::json::array()))
+      for (const auto& engine : e.at("engines")) {
+        const std::string sweep = e.at("sweep");
+        v.push_back({sweep, true, engine, {}, e.at("reason"), parse_evidence(e, fmt::format("sweep {} on {}", sweep, engine.get<std::string>()))});
       }
     return v;
   }();

@@ -25,6 +25,28 @@ Ceilings parse_ceilings(const nlohmann::json& metrics, const std::string& where)
 /// not listed, or an error above its ceiling. Empty when the failure is as known.
 std::vector<std::string> beyond_ceilings(const Ceilings& ceilings, const std::vector<std::pair<std::string, double>>& failed);
 
+/// The experiment behind a reason that names a cause (a reason is a claim): the run as listed, and
+/// the same run with `change` (settings or scenario parameters, as --set takes them). The listed
+/// failing figure, `metric`'s compared error, moves from `from` to `to`: the cause the reason names
+/// is what the change removes (or strengthens). `liftcheck explain` re-runs both.
+struct Evidence {
+  std::vector<std::pair<std::string, std::string>> change;
+  std::string metric;
+  double from = 0.0, to = 0.0;  ///< the compared errors when the evidence was written
+  double x = 0.0;               ///< a sweep listing's point: the swept value the experiment runs at
+  /// Holds when the runs made now reproduce it: each figure within kReproduce of its recorded
+  /// value (a recorded figure within its tolerance: within it again), and the change moving the
+  /// figure the recorded way by at least kMove.
+  static constexpr double kReproduce = 2.0, kMove = 2.0;
+  bool holds(double from_now, double to_now, double tolerance) const;
+  /// "velocity_steps=100, slop=0.001"
+  std::string change_text() const;
+};
+/// "evidence": [{"change": {KEY: VALUE}, "metric", "from", "to"[, "x"]}]; std::logic_error if malformed.
+std::vector<Evidence> parse_evidence(const nlohmann::json& listing, const std::string& where);
+/// A negative control's reason starts so: its cause is the scenario's physics, not the engine's.
+bool is_negative_control(const std::string& reason);
+
 struct KnownFailure {
   std::string scenario, engine;
   /// The parameters the run changes from the scenario's defaults ("params": {"wheels": "4"}),
@@ -35,7 +57,20 @@ struct KnownFailure {
   /// A run the engine cannot finish ("error": the start of its error message, e.g. "car left the
   /// ground"): listed instead of metrics, it must end in an error record whose message starts so.
   std::string error = {};
+  std::vector<Evidence> evidence = {};  ///< the experiments behind a reason that names a cause
 };
+
+/// A listing of harness/expectations.json as reviewed: a run's ("runs") or a sweep's
+/// ("sweep_points"), with the reason it gives and the experiments behind it, once per configuration.
+struct ListedReason {
+  std::string scenario;  ///< a run's scenario, or the sweep's name for a sweep listing
+  bool sweep = false;
+  std::string engine;
+  std::vector<std::pair<std::string, std::string>> params;  ///< a run listing's "params"
+  std::string reason;
+  std::vector<Evidence> evidence;
+};
+const std::vector<ListedReason>& listed_reasons();
 
 /// The "runs" entries, one per scenario x configuration.
 const std::vector<KnownFailure>& known_run_failures();

@@ -169,9 +169,6 @@ bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
   return problems.empty();
 }
 
-namespace {
-
-/// The cycle scenario takes eps_alpha and eps_beta: "eps" sets both.
 Overrides point_overrides(const SweepDef& s, double x) {
   Overrides ov = s.fixed;
   const std::string value = fmt::format("{}", x);
@@ -180,6 +177,8 @@ Overrides point_overrides(const SweepDef& s, double x) {
   for (const auto& p : s.times_x) ov.emplace_back(p.key, fmt::format("{}", std::max(p.min, p.per_x * x)));
   return ov;
 }
+
+namespace {
 
 nlohmann::json value_of(const nlohmann::json& record, const std::string& key) {
   const auto [kind, name] = recorded_field(key);

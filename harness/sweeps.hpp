@@ -42,6 +42,10 @@ const std::vector<KnownSweepFailure>& known_sweep_failures();
 /// lies in its band. Adds "gate" {"pass", "problems", counts} to the entry and returns pass.
 bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry);
 
+/// The parameters of `s`'s point at x: its fixed ones, the swept one (the cycle scenario's eps
+/// sets eps_alpha and eps_beta) and those scaled with x.
+Overrides point_overrides(const SweepDef& s, double x);
+
 /// One run that a sweep, the outcome sweep or the map asks for: the unit validate schedules,
 /// shards and merges. `key` names it uniquely and stably ("sweep/radius_vs_beta/ode/x=0.1").
 struct PointRun {

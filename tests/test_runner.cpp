@@ -365,6 +365,60 @@ TEST(Expectations, EveryEntryNamesWhatExists) {
   }
 }
 
+// An experiment holds when both figures reproduce (within a factor 2, or within tolerance where
+// the recorded one was) and the change moves the figure the recorded way by at least 2 times.
+TEST(Evidence, HoldsOnlyWhenReproducedAndMoved) {
+  Evidence down;
+  down.from = 2.5e-3, down.to = 3.6e-4;
+  const double tol = 1e-4;
+  EXPECT_TRUE(down.holds(2.5e-3, 3.6e-4, tol));
+  EXPECT_TRUE(down.holds(4.9e-3, 2.0e-4, tol));   // both within a factor 2
+  EXPECT_FALSE(down.holds(5.1e-3, 3.6e-4, tol));  // the failure is no longer the one listed
+  EXPECT_FALSE(down.holds(2.5e-3, 7.3e-4, tol));  // the change no longer moves it as recorded
+  EXPECT_FALSE(down.holds(2.5e-3, 1.5e-3, 1e-3)); // recorded within its tolerance, now outside it
+  EXPECT_FALSE(down.holds(NAN, 3.6e-4, tol));      // an error run shows nothing
+  Evidence to_pass;  // a change that makes it pass: within the tolerance again is enough
+  to_pass.from = 4.85e-3, to_pass.to = 2e-9;
+  EXPECT_TRUE(to_pass.holds(4.85e-3, 5e-7, 1e-6));
+  EXPECT_FALSE(to_pass.holds(4.85e-3, 2e-6, 1e-6));
+  Evidence up;  // a change that strengthens the cause raises the figure
+  up.from = 1e-3, up.to = 2e-2;
+  EXPECT_TRUE(up.holds(1e-3, 2.1e-2, 1e-4));
+  EXPECT_FALSE(up.holds(1e-3, 1.5e-3, 1e-4));
+  EXPECT_FALSE(up.holds(1e-2, 2e-2, 1e-4));  // from not reproduced (10x)
+}
+
+// Every reason that names a cause carries an experiment (a negative control's cause is the
+// scenario's physics), each on a metric the scenario has, its change one the configuration takes
+// (a parameter or a declared setting) and one that changes the run.
+TEST(Expectations, EveryNamedCauseHasAnExperiment) {
+  ASSERT_FALSE(listed_reasons().empty());
+  for (const ListedReason& l : listed_reasons()) {
+    const std::string where = fmt::format("{}{} on {}", l.sweep ? "sweep " : "", l.scenario, l.engine);
+    if (!is_negative_control(l.reason)) EXPECT_FALSE(l.evidence.empty()) << where << ": its reason names no experiment: " << l.reason;
+    const SweepDef* sw = nullptr;
+    for (const SweepDef& d : sweep_catalogue())
+      if (d.name == l.scenario) sw = &d;
+    const Scenario* s = find_scenario(l.sweep ? (sw ? sw->scenario : outcome_sweep_scenario()) : l.scenario);
+    ASSERT_NE(s, nullptr) << where;
+    for (const Evidence& ev : l.evidence) {
+      EXPECT_NE(s->metric(ev.metric), nullptr) << where << ": no metric " << ev.metric;
+      const EngineInfo* e = nullptr;
+      for (const EngineInfo& c : engines())
+        if (c.name == l.engine && c.registration.empty()) e = &c;
+      if (!e || (l.sweep && !sw)) continue;  // outside configurations: explain checks them when it runs them
+      Overrides base = l.sweep ? point_overrides(*sw, ev.x) : l.params, changed = base;
+      changed.insert(changed.end(), ev.change.begin(), ev.change.end());
+      try {
+        const ResolvedRun a = resolve_run(*s, *e, base), b = resolve_run(*s, *e, changed);
+        EXPECT_FALSE(a.params.to_json() == b.params.to_json() && a.settings == b.settings) << where << ": " << ev.change_text() << " changes nothing";
+      } catch (const std::exception& x) {
+        ADD_FAILURE() << where << ": " << ev.change_text() << ": " << x.what();
+      }
+    }
+  }
+}
+
 // An informational metric (expected and measured from the same computation) is shown but never
 // counted: it neither passes a run nor fails it, and a run with nothing else is no pass.
 TEST(Runner, InformationalMetricsAreNotCounted) {

@@ -1,0 +1,184 @@
+// liftcheck explain: a known failure's reason is a claim, and its evidence is an experiment (the
+// run as listed, and the same run with one change). This re-runs every experiment of the chosen
+// listings and says whether each still holds (harness/expectations.hpp, Evidence::holds).
+#include <cmath>
+#include <fmt/format.h>
+#include <iostream>
+#include <map>
+
+#include "cli/command.hpp"
+#include "cli/interrupts.hpp"
+#include "cli/lookup.hpp"
+#include "harness/sweeps.hpp"
+#include "input/read_file.hpp"
+
+namespace liftcheck::cli {
+
+namespace {
+
+/// One experiment: the listing, its evidence, and the plan items of its two runs.
+struct Experiment {
+  const ListedReason* listing = nullptr;
+  const Evidence* evidence = nullptr;
+  size_t base = 0, changed = 0;
+};
+
+/// The run a listing describes (a sweep listing: its point at the evidence's x).
+std::pair<const Scenario*, Overrides> listed_run(const ListedReason& l, const Evidence& ev) {
+  if (!l.sweep) return {&scenario_or_throw(l.scenario), l.params};
+  for (const SweepDef& s : sweep_catalogue())
+    if (s.name == l.scenario) return {&scenario_or_throw(s.scenario), point_overrides(s, ev.x)};
+  throw InputError(fmt::format("harness/expectations.json lists sweep '{}', which the catalogue does not have", l.scenario));
+}
+
+/// The plan's item for this run, added once (two experiments on one listing share its run).
+size_t item_for(SuitePlan& plan, std::map<std::string, size_t>& index, const Scenario& s, const EngineInfo& e, const Overrides& ov) {
+  std::string key = fmt::format("explain/{}/{}", s.name, e.name);
+  for (const auto& [k, v] : ov) key += fmt::format("/{}={}", k, v);
+  if (const auto it = index.find(key); it != index.end()) return it->second;
+  SuiteItem item;
+  item.key = key;
+  item.scenario = &s, item.engine = &e, item.overrides = ov;
+  plan.items.push_back(item);
+  return index[key] = plan.items.size() - 1;
+}
+
+/// The metric's compared error and tolerance in a record; NaN where the run has no such figure.
+std::pair<double, double> figure(const nlohmann::json& record, const std::string& metric) {
+  const nlohmann::json* m = record.contains("metrics") && record["metrics"].contains(metric) ? &record["metrics"][metric] : nullptr;
+  if (!m) return {NAN, NAN};
+  const nlohmann::json& err = (*m)[(*m)["tolerance_kind"] == "rel" ? "rel_error" : "abs_error"];
+  return {err.is_number() ? err.get<double>() : NAN, (*m)["tolerance"].get<double>()};
+}
+
+bool selected(const ListedReason& l, const std::vector<std::string>& names, const std::vector<std::string>& engines) {
+  const auto in = [](const std::vector<std::string>& v, const std::string& x) { return v.empty() || std::find(v.begin(), v.end(), x) != v.end(); };
+  return in(names, (l.sweep ? "sweep:" : "") + l.scenario) && in(engines, l.engine);
+}
+
+/// One line per experiment; returns whether it holds.
+bool report(const Experiment& x, const nlohmann::json& base, const nlohmann::json& changed, bool json) {
+  const auto [from, tol] = figure(base, x.evidence->metric);
+  const auto to = figure(changed, x.evidence->metric).first;
+  const bool measuring = std::isnan(x.evidence->from);  // --measure: nothing recorded to hold
+  const bool holds = measuring || x.evidence->holds(from, to, tol);
+  const ListedReason& l = *x.listing;
+  const std::string where = l.sweep ? fmt::format("sweep {} at x = {} on {}", l.scenario, x.evidence->x, l.engine)
+                                    : fmt::format("{} on {}", l.scenario, l.engine);
+  if (json) {
+    std::cout << nlohmann::json{{"listing", where}, {"scenario", l.scenario}, {"sweep", l.sweep}, {"engine", l.engine}, {"x", x.evidence->x},
+                                {"params", l.params}, {"change", x.evidence->change}, {"metric", x.evidence->metric},
+                                {"from", from}, {"to", to}, {"recorded_from", x.evidence->from}, {"recorded_to", x.evidence->to},
+                                {"tolerance", tol}, {"holds", holds}}.dump() << "\n";
+    return holds;
+  }
+  std::cout << fmt::format("{}: {} moves {} {:.3g} -> {:.3g} (recorded {:.3g} -> {:.3g}, tolerance {:.3g}): {}\n", where, x.evidence->change_text(),
+                           x.evidence->metric, from, to, x.evidence->from, x.evidence->to, tol, holds ? "holds" : "DOES NOT HOLD");
+  for (const nlohmann::json* r : {&base, &changed})
+    if (r->value("status", "") == "error") std::cout << "  error: " << printable(r->value("message", ""), 300) << "\n";
+  return holds;
+}
+
+/// The configurations asked for: those named, or every one (compiled-in ones only with
+/// `compiled_in`, which starts no outside engine).
+std::vector<std::string> configurations(const std::string& names, bool compiled_in) {
+  std::vector<std::string> v = split_list(names);
+  if (v.empty())
+    for (const EngineInfo& e : engines())
+      if (!compiled_in || e.registration.empty()) v.push_back(e.name);
+  return v;
+}
+
+/// --measure PLAN: experiments not yet recorded ([{"scenario" or "sweep", "engine", "params",
+/// "x", "change", "metric"}]), each a listing of its own whose figures are measured, not checked.
+std::vector<ListedReason> read_plan(const std::string& path) {
+  const nlohmann::json plan = nlohmann::json::parse(read_text_file(path, 16 << 20, "the plan"), nullptr, false);
+  if (!plan.is_array()) throw InputError(fmt::format("{}: a plan is a JSON list of experiments", path));
+  std::vector<ListedReason> v;
+  for (const auto& e : plan) {
+    if (!e.is_object() || !e.contains("engine")) throw InputError(fmt::format("{}: each experiment names its \"engine\"", path));
+    const bool sweep = e.contains("sweep");
+    ListedReason l{e.value(sweep ? "sweep" : "scenario", ""), sweep, e.at("engine"), {}, "", {}};
+    for (const auto& [k, val] : e.value("params", nlohmann::json::object()).items()) l.params.emplace_back(k, val.get<std::string>());
+    nlohmann::json ev = {{"change", e.value("change", nlohmann::json::object())}, {"metric", e.value("metric", "")}, {"from", 0.0}, {"to", 1.0}};
+    if (sweep) ev["x"] = e.value("x", 0.0);
+    try {
+      l.evidence = parse_evidence(nlohmann::json{{"evidence", {ev}}}, path);
+    } catch (const std::logic_error& x) {
+      throw InputError(x.what());
+    }
+    l.evidence[0].from = l.evidence[0].to = NAN;  // to be measured
+    v.push_back(std::move(l));
+  }
+  return v;
+}
+
+int cmd_explain(const std::vector<std::string>& names, const std::string& engine_names, bool compiled_in, const std::string& plan_file,
+                int jobs, double timeout_s, bool json) {
+  const std::vector<std::string> configs = configurations(engine_names, compiled_in);
+  for (const auto& name : names)
+    if (name.rfind("sweep:", 0) != 0) (void)scenario_or_throw(name);
+  for (const auto& c : configs) (void)engine_or_throw(c);
+  static std::vector<ListedReason> planned;  // the experiments point into it
+  if (!plan_file.empty()) planned = read_plan(plan_file);
+  SuitePlan plan;
+  std::map<std::string, size_t> index;
+  std::vector<Experiment> experiments;
+  int unexplained = 0;
+  for (const ListedReason& l : plan_file.empty() ? listed_reasons() : planned) {
+    if (!selected(l, names, configs)) continue;
+    if (l.evidence.empty() && !is_negative_control(l.reason)) {
+      ++unexplained;
+      if (!json) std::cout << fmt::format("{}{} on {}: its reason names no experiment\n", l.sweep ? "sweep " : "", l.scenario, l.engine);
+    }
+    for (const Evidence& ev : l.evidence) {
+      const auto [s, ov] = listed_run(l, ev);
+      Overrides with_change = ov;
+      with_change.insert(with_change.end(), ev.change.begin(), ev.change.end());
+      const EngineInfo& e = engine_or_throw(l.engine);
+      experiments.push_back({&l, &ev, item_for(plan, index, *s, e, ov), item_for(plan, index, *s, e, with_change)});
+    }
+  }
+  if (experiments.empty() && unexplained == 0) throw InputError("no listing of harness/expectations.json with evidence matches the names and configurations given");
+  std::vector<size_t> all(plan.items.size());
+  for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+  std::vector<nlohmann::json> records;
+  try {
+    records = run_items(plan, all, runner_def(jobs, timeout_s), [](size_t, const nlohmann::json&, double) {});
+  } catch (const RunnerStopped& e) {
+    throw Interrupted(pending_signal(), e.what());
+  }
+  throw_if_interrupted("during explain");
+  int failing = 0;
+  for (const Experiment& x : experiments) failing += report(x, records.at(x.base), records.at(x.changed), json) ? 0 : 1;
+  if (!json)
+    std::cout << fmt::format("{} experiments: {} hold, {} do not; {} listings without evidence\n", experiments.size(), experiments.size() - failing,
+                             failing, unexplained);
+  return failing == 0 && unexplained == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_explain(CLI::App& app) {
+  struct Options {
+    std::vector<std::string> names;
+    std::string engines;
+    bool compiled_in = false;
+    int jobs = 1;
+    double timeout_s = 120.0;
+    bool json = false;
+    std::string plan;
+  };
+  auto o = std::make_shared<Options>();
+  auto* cmd = app.add_subcommand("explain", "re-run the experiments behind the known failures' reasons and say whether each still holds");
+  cmd->add_option("names", o->names, "scenarios, or sweep:NAME for a sweep's listings (default: every listing)");
+  cmd->add_option("--engine,--engines", o->engines, "configurations, comma-separated (default: every listed one)");
+  cmd->add_flag("--compiled-in", o->compiled_in, "only the compiled-in configurations' listings (no outside engine is started)");
+  cmd->add_option("--jobs", o->jobs, "runs at once")->capture_default_str();
+  cmd->add_option("--timeout", o->timeout_s, "limit of each run's CPU time in seconds")->capture_default_str();
+  cmd->add_flag("--json", o->json, "one JSON object per experiment");
+  cmd->add_option("--measure", o->plan, "measure the experiments of a plan file instead of the listed ones (tests/tools/write_evidence.py)");
+  return {cmd, [o] { return cmd_explain(o->names, o->engines, o->compiled_in, o->plan, o->jobs, o->timeout_s, o->json); }};
+}
+
+}  // namespace liftcheck::cli
