@@ -150,6 +150,27 @@ quick = es[names.index("ode-quick")]
 assert any(k["key"] == "w" and k["kind"] == "real" for k in quick["knobs"]), quick["knobs"]
 PY
 
+# A build copied elsewhere runs the adapters it carries: outside/ beside the binary (copied there at
+# build time) is its default suite, and engines --json names the copy's registrations and scripts.
+mkdir -p "$tmp/copy"
+cp "$bin" "$tmp/copy/" && cp -r "$(dirname "$bin")/outside" "$tmp/copy/"
+check copied-engines-json 0 "$tmp/copy/liftcheck" engines --json
+python3 - "$tmp/out" "$tmp/copy" <<'PY' && passes=$((passes + 1)) || { echo "FAIL copied build's engines --json"; fails=$((fails + 1)); }
+import json, os, sys
+es = json.load(open(sys.argv[1]))
+copy = os.path.realpath(sys.argv[2]) + "/outside/"
+outside = [e for e in es if "outside" in e]
+assert len(outside) >= 5, [e["name"] for e in es]
+for e in outside:
+    o = e["outside"]
+    assert o["registration"].startswith(copy + "suite/") and o["registration"].endswith(e["name"] + ".json"), (e["name"], o)
+    assert o["adapter"].startswith(copy) and o["adapter"].endswith(".mjs") and os.path.isfile(o["adapter"]), (e["name"], o)
+    assert e["library"] != "unavailable", (e["name"], e["settings"])
+PY
+check copied-engines-text 0 "$tmp/copy/liftcheck" engines
+grep -q "^default suite of outside configurations: $(realpath "$tmp/copy")/outside/suite (beside the binary)$" "$tmp/out" \
+  && passes=$((passes + 1)) || { echo "FAIL copied build's engines names its suite"; head -1 "$tmp/out"; fails=$((fails + 1)); }
+
 # A simulator outside liftcheck: the path out, the example simulator, the trace scored.
 check path-csv 0 "$bin" path car.circle
 cp "$tmp/out" "$tmp/path.csv"

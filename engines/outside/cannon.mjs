@@ -55,6 +55,26 @@ function hinge(world, a, b, pivotA, axis, motorMax_Nm) {
   return h;
 }
 
+// SPOOK parameters of the constraints' equations. cannon-es's Equation constructor calls
+// setSpookParams(1e7, 4, 1/60) (Equation.js, 0.20.0: "note the hardcoded refresh rate"), and only
+// contact and friction equations are re-set for world.dt by the narrow phase: a hinge's three
+// point equations, two rotational equations and its motor equation would keep a 60 Hz SPOOK under a
+// 1 ms step. They are given the constructor's stiffness and relaxation for the step they are
+// solved in, as cannon-es users stepping at another rate do.
+const CONSTRAINT_STIFFNESS = 1e7, CONSTRAINT_RELAXATION = 4;
+
+/// Every equation of the world's constraints gets its SPOOK parameters for a step of dt_s.
+function spookFor(world, dt_s) {
+  for (const c of world.constraints)
+    for (const eq of c.equations) eq.setSpookParams(CONSTRAINT_STIFFNESS, CONSTRAINT_RELAXATION, dt_s);
+}
+
+/// The SPOOK parameters [a, b, eps] of every constraint equation, for the build reply
+/// (constraint_spook: the adapter's tests check them against dt).
+function spookOf(world) {
+  return world.constraints.flatMap((c) => c.equations.map((eq) => [eq.a, eq.b, eq.eps]));
+}
+
 /// cannon-es's GSSolver clamps an equation's impulse over the step (its lambda) between the
 /// equation's minForce and maxForce: a torque limit T is the bound T dt.
 function limitMotor(h, dt_s) {
@@ -94,8 +114,9 @@ function buildCar(req) {
     hinge(world, chassis, b, [-l / 2, s * w / 2, 0], [0, 1, 0]);
     return b;
   });
+  spookFor(world, dt_s);
   car = { world, dt_s, chassis, fronts, rears, previous: null };
-  return carState(0);
+  return { ...carState(0), constraint_spook: spookOf(world) };
 }
 
 const state = (b) => ({ p: arr(b.position), q: quat(b), v: arr(b.velocity), w: arr(b.angularVelocity) });
@@ -113,6 +134,10 @@ function carState(engine_s) {
 
 function stepCar(req) {
   const { spin, steer, dt_s } = C.carStep(req);
+  if (dt_s !== car.dt_s) {  // a step of another length (a run's last, shorter one)
+    spookFor(car.world, dt_s);
+    car.dt_s = dt_s;
+  }
   // The motor equation holds (w_A - w_B) . axis at its target: B turning by +rate needs -rate.
   car.fronts.forEach((f, k) => {
     f.spin.setMotorSpeed(-spin[k]);
@@ -175,7 +200,8 @@ serve({
   hello: () => ({
     engine: 'cannon-es', version: VERSION, precision: 'float64', vehicles: ['car', 'disks'], four_wheels: true, settings: KNOBS,
     fixed: [
-      ['stepping', 'world.step(dt) (fixed step, no interpolation); GSSolver, tolerance 1e-7 (default); SPOOK contact stiffness 1e7, relaxation 3 (defaults)'],
+      ['stepping', 'world.step(dt) (fixed step, no interpolation); GSSolver, tolerance 1e-7 (default); SPOOK contact and friction stiffness 1e7, relaxation 3 (ContactMaterial defaults), for world.dt'],
+      ['constraint SPOOK', 'every equation of the hinges (3 point, 2 rotational, the motor) setSpookParams(1e7, 4, dt), re-set when a step of another length comes: the Equation constructor\'s stiffness and relaxation, for the step taken instead of its hardcoded 1/60 s (Equation.js, cannon-es 0.20.0)'],
       ['joints', 'HingeConstraint steering (chassis z) and front spin (knuckle y) with rotational motors, one knuckle per front wheel (four wheels: each at its Ackermann angle); rear wheels HingeConstraint'],
       ['motors', 'setMotorSpeed(-rate) (the motor equation holds (w_A - w_B) . axis), setMotorMaxForce(torque limit x dt): GSSolver clamps each equation\'s impulse over the step between its minForce and maxForce'],
       ['bodies', 'chassis box (collides with nothing), knuckle (no shape, inertia m x 2e-3 m^2), sphere wheels; exact solid inertias set (cannon-es estimates a world-aligned bounding box); damping 0 (default 0.01)'],

@@ -1,10 +1,13 @@
 // Havok (@babylonjs/havok on npm, the WASM build Babylon.js ships, single precision) served over
-// liftcheck's engine protocol (docs/protocol.md). Two configurations, chosen with --config:
-//   default   as Babylon.js users run it: the world's defaults, among them the ideal step time
-//             1/60 s from which Havok adapts its solver parameters to the step it is given.
-//   accurate  what the API documents: HP_World_SetIdealStepTime "configure the ideal delta time
-//             which you intend to call HP_World_Step()" (HavokPhysics.d.ts), so the solver is
-//             tuned for the step liftcheck runs. This build exposes no solver iterations.
+// liftcheck's engine protocol (docs/protocol.md), set up as its users run it: the ideal step time
+// is the step it is called with. HavokPhysics.d.ts (1.3.14) documents HP_World_SetIdealStepTime as
+// "the ideal delta time which you intend to call HP_World_Step() with", from which the solver
+// parameters are adjusted when the step differs; Havok's samples set it to their fixed step, and
+// Babylon.js's HavokPlugin steps at its fixed time step (setTimeStep; 1/60 s by default, the ideal
+// step time's own default), so its users run the two equal. Left at 1/60 s under a 1 ms step, the
+// radii of car.circle were off by 356% and car.slope's car left the ground: that is a misuse, not a
+// configuration (the knob ideal_step_time keeps it reachable). This build exposes no solver
+// iterations; its other world setting, HP_World_SetSpeedLimit (200 m/s, 100 rad/s), is never reached.
 // Car: a chassis box (collides with nothing), per front wheel (one for the tricycle, two for the
 // four-wheel car) a steering knuckle on a 6-DOF constraint with only ANGULAR_X free about the
 // vertical through the wheel centre, the wheel on one with only
@@ -35,19 +38,10 @@ const A = HK.ConstraintAxis, LOCKED = HK.ConstraintAxisLimitMode.LOCKED;
 // later in GEOMETRIC_MEAN, MINIMUM, MAXIMUM, ARITHMETIC_MEAN, MULTIPLY wins).
 const COMBINE = HK.MaterialCombine.MINIMUM, RESTITUTION_COMBINE = HK.MaterialCombine.MAXIMUM;
 
-const PRESETS = { default: '1/60', accurate: 'dt' };
-const CONFIG = (() => {
-  const i = process.argv.indexOf('--config');
-  const name = i >= 0 ? process.argv[i + 1] : 'default';
-  if (!PRESETS[name]) {
-    process.stderr.write(`havok.mjs: --config '${name}' is not one of ${Object.keys(PRESETS).join(' | ')}\n`);
-    process.exit(2);
-  }
-  return name;
-})();
+C.parseArgs(process.argv.slice(2), { default: true });
 const SETTINGS = ['car', 'disks'].map((vehicle) => ({
-  key: 'ideal_step_time', vehicle, kind: 'choice', choices: ['1/60', 'dt', 'off'], default: PRESETS[CONFIG],
-  help: 'HP_World_SetIdealStepTime: 1/60 s (Havok\'s default), the run\'s dt, or off (0: no adaptation of the solver to the step)',
+  key: 'ideal_step_time', vehicle, kind: 'choice', choices: ['dt', '1/60', 'off'], default: 'dt',
+  help: 'HP_World_SetIdealStepTime: the run\'s dt (as its users set it), 1/60 s (the value a new world has), or off (0: no adaptation of the solver to the step)',
 }));
 SETTINGS.splice(1, 0, C.WHEEL_KNOB);
 
@@ -71,13 +65,26 @@ function drop_world() {
   world = null;
 }
 
+/// A new world with the request's gravity and the ideal step time the knob names. Havok has no
+/// getter for it: the value set is kept in world.ideal_s and sent back in the build reply
+/// (ideal_step_time_s), for the adapter's tests.
 function new_world(gravity_W, knob, dt_s) {
   drop_world();
   const id = ok(HK.HP_World_Create(), 'HP_World_Create');
   ok(HK.HP_World_SetGravity(id, gravity_W), 'HP_World_SetGravity');
   const ideal_s = { '1/60': 1 / 60, dt: dt_s, off: 0 }[knob.ideal_step_time];
   ok(HK.HP_World_SetIdealStepTime(id, ideal_s), 'HP_World_SetIdealStepTime');
-  world = { id, bodies: [], shapes: [], constraints: [] };
+  world = { id, bodies: [], shapes: [], constraints: [], ideal_s, follows_dt: knob.ideal_step_time === 'dt' };
+}
+
+/// One world step of dt_s. Where the ideal step time follows the step, a step of another length
+/// (a run's last, shorter one) re-sets it first: it is the step "you intend to call HP_World_Step() with".
+function world_step(dt_s) {
+  if (world.follows_dt && dt_s !== world.ideal_s) {
+    ok(HK.HP_World_SetIdealStepTime(world.id, dt_s), 'HP_World_SetIdealStepTime');
+    world.ideal_s = dt_s;
+  }
+  return timed(() => HK.HP_World_Step(world.id, dt_s));
 }
 
 function shape(made, filter, friction) {
@@ -164,7 +171,7 @@ function build_car(req) {
     return body;
   });
   world.chassis = chassis;
-  return car_state(0);
+  return { ...car_state(0), ideal_step_time_s: world.ideal_s };
 }
 
 function pose(b) {
@@ -192,7 +199,7 @@ function step_car(req) {
     HK.HP_Constraint_SetAxisMotorTarget(f.spin, A.ANGULAR_X, spin[k]);
     HK.HP_Constraint_SetAxisMotorTarget(f.steer, A.ANGULAR_X, steer[k]);
   });
-  return car_state(timed(() => HK.HP_World_Step(world.id, req.dt_s)));
+  return car_state(world_step(req.dt_s));
 }
 
 function build_disks(req) {
@@ -205,7 +212,7 @@ function build_disks(req) {
   HK.HP_Body_SetGravityFactor(world.M, 0);
   world.N = add_body(ball(), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], HK.MotionType.KINEMATIC, 0);
   HK.HP_Body_SetEventMask(world.M, HK.EventType.COLLISION_STARTED.value | HK.EventType.COLLISION_CONTINUED.value);
-  return disk_state();
+  return { ...disk_state(), ideal_step_time_s: world.ideal_s };
 }
 
 function disk_state() {
@@ -235,7 +242,7 @@ function disk_contacts() {
 function step_disks(req) {
   HK.HP_Body_SetLinearVelocity(world.M, [req.vM_cmd[0], req.vM_cmd[1], 0]);  // in the plane: no out-of-plane velocity
   HK.HP_Body_SetTargetQTransform(world.N, [[req.cN_next[0], req.cN_next[1], 0], [0, 0, 0, 1]]);
-  const engine_s = timed(() => HK.HP_World_Step(world.id, req.dt_s));
+  const engine_s = world_step(req.dt_s);
   const c = disk_contacts();
   const contacts = c.count > 0
     ? { count: c.count, depth_max_m: Math.max(0, -c.distance_min_m), distance_min_m: c.distance_min_m }
@@ -249,9 +256,7 @@ serve({
       engine: 'Havok', version: VERSION, precision: 'float32',
       vehicles: ['car', 'disks'], four_wheels: true, settings: SETTINGS,
       fixed: [
-        ['configuration', CONFIG === 'default'
-          ? 'Havok as Babylon.js ships it: world defaults (ideal step time 1/60 s, from which Havok adapts its solver to the step it is given); no solver iterations are exposed'
-          : 'Havok with the ideal step time set to the step it is called with (HP_World_SetIdealStepTime, as its API documents); everything else as shipped; no solver iterations are exposed'],
+        ['configuration', 'Havok as its users run it: HP_World_SetIdealStepTime(dt), re-set when a step of another length comes (HavokPhysics.d.ts 1.3.14: "the ideal delta time which you intend to call HP_World_Step() with", the solver parameters adjusted from it; Havok\'s samples set it to their fixed step, and Babylon.js\'s HavokPlugin steps at its fixed time step, 1/60 s by default, the ideal step time\'s default); everything else as a new world has it; no solver iterations are exposed; the speed limits (HP_World_SetSpeedLimit, 200 m/s and 100 rad/s) are never reached'],
         ['joints', '6-DOF constraints with only ANGULAR_X free (Babylon.js HingeConstraint): steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y) with VELOCITY motors, max torque the servo torque; passive ones for the rear wheels; joint angles from the bodies\' orientations'],
         ['bodies', `chassis box of the chassis mass (filter colliding with nothing); knuckle a ${C.KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg, colliding with nothing; wheels spheres of radius R (or y-axis cylinders) of wheel_mass_kg; inertias HP_Shape_BuildMassProperties gives for the shapes at those masses; no damping, always active`],
         ['ground', 'static box, top face z = 0, 60 m square (or 20 l) centred under the start (float32 contact precision degrades on large shapes)'],

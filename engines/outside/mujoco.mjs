@@ -1,6 +1,10 @@
 // MuJoCo 3 (mujoco-js, the official WASM build, float64) served over liftcheck's engine protocol
 // (docs/protocol.md), with the MJCF of liftcheck's compiled-in MuJoCo adapter
-// (engines/mujoco/mujoco_engine.cpp) and MuJoCo's defaults as shipped.
+// (engines/mujoco/mujoco_engine.cpp). Two configurations, chosen with --config:
+//   default   MuJoCo's defaults as shipped (the compiled-in `mujoco`).
+//   stiff     the compiled-in `mujoco-stiff`'s changes: every geom's solref (2 dt, 1), the
+//             stiffest time constant MuJoCo's refsafe allows (2 x timestep), the elliptic friction
+//             cone and impratio 10 (knob `impratio`, the car's only, as there).
 //
 // The model is MJCF text written into the module's in-memory file system and compiled by
 // MjModel.loadFromXML. Stepping is mj_step split in its halves, as in the compiled-in adapter:
@@ -17,7 +21,7 @@
 // Disks: M a sphere on slide joints x and y with velocity actuators kv = 1 kg / dt, N a mocap
 // sphere placed on its path after each step; frictionless (condim 1), no gravity.
 //
-//   node mujoco.mjs --config default
+//   node mujoco.mjs --config default|stiff
 import loadMujoco from 'mujoco-js';
 
 import { serve, timed } from './protocol.mjs';
@@ -25,7 +29,13 @@ import * as C from './common.mjs';
 
 console.log = console.error;  // MuJoCo's warnings must not reach standard output
 const mj = await loadMujoco();
-C.parseArgs(process.argv.slice(2), { default: true });
+const CONFIGS = { default: { stiff: false }, stiff: { stiff: true, impratio: 10 } };
+const CONFIG = CONFIGS[C.parseArgs(process.argv.slice(2), CONFIGS).config];
+// mujoco-stiff's one knob (engines/mujoco/mujoco_engine.cpp): impratio, the car's; the disks are frictionless.
+const KNOBS = CONFIG.stiff
+  ? [{ key: 'impratio', vehicle: 'car', kind: 'real', min: 0, min_exclusive: true, max: 1000, default: String(CONFIG.impratio),
+      help: 'ratio of frictional to normal constraint impedance (option impratio)' }]
+  : [];
 const DIR = '/liftcheck';
 mj.FS.mkdir(DIR);
 const num = (x) => x.toPrecision(17);
@@ -76,11 +86,15 @@ function timestep(dt_s) {
   if (sim.m.opt.timestep !== dt_s) sim.m.opt.timestep = dt_s;
 }
 
-function option(dt_s, g) {
-  return `<option timestep="${num(dt_s)}" gravity="${g.map(num).join(' ')}"/>`;
+/// The <option> element (and, for stiff, the geom defaults) at time step dt: mujoco_engine.cpp's option_xml.
+function option(dt_s, g, impratio) {
+  const base = `timestep="${num(dt_s)}" gravity="${g.map(num).join(' ')}"`;
+  if (!CONFIG.stiff) return `<option ${base}/>`;
+  return `<option ${base} cone="elliptic" impratio="${num(impratio)}"/>
+<default><geom solref="${num(2 * dt_s)} 1"/></default>`;
 }
 
-function carXml({ car: d, q0, servo, mu, dt_s, gravity_W }) {
+function carXml({ car: d, q0, servo, mu, dt_s, gravity_W }, impratio) {
   const R = d.R_m, l = d.l_m, w = d.track_m;
   const ik = d.knuckle_mass_kg * C.KNUCKLE_GYRATION_SQ_M2;
   const spinI = 0.4 * d.wheel_mass_kg * R * R, steerI = spinI + ik;  // kv = I / dt: deadbeat when unloaded
@@ -100,7 +114,7 @@ function carXml({ car: d, q0, servo, mu, dt_s, gravity_W }) {
     `<velocity name="spin${sfx}" joint="spin${sfx}" kv="${num(spinI / dt_s)}" forcelimited="true" forcerange="${num(-servo.spin_Nm)} ${num(servo.spin_Nm)}"/>
 <velocity name="steer${sfx}" joint="steer${sfx}" kv="${num(steerI / dt_s)}" forcelimited="true" forcerange="${num(-servo.steer_Nm)} ${num(servo.steer_Nm)}"/>`).join('\n');
   return `<mujoco model="liftcheck ${fronts.length === 1 ? 'tricycle' : 'four-wheel car'}">
-${option(dt_s, gravity_W)}
+${option(dt_s, gravity_W, impratio)}
 <worldbody>
 <geom name="ground" type="plane" size="0 0 1" condim="3" friction="${num(mu)} 0.005 0.0001" contype="2" conaffinity="1"/>
 <body name="chassis" pos="${num(q0.x_m)} ${num(q0.y_m)} ${num(R)}" quat="${num(qw)} 0 0 ${num(qz)}">
@@ -120,9 +134,9 @@ ${actuators}
 
 function buildCar(req) {
   car = disks = null;  // a build that fails leaves no world to step
-  C.applySettings([], req.settings, 'car');
+  const knob = C.applySettings(KNOBS, req.settings, 'car');
   const r = C.carRequest(req);
-  const id = compile(carXml(r));
+  const id = compile(carXml(r, knob.impratio));
   const { m } = sim;
   const fronts = C.frontWheels(r.car, r.q0.beta_rad).map((f, k, all) => {
     const sfx = all.length === 1 ? '' : ['_left', '_right'][k];
@@ -177,7 +191,7 @@ function stepCar(req) {
 function disksXml({ radius_m, dt_s, cM0, cN0 }) {
   const r = num(radius_m);
   return `<mujoco model="liftcheck disks">
-${option(dt_s, [0, 0, 0])}
+${option(dt_s, [0, 0, 0], CONFIG.impratio)}
 <worldbody>
 <body name="M" pos="${num(cM0[0])} ${num(cM0[1])} 0">
   <joint name="x" type="slide" axis="1 0 0"/><joint name="y" type="slide" axis="0 1 0"/>
@@ -192,7 +206,7 @@ ${option(dt_s, [0, 0, 0])}
 
 function buildDisks(req) {
   car = disks = null;
-  C.applySettings([], req.settings, 'disks');
+  C.applySettings(KNOBS, req.settings, 'disks');
   const r = C.diskRequest(req);
   const id = compile(disksXml(r));
   const { m } = sim;
@@ -244,11 +258,15 @@ function stepDisks(req) {
 
 serve({
   hello: () => ({
-    engine: 'MuJoCo', version: mj.mj_versionString(), precision: 'float64', vehicles: ['car', 'disks'], four_wheels: true, settings: [],
+    engine: 'MuJoCo', version: mj.mj_versionString(), precision: 'float64', vehicles: ['car', 'disks'], four_wheels: true, settings: KNOBS,
     fixed: [
-      ['model', 'the MJCF of liftcheck\'s compiled-in MuJoCo adapter, compiled by MjModel.loadFromXML from the module\'s in-memory file system'],
-      ['stepping', 'mj_step1 / set ctrl / mj_step2 (equal to mj_step); MuJoCo\'s defaults: Euler, Newton solver, 100 iterations, tolerance 1e-8, pyramidal cone, impratio 1, noslip off'],
-      ['contact', 'MuJoCo\'s defaults: solref 0.02 1, solimp 0.9 0.95 0.001, margin 0'],
+      ['model', `the MJCF of liftcheck's compiled-in ${CONFIG.stiff ? 'mujoco-stiff' : 'mujoco'} configuration, compiled by MjModel.loadFromXML from the module's in-memory file system`],
+      ['stepping', CONFIG.stiff
+        ? 'mj_step1 / set ctrl / mj_step2 (equal to mj_step); Euler, Newton solver, 100 iterations, tolerance 1e-8 (defaults), elliptic cone, impratio 10 (car: knob impratio; disks 10), noslip off'
+        : 'mj_step1 / set ctrl / mj_step2 (equal to mj_step); MuJoCo\'s defaults: Euler, Newton solver, 100 iterations, tolerance 1e-8, pyramidal cone, impratio 1, noslip off'],
+      ['contact', CONFIG.stiff
+        ? 'every geom solref (2 dt, 1): the time constant at its refsafe floor of 2 x timestep, damping ratio 1; solimp 0.9 0.95 0.001 (default), margin 0'
+        : 'MuJoCo\'s defaults: solref 0.02 1, solimp 0.9 0.95 0.001, margin 0'],
       ['joints', 'free-joint chassis at the front-axle centre (box l/2 behind it, no collision); knuckle hinged about the chassis z (inertia m x 2e-3 m^2); front wheel hinged about the knuckle y; rear wheels hinged about the chassis y; four wheels: two knuckles at (0, +-track/2), each at its Ackermann angle'],
       ['actuators', 'velocity actuators on spin and steering, kv = the joint\'s own inertia / dt, forcerange the request\'s torque limit'],
       ['friction', 'wheels and ground friction mu (MuJoCo takes the larger of the two geoms\'), condim 3'],

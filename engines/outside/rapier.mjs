@@ -181,7 +181,8 @@ serve({
   hello: () => ({
     engine: 'Rapier', version: VERSION, precision: 'float32', vehicles: ['car', 'disks'], four_wheels: true, settings: KNOBS,
     fixed: [
-      ['stepping', 'World.step() with World.timestep = dt (no interpolation); integration parameters otherwise as shipped (prediction distance 0.02 m, allowed linear error 0.001 m)'],
+      ['stepping', 'World.step() with World.timestep = dt (no interpolation); integration parameters otherwise as shipped: read back from rapier3d-compat 0.21.0, prediction distance 0.02 m, allowed linear error 0.005 m (normalizedAllowedLinearError x lengthUnit 1), contact_erp 0.0093 at dt = 1 ms'],
+      ['contact stiffness', 'not a knob: in 0.21.0 setting normalizedAllowedLinearError (1e-5) or contact_natural_frequency (300) changes no figure of car.circle, although the getters read the new values'],
       ['joints', 'revolute impulse joints (JointData.revolute): steering about the chassis z, front spin about the knuckle y (one knuckle per front wheel; four wheels at their Ackermann angles), rear wheels about the chassis y; multibody joints are not used: Rapier\'s JS multibody joints have no motors'],
       ['motors', `steering and front spin: configureMotorModel(AccelerationBased), configureMotorVelocity(rate, ${MOTOR_FACTOR_DT}/dt), setMotorMaxForce(the request's torque limit)`],
       ['bodies', 'chassis cuboid collider with setMass (collision groups 0: collides with nothing); knuckle setAdditionalMassProperties (inertia m x 2e-3 m^2); ball wheels setMass (Rapier\'s solid-ball inertia)'],

@@ -111,3 +111,45 @@ test('cannon --fault late-contact reports the disks\' first contact one step lat
   assert.equal(clean, 12);  // the gap of 10.5 mm is closed during step 11: the state step 12 starts from overlaps
   assert.equal(await firstContact(['node', '../cannon.mjs', '--config', 'default', '--fault', 'late-contact']), clean + 1);
 });
+
+// Havok runs as its users run it: the ideal step time is the step it is called with. Havok has no
+// getter for it (HavokPhysics.d.ts 1.3.14 has HP_World_SetIdealStepTime only): the adapter sends
+// back the value it set, for the car and the disks, at two steps.
+test('havok: the ideal step time set is the request\'s dt, for two dt', async () => {
+  const reg = REGISTERED.find((r) => r.name === 'havok');
+  const a = start(reg.command);
+  await a.request({ op: 'hello', protocol: 1 });
+  for (const dt_s of [0.001, 0.002]) {
+    const car = await a.request({ ...carRequest({}), dt_s });
+    assert.equal(car.ok, true);
+    assert.equal(car.ideal_step_time_s, dt_s);
+    const disks = await a.request({ op: 'disks', settings: {}, radius_m: 1, dt_s, cM0: [0, 0], cN0: [3, 0] });
+    assert.equal(disks.ideal_step_time_s, dt_s);
+  }
+  await a.stop();
+});
+
+// cannon-es's Equation constructor gives every equation setSpookParams(1e7, 4, 1/60) (Equation.js,
+// 0.20.0); the adapter re-sets the constraints' equations for the run's dt. Its build reply lists
+// [a, b, eps] of each, read back from the equations.
+function spook(k, d, h) {  // Equation.setSpookParams
+  return [4 / (h * (1 + 4 * d)), (4 * d) / (1 + 4 * d), 4 / (h * h * k * (1 + 4 * d))];
+}
+for (const name of ['cannon', 'cannon-accurate']) {
+  test(`${name}: every constraint equation's SPOOK parameters are those of the run's dt`, async () => {
+    const reg = REGISTERED.find((r) => r.name === name);
+    const a = start(reg.command);
+    await a.request({ op: 'hello', protocol: 1 });
+    for (const [wheels, count] of [[3, 4 * 6], [4, 6 * 6]]) {  // hinges x (3 point, 2 rotational, 1 motor)
+      for (const dt_s of [0.001, 0.002]) {
+        const r = await a.request({ ...carRequest({}), dt_s, car: { ...CAR, wheels } });
+        assert.equal(r.ok, true);
+        assert.equal(r.constraint_spook.length, count);
+        const want = spook(1e7, 4, dt_s);
+        for (const got of r.constraint_spook)
+          got.forEach((v, i) => assert.ok(Math.abs(v - want[i]) <= 1e-12 * Math.abs(want[i]), `${['a', 'b', 'eps'][i]} = ${v}, want ${want[i]} at dt ${dt_s}`));
+      }
+    }
+    await a.stop();
+  });
+}

@@ -460,8 +460,37 @@ void set_protocol_timeout(double run_timeout_s) {
 }
 double protocol_timeout_s() { return g_timeout_s; }
 
+std::string default_suite_dir() {
+  static const std::string dir = [] {
+    std::error_code ec;
+    const std::filesystem::path exe = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) {
+      const std::filesystem::path beside = exe.parent_path() / "outside" / "suite";
+      if (std::filesystem::is_directory(beside, ec)) return beside.string();
+    }
+    return std::string(LIFTCHECK_OUTSIDE_DIR);
+  }();
+  return dir;
+}
+
+bool default_suite_is_beside_binary() { return default_suite_dir() != LIFTCHECK_OUTSIDE_DIR; }
+
+std::string adapter_path(const EngineInfo& e) {
+  if (e.registration.empty()) return {};
+  const std::filesystem::path cwd = std::filesystem::path(e.registration).parent_path();
+  std::error_code ec;
+  for (size_t i = 0; i < e.command.size(); ++i) {
+    const std::string& a = e.command[i];
+    // A bare command[0] is looked up on PATH (the interpreter); options are not files.
+    if ((i == 0 && a.find('/') == std::string::npos) || a.empty() || a[0] == '-') continue;
+    const std::filesystem::path p = cwd / a;  // an absolute argument stands for itself
+    if (std::filesystem::is_regular_file(p, ec)) return std::filesystem::weakly_canonical(p, ec).string();
+  }
+  return {};
+}
+
 std::vector<std::string> engine_dirs() {
-  std::vector<std::string> dirs{LIFTCHECK_OUTSIDE_DIR};
+  std::vector<std::string> dirs{default_suite_dir()};
   if (const char* path = std::getenv("LIFTCHECK_ENGINE_PATH")) {
     std::stringstream ss(path);
     std::string d;
@@ -480,7 +509,7 @@ std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled
     const std::filesystem::path d = std::filesystem::weakly_canonical(std::filesystem::absolute(dir), ec);
     if (!dirs_seen.insert(d.string()).second) continue;
     if (!std::filesystem::is_directory(d, ec)) {
-      if (dir != LIFTCHECK_OUTSIDE_DIR) problems.push_back(fmt::format("engine folder '{}' (--engine-dir or LIFTCHECK_ENGINE_PATH) is not a folder", dir));
+      if (dir != default_suite_dir()) problems.push_back(fmt::format("engine folder '{}' (--engine-dir or LIFTCHECK_ENGINE_PATH) is not a folder", dir));
       continue;
     }
     std::vector<std::filesystem::path> files;

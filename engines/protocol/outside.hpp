@@ -13,9 +13,21 @@
 
 namespace liftcheck {
 
-/// The folders registrations are read from: the project's engines/outside/, then each folder of
-/// LIFTCHECK_ENGINE_PATH (colon-separated; `--engine-dir` prepends to it).
+/// The folders registrations are read from: the default suite's (default_suite_dir), then each
+/// folder of LIFTCHECK_ENGINE_PATH (colon-separated; `--engine-dir` prepends to it).
 std::vector<std::string> engine_dirs();
+
+/// The default suite's registrations: `outside/suite` beside the running binary (the build copies
+/// engines/outside there, so a build copied elsewhere runs the adapters it carries), or, where
+/// there is none, the source tree's engines/outside/suite, compiled in.
+std::string default_suite_dir();
+/// True when default_suite_dir() is the folder beside the binary, false for the compiled-in one.
+bool default_suite_is_beside_binary();
+
+/// The script an outside configuration's command runs: the first argument (command[0] only where
+/// it is a path) naming a file relative to the registration's folder, as an absolute path with
+/// symbolic links resolved; empty for a compiled-in configuration or a command that names none.
+std::string adapter_path(const EngineInfo& e);
 
 /// One entry per registration file found, not yet described (no process started). A file that
 /// cannot be read or is malformed, a name taken twice or by a compiled-in configuration is left
