@@ -47,8 +47,8 @@ size_t item_for(SuitePlan& plan, std::map<std::string, size_t>& index, const Sce
 std::pair<double, double> figure(const nlohmann::json& record, const std::string& metric) {
   const nlohmann::json* m = record.contains("metrics") && record["metrics"].contains(metric) ? &record["metrics"][metric] : nullptr;
   if (!m) return {NAN, NAN};
-  const nlohmann::json& err = (*m)[(*m)["tolerance_kind"] == "rel" ? "rel_error" : "abs_error"];
-  return {err.is_number() ? err.get<double>() : NAN, (*m)["tolerance"].get<double>()};
+  const auto number = [&](const char* key) { return m->contains(key) && (*m)[key].is_number() ? (*m)[key].get<double>() : NAN; };
+  return {number(m->value("tolerance_kind", nlohmann::json()) == "rel" ? "rel_error" : "abs_error"), number("tolerance")};
 }
 
 bool selected(const ListedReason& l, const std::vector<std::string>& names, const std::vector<std::string>& engines) {
@@ -75,7 +75,7 @@ bool report(const Experiment& x, const nlohmann::json& base, const nlohmann::jso
   std::cout << fmt::format("{}: {} moves {} {:.3g} -> {:.3g} (recorded {:.3g} -> {:.3g}, tolerance {:.3g}): {}\n", where, x.evidence->change_text(),
                            x.evidence->metric, from, to, x.evidence->from, x.evidence->to, tol, holds ? "holds" : "DOES NOT HOLD");
   for (const nlohmann::json* r : {&base, &changed})
-    if (r->value("status", "") == "error") std::cout << "  error: " << printable(r->value("message", ""), 300) << "\n";
+    if ((*r)["status"] == "error" && (*r)["message"].is_string()) std::cout << "  error: " << printable((*r)["message"].get<std::string>(), 300) << "\n";
   return holds;
 }
 
