@@ -99,7 +99,8 @@ std::vector<ListedReason> read_plan(const std::string& path) {
     if (!e.is_object() || !e.contains("engine")) throw InputError(fmt::format("{}: each experiment names its \"engine\"", path));
     const bool sweep = e.contains("sweep");
     ListedReason l{e.value(sweep ? "sweep" : "scenario", ""), sweep, e.at("engine"), {}, "", {}};
-    for (const auto& [k, val] : e.value("params", nlohmann::json::object()).items()) l.params.emplace_back(k, val.get<std::string>());
+    const nlohmann::json params = e.value("params", nlohmann::json::object());
+    for (const auto& [k, val] : params.items()) l.params.emplace_back(k, val.get<std::string>());
     nlohmann::json ev = {{"change", e.value("change", nlohmann::json::object())}, {"metric", e.value("metric", "")}, {"from", 0.0}, {"to", 1.0}};
     if (sweep) ev["x"] = e.value("x", 0.0);
     try {
