@@ -115,7 +115,7 @@ class OdeCar : public RigidCar {
       dJointSetHingeAxis(rear_joint_[i], -s, c, 0);
     }
     mu_ = setup.mu;
-    soft_erp_ = settings_.number("contact_erp");
+    soft_erp_ = settings_.has("contact_erp") ? settings_.number("contact_erp") : kContactSoftErp;  // ode-quick has none
     soft_cfm_ = settings_.number("contact_cfm");
     wheel_dirs_ = settings_.choice("friction_dirs") == "wheel";
   }
@@ -223,7 +223,7 @@ class OdeCar : public RigidCar {
   dJointID steer_joint_[2] = {nullptr, nullptr}, rear_joint_[2] = {nullptr, nullptr};
   int n_front_ = 1;  ///< front wheels: 1 (tricycle) or 2 (left, right)
   double beta0_[2] = {0.0, 0.0}, mu_ = 1.0;  ///< each front wheel's start steering angle
-  double soft_erp_ = 0.2, soft_cfm_ = 1e-9;   ///< the wheel-ground contacts' dSurfaceParameters soft_erp, soft_cfm
+  double soft_erp_ = kContactSoftErp, soft_cfm_ = kContactSoftCfm_m_per_Ns;  ///< the wheel-ground contacts' soft_erp, soft_cfm
   bool wheel_dirs_ = true;
   OdeStepper stepper_;
 };
