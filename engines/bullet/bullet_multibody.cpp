@@ -134,8 +134,7 @@ constexpr int kGroupWheel = 1, kGroupGround = 2;
 constexpr int kKnuckle = 0, kFront = 1, kRearLeft = 2, kRearRight = 3, kLinks = 4;
 // Bullet's default linear and angular damping. btMultiBody's constructor stores it as the float
 // literal 0.04f (0.039999999106 in double); both vehicles set the setting's value instead, so a
-// record's "damping" is what Bullet applied (the disks, which kept the constructor's value before
-// the setting existed, moved by 2e-8 relative).
+// record's "damping" is what Bullet applied.
 constexpr double kDefaultDamping = 0.04;
 constexpr int kDefaultIterations = 10;    // btContactSolverInfo's default
 
