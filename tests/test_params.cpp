@@ -65,7 +65,7 @@ TEST(Params, EngineSettings) {
   EXPECT_EQ(setting_error(bullet, {{"iterations", "2.5"}}), "parameter 'iterations' needs a whole number, got '2.5'");
   EXPECT_EQ(setting_error(bullet, {{"wheel", "square"}}), "parameter 'wheel' must be one of sphere|cylinder, got 'square'");
   const std::string no_iterations = setting_error(*find_engine("ode"), {{"iterations", "5"}});
-  EXPECT_EQ(no_iterations.rfind("engine 'ode' has no setting 'iterations' for cars (its settings there: wheel, friction_dirs; 'iterations' is a setting of ", 0), 0u)
+  EXPECT_EQ(no_iterations.rfind("engine 'ode' has no setting 'iterations' for cars (its settings there: wheel, friction_dirs, contact_erp, contact_cfm; 'iterations' is a setting of ", 0), 0u)
       << no_iterations;
   EXPECT_NE(no_iterations.find("ode-quick"), std::string::npos) << no_iterations;
   EXPECT_NE(no_iterations.find("bullet"), std::string::npos) << no_iterations;
@@ -78,6 +78,29 @@ TEST(Params, EngineSettings) {
   EXPECT_NE(setting_error(quick, {{"w", "2.5"}}), "");
   EXPECT_NE(setting_error(quick, {{"w", "fast"}}), "");
   EXPECT_EQ(setting_error(*find_engine("ode"), {{"w", "1.0"}}).rfind("engine 'ode' has no setting 'w' for cars", 0), 0u);
+}
+
+// MuJoCo's refsafe raises a solref time constant below 2 dt to 2 dt without a word: such a value
+// is refused as bad input naming the floor, on the car and on the disks alike, at the floor itself
+// accepted; the default 0.02 s is refused too where dt makes 2 dt larger than it.
+TEST(Params, MujocoRefusesASolrefTimeConstantRefsafeWouldRaise) {
+  const EngineInfo& mujoco = *find_engine("mujoco");
+  const auto refusal = [&](const char* scenario, const Overrides& ov) -> std::string {
+    try {
+      (void)run_scenario(*find_scenario(scenario), mujoco, ov);
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  };
+  const std::string car = refusal("car.circle", {{"solref_timeconst_s", "0.0019"}});
+  EXPECT_NE(car.find("below 2 dt = 0.002 s"), std::string::npos) << car;
+  EXPECT_NE(car.find("refsafe"), std::string::npos) << car;
+  const std::string disks = refusal("disks.copy", {{"solref_timeconst_s", "0.0019"}});
+  EXPECT_NE(disks.find("below 2 dt = 0.002 s"), std::string::npos) << disks;
+  const std::string coarse = refusal("disks.copy", {{"dt", "0.02"}});
+  EXPECT_NE(coarse.find("'solref_timeconst_s' = 0.02 s is below 2 dt = 0.04 s"), std::string::npos) << coarse;
+  EXPECT_EQ(refusal("disks.copy", {{"solref_timeconst_s", "0.002"}}), "");
 }
 
 TEST(Params, SplitAssignment) {

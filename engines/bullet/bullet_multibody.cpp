@@ -11,7 +11,8 @@
 // link's collider. Signs: a positive revolute position turns the child counter-clockwise about
 // the joint axis, so steering left and rolling forward are both positive, with no negation.
 //
-// Disks: M a zero-link floating-base btMultiBody with a base collider, N a kinematic btRigidBody.
+// Disks: M a zero-link floating-base btMultiBody with a base collider, N a kinematic btRigidBody;
+// M's damping is the setting `damping` as the car's is (btMultiBody damps every body by default).
 #include "engines/bullet/bullet_multibody.hpp"
 
 #include <btBulletDynamicsCommon.h>
@@ -131,7 +132,10 @@ class MultiBodyScene {
 
 constexpr int kGroupWheel = 1, kGroupGround = 2;
 constexpr int kKnuckle = 0, kFront = 1, kRearLeft = 2, kRearRight = 3, kLinks = 4;
-constexpr double kDefaultDamping = 0.04;  // btMultiBody's own default, linear and angular
+// Bullet's default linear and angular damping. btMultiBody's constructor stores it as the float
+// literal 0.04f (0.039999999106 in double); both vehicles set the setting's value instead, so a
+// record's "damping" is what Bullet applied.
+constexpr double kDefaultDamping = 0.04;
 constexpr int kDefaultIterations = 10;    // btContactSolverInfo's default
 
 Eigen::Vector3d eig(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
@@ -242,7 +246,7 @@ class MultiBodyCar final : public RigidCar {
 /// before each step, N a kinematic rigid body placed on its path after each step.
 class MultiBodyDisks final : public DrivenDisks {
  public:
-  explicit MultiBodyDisks(int iterations) : iterations_(iterations) {}
+  MultiBodyDisks(int iterations, double damping) : iterations_(iterations), damping_(damping) {}
 
  protected:
   void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
@@ -253,6 +257,8 @@ class MultiBodyDisks final : public DrivenDisks {
     sphere->calculateLocalInertia(1.0, inertia);
     auto mb = std::make_unique<btMultiBody>(0, 1.0, inertia, /*fixedBase=*/false, /*canSleep=*/false);
     mb->finalizeMultiDof();
+    mb->setLinearDamping(damping_);
+    mb->setAngularDamping(damping_);
     mb->setBasePos(btVector3(cM0.x(), cM0.y(), 0));
     m_ = scene_->add(std::move(mb));
     m_collider_ = scene_->collider(m_, -1, sphere, 0.0, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
@@ -296,6 +302,7 @@ class MultiBodyDisks final : public DrivenDisks {
 
  private:
   int iterations_;
+  double damping_;  ///< btMultiBody linear and angular damping of M
   std::unique_ptr<MultiBodyScene> scene_;
   btMultiBody* m_ = nullptr;
   btMultiBodyLinkCollider* m_collider_ = nullptr;
@@ -328,6 +335,13 @@ class RawMultiBodyCar final : public RawCar {
   double dt_s_;
 };
 
+/// btMultiBody's velocity damping of `vehicle`: the car's multibody, or disk M's.
+SettingSpec damping_knob(Vehicle vehicle) {
+  return {{.key = "damping", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultDamping), .unit = "1",
+           .help = "btMultiBody linear and angular damping (btMultiBody::setLinearDamping, setAngularDamping; Bullet's default 0.04)", .min = 0, .max = 1},
+          vehicle, SettingRole::kDamping};
+}
+
 }  // namespace
 
 std::unique_ptr<RawCar> make_raw_bullet_multibody_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
@@ -341,7 +355,7 @@ EngineInfo bullet_multibody_engine() {
           .description = "Bullet Featherstone btMultiBody: floating-base tricycle, revolute links, joint motors, Bullet's defaults (damping 0.04, 10 iterations)",
           .color = "#d62728",
           .make_car = [](const Settings& s) { return std::make_unique<MultiBodyCar>(s); },
-          .make_disks = [](const Settings&) { return std::make_unique<MultiBodyDisks>(kDefaultIterations); },
+          .make_disks = [](const Settings& s) { return std::make_unique<MultiBodyDisks>(kDefaultIterations, s.number("damping")); },
           .contact_dynamics = true,
           .settings = {{"precision", "double (bullet-float64)"},
            {"stepper", "btMultiBodyDynamicsWorld, btMultiBodyConstraintSolver (sequential impulse), stepSimulation(dt, 1, dt)"},
@@ -349,15 +363,13 @@ EngineInfo bullet_multibody_engine() {
            {"motors", "btMultiBodyJointMotor velocity targets on the knuckle (steering) and the front wheel (spin), max impulse per step = torque limit x dt"},
            {"contact", "btMultiBodyLinkCollider spheres on a static plane; friction = mu x 1 (Bullet multiplies both bodies' coefficients); other btContactSolverInfo fields at Bullet's defaults"},
            {"friction directions", "two (SOLVER_USE_2_FRICTION_DIRECTIONS, set by btMultiBodyDynamicsWorld): world plane-space axes of the contact normal; custom directions are ignored by btMultiBodyConstraintSolver, so they cannot follow the wheel"},
-           {"damping", "btMultiBody linear and angular damping: car --set damping (default 0.04, Bullet's); disk M fixed at Bullet's 0.04"},
+           {"damping", "btMultiBody linear and angular damping (setLinearDamping, setAngularDamping) of the car and of disk M: --set damping (default 0.04, Bullet's)"},
            {"servo", "rate = commanded rate + 40/s x angle error, torque limit 1.5 mu N R of the driven wheel (106 N m for the default car); settle 0.5 s, hold 0.2 s"},
            {"disks", "M: zero-link floating-base btMultiBody (radius 1, 1 kg, frictionless base collider), base velocity set to the command (z = 0) before each step; N: kinematic btRigidBody sphere placed on its path; contact from the step's manifolds (distance <= 0), multibody solver response, 10 iterations"}},
           .knobs = {SettingSpec{{.key = "iterations", .kind = ParamKind::kInteger, .default_text = std::to_string(kDefaultIterations), .unit = "1",
                                  .help = "solver iterations (btContactSolverInfo::m_numIterations)", .min = 1, .max = 10000},
                                 Vehicle::kCar, SettingRole::kSolverIterations},
-                    SettingSpec{{.key = "damping", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultDamping), .unit = "1",
-                                 .help = "btMultiBody linear and angular damping", .min = 0, .max = 1},
-                                Vehicle::kCar, SettingRole::kDamping}},
+                    damping_knob(Vehicle::kCar), damping_knob(Vehicle::kDisks)},
           .make_raw_car = make_raw_bullet_multibody_car};
 }
 

@@ -68,15 +68,19 @@ using dart::dynamics::ShapeNode;
 using dart::dynamics::Skeleton;
 using dart::dynamics::SkeletonPtr;
 
-/// Which collision detector the World's constraint solver uses.
+/// Which collision detector the World's constraint solver uses (the setting `detector`).
 enum class Detector {
-  kShipped,  ///< whatever World creates: FCLCollisionDetector with primitives as meshes
-  kDart,     ///< DARTCollisionDetector: analytic spheres and boxes
+  kShipped,  ///< "fcl": whatever World creates, FCLCollisionDetector with primitives as meshes
+  kDart,     ///< "dart": DARTCollisionDetector, analytic spheres and boxes
 };
+
+Detector detector_of(const Settings& s) { return s.choice("detector") == "dart" ? Detector::kDart : Detector::kShipped; }
 
 constexpr double kGroundSize_m = 200.0, kGroundThickness_m = 1.0;
 constexpr double kDiskMass_kg = 1.0;
-constexpr double kDiskServoForceMax_N = 1e5;  // enough to reach any commanded velocity within one step
+// M's SERVO force limit per axis, the adapter's choice (DART's own default is unbounded): enough to
+// reach any commanded velocity within one step (1e5 N changes 1 kg's velocity by 100 m/s in 1 ms).
+constexpr double kDiskServoForceMax_N = 1e5;
 
 std::shared_ptr<dart::simulation::World> make_world(Detector det, const Eigen::Vector3d& gravity_W_mps2, double dt_s) {
   auto world = dart::simulation::World::create("liftcheck");
@@ -107,7 +111,7 @@ class DartCar final : public RigidCar {
   friend class RawDartCar;  // the benchmarks' raw loop on this world
 
  public:
-  DartCar(Settings settings, Detector det) : RigidCar(std::move(settings)), det_(det) {}
+  explicit DartCar(Settings settings) : RigidCar(std::move(settings)), det_(detector_of(settings_)) {}
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
@@ -230,7 +234,7 @@ class DartCar final : public RigidCar {
 /// Two disks: M on a translational joint with SERVO actuators, N on one with VELOCITY actuators.
 class DartDisks final : public DrivenDisks {
  public:
-  explicit DartDisks(Detector det) : det_(det) {}
+  explicit DartDisks(const Settings& s) : det_(detector_of(s)), servo_force_max_N_(s.number("servo_force_limit_N")) {}
 
  protected:
   void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
@@ -246,8 +250,8 @@ class DartDisks final : public DrivenDisks {
       j->setActuatorType(type);
       if (type == Joint::SERVO)
         for (std::size_t i = 0; i < 3; ++i) {
-          j->setForceLowerLimit(i, -kDiskServoForceMax_N);
-          j->setForceUpperLimit(i, kDiskServoForceMax_N);
+          j->setForceLowerLimit(i, -servo_force_max_N_);
+          j->setForceUpperLimit(i, servo_force_max_N_);
         }
       world_->addSkeleton(sk);
       return j;
@@ -286,6 +290,7 @@ class DartDisks final : public DrivenDisks {
 
  private:
   Detector det_;
+  double servo_force_max_N_;  ///< M's SERVO force limit on each axis
   std::shared_ptr<dart::simulation::World> world_;
   Joint* m_joint_ = nullptr;
   Joint* n_joint_ = nullptr;
@@ -294,12 +299,14 @@ class DartDisks final : public DrivenDisks {
   double dt_s_ = 1e-3;
 };
 
+std::string detector_name(Detector det) { return det == Detector::kDart ? "dart" : "fcl"; }
+
 std::vector<std::pair<std::string, std::string>> settings_for(Detector det) {
   using dart::constraint::ContactConstraint;
-  const std::string detector =
-      det == Detector::kDart
-          ? "DARTCollisionDetector (set on the constraint solver): analytic sphere-box and sphere-sphere contacts"
-          : "FCLCollisionDetector as World creates it: primitive shape type MESH (spheres tessellated into polyhedra), DART's own contact points";
+  const std::string detector = fmt::format(
+      "--set detector for cars and disks (default {}): fcl, FCLCollisionDetector as World creates it (primitive shape type MESH: spheres tessellated into "
+      "polyhedra; DART's own contact points); dart, DARTCollisionDetector set on the constraint solver (analytic sphere-box and sphere-sphere contacts)",
+      detector_name(det));
   return {
       {"stepper", "dart::simulation::World::step: Featherstone forward dynamics, semi-implicit Euler (velocities, then positions with the new velocities), fixed dt"},
       {"constraint solver", "BoxedLcpConstraintSolver as shipped: Dantzig boxed LCP, PGS as fallback; contacts, servos and friction in one LCP per step"},
@@ -312,7 +319,7 @@ std::vector<std::pair<std::string, std::string>> settings_for(Detector det) {
       {"joints", "Skeleton: FreeJoint chassis (frame at the front-axle centre, a box of the scenario's chassis_mass, centre of mass l/2 behind, no collision shape); RevoluteJoint steering knuckle (knuckle_mass, isotropic inertia knuckle_mass x 2e-3 m^2) about the chassis z; RevoluteJoint front wheel about the knuckle's y; RevoluteJoint rear wheels about the chassis y; sphere wheels of wheel_mass"},
       {"ground", "static skeleton (WeldJoint, not mobile): a 200 x 200 x 1 m BoxShape with its top face at z = 0"},
       {"servo", "Joint::SERVO actuators on steering and spin (command = joint velocity, solved with the contacts), force limits +-(1.5 mu N R of the driven wheel: 106 N m for the default car); rate = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s"},
-      {"disks", "M: skeleton on a TranslationalJoint with SERVO actuators (radius 1, 1 kg, frictionless, no gravity), commands = the commanded velocity (z 0), force limits +-1e5 N; N: skeleton on a TranslationalJoint with VELOCITY actuators (kinematic) commanded to land on its path each step; contact from World::getLastCollisionResult() (the collision pass at the start of the step), depth >= 0"},
+      {"disks", "M: skeleton on a TranslationalJoint with SERVO actuators (radius 1, 1 kg, frictionless, no gravity), commands = the commanded velocity (z 0), force limits +-servo_force_limit_N on each axis (--set, default 1e5 N; DART's own default is unbounded); N: skeleton on a TranslationalJoint with VELOCITY actuators (kinematic) commanded to land on its path each step; contact from World::getLastCollisionResult() (the collision pass at the start of the step), depth >= 0"},
   };
 }
 
@@ -320,7 +327,7 @@ std::vector<std::pair<std::string, std::string>> settings_for(Detector det) {
 /// commands set once, World::step directly.
 class RawDartCar final : public RawCar {
  public:
-  RawDartCar(const Settings& s, Detector det, const CarSetup& setup, const car::Config& q0) : car_(s, det) { car_.reset(setup, q0); }
+  RawDartCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s) { car_.reset(setup, q0); }
 
   void run(long steps, double spin_radps) override {
     const ServoDef& servo = car_.servo_;  // the run's own limits (ServoDef::for_car)
@@ -342,6 +349,27 @@ class RawDartCar final : public RawCar {
   DartCar car_;
 };
 
+/// The settings of a configuration whose detector by default is `det`.
+std::vector<SettingSpec> knobs_for(Detector det) {
+  std::vector<SettingSpec> knobs;
+  for (const Vehicle vehicle : kVehicles)
+    knobs.push_back({{.key = "detector", .kind = ParamKind::kChoice, .default_text = detector_name(det),
+                      .help = "collision detector of the World's constraint solver (ConstraintSolver::setCollisionDetector): fcl, the FCLCollisionDetector "
+                              "World creates by default, which meshes primitive shapes; dart, DARTCollisionDetector, DART's own analytic detector for spheres and boxes",
+                      .choices = {"fcl", "dart"}},
+                     vehicle});
+  knobs.push_back({{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = "world",
+                    .help = "first friction direction: DART's default from the contact normal (world-fixed), or along the wheel's rolling direction (DynamicsAspect::setFirstFrictionDirection)",
+                    .choices = {"world", "wheel"}},
+                   Vehicle::kCar});
+  knobs.push_back({{.key = "servo_force_limit_N", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDiskServoForceMax_N), .unit = "N",
+                    .help = "force limit of disk M's SERVO actuator on each translational axis (Joint::setForceLowerLimit/setForceUpperLimit at -+ the value; "
+                            "DART's own default is unbounded)",
+                    .min = 0.0, .min_exclusive = true},
+                   Vehicle::kDisks});
+  return knobs;
+}
+
 EngineInfo make_info(Detector det) {
   const bool prim = det == Detector::kDart;
   return {.name = prim ? "dart-primitive" : "dart",
@@ -350,24 +378,21 @@ EngineInfo make_info(Detector det) {
           .description = prim ? "DART with its own collision detector (DARTCollisionDetector): analytic sphere contacts; Skeleton tricycle, SERVO actuators, Dantzig LCP"
                               : "DART as shipped: FCL collision detection with spheres as meshes, Dantzig LCP; Skeleton tricycle, SERVO actuators",
           .color = prim ? "#e377c2" : "#8c564b",
-          .make_car = [det](const Settings& s) { return std::make_unique<DartCar>(s, det); },
-          .make_disks = [det](const Settings&) { return std::make_unique<DartDisks>(det); },
+          .make_car = [](const Settings& s) { return std::make_unique<DartCar>(s); },
+          .make_disks = [](const Settings& s) { return std::make_unique<DartDisks>(s); },
           .contact_dynamics = true,
           .settings = settings_for(det),
-          .knobs = {SettingSpec{{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = "world",
-                                 .help = "first friction direction: DART's default from the contact normal (world-fixed), or along the wheel's rolling direction (DynamicsAspect::setFirstFrictionDirection)",
-                                 .choices = {"world", "wheel"}},
-                                Vehicle::kCar}},
+          .knobs = knobs_for(det),
           .make_raw_car = prim ? make_raw_dart_primitive_car : make_raw_dart_car};
 }
 
 }  // namespace
 
 std::unique_ptr<RawCar> make_raw_dart_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
-  return std::make_unique<RawDartCar>(s, Detector::kShipped, setup, q0);
+  return std::make_unique<RawDartCar>(s, setup, q0);
 }
 std::unique_ptr<RawCar> make_raw_dart_primitive_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
-  return std::make_unique<RawDartCar>(s, Detector::kDart, setup, q0);
+  return std::make_unique<RawDartCar>(s, setup, q0);
 }
 
 EngineInfo dart_engine() { return make_info(Detector::kShipped); }

@@ -41,6 +41,7 @@
 #include <mutex>
 #include <fmt/format.h>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "engines/driven_disks.hpp"
@@ -51,10 +52,15 @@ namespace liftcheck {
 
 namespace {
 
+constexpr double kDefaultTimeconst_s = 0.02;  // MuJoCo's default solref (0.02, 1)
+
 /// What a configuration changes from MuJoCo's defaults.
 struct Variant {
   int noslip_iterations = 0;  ///< 0: MuJoCo's default (off)
-  bool stiff = false;         ///< solref (2 dt, 1), elliptic cone
+  /// solref's time constant for every geom (MJCF <default><geom solref="timeconst 1"/>); none:
+  /// refsafe's floor of 2 dt, the stiffest contact MuJoCo steps without clamping.
+  std::optional<double> solref_timeconst_s = kDefaultTimeconst_s;
+  bool elliptic = false;      ///< option cone: pyramidal (MuJoCo's default) or elliptic
   double impratio = 1.0;      ///< MuJoCo's default 1
 };
 
@@ -68,13 +74,36 @@ constexpr double kDiskMass_kg = 1.0;
 constexpr int kDefaultNoslip = 10;
 constexpr double kDefaultImpratio = 10.0;
 
-/// The <option> element and the geom defaults of a variant at time step dt.
+/// The variant with the knobs `s` declares for its vehicle applied.
+Variant with_settings(Variant v, const Settings& s) {
+  if (s.has("noslip_iterations")) v.noslip_iterations = s.integer("noslip_iterations");
+  if (s.has("impratio")) v.impratio = s.number("impratio");
+  if (s.has("solref_timeconst_s")) v.solref_timeconst_s = s.number("solref_timeconst_s");
+  if (s.has("cone")) v.elliptic = s.choice("cone") == "elliptic";
+  return v;
+}
+
+/// The variant's solref time constant at time step dt. MuJoCo's refsafe (on unless the option flag
+/// refsafe is disabled, mjDSBL_REFSAFE: "make ref[0] >= 2*timestep") raises a smaller one to 2 dt
+/// without a word, so the run would not be the one its record names: refused as bad input.
+double solref_timeconst(const Variant& v, double dt) {
+  const double floor_s = 2.0 * dt;
+  const double tc = v.solref_timeconst_s.value_or(floor_s);
+  if (tc < floor_s)
+    throw InputError(fmt::format("setting 'solref_timeconst_s' = {:g} s is below 2 dt = {:g} s, the floor MuJoCo's refsafe raises solref's time constant to "
+                                 "without a word: set at least {:g} s (or a smaller dt)", tc, floor_s, floor_s));
+  return tc;
+}
+
+/// The <option> element and the geom defaults of a variant at time step dt. Options left at
+/// MuJoCo's defaults are not written; solref always is (MuJoCo's own default is 0.02 1).
 std::string option_xml(const Variant& v, double dt, const Eigen::Vector3d& gravity_W_mps2) {
   std::string opt = fmt::format(R"(<option timestep="{:.17g}" gravity="{:.17g} {:.17g} {:.17g}")", dt, gravity_W_mps2.x(), gravity_W_mps2.y(), gravity_W_mps2.z());
   if (v.noslip_iterations > 0) opt += fmt::format(R"( noslip_iterations="{}")", v.noslip_iterations);
-  if (v.stiff) opt += fmt::format(R"( cone="elliptic" impratio="{:.17g}")", v.impratio);
+  if (v.elliptic) opt += R"( cone="elliptic")";
+  if (v.impratio != 1.0) opt += fmt::format(R"( impratio="{:.17g}")", v.impratio);
   opt += "/>\n";
-  if (v.stiff) opt += fmt::format(R"(<default><geom solref="{:.17g} 1"/></default>)" "\n", 2.0 * dt);
+  opt += fmt::format(R"(<default><geom solref="{:.17g} 1"/></default>)" "\n", solref_timeconst(v, dt));
   return opt;
 }
 
@@ -161,9 +190,7 @@ class MujocoCar final : public RigidCar {
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    Variant v = v_;
-    if (settings_.has("noslip_iterations")) v.noslip_iterations = settings_.integer("noslip_iterations");
-    if (settings_.has("impratio")) v.impratio = settings_.number("impratio");
+    const Variant v = with_settings(v_, settings_);
     beta0_ = q0.beta_rad;
     const std::string wheel_geom = fmt::format(
         R"(<geom type="sphere" size="{}" mass="{}" condim="3" friction="{} 0.005 0.0001" contype="1" conaffinity="2"/>)",
@@ -270,7 +297,7 @@ class MujocoCar final : public RigidCar {
 
 class MujocoDisks final : public DrivenDisks {
  public:
-  explicit MujocoDisks(Variant v) : v_(v) {}
+  MujocoDisks(const Settings& s, Variant v) : v_(with_settings(v, s)) {}
 
  protected:
   void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
@@ -391,51 +418,82 @@ class RawMujocoCar final : public RawCar {
   MujocoCar car_;
 };
 
+const Variant kShipped{};
+const Variant kNoslip{.noslip_iterations = kDefaultNoslip};
+const Variant kStiff{.solref_timeconst_s = std::nullopt, .elliptic = true, .impratio = kDefaultImpratio};
+
+/// The contact settings of the configurations at MuJoCo's default contact (mujoco, mujoco-noslip):
+/// solref's time constant for both vehicles (the disks touch through it too), the friction cone
+/// for the car only (the disks are frictionless, condim 1: the cone has nothing to shape there).
+std::vector<SettingSpec> soft_contact_knobs() {
+  std::vector<SettingSpec> knobs;
+  for (const Vehicle vehicle : kVehicles)
+    knobs.push_back({{.key = "solref_timeconst_s", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultTimeconst_s), .unit = "s",
+                      .help = "time constant of the contacts' soft constraint: solref[0] of the geom defaults (MJCF <default><geom solref=\"timeconst 1\"/>, "
+                              "MuJoCo's default 0.02 s), damping ratio kept at 1; at least 2 dt, refsafe's floor, to which MuJoCo would raise a smaller one without a word",
+                      .min = 0.0, .min_exclusive = true, .max = 1.0},
+                     vehicle});
+  knobs.push_back({{.key = "cone", .kind = ParamKind::kChoice, .default_text = "pyramidal",
+                    .help = "friction cone (option cone): pyramidal, MuJoCo's default, or elliptic", .choices = {"pyramidal", "elliptic"}},
+                   Vehicle::kCar});
+  return knobs;
+}
+
+const char* const kSoftContact =
+    "solref (solref_timeconst_s, 1): the geom defaults' time constant, --set solref_timeconst_s for cars and disks (default 0.02 s, MuJoCo's; "
+    "refused below 2 dt, refsafe's floor), damping ratio 1; solimp 0.9 0.95 0.001 (MuJoCo's default), margin 0";
+const char* const kSoftCone = "car --set cone (default pyramidal, MuJoCo's; elliptic); disks frictionless; impratio 1 (MuJoCo's default)";
+
 }  // namespace
 
 std::unique_ptr<RawCar> make_raw_mujoco_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
-  return std::make_unique<RawMujocoCar>(s, Variant{}, setup, q0);
+  return std::make_unique<RawMujocoCar>(s, kShipped, setup, q0);
 }
 std::unique_ptr<RawCar> make_raw_mujoco_noslip_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
-  return std::make_unique<RawMujocoCar>(s, Variant{.noslip_iterations = kDefaultNoslip}, setup, q0);
+  return std::make_unique<RawMujocoCar>(s, kNoslip, setup, q0);
 }
 std::unique_ptr<RawCar> make_raw_mujoco_stiff_car(const Settings& s, const CarSetup& setup, const car::Config& q0) {
-  return std::make_unique<RawMujocoCar>(s, Variant{.stiff = true, .impratio = kDefaultImpratio}, setup, q0);
+  return std::make_unique<RawMujocoCar>(s, kStiff, setup, q0);
 }
 
 EngineInfo mujoco_engine() {
-  auto settings = common_settings("MuJoCo's defaults: solref 0.02 1, solimp 0.9 0.95 0.001, margin 0", "pyramidal (MuJoCo's default), impratio 1");
+  auto settings = common_settings(kSoftContact, kSoftCone);
   settings.push_back({"noslip", "off (noslip_iterations 0, MuJoCo's default)"});
   return {.name = "mujoco",
           .library = "MuJoCo",
           .version = version(),
           .description = "MuJoCo as shipped: MJCF tricycle with a free-joint chassis, hinge wheels, velocity actuators; Euler, Newton, pyramidal cone, soft contacts (solref 0.02 1)",
           .color = "#2ca02c",
-          .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, Variant{}); },
-          .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{}); },
+          .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, kShipped); },
+          .make_disks = [](const Settings& s) { return std::make_unique<MujocoDisks>(s, kShipped); },
           .contact_dynamics = true,
           .settings = settings,
+          .knobs = soft_contact_knobs(),
           .make_raw_car = make_raw_mujoco_car};
 }
 
 EngineInfo mujoco_noslip_engine() {
-  auto settings = common_settings("MuJoCo's defaults: solref 0.02 1, solimp 0.9 0.95 0.001, margin 0", "pyramidal (MuJoCo's default), impratio 1");
+  auto settings = common_settings(kSoftContact, kSoftCone);
   settings.push_back({"noslip", fmt::format("noslip post-solver: car --set noslip_iterations (default {}); disks {} (frictionless, so it has no friction rows to act on)", kDefaultNoslip, kDefaultNoslip)});
+  std::vector<SettingSpec> knobs = {SettingSpec{{.key = "noslip_iterations", .kind = ParamKind::kInteger, .default_text = std::to_string(kDefaultNoslip), .unit = "1",
+                                                 .help = "noslip post-solver iterations (option noslip_iterations; 0 turns it off)", .min = 0, .max = 1000},
+                                                Vehicle::kCar}};
+  for (SettingSpec& k : soft_contact_knobs()) knobs.push_back(std::move(k));
   return {.name = "mujoco-noslip",
           .library = "MuJoCo",
           .version = version(),
           .description = "MuJoCo's defaults plus the noslip post-solver (10 iterations), the remedy MuJoCo's documentation names for slip",
           .color = "#98df8a",
-          .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, Variant{.noslip_iterations = kDefaultNoslip}); },
-          .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{.noslip_iterations = kDefaultNoslip}); },
+          .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, kNoslip); },
+          .make_disks = [](const Settings& s) { return std::make_unique<MujocoDisks>(s, kNoslip); },
           .contact_dynamics = true,
           .settings = settings,
-          .knobs = {SettingSpec{{.key = "noslip_iterations", .kind = ParamKind::kInteger, .default_text = std::to_string(kDefaultNoslip), .unit = "1",
-                                 .help = "noslip post-solver iterations (option noslip_iterations; 0 turns it off)", .min = 0, .max = 1000},
-                                Vehicle::kCar}},
+          .knobs = knobs,
           .make_raw_car = make_raw_mujoco_noslip_car};
 }
 
+// No solref_timeconst_s here: this configuration's time constant is 2 dt of the run's own dt, which
+// no fixed default value states (and any smaller one refsafe would clamp).
 EngineInfo mujoco_stiff_engine() {
   auto settings = common_settings("solref (2 dt, 1): time constant at its refsafe floor of 2 x timestep (0.002 at 1 ms), damping ratio 1; solimp 0.9 0.95 0.001 (default), margin 0",
                                   fmt::format("elliptic; impratio: car --set impratio (default {:g}), disks {:g}", kDefaultImpratio, kDefaultImpratio));
@@ -445,8 +503,8 @@ EngineInfo mujoco_stiff_engine() {
           .version = version(),
           .description = "MuJoCo with the stiffest contacts refsafe allows (solref 2 dt), elliptic friction cone, impratio 10",
           .color = "#006d2c",
-          .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, Variant{.stiff = true, .impratio = kDefaultImpratio}); },
-          .make_disks = [](const Settings&) { return std::make_unique<MujocoDisks>(Variant{.stiff = true, .impratio = kDefaultImpratio}); },
+          .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, kStiff); },
+          .make_disks = [](const Settings& s) { return std::make_unique<MujocoDisks>(s, kStiff); },
           .contact_dynamics = true,
           .settings = settings,
           .knobs = {SettingSpec{{.key = "impratio", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultImpratio), .unit = "1",

@@ -1,7 +1,8 @@
 // The tricycle in ODE (0.16, double precision).
 // Chassis: a box body without a geom. Front wheel: hinge-2 joint (axis 1 vertical = steering,
 // axis 2 = axle), driven by the joint motors. Rear wheels: hinge joints on the rear axle.
-// Wheel-ground contacts: dContactApprox1 (mu is a coefficient, not a force cap), soft ERP/CFM,
+// Wheel-ground contacts: dContactApprox1 (mu is a coefficient, not a force cap), soft ERP/CFM (the
+// settings contact_erp, ode only, and contact_cfm),
 // and, with friction_dirs = wheel, the first friction direction along the wheel's rolling direction.
 // Signs (tests/conformance.cpp, ForwardIsPositiveAlphaAndLeftIsPositiveBeta): ODE reports hinge-2 angles of body 1 (chassis) relative to
 // body 2 (wheel), so the steering angle and the spin rate are negated.
@@ -94,6 +95,27 @@ const char* const kDisks = "M: dynamic sphere (radius 1, 1 kg) whose linear velo
 SettingSpec wheel_knob() {
   return {{.key = "wheel", .kind = ParamKind::kChoice, .default_text = "sphere", .help = "wheel collision shape", .choices = {"sphere", "cylinder"}}, Vehicle::kCar};
 }
+// The wheel-ground contact joints' softness (dSurfaceParameters soft_erp and soft_cfm, with
+// dContactSoftERP | dContactSoftCFM), as Gazebo's users set a surface's <contact><ode><soft_erp>
+// and <soft_cfm> (SDFormat's defaults 0.2 and 0; the defaults here are this car's 0.2 and 1e-9).
+// CFM is in m/(N s): CFM = 1 / (dt kp + kd) for a contact spring kp and damper kd (ODE's manual,
+// "How To Use ERP and CFM").
+SettingSpec contact_cfm_knob() {
+  return {{.key = "contact_cfm", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kContactSoftCfm_m_per_Ns), .unit = "m/(N s)",
+           .help = "constraint force mixing of the wheel-ground contact joints (dSurfaceParameters soft_cfm with dContactSoftCFM; Gazebo's <surface><contact><ode><soft_cfm>, default 0)",
+           .min = 0.0, .max = 1.0},
+          Vehicle::kCar};
+}
+// ERP corrects only the depth beyond the world's contact surface layer (ODE's contact joint:
+// depth - contact_surface_layer, nothing below it). At the default contact_cfm ode-quick's wheels
+// never sink through its 1 mm layer, so there soft_erp alone changes nothing (only a much softer
+// contact_cfm lets them through): ode only (dWorldStep, no layer).
+SettingSpec contact_erp_knob() {
+  return {{.key = "contact_erp", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kContactSoftErp), .unit = "1",
+           .help = "error reduction of the wheel-ground contact joints (dSurfaceParameters soft_erp with dContactSoftERP; Gazebo's <surface><contact><ode><soft_erp>, default 0.2)",
+           .min = 0.0, .max = 1.0},
+          Vehicle::kCar};
+}
 SettingSpec friction_dirs_knob(const char* default_text) {
   return {{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = default_text,
            .help = "first friction direction: along the wheel's rolling direction (dContactFDir1), or ODE's default axes from the normal",
@@ -116,6 +138,7 @@ EngineInfo ode_quick_engine() {
                    Vehicle::kCar});
   knobs.push_back(wheel_knob());
   knobs.push_back(friction_dirs_knob("world"));
+  knobs.push_back(contact_cfm_knob());
   return {.name = "ode-quick",
           .library = "ODE",
           .version = fmt::format("{} ({})", LIFTCHECK_ODE_VERSION, sizeof(dReal) == 8 ? "double" : "single"),
@@ -127,7 +150,7 @@ EngineInfo ode_quick_engine() {
           .settings = {{"stepper", "dWorldQuickStep (iterative SOR/PGS), Gazebo's SDF physics defaults: global ERP 0.2, CFM 0, contact_max_correcting_vel 100 m/s, contact_surface_layer 0.001 m"},
            {"front wheel", "dHinge2Joint, suspension CFM 1e-10; velocity motors on steering and spin; no knuckle body: the knuckle's mass and inertia ride on the wheel body"},
            {"rear wheels", "dHingeJoint each"},
-           {"contact", "dContactApprox1 | SoftERP 0.2 | SoftCFM 1e-9, up to 4 points per wheel"},
+           {"contact", "dContactApprox1 | dContactSoftERP | dContactSoftCFM, up to 4 points per wheel; soft_erp 0.2 (it corrects only depth beyond the 1 mm surface layer, which the wheels reach only with a much softer contact_cfm: no setting), soft_cfm --set contact_cfm (default 1e-9)"},
            {"friction directions", "world (Gazebo's default, no fdir1): ODE's axes from the normal; wheel: dContactFDir1 along the rolling direction"},
            {"servo", kServo},
            {"disks", kDisks},
@@ -136,6 +159,12 @@ EngineInfo ode_quick_engine() {
           .four_wheels = true,
           .make_raw_car = make_raw_ode_quick_car};
 }
+
+namespace {
+std::vector<SettingSpec> ode_knobs() {
+  return {wheel_knob(), friction_dirs_knob("wheel"), contact_erp_knob(), contact_cfm_knob()};
+}
+}  // namespace
 
 EngineInfo ode_engine() {
   return {.name = "ode",
@@ -149,13 +178,13 @@ EngineInfo ode_engine() {
           .settings = {{"stepper", "dWorldStep (direct LCP solver), global ERP 0.2, CFM 1e-10"},
            {"front wheel", "dHinge2Joint, suspension CFM 1e-10; velocity motors on steering and spin"},
            {"rear wheels", "dHingeJoint each"},
-           {"contact", "dContactApprox1 | SoftERP 0.2 | SoftCFM 1e-9, up to 4 points per wheel"},
+           {"contact", "dContactApprox1 | dContactSoftERP | dContactSoftCFM, up to 4 points per wheel; soft_erp --set contact_erp (default 0.2), soft_cfm --set contact_cfm (default 1e-9)"},
            {"friction directions", "wheel: dContactFDir1 along the rolling direction (axle x up); world: ODE's default axes from the normal"},
            {"servo", kServo},
            {"iterations", "none: dWorldStep is a direct solver (a setting 'iterations' is rejected)"},
            {"disks", kDisks},
            {"threads", "each world has its own ODE threading implementation (ODE's default one is shared by every world and not synchronised); every thread that steps a world calls dAllocateODEDataForThread first: runs step in parallel"}},
-          .knobs = {wheel_knob(), friction_dirs_knob("wheel")},
+          .knobs = ode_knobs(),
           .four_wheels = true,
           .make_raw_car = make_raw_ode_car};
 }

@@ -7,6 +7,11 @@
 #include "engines/raw_car.hpp"
 namespace liftcheck {
 
+/// The wheel-ground contact joints' dSurfaceParameters soft_erp and soft_cfm by default (the
+/// settings contact_erp, contact_cfm).
+constexpr double kContactSoftErp = 0.2;
+constexpr double kContactSoftCfm_m_per_Ns = 1e-9;
+
 /// How an ODE world is stepped: the direct solver (dWorldStep) with liftcheck's constraint
 /// settings, or the iterative quick-step solver with Gazebo's SDF physics defaults.
 struct OdeStepper {

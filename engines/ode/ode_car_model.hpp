@@ -115,6 +115,8 @@ class OdeCar : public RigidCar {
       dJointSetHingeAxis(rear_joint_[i], -s, c, 0);
     }
     mu_ = setup.mu;
+    soft_erp_ = settings_.has("contact_erp") ? settings_.number("contact_erp") : kContactSoftErp;  // ode-quick has none
+    soft_cfm_ = settings_.number("contact_cfm");
     wheel_dirs_ = settings_.choice("friction_dirs") == "wheel";
   }
 
@@ -187,8 +189,8 @@ class OdeCar : public RigidCar {
       dSurfaceParameters& sp = contact[i].surface;
       sp.mode = dContactApprox1 | dContactSoftERP | dContactSoftCFM;
       sp.mu = self->mu_;
-      sp.soft_erp = 0.2;
-      sp.soft_cfm = 1e-9;
+      sp.soft_erp = self->soft_erp_;
+      sp.soft_cfm = self->soft_cfm_;
       if (self->wheel_dirs_) {
         sp.mode |= dContactFDir1;
         const double nx = axle[1], ny = -axle[0];  // axle x up: forward for a left-pointing axle
@@ -221,6 +223,7 @@ class OdeCar : public RigidCar {
   dJointID steer_joint_[2] = {nullptr, nullptr}, rear_joint_[2] = {nullptr, nullptr};
   int n_front_ = 1;  ///< front wheels: 1 (tricycle) or 2 (left, right)
   double beta0_[2] = {0.0, 0.0}, mu_ = 1.0;  ///< each front wheel's start steering angle
+  double soft_erp_ = kContactSoftErp, soft_cfm_ = kContactSoftCfm_m_per_Ns;  ///< the wheel-ground contacts' soft_erp, soft_cfm
   bool wheel_dirs_ = true;
   OdeStepper stepper_;
 };
