@@ -1,5 +1,6 @@
 #include "cli/baseline.hpp"
 
+#include <filesystem>
 #include <fmt/format.h>
 #include <iostream>
 #include <set>
@@ -16,7 +17,16 @@ nlohmann::json read_baseline(const std::string& path, bool update_baseline) {
   if (update_baseline && path.empty()) throw InputError("--update-baseline needs --baseline FILE");
   // A baseline is read back by its name (recorded in results.json, JSON holds UTF-8 only): one it
   // could not be read back by is refused before anything runs, not written.
-  if (update_baseline) require_utf8(path, "--baseline file name");
+  if (update_baseline) {
+    require_utf8(path, "--baseline file name");
+    // The baseline is renamed into place last, after --out: a place it cannot take is refused first.
+    std::error_code ec;
+    const std::filesystem::file_status st = std::filesystem::status(path, ec);
+    if (std::filesystem::is_directory(st))
+      throw InputError(fmt::format("--baseline '{}' is a folder: --update-baseline writes a file (name it)", printable(path, 200)));
+    if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
+      throw InputError(fmt::format("--baseline '{}' is not a regular file: --update-baseline writes a file", printable(path, 200)));
+  }
   return !path.empty() && !update_baseline ? read_results(path) : nlohmann::json();
 }
 

@@ -9,7 +9,7 @@ namespace liftcheck::cli {
 struct Command {
   CLI::App* app = nullptr;  ///< the subcommand, set when it was given
   std::function<int()> run;
-  /// SIGINT and SIGTERM stop it at its next event (list, engines and the worker keep the defaults).
+  /// SIGINT and SIGTERM stop it at its next event (list, serve and the worker keep the defaults).
   bool interruptible = true;
 };
 

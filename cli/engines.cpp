@@ -55,7 +55,8 @@ Command add_engines(CLI::App& app) {
   auto json = std::make_shared<bool>(false);
   auto* engines_cmd = app.add_subcommand("engines", "list every engine configuration with its description and settings");
   engines_cmd->add_flag("--json", *json, "print JSON");
-  return {engines_cmd, [json] { return cmd_engines(*json); }, false};
+  // Interruptible: a signal while an outside engine starts ends it and its process group.
+  return {engines_cmd, [json] { return cmd_engines(*json); }};
 }
 
 }  // namespace liftcheck::cli

@@ -4,6 +4,8 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
+#include <sstream>
 #include <unistd.h>
 #include <fmt/format.h>
 #include <iostream>
@@ -71,9 +73,24 @@ void engine_dirs_from_args(int argc, char** argv) {
     if (a == "--engine-dir" && i + 1 < argc) dirs.push_back(argv[++i]);
     else if (a.rfind("--engine-dir=", 0) == 0) dirs.push_back(a.substr(13));
   }
+  if (const char* old = std::getenv("LIFTCHECK_ENGINE_PATH"); old && *old) {
+    std::stringstream ss(old);
+    for (std::string d; std::getline(ss, d, ':');)
+      if (!d.empty()) dirs.push_back(d);
+  }
   if (dirs.empty()) return;
-  if (const char* old = std::getenv("LIFTCHECK_ENGINE_PATH"); old && *old) dirs.push_back(old);
+  // Absolute: a registered engine starts in its registration's folder, and a `liftcheck serve`
+  // child reads the same variable there.
+  std::error_code ec;
+  for (std::string& d : dirs)
+    if (const std::filesystem::path a = std::filesystem::absolute(d, ec); !ec) d = a.lexically_normal().string();
   setenv("LIFTCHECK_ENGINE_PATH", fmt::format("{}", fmt::join(dirs, ":")).c_str(), 1);
+}
+
+/// --help and --version print to standard output like any command: a write that fails is exit 2.
+int help_or_version(const CLI::App& app, const CLI::Error& e) {
+  const int status = app.exit(e);
+  return stdout_written() ? status : 2;
 }
 
 }  // namespace
@@ -93,11 +110,11 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
-    return app.exit(e);
+    return help_or_version(app, e);
   } catch (const CLI::CallForAllHelp& e) {
-    return app.exit(e);
+    return help_or_version(app, e);
   } catch (const CLI::CallForVersion& e) {
-    return app.exit(e);
+    return help_or_version(app, e);
   } catch (const CLI::ParseError& e) {
     std::cerr << "liftcheck: error: " << printable(e.what(), 2000) << printable(suggestion(app, argc, argv), 2000) << "\n";
     return 2;

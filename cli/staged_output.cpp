@@ -10,6 +10,7 @@
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <climits>
 #include <signal.h>
 #include <fcntl.h>
 #include <unistd.h>
@@ -29,10 +30,45 @@ constexpr const char* kManifestHeader = "liftcheck output manifest 1";
 constexpr std::size_t kMaxManifestBytes = std::size_t{64} << 20;
 constexpr const char* kNewPrefix = ".liftcheck-new-";  ///< a mount point's entries being copied in
 
-/// The names liftcheck writes into an output folder (for folders written before manifests).
-bool known_name(const std::string& name) {
-  return name == "results.json" || name == "junit.xml" || name == "summary.md" || name == "screenshot.png" || name == "snapshots" ||
-         name == "plots" || name == StagedOutput::kMarker || (name.size() > 5 && name.compare(name.size() - 5, 5, ".html") == 0);
+bool ends_with(const std::string& s, const std::string& tail) { return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0; }
+
+/// The files liftcheck writes at the top of an output folder (for folders written before
+/// manifests), and their ".tmp" while being written.
+bool known_file(const std::string& name) {
+  if (ends_with(name, ".tmp")) return known_file(name.substr(0, name.size() - 4));
+  return name == "results.json" || name == "junit.xml" || name == "summary.md" || name == "screenshot.png" || name == StagedOutput::kMarker ||
+         ends_with(name, ".html");
+}
+
+/// The files liftcheck writes inside snapshots/ and plots/ (no folders).
+bool known_inner_file(const std::string& folder, const std::string& name) {
+  if (ends_with(name, ".tmp")) return known_inner_file(folder, name.substr(0, name.size() - 4));
+  if (folder == "snapshots") return ends_with(name, ".png");
+  return ends_with(name, ".svg") || name == "plots.gp" || name == "gnuplot.log";
+}
+
+/// A folder without a manifest: what in it is not liftcheck's, at any depth (a user's file inside
+/// plots/ is not removed with it), at most `max`.
+void foreign_without_manifest(const fs::path& dir, std::size_t max, std::vector<std::string>& foreign) {
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    const fs::file_type type = fs::symlink_status(e.path(), ec).type();
+    if (name == StagedOutput::kStaging || name.rfind(kNewPrefix, 0) == 0) continue;
+    if (type == fs::file_type::directory && (name == "snapshots" || name == "plots")) {
+      for (const auto& inner : fs::directory_iterator(e.path(), ec)) {
+        const std::string file = inner.path().filename().string();
+        const bool dir_inside = fs::symlink_status(inner.path(), ec).type() == fs::file_type::directory;
+        if (dir_inside || fs::symlink_status(inner.path(), ec).type() != fs::file_type::regular || !known_inner_file(name, file))
+          foreign.push_back(name + "/" + file + (dir_inside ? "/" : ""));
+        if (foreign.size() >= max) return;
+      }
+    } else if (type != fs::file_type::regular || !known_file(name)) {
+      foreign.push_back(name + (type == fs::file_type::directory ? "/" : ""));
+    }
+    if (foreign.size() >= max) return;
+  }
+  if (ec) foreign.push_back(fmt::format("(unreadable: {})", ec.message()));
 }
 
 /// The manifest's entries, or nullopt-like false when the folder has none (or an older marker).
@@ -82,6 +118,55 @@ std::string process_start(long pid) {
 /// The first `limit` bytes of a folder name, for the staging folder's name (NAME_MAX is 255).
 std::string short_name(const std::string& name) { return name.substr(0, std::min<std::size_t>(name.size(), 200)); }
 
+/// Copies `from` to the new file `to` with read and write, so that a full file system is named as
+/// such: the library's copy takes a short sendfile for an I/O error ("Input/output error").
+void copy_file_checked(const fs::path& from, const fs::path& to) {
+  const auto fail = [&](const char* doing, const fs::path& p) {
+    return std::runtime_error(fmt::format("{} '{}': {}", doing, printable(p.string(), 200), std::strerror(errno)));
+  };
+  const int in = ::open(from.c_str(), O_RDONLY | O_CLOEXEC);
+  if (in < 0) throw fail("cannot read", from);
+  const int out = ::open(to.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (out < 0) {
+    const auto e = fail("cannot write", to);
+    ::close(in);
+    throw e;
+  }
+  std::vector<char> buf(std::size_t{1} << 20);
+  for (;;) {
+    const ssize_t got = ::read(in, buf.data(), buf.size());
+    if (got < 0 && errno == EINTR) continue;
+    if (got == 0) break;
+    if (got < 0) {
+      const auto e = fail("cannot read", from);
+      ::close(in), ::close(out);
+      throw e;
+    }
+    for (ssize_t done = 0; done < got;) {
+      const ssize_t put = ::write(out, buf.data() + done, static_cast<std::size_t>(got - done));
+      if (put < 0 && errno == EINTR) continue;
+      if (put <= 0) {
+        if (put == 0) errno = ENOSPC;
+        const auto e = fail("cannot write", to);
+        ::close(in), ::close(out);
+        throw e;
+      }
+      done += put;
+    }
+  }
+  ::close(in);
+  if (::close(out) != 0) throw fail("cannot write", to);
+}
+
+/// The folder `from` copied into the new folder `to`, file by file (copy_file_checked).
+void copy_tree(const fs::path& from, const fs::path& to) {
+  for (auto it = fs::recursive_directory_iterator(from); it != fs::recursive_directory_iterator(); ++it) {
+    const fs::path dest = to / it->path().lexically_relative(from);
+    if (it->is_directory()) fs::create_directory(dest);
+    else copy_file_checked(it->path(), dest);
+  }
+}
+
 /// Removes `dir`'s staging folders left by liftcheck processes that are gone (SIGKILL, a power
 /// cut): only those whose staging file names a dead process and that hold nothing but liftcheck's.
 void remove_stale_stages(const fs::path& parent, const std::string& prefix) {
@@ -107,14 +192,9 @@ std::vector<std::string> foreign_entries(const fs::path& dir, std::size_t max) {
   std::set<std::string> listed;
   const bool manifest = read_manifest(dir, listed);
   if (!manifest) {
-    bool marked = fs::exists(dir / StagedOutput::kMarker, ec) || fs::exists(dir / StagedOutput::kStaging, ec), any = false;
-    for (const auto& e : fs::directory_iterator(dir, ec)) {
-      const std::string name = e.path().filename().string();
-      any = true;
-      if (!known_name(name) && name != StagedOutput::kStaging && name.rfind(kNewPrefix, 0) != 0) foreign.push_back(name);
-      if (foreign.size() >= max) return foreign;
-    }
-    if (ec) foreign.push_back(fmt::format("(unreadable: {})", ec.message()));
+    const bool marked = fs::exists(dir / StagedOutput::kMarker, ec) || fs::exists(dir / StagedOutput::kStaging, ec);
+    const bool any = fs::directory_iterator(dir, ec) != fs::directory_iterator();
+    foreign_without_manifest(dir, max, foreign);
     if (foreign.empty() && any && !marked && !legacy_results_say_ours(dir)) foreign.push_back("results.json (not liftcheck's)");
     return foreign;
   }
@@ -134,6 +214,23 @@ std::vector<std::string> foreign_entries(const fs::path& dir, std::size_t max) {
 
 StagedOutput::StagedOutput(const std::string& out_dir, const std::vector<std::pair<std::string, std::string>>& inputs) : out_(out_dir) {
   if (out_dir.empty()) throw InputError("--out names no folder");
+  // A name no file system takes is bad input, named, before anything is looked up or runs.
+  for (const fs::path& part : out_)
+    if (part.native().size() > NAME_MAX)
+      throw InputError(fmt::format("--out '{}': the name '{}' is {} bytes long, longer than the {} a file name may have", printable(out_dir, 80),
+                                   printable(part.string(), 40), part.native().size(), NAME_MAX));
+  try {
+    prepare(out_dir, inputs);
+  } catch (const fs::filesystem_error& e) {
+    if (!stage_.empty()) {
+      std::error_code ec;
+      fs::remove_all(stage_, ec);
+    }
+    throw InputError(fmt::format("--out '{}': {}", printable(out_dir, 200), e.code().message()));
+  }
+}
+
+void StagedOutput::prepare(const std::string& out_dir, const std::vector<std::pair<std::string, std::string>>& inputs) {
   std::error_code ec;
   // A symbolic link is followed to its folder; a dangling one is refused before anything runs.
   if (fs::is_symlink(fs::symlink_status(out_, ec))) {
@@ -234,11 +331,11 @@ void StagedOutput::replace_entries() {
   std::string tmpl = (out_ / fmt::format("{}XXXXXX", kNewPrefix)).string();
   if (!::mkdtemp(tmpl.data())) fail_keeping(std::strerror(errno));
   const fs::path incoming = tmpl;
-  fs::copy(stage_, incoming, fs::copy_options::recursive, ec);
-  if (ec) {
-    std::error_code ec2;
-    fs::remove_all(incoming, ec2);
-    fail_keeping(ec.message());
+  try {
+    copy_tree(stage_, incoming);
+  } catch (const std::exception& e) {
+    fs::remove_all(incoming, ec);
+    fail_keeping(e.what());
   }
   // Then the old entries go (only liftcheck's), and the new ones are renamed in, the manifest last.
   std::set<std::string> foreign_top;

@@ -39,6 +39,8 @@ class StagedOutput {
   void publish();
 
  private:
+  /// The constructor's work, its file system errors turned into InputError by the constructor.
+  void prepare(const std::string& out_dir, const std::vector<std::pair<std::string, std::string>>& inputs);
   void replace_entries();
   [[noreturn]] void fail_keeping(const std::string& why, bool old_intact = true);
 

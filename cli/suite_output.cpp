@@ -6,8 +6,11 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <system_error>
 #include <fmt/format.h>
 #include <iostream>
+#include <cmath>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -52,10 +55,56 @@ std::string report_link() {
   return "index.html";
 }
 
-/// The report rendered in a child process (fork): a renderer that crashes or runs out of memory
-/// (OSMesa under a memory limit) takes only the child, and the runs' results are written anyway,
-/// with the renderer's end as a report error.
-void write_report_isolated(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def) {
+/// The renderer's exit status when an allocation failed under its limit.
+constexpr int kRendererOutOfMemory = 4;
+
+/// The renderer's end as a report error: past its memory limit, or how its process ended.
+std::string renderer_problem(int status, double limit_mib) {
+  if (WIFEXITED(status) && WEXITSTATUS(status) == kRendererOutOfMemory)
+    return fmt::format("report: the renderer needed more than its limit of {:g} MiB of address space (--report-memory-limit), stopped; "
+                       "the runs' results are written, the report is not", limit_mib);
+  const std::string how = WIFSIGNALED(status) ? fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
+                                              : fmt::format("exited with status {}", WEXITSTATUS(status));
+  return fmt::format("report: the renderer's process {} (its limit: {:g} MiB of address space); the runs' results are written, the report is not whole",
+                     how, limit_mib);
+}
+
+/// The renderer's side of the fork: its address space limited, the report written, its index of
+/// files sent back on `fd`. Never returns.
+[[noreturn]] void render_in_child(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def, double limit_mib, int fd) {
+  int status = 0;
+  try {
+    const rlim_t bytes = static_cast<rlim_t>(limit_mib * 1048576.0);
+    const rlimit limit{bytes, bytes};
+    ::setrlimit(RLIMIT_AS, &limit);
+    write_report(results, out, def);
+    const std::string text = results["report"].dump();
+    for (std::size_t done = 0; done < text.size();) {
+      const ssize_t put = ::write(fd, text.data() + done, text.size() - done);
+      if (put < 0 && errno == EINTR) continue;
+      if (put <= 0) break;
+      done += static_cast<std::size_t>(put);
+    }
+  } catch (const std::bad_alloc&) {
+    status = kRendererOutOfMemory;
+  } catch (const std::system_error& e) {
+    // A thread whose stack cannot be mapped under the limit is the same shortage.
+    const bool memory = e.code() == std::errc::resource_unavailable_try_again || e.code() == std::errc::not_enough_memory;
+    if (!memory) std::cerr << "liftcheck: report: " << e.what() << "\n";
+    status = memory ? kRendererOutOfMemory : 3;
+  } catch (const std::exception& e) {
+    std::cerr << "liftcheck: report: " << e.what() << "\n";
+    status = 3;
+  }
+  std::cout.flush();
+  std::fflush(nullptr);
+  ::_exit(status);
+}
+
+/// The report rendered in a child process (fork) under its memory limit: a renderer that crashes
+/// or runs out of memory takes only the child, and the runs' results are written anyway, with the
+/// renderer's end as a report error.
+void write_report_isolated(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def, double limit_mib) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(fmt::format("cannot create a pipe for the report: {}", std::strerror(errno)));
   std::cout.flush();
@@ -64,23 +113,7 @@ void write_report_isolated(nlohmann::json& results, const std::filesystem::path&
   if (pid < 0) throw std::runtime_error(fmt::format("cannot start the report's process: {}", std::strerror(errno)));
   if (pid == 0) {
     ::close(fds[0]);
-    int status = 0;
-    try {
-      write_report(results, out, def);
-      const std::string text = results["report"].dump();
-      for (std::size_t done = 0; done < text.size();) {
-        const ssize_t put = ::write(fds[1], text.data() + done, text.size() - done);
-        if (put < 0 && errno == EINTR) continue;
-        if (put <= 0) break;
-        done += static_cast<std::size_t>(put);
-      }
-    } catch (const std::exception& e) {
-      std::cerr << "liftcheck: report: " << e.what() << "\n";
-      status = 3;
-    }
-    std::cout.flush();
-    std::fflush(nullptr);
-    ::_exit(status);
+    render_in_child(results, out, def, limit_mib, fds[1]);
   }
   ::close(fds[1]);
   std::string text;
@@ -108,11 +141,14 @@ void write_report_isolated(nlohmann::json& results, const std::filesystem::path&
     results["report"] = std::move(report);
     return;
   }
-  const std::string how = WIFSIGNALED(status) ? fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
-                                              : fmt::format("exited with status {}", WEXITSTATUS(status));
   results["report"] = {{"report_s", 0.0}, {"snapshots", nlohmann::json::array()}, {"strips", nlohmann::json::array()},
-                       {"plots", nlohmann::json::array()},
-                       {"errors", {fmt::format("report: the renderer's process {}; the runs' results are written, the report is not whole", how)}}};
+                       {"plots", nlohmann::json::array()}, {"errors", {renderer_problem(status, limit_mib)}}};
+}
+
+/// summary.md's and the console's pointer to the report: only to an index.html that was written.
+bool index_written(const std::filesystem::path& dir) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(dir / "index.html", ec);
 }
 
 /// The report, junit.xml, summary.md and results.json into the staged folder, which is then
@@ -125,14 +161,14 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
       ReportDef def;
       def.snapshots = o.snapshots;
       def.threads = o.threads;
-      write_report_isolated(results, out, def);
+      write_report_isolated(results, out, def, o.report_memory_limit_mib);
+      const size_t problems = results["report"]["errors"].size();
       std::cout << fmt::format("report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", results["report"]["report_s"].get<double>(),
-                               results["report"]["snapshots"].size(), results["report"]["strips"].size(),
-                               results["report"]["plots"].size(),
-                               results["report"]["errors"].empty() ? "" : fmt::format("; {} problems, see index.html", results["report"]["errors"].size()));
+                               results["report"]["snapshots"].size(), results["report"]["strips"].size(), results["report"]["plots"].size(),
+                               problems == 0 ? "" : fmt::format("; {} problems{}", problems, index_written(out) ? ", see index.html" : ", its pages are not written"));
     }
     write_file_atomic(out / "junit.xml", junit_xml(results));
-    write_file_atomic(out / "summary.md", summary_markdown(results, o.report ? report_link() : ""));
+    write_file_atomic(out / "summary.md", summary_markdown(results, o.report && index_written(out) ? report_link() : ""));
     write_file_atomic(out / "results.json", results.dump(1));
     throw_if_interrupted("while writing the outputs");
     const std::string pending = o.baseline_path + ".new";
@@ -150,7 +186,7 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
       throw;
     }
     if (o.update_baseline) {
-      if (std::rename(pending.c_str(), o.baseline_path.c_str()) != 0)
+      if (std::rename(pending.c_str(), o.baseline_path.c_str()) != 0 && (std::remove(pending.c_str()), true))
         throw InputError(fmt::format("cannot write the baseline '{}': {}; the output folder '{}' is written, the baseline is as it was",
                                      printable(o.baseline_path, 200), std::strerror(errno), printable(staged.final_path().string(), 200)));
       std::cout << "baseline written: " << printable(o.baseline_path, 200) << "\n";
@@ -187,10 +223,25 @@ void print_summary(const nlohmann::json& results, const OutputOptions& o, const 
                            results.contains("shard") ? fmt::format("shard {}/{}", results["shard"]["index"].get<int>(), results["shard"]["total"].get<int>()) : "validate",
                            sum["total"].get<int>(), gates.total, sum["unexpected"].get<int>(), sum["pass"].get<int>(), sum["known failure"].get<int>(),
                            sum["unexpected pass"].get<int>(), sum["fail"].get<int>(), sum["error"].get<int>(), sum["skip"].get<int>(), gates.failed,
-                           printable(o.report ? "report: " + (staged.final_path() / "index.html").string() : "results: " + (staged.final_path() / "results.json").string(), 300));
+                           printable(o.report && index_written(staged.final_path()) ? "report: " + (staged.final_path() / "index.html").string()
+                                                                                     : "results: " + (staged.final_path() / "results.json").string(), 300));
 }
 
 }  // namespace
+
+void add_report_memory_option(CLI::App* cmd, OutputOptions& o) {
+  cmd->add_option("--report-memory-limit", o.report_memory_limit_mib,
+                  "limit of the report renderer's address space in MiB: past it the report is an error, the results are written")
+      ->capture_default_str()
+      ->check([](const std::string& v) {
+        double mib = 0.0;
+        try {
+          mib = std::stod(v);
+        } catch (const std::exception&) {
+        }
+        return mib >= 64.0 && std::isfinite(mib) ? std::string() : fmt::format("--report-memory-limit {} must be at least 64 MiB", v);
+      });
+}
 
 int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann::json& baseline, StagedOutput& staged) {
   bool all_pass = results["summary"]["unexpected"].get<int>() == 0;
@@ -214,7 +265,8 @@ int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann
       std::cout << "REPORT " << printable(e.get<std::string>(), 1000) << "\n";
     }
   print_summary(results, o, gates, staged);
-  if (report_problems > 0) std::cout << fmt::format("the report has {} problems (listed above and in index.html)\n", report_problems);
+  if (report_problems > 0)
+    std::cout << fmt::format("the report has {} problems (listed above{})\n", report_problems, index_written(staged.final_path()) ? " and in index.html" : "");
   return all_pass && report_problems == 0 ? 0 : 1;
 }
 

@@ -2,6 +2,7 @@
 // baseline comparison, results.json, junit.xml, summary.md and the report, and the exit status.
 #pragma once
 
+#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -17,7 +18,12 @@ struct OutputOptions {
   bool update_baseline = false;
   bool snapshots = true;  ///< the report's snapshots (off: the pages and plots only)
   int threads = 2;        ///< the report's rendering threads (validate: its --jobs, the cores it may use)
+  double report_memory_limit_mib = kDefaultReportMemoryMiB;  ///< the renderer's address space (RLIMIT_AS)
+  static constexpr double kDefaultReportMemoryMiB = 4096.0;
 };
+
+/// --report-memory-limit MIB on `cmd`, into `o`.
+void add_report_memory_option(CLI::App* cmd, OutputOptions& o);
 
 /// The sweeps' gates, the baseline comparison (of the runs made only: a filtered or sharded run
 /// compares its share), then results.json, junit.xml, summary.md and the report; the exit status.

@@ -181,6 +181,7 @@ Command add_validate(CLI::App& app) {
   validate->add_option("--jobs,-j", v->jobs, "runs at once (default: the number of cores)")->capture_default_str();
   validate->add_option("--timeout", v->timeout_s, "limit of each run's or sweep point's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
   validate->add_option("--memory-limit", v->memory_limit_mib, "limit of each worker process's address space in MiB: a run that needs more is an error, the suite goes on")->capture_default_str();
+  add_report_memory_option(validate, v->out);
   validate->add_option("--shard", v->shard, "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");
   return {validate, [v] {
             v->out.report = !v->no_report;

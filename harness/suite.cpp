@@ -25,6 +25,7 @@
 
 extern char** environ;
 
+#include "engines/protocol/child.hpp"  // end_adapters_of
 #include "harness/results.hpp"
 #include "harness/runner.hpp"
 #include "input/suggest.hpp"
@@ -408,9 +409,14 @@ void pass_on_stderr(Worker& w) {
 /// signal that ended it, if one did, in `signal`.
 std::string end_worker(Worker& w, bool kill_it, int* signal = nullptr) {
   close_fd(w.in_fd);
-  // Its process group: the worker and any engine process it started (a hung outside engine).
+  // Its process group, and the outside engines it started (each in a group of its own, found by
+  // the worker's tag in their environment) with whatever they started: a hung engine goes with it.
   if (kill_it) ::kill(-w.pid, SIGKILL), ::kill(w.pid, SIGKILL);
   int status = 0;
+  siginfo_t info{};
+  while (waitid(P_PID, static_cast<id_t>(w.pid), &info, WEXITED | WNOWAIT) < 0 && errno == EINTR) {
+  }
+  end_adapters_of(w.pid);  // the worker is a zombie until reaped: its pid and start time still name it
   while (waitpid(w.pid, &status, 0) < 0 && errno == EINTR) {
   }
   pass_on_stderr(w);  // its last words, all in the pipe now

@@ -36,6 +36,7 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
   std::vector<std::string> errors;
   std::string gl_version;
   std::mutex mu;
+  bool out_of_memory = false;
   std::map<std::string, render::Color> ink;  // each configuration's colour, from the context
   for (const auto& e : results["context"].value("engines", json::array()))
     ink[e["name"].get<std::string>()] = render::color_from_hex(e.value("color", ""));
@@ -44,7 +45,7 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
     return it == ink.end() ? render::colors::kUnknown : it->second;
   };
   const int threads = std::max(1, def.threads);  // 0 or fewer: one thread (a stride of 0 never ends)
-  const auto worker = [&](int id) {
+  const auto draw = [&](int id) {
     render::Renderer renderer;
     for (std::size_t i = id; i < runs.size(); i += static_cast<std::size_t>(threads)) {
       const json& r = runs[i];
@@ -65,6 +66,8 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
           render::write_png(out / file, render::tile(frames, st.per_row));
           strips[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"file", file}, {"caption", st.caption}});
         }
+      } catch (const std::bad_alloc&) {
+        throw;  // the renderer's limit: the report stops (below)
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(mu);
         errors.push_back(fmt::format("snapshots of {} on {}: {}", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), e.what()));
@@ -73,9 +76,20 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
     std::lock_guard<std::mutex> lock(mu);
     if (gl_version.empty()) gl_version = renderer.gl_version();
   };
+  // An allocation that fails under the renderer's memory limit ends every thread's work and the
+  // report, said once (write_report throws std::bad_alloc).
+  const auto worker = [&](int id) {
+    try {
+      draw(id);
+    } catch (const std::bad_alloc&) {
+      std::lock_guard<std::mutex> lock(mu);
+      out_of_memory = true;
+    }
+  };
   std::vector<std::thread> pool;
   for (int id = 0; id < threads; ++id) pool.emplace_back(worker, id);
   for (auto& t : pool) t.join();
+  if (out_of_memory) throw std::bad_alloc();
   for (std::size_t i = 0; i < runs.size(); ++i) {
     for (auto& s : shots[i]) report["snapshots"].push_back(s);
     for (auto& s : strips[i]) report["strips"].push_back(s);
@@ -108,6 +122,8 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
   if (def.plots) {
     try {
       for (const auto& p : write_plots(results, out)) report["plots"].push_back({{"group", p.group}, {"file", p.file}, {"caption", p.caption}});
+    } catch (const std::bad_alloc&) {
+      throw;  // past the renderer's memory limit: the whole report stops
     } catch (const std::exception& e) {
       report["errors"].push_back(fmt::format("plots: {}", e.what()));
     }

@@ -42,13 +42,16 @@ function commandOf(args) {
 function connect({ argv, cwd }) {
   const child = spawn(argv[0], argv.slice(1), { cwd, stdio: ['pipe', 'pipe', 'inherit'] });
   const lines = createInterface({ input: child.stdout })[Symbol.asyncIterator]();
+  let numbered = 0;
   const request = async (msg) => {
-    child.stdin.write(JSON.stringify(msg) + '\n');
+    const id = ++numbered;  // every request numbered; its reply must carry the number (docs/protocol.md)
+    child.stdin.write(JSON.stringify({ id, ...msg }) + '\n');
     let timer;
     const timeout = new Promise((_, fail) => { timer = setTimeout(() => fail(new Error(`no reply to ${msg.op} within ${TIMEOUT_MS} ms`)), TIMEOUT_MS); });
     const next = await Promise.race([lines.next(), timeout]).finally(() => clearTimeout(timer));
     if (next.done) throw new Error(`the adapter exited (after ${msg.op})`);
     const reply = JSON.parse(next.value);
+    if (reply.id !== id) throw new Error(`${msg.op}: the reply is numbered ${JSON.stringify(reply.id)}, the request ${id}`);
     if (!reply.ok) throw new Error(`${msg.op}: ${reply.error}`);
     return reply;
   };
@@ -155,7 +158,7 @@ if (!target.argv?.length) {
 }
 const { child, request } = connect(target);
 try {
-  const hello = await request({ op: 'hello', protocol: 1 });
+  const hello = await request({ op: 'hello', protocol: 2 });
   console.log(`${target.name}: ${hello.engine} ${hello.version} (${hello.precision}); knobs: ${hello.settings.map((k) => `${k.key}=${k.default}`).join(', ') || 'none'}`);
   await checkCar(request, settings, wheels);
   await checkDisks(request);

@@ -1,5 +1,6 @@
-// The liftcheck engine protocol (docs/protocol.md), version 1: one JSON request per line on
-// standard input, one JSON reply per line on standard output. An adapter supplies an object with
+// The liftcheck engine protocol (docs/protocol.md), version 2: one JSON request per line on
+// standard input, one JSON reply per line on standard output, each reply carrying its request's
+// number ("id"; this loop puts it in, the adapter never sees it). An adapter supplies an object with
 // hello(), car(request), disks(request), stepCar(request) and stepDisks(request) (or one
 // step(request) of its own); this loop does the framing, steps whichever world the last build
 // made (none after a build that failed), and the error replies. Everything the adapter logs goes to standard error.
@@ -10,7 +11,7 @@
 import { readSync, writeSync } from 'node:fs';
 import { StringDecoder } from 'node:string_decoder';
 
-export const PROTOCOL = 1;
+export const PROTOCOL = 2;
 
 function finite(value, where) {
   if (typeof value === 'number' && !Number.isFinite(value)) throw new Error(`${where} is not finite`);
@@ -30,11 +31,22 @@ function out(text) {
   }
 }
 
-/// The reply {ok: true, ...reply} as text, refused if it holds a non-finite number.
-function okText(reply) {
+/// The request's number as it goes into its reply: `"id":N,` (nothing for a request without one).
+function idField(req) {
+  return req && Number.isSafeInteger(req.id) ? `"id":${req.id},` : '';
+}
+
+/// The reply {ok: true, id, ...reply} as text, refused if it holds a non-finite number.
+function okText(reply, req) {
   const text = JSON.stringify(reply);
   if (text.includes('null')) finite(reply, 'reply');
-  return text === '{}' ? '{"ok":true}' : `{"ok":true,${text.slice(1)}`;
+  const head = `{"ok":true,${idField(req)}`;
+  return text === '{}' ? `${head.slice(0, -1)}}` : `${head}${text.slice(1)}`;
+}
+
+/// The reply {ok: false, id, error} as text: the message's first line.
+function errorText(message, req) {
+  return `{"ok":false,${idField(req)}"error":${JSON.stringify(message.split('\n')[0])}}`;
 }
 
 /// The lines of standard input, read with blocking reads of fd 0 as large as the pipe gives them
@@ -100,18 +112,18 @@ export async function serve(adapter) {
     try {
       req = JSON.parse(line);
     } catch (e) {
-      out(JSON.stringify({ ok: false, error: `request is not JSON: ${e.message}` }));
+      out(errorText(`request is not JSON: ${e.message}`, null));
       continue;
     }
     try {
       if (req.op === 'bye') {
-        out('{"ok":true}');
+        out(okText({}, req));
         process.exit(0);
       }
       // A step is answered without an await: no turn of the event loop between request and reply.
-      out(okText(req.op === 'step' ? step(adapter, req) : await answer(adapter, req)));
+      out(okText(req.op === 'step' ? step(adapter, req) : await answer(adapter, req), req));
     } catch (e) {
-      out(JSON.stringify({ ok: false, error: String(e && e.message ? e.message : e).split('\n')[0] }));
+      out(errorText(String(e && e.message ? e.message : e), req));
     }
   }
 }

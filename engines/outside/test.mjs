@@ -14,17 +14,22 @@ const SUITE = `${DIR}/suite`;
 const REGISTERED = readdirSync(SUITE).filter((f) => f.endsWith('.json') && !f.startsWith('package'))
   .map((f) => JSON.parse(readFileSync(`${SUITE}/${f}`, 'utf8')));
 
-/// An adapter child and a function sending one request and returning its reply (10 s at most).
+/// An adapter child and a function sending one request, numbered, and returning its reply (10 s
+/// at most), which must carry the request's number.
 function start(argv) {
   const child = spawn(argv[0], argv.slice(1), { cwd: SUITE, stdio: ['pipe', 'pipe', 'ignore'] });
   const lines = createInterface({ input: child.stdout })[Symbol.asyncIterator]();
+  let numbered = 0;
   const request = async (msg) => {
-    child.stdin.write(JSON.stringify(msg) + '\n');
+    const id = ++numbered;
+    child.stdin.write(JSON.stringify({ id, ...msg }) + '\n');
     let timer;
     const timeout = new Promise((_, fail) => { timer = setTimeout(() => fail(new Error(`no reply to ${msg.op}`)), 10000); });
     const next = await Promise.race([lines.next(), timeout]).finally(() => clearTimeout(timer));
     assert.ok(!next.done, `the adapter exited after ${msg.op}`);
-    return JSON.parse(next.value);
+    const reply = JSON.parse(next.value);
+    assert.equal(reply.id, id, `the reply to ${msg.op} carries its request's number`);
+    return reply;
   };
   const stop = async () => { await request({ op: 'bye' }); };
   return { request, stop };
@@ -36,24 +41,24 @@ const carRequest = (settings) => ({ op: 'car', settings, dt_s: 0.001, mu: 1, gra
   q0: { x_m: 0, y_m: 0, phi_rad: 0, beta_rad: 0.35 }, servo: { spin_torque_max_Nm: 500, steer_torque_max_Nm: 500 } });
 
 for (const reg of REGISTERED) {
-  test(`${reg.name}: hello declares protocol 1, a precision and knobs with their defaults in range`, async () => {
+  test(`${reg.name}: hello declares protocol 2, a precision and knobs with their defaults in range`, async () => {
     const a = start(reg.command);
-    const h = await a.request({ op: 'hello', protocol: 1 });
+    const h = await a.request({ op: 'hello', protocol: 2 });
     assert.equal(h.ok, true);
-    assert.equal(h.protocol, 1);
+    assert.equal(h.protocol, 2);
     assert.ok(['float32', 'float64'].includes(h.precision));
     assert.deepEqual(h.vehicles, ['car', 'disks']);
     for (const k of h.settings) {
       if (k.kind === 'choice') assert.ok(k.choices.includes(k.default), k.key);
       else assert.ok(Number(k.default) >= k.min && Number(k.default) <= k.max, k.key);
     }
-    assert.equal((await a.request({ op: 'hello', protocol: 2 })).ok, false);
+    assert.equal((await a.request({ op: 'hello', protocol: 1 })).ok, false);
     await a.stop();
   });
 
   test(`${reg.name}: bad knobs and a step without a world are refused`, async () => {
     const a = start(reg.command);
-    const h = await a.request({ op: 'hello', protocol: 1 });
+    const h = await a.request({ op: 'hello', protocol: 2 });
     const refused = async (msg, why) => {
       const r = await a.request(msg);
       assert.equal(r.ok, false, why);
@@ -75,7 +80,7 @@ for (const reg of REGISTERED) {
 /// x of the front-axle centre after each of n steps of a car driven at 1 rad/s.
 async function drive(argv, n) {
   const a = start(argv);
-  await a.request({ op: 'hello', protocol: 1 });
+  await a.request({ op: 'hello', protocol: 2 });
   await a.request(carRequest({}));
   const xs = [];
   for (let k = 0; k < n; k++) xs.push((await a.request({ op: 'step', spin_radps: [1, 0], steer_radps: [0, 0], dt_s: 0.001 })).x_m);
@@ -86,7 +91,7 @@ async function drive(argv, n) {
 /// The first step with a reported contact, disks closing at 1 m/s from 1 m apart.
 async function firstContact(argv) {
   const a = start(argv);
-  await a.request({ op: 'hello', protocol: 1 });
+  await a.request({ op: 'hello', protocol: 2 });
   await a.request({ op: 'disks', settings: {}, radius_m: 1, dt_s: 0.001, cM0: [0, 0], cN0: [2.0105, 0] });
   for (let k = 1; k <= 100; k++) {
     const r = await a.request({ op: 'step', vM_cmd: [1, 0], cN_next: [2.0105, 0], vN: [0, 0], dt_s: 0.001 });

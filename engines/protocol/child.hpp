@@ -1,9 +1,11 @@
 // An engine outside liftcheck as a child process speaking the engine protocol (docs/protocol.md):
-// started with posix_spawn from an argument vector (never a shell), one JSON object per line on
-// its standard input and output, every read bounded in size (1 MiB a line) and in time (poll with
-// a deadline), its standard error drained as it comes and its last lines kept for error records.
-// Whatever goes wrong, the child is killed and the caller gets an EngineError whose one-line
-// reason names what the child sent last.
+// started with posix_spawn from an argument vector (never a shell) in a process group of its own,
+// one JSON object per line on its standard input and output, every request numbered and every
+// reply required to carry its request's number, every read bounded in size (1 MiB a line) and in
+// time (poll with a deadline), its standard error drained as it comes and its last lines kept for
+// error records. Whatever goes wrong, the child's process group is ended (SIGTERM, then SIGKILL)
+// with every process it started, and the caller gets an EngineError whose one-line reason names
+// what the child sent last: whatever bytes it sent, the reason is printable UTF-8.
 #pragma once
 
 #include <sys/types.h>
@@ -18,6 +20,13 @@ namespace liftcheck {
 
 /// The longest line either side may send (docs/protocol.md).
 constexpr size_t kProtocolLineMax = size_t{1} << 20;
+/// The protocol's version: 2 numbers every request ("id") and requires it in its reply.
+constexpr int kProtocolVersion = 2;
+
+/// Ends (SIGKILL) every process started as an adapter by the liftcheck process `owner` that is
+/// still running, wherever it went (a new session, a parent that died): each adapter and whatever
+/// it starts carries its owner in its environment (LIFTCHECK_ADAPTER_OF). Returns how many.
+int end_adapters_of(pid_t owner);
 
 class ProtocolChild {
  public:
@@ -28,17 +37,26 @@ class ProtocolChild {
   ProtocolChild(const ProtocolChild&) = delete;
   ProtocolChild& operator=(const ProtocolChild&) = delete;
 
-  /// Writes `request` and waits up to `timeout_s` for its one reply line. Returns the reply, an
-  /// object with "ok": true. A reply {"ok": false, "error": ...} throws EngineError with the
-  /// engine's reason and leaves the child up (it may serve the next run); anything else wrong (no
-  /// reply in time, the child gone, a line too long, not a JSON object) kills it first.
+  /// Writes `request` (numbered: "id" is added) and waits up to `timeout_s` for its one reply line.
+  /// Returns the reply, an object with "ok": true and the request's "id". A reply {"ok": false,
+  /// "error": ...} with the right number throws EngineError with the engine's reason and leaves the
+  /// child up (it may serve the next run); anything else wrong (no reply in time, the child gone, a
+  /// line too long, not a JSON object, another number or none) kills it first. A signal
+  /// (input/interrupt.hpp) ends the wait within 0.25 s: the child is ended and Interrupted thrown.
   nlohmann::json call(const nlohmann::json& request, double timeout_s);
   /// The round trip of call() without the JSON tree: writes `request` (one JSON object on one
-  /// line; a newline is appended to it) and returns the reply line unread, valid until the next
-  /// exchange. Fails as call() does on no reply in time, the child gone or a line too long.
+  /// line; its "id" is put first and a newline appended) and returns the reply line unread, valid
+  /// until the next exchange. Fails as call() does on no reply in time, the child gone or a line
+  /// too long; the caller checks the reply's number (request_id()).
   const std::string& exchange(const char* op, std::string& request, double timeout_s);
-  /// A reply line read as call() reads it: the object with "ok": true, else fail() or EngineError.
+  /// A reply line read as call() reads it: the object with "ok": true and the request's "id",
+  /// else fail() or EngineError.
   nlohmann::json checked_reply(const std::string& line);
+  /// The number of the request in flight (the last one written); 1 for the hello.
+  long request_id() const { return id_; }
+  /// Still serving, and nothing sent that no request asked for (a line between runs): false
+  /// ends it. For a child about to be given to a run or back to the idle ones.
+  bool idle_and_clean();
 
   /// Kills the child and throws EngineError: "engine 'NAME' (OP): WHAT; last line ...".
   [[noreturn]] void fail(const std::string& what);
@@ -58,6 +76,12 @@ class ProtocolChild {
   std::string context() const;
   void kill_and_reap();
   void drain_stderr();
+  /// Reads what stdout holds now without waiting; false at its end.
+  bool drain_stdout();
+  /// Reaps the child if it has ended (its exit in exit_how_); true then.
+  bool reaped_if_gone();
+  /// Between two waits: a signal ends the child and throws Interrupted; an ended child fails.
+  void check_between_waits();
   /// One line from stdout before `deadline_s` (steady clock seconds), or fail().
   const std::string& read_line(double deadline_s);
   void write_all(const std::string& text, double deadline_s);
@@ -72,6 +96,10 @@ class ProtocolChild {
   std::string exit_how_;        ///< "exited with status 1", once reaped
   bool healthy_ = true;
   double timeout_hint_s_ = 0.0;  ///< the time limit of the call in flight
+  long id_ = 0;                  ///< the number of the request in flight
+  bool err_open_ = true;         ///< its stderr not at its end yet
+  double next_check_s_ = 0.0;    ///< when a wait next looks at signals and the child's end
+  std::string tag_;              ///< LIFTCHECK_ADAPTER_OF=... in its environment and its descendants'
 };
 
 }  // namespace liftcheck

@@ -19,6 +19,10 @@
 #include "engines/protocol/child.hpp"
 #include "engines/protocol/flat_reply.hpp"
 #include "engines/rigid_car.hpp"
+#include "input/interrupt.hpp"
+#include "input/params.hpp"     // InputError
+#include "input/read_file.hpp"
+#include "input/trace.hpp"      // parse_json_text, printable
 
 #ifndef LIFTCHECK_OUTSIDE_DIR
 #define LIFTCHECK_OUTSIDE_DIR "engines/outside"
@@ -48,12 +52,12 @@ std::vector<std::weak_ptr<Outside>> g_all;  ///< for close_idle_children
 
 double now_s() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
 
-/// The hello of a child just started: the protocol version must be 1.
+/// The hello of a child just started: the protocol version must be liftcheck's.
 json hello(ProtocolChild& c, double deadline_s) {
-  json r = c.call({{"op", "hello"}, {"protocol", 1}}, std::max(0.05, deadline_s - now_s()));
+  json r = c.call({{"op", "hello"}, {"protocol", kProtocolVersion}}, std::max(0.05, deadline_s - now_s()));
   const auto p = r.find("protocol");
-  if (p == r.end() || !p->is_number_integer() || p->get<long>() != 1)
-    c.fail(fmt::format("speaks protocol {}, liftcheck speaks 1", p == r.end() ? "(none given)" : p->dump()));
+  if (p == r.end() || !p->is_number_integer() || p->get<long>() != kProtocolVersion)
+    c.fail(fmt::format("speaks protocol {}, liftcheck speaks {}", p == r.end() ? "(none given)" : p->dump(), kProtocolVersion));
   return r;
 }
 
@@ -66,7 +70,7 @@ std::unique_ptr<ProtocolChild> take(Outside& o, double deadline_s) {
     while (!o.idle.empty()) {
       std::unique_ptr<ProtocolChild> c = std::move(o.idle.back());
       o.idle.pop_back();
-      if (c->healthy()) return c;
+      if (c->idle_and_clean()) return c;  // one that sent a line between runs is ended
     }
   }
   std::unique_ptr<ProtocolChild> c = start(o);
@@ -75,7 +79,7 @@ std::unique_ptr<ProtocolChild> take(Outside& o, double deadline_s) {
 }
 
 void give_back(Outside& o, std::unique_ptr<ProtocolChild> c) {
-  if (!c || !c->healthy()) return;
+  if (!c || !c->idle_and_clean()) return;  // a line after its run's last reply: not for the next run
   std::lock_guard<std::mutex> lock(o.m);
   o.idle.push_back(std::move(c));
 }
@@ -166,8 +170,12 @@ std::vector<FlatReply::Slot> car_slots(int wheels) {
       for (int i = 0; i < 3; ++i) s.push_back({fmt::format("wheels/{}/{}/{}", k, v, i)});
     s.push_back({fmt::format("wheels/{}/hub_z_m", k)});
   }
+  s.push_back({"id", true, true});  // the request's number, last (car_id_slot)
   return s;
 }
+
+/// The slot of the reply's "id" among car_slots(wheels).
+size_t car_id_slot(int wheels) { return 10 + 10 * static_cast<size_t>(wheels); }
 
 /// RigidCarState from a reply read by the slots of car_slots(wheels).
 RigidCarState car_state_of(const FlatReply& f, int wheels) {
@@ -218,7 +226,7 @@ class ProtocolCar final : public RigidCar {
     ProtocolChild& c = lease_.get();
     const std::string& line = c.exchange("step", request_, lease_.seconds_left());
     if (!reply_ || reply_wheels_ != def_.wheels) reply_.emplace(car_slots(def_.wheels)), reply_wheels_ = def_.wheels;
-    if (reply_->read(line) && reply_->value(0) >= 0.0) {
+    if (reply_->read(line) && reply_->value(0) >= 0.0 && reply_->value(car_id_slot(def_.wheels)) == static_cast<double>(c.request_id())) {
       engine_s_ += reply_->value(0);
       state_ = car_state_of(*reply_, def_.wheels);
       return;
@@ -265,8 +273,10 @@ class ProtocolDisks final : public DrivenDisks {
     request_ += '}';
     ProtocolChild& c = lease_.get();
     const std::string& line = c.exchange("step", request_, lease_.seconds_left());
-    // The fast path: engine_s, cM, cN, contacts.count and, where there are contacts, their depth and distance.
-    if (reply_.read(line) && reply_.value(0) >= 0.0 && reply_.value(5) >= 0.0 && (reply_.value(5) == 0.0 || (reply_.given(6) && reply_.given(7) && reply_.value(6) >= 0.0))) {
+    // The fast path: engine_s, cM, cN, contacts.count and, where there are contacts, their depth and
+    // distance; the reply's number (slot 8) the request's.
+    if (reply_.read(line) && reply_.value(8) == static_cast<double>(c.request_id()) && reply_.value(0) >= 0.0 && reply_.value(5) >= 0.0 &&
+        (reply_.value(5) == 0.0 || (reply_.given(6) && reply_.given(7) && reply_.value(6) >= 0.0))) {
       engine_s_ += reply_.value(0);
       state_ = {disks::Vec2(reply_.value(1), reply_.value(2)), disks::Vec2(reply_.value(3), reply_.value(4))};
       StepContacts out;
@@ -306,7 +316,7 @@ class ProtocolDisks final : public DrivenDisks {
   double engine_s_ = 0.0;
   std::string request_;
   FlatReply reply_{{{"engine_s"}, {"cM/0"}, {"cM/1"}, {"cN/0"}, {"cN/1"}, {"contacts/count", true, true},
-                    {"contacts/depth_max_m", false}, {"contacts/distance_min_m", false}}};
+                    {"contacts/depth_max_m", false}, {"contacts/distance_min_m", false}, {"id", true, true}}};
 };
 
 // ---- the hello: what the configuration is ----
@@ -315,7 +325,7 @@ std::string text_field(ProtocolChild& c, const json& j, const char* key, const s
   const auto it = j.find(key);
   if (it == j.end() && !required) return "";
   if (it == j.end() || !it->is_string()) c.fail(fmt::format("hello: '{}{}' must be a string", where, key));
-  return it->get<std::string>();
+  return printable(it->get<std::string>(), 300);  // what an engine says is shown on one line
 }
 
 SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
@@ -334,7 +344,7 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
   k.kind = *named;
   const auto d = j.find("default");
   if (d == j.end() || !(d->is_string() || d->is_number())) c.fail(fmt::format("hello: {}default is missing", where));
-  k.default_text = d->is_string() ? d->get<std::string>() : fmt::format("{:g}", d->get<double>());
+  k.default_text = d->is_string() ? printable(d->get<std::string>(), 300) : fmt::format("{:g}", d->get<double>());
   k.help = text_field(c, j, "help", where, false);
   if (k.numeric()) {
     k.min = c.number(j, "min", where.c_str()), k.max = c.number(j, "max", where.c_str());
@@ -351,7 +361,7 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
     if (ch == j.end() || !ch->is_array() || ch->empty()) c.fail(fmt::format("hello: {}choices must be a non-empty array", where));
     for (const auto& v : *ch) {
       if (!v.is_string()) c.fail(fmt::format("hello: {}choices must be strings", where));
-      k.choices.push_back(v.get<std::string>());
+      k.choices.push_back(printable(v.get<std::string>(), 300));
     }
     if (std::find(k.choices.begin(), k.choices.end(), k.default_text) == k.choices.end())
       c.fail(fmt::format("hello: {}default '{}' is not one of its choices", where, k.default_text));
@@ -390,7 +400,7 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
     if (!f->is_array()) c.fail("hello: 'fixed' must be an array of [name, value] pairs");
     for (const auto& p : *f) {
       if (!p.is_array() || p.size() != 2 || !p[0].is_string() || !p[1].is_string()) c.fail("hello: 'fixed' must be an array of [name, value] pairs");
-      e.settings.emplace_back(p[0].get<std::string>(), p[1].get<std::string>());
+      e.settings.emplace_back(printable(p[0].get<std::string>(), 300), printable(p[1].get<std::string>(), 1000));
     }
   }
   e.settings.insert(e.settings.begin(), {"protocol", fmt::format("{} (docs/protocol.md), precision {}", fmt::join(e.command, " "), e.precision)});
@@ -415,16 +425,15 @@ std::string registration_problem(const std::filesystem::path& file, const std::s
 
 /// One registration file, or a problem.
 bool read_registration(const std::filesystem::path& file, EngineInfo& e, std::string& problem) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(file, ec);
-  if (ec || size > kProtocolLineMax) {
-    problem = registration_problem(file, ec ? ec.message() : "larger than 1 MiB");
-    return false;
+  // Read as every JSON file a user gives: bounded, 64 levels at most, no key twice in an object.
+  json j;
+  try {
+    j = parse_json_text(read_text_file(file, kProtocolLineMax, "engine registration"), file.filename().string());
+  } catch (const InputError& err) {
+    return problem = registration_problem(file, err.what()), false;
   }
-  std::ifstream in(file);
-  const json j = json::parse(in, nullptr, false);
   const auto str = [&](const char* key) { return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string(); };
-  if (j.is_discarded() || !j.is_object()) return problem = registration_problem(file, "not a JSON object"), false;
+  if (!j.is_object()) return problem = registration_problem(file, "not a JSON object"), false;
   e.name = str("name");
   if (e.name.empty() || e.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789.-_") != std::string::npos)
     return problem = registration_problem(file, "'name' must be lower-case letters, digits, '.', '-' and '_'"), false;
@@ -433,6 +442,9 @@ bool read_registration(const std::filesystem::path& file, EngineInfo& e, std::st
     return problem = registration_problem(file, "'command' must be a non-empty array of strings (an argument vector)"), false;
   for (const auto& a : j["command"]) {
     if (!a.is_string() || a.get<std::string>().empty()) return problem = registration_problem(file, "'command' must hold non-empty strings"), false;
+    // An argument vector holds C strings: a NUL would cut the argument short, unseen.
+    if (a.get<std::string>().find('\0') != std::string::npos)
+      return problem = registration_problem(file, fmt::format("'command' argument {} holds a NUL byte ('{}')", e.command.size(), printable(a.get<std::string>(), 80))), false;
     e.command.push_back(a.get<std::string>());
   }
   e.description = str("description");
@@ -557,6 +569,8 @@ void describe_outside(EngineInfo& e) {
     g_all.push_back(o);
   } catch (const EngineError& err) {
     make_unavailable(e, err.what());
+  } catch (const Interrupted&) {
+    throw;  // a signal while it started: the command ends, the configuration is not judged
   } catch (const std::exception& err) {  // a mistyped optional field of the hello
     make_unavailable(e, fmt::format("engine '{}' (hello): malformed: {}", e.name, err.what()));
   }

@@ -2,8 +2,10 @@
 
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <fmt/format.h>
 #include <iostream>
 #include <memory>
@@ -55,7 +57,8 @@ class ProtocolServer {
 
  private:
   json hello(const json& req) const {
-    if (req.at("protocol") != 1) throw EngineError(fmt::format("protocol {} asked, this server speaks 1", req.at("protocol").dump()));
+    if (req.at("protocol") != kProtocolVersion)
+      throw EngineError(fmt::format("protocol {} asked, this server speaks {}", req.at("protocol").dump(), kProtocolVersion));
     json vehicles = json::array(), settings = json::array(), fixed = json::array();
     if (e_.make_car) vehicles.push_back("car");
     if (e_.make_disks) vehicles.push_back("disks");
@@ -67,7 +70,7 @@ class ProtocolServer {
       settings.push_back(j);
     }
     for (const auto& [k, v] : e_.settings) fixed.push_back({k, v});
-    return {{"protocol", 1}, {"engine", e_.library}, {"version", e_.version}, {"precision", e_.precision},
+    return {{"protocol", kProtocolVersion}, {"engine", e_.library}, {"version", e_.version}, {"precision", e_.precision},
             {"vehicles", vehicles}, {"four_wheels", e_.four_wheels}, {"settings", settings}, {"fixed", fixed}};
   }
 
@@ -163,6 +166,45 @@ class ProtocolServer {
   DrivenDisks* disks_ = nullptr;
 };
 
+/// One reply line written whole to `fd`; false with errno set when it cannot be.
+bool write_reply(int fd, const std::string& text) {
+  for (size_t done = 0; done < text.size();) {
+    const ssize_t put = ::write(fd, text.data() + done, text.size() - done);
+    if (put < 0 && errno == EINTR) continue;
+    if (put <= 0) {
+      if (put == 0) errno = EIO;
+      return false;
+    }
+    done += static_cast<size_t>(put);
+  }
+  return true;
+}
+
+/// The reply to one request line: its number ("id") echoed, {"ok": false, "error": ...} for
+/// anything the server or the engine refuses. Empty after "bye".
+std::string reply_to(ProtocolServer& server, const std::string& line, bool& bye) {
+  json reply, id;
+  try {
+    const json req = json::parse(line);
+    if (req.is_object() && req.contains("id")) id = req["id"];
+    if (req.value("op", "") == "bye") {
+      bye = true;
+      reply = json::object();
+    } else {
+      reply = server.handle(req);
+      if (!all_finite(reply)) throw EngineError("the engine's state is not finite");
+    }
+    reply["ok"] = true;
+  } catch (const std::exception& err) {
+    std::string why = err.what();
+    for (char& ch : why)
+      if (ch == '\n' || ch == '\r') ch = ' ';
+    reply = {{"ok", false}, {"error", why}};
+  }
+  if (!id.is_null()) reply["id"] = id;
+  return reply.dump(-1, ' ', false, json::error_handler_t::replace) + "\n";
+}
+
 int serve_main(const std::string& config) {
   const EngineInfo* e = nullptr;
   for (const EngineInfo& x : engines())
@@ -180,30 +222,16 @@ int serve_main(const std::string& config) {
   std::string line;
   line.reserve(4096);
   while (std::getline(std::cin, line)) {
-    if (line.size() > kProtocolLineMax) return 2;
-    json reply;
-    try {
-      const json req = json::parse(line);
-      if (req.value("op", "") == "bye") {
-        const std::string bye = "{\"ok\":true}\n";
-        return ::write(replies_fd, bye.data(), bye.size()) == static_cast<ssize_t>(bye.size()) ? 0 : 3;
-      }
-      reply = server.handle(req);
-      if (!all_finite(reply)) throw EngineError("the engine's state is not finite");
-      reply["ok"] = true;
-    } catch (const std::exception& err) {
-      std::string why = err.what();
-      for (char& ch : why)
-        if (ch == '\n' || ch == '\r') ch = ' ';
-      reply = {{"ok", false}, {"error", why}};
+    if (line.size() > kProtocolLineMax) {
+      std::cerr << "liftcheck: error: serve: a request line longer than 1 MiB\n";
+      return 2;
     }
-    const std::string text = reply.dump() + "\n";
-    size_t done = 0;
-    while (done < text.size()) {
-      const ssize_t put = ::write(replies_fd, text.data() + done, text.size() - done);
-      if (put <= 0) return 3;
-      done += static_cast<size_t>(put);
+    bool bye = false;
+    if (!write_reply(replies_fd, reply_to(server, line, bye))) {
+      std::cerr << fmt::format("liftcheck: error: cannot write to standard output: {}\n", std::strerror(errno));
+      return 2;
     }
+    if (bye) return 0;
   }
   return 0;
 }

@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """An adapter that lies, for the tests of liftcheck's engine protocol (docs/protocol.md): it says
 hello and builds like an honest one (a car that stands where it was put, disks that stay put),
-then breaks the protocol in the way its mode names, at the first step:
-  version    hello answers protocol 2
+then breaks the protocol in the way its mode names, at the first step (every reply carries its
+request's number, "id", as protocol 2 requires):
+  version    hello answers protocol 1
   malformed  a reply that is not JSON
   nan        a reply with NaN in it (Python writes the bare word, which is not JSON)
   missing    a reply without the field x_m
@@ -17,6 +18,7 @@ mode = sys.argv[1]
 
 
 def out(obj):
+    obj = dict(obj, id=req["id"]) if "id" in req else obj
     sys.stdout.write(json.dumps(obj) + "\n")
     sys.stdout.flush()
 
@@ -33,7 +35,7 @@ for line in sys.stdin:
     req = json.loads(line)
     op = req["op"]
     if op == "hello":
-        out({"ok": True, "protocol": 2 if mode == "version" else 1, "engine": "Fake", "version": "0", "precision": "float64",
+        out({"ok": True, "protocol": 1 if mode == "version" else req["protocol"], "engine": "Fake", "version": "0", "precision": "float64",
              "vehicles": ["car", "disks"], "settings": [], "fixed": [["lies", mode]]})
     elif op == "car":
         built = car_state(req)
