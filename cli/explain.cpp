@@ -28,7 +28,8 @@ std::pair<const Scenario*, Overrides> listed_run(const ListedReason& l, const Ev
   if (!l.sweep) return {&scenario_or_throw(l.scenario), l.params};
   for (const SweepDef& s : sweep_catalogue())
     if (s.name == l.scenario) return {&scenario_or_throw(s.scenario), point_overrides(s, ev.x)};
-  throw InputError(fmt::format("harness/expectations.json lists sweep '{}', which the catalogue does not have", l.scenario));
+  // The outcome sweep's listings (the grid over cases, not a parameter): its scenario's default run.
+  return {&scenario_or_throw(outcome_sweep_scenario()), {}};
 }
 
 /// The plan's item for this run, added once (two experiments on one listing share its run).
@@ -60,13 +61,14 @@ bool selected(const ListedReason& l, const std::vector<std::string>& names, cons
 bool report(const Experiment& x, const nlohmann::json& base, const nlohmann::json& changed, bool json) {
   const auto [from, tol] = figure(base, x.evidence->metric);
   const auto to = figure(changed, x.evidence->metric).first;
-  const bool measuring = std::isnan(x.evidence->from);  // --measure: nothing recorded to hold
-  const bool holds = measuring || x.evidence->holds(from, to, tol);
+  const bool measuring = std::isnan(x.evidence->from) && !x.evidence->from_error;  // --measure: nothing recorded to hold
+  const bool errs = base["status"] == "error";
+  const bool holds = measuring || (x.evidence->from_error ? x.evidence->holds_from_error(errs, to, tol) : x.evidence->holds(from, to, tol));
   const ListedReason& l = *x.listing;
   const std::string where = l.sweep ? fmt::format("sweep {} at x = {} on {}", l.scenario, x.evidence->x, l.engine)
                                     : fmt::format("{} on {}", l.scenario, l.engine);
   if (json) {
-    std::cout << nlohmann::json{{"listing", where}, {"scenario", l.scenario}, {"sweep", l.sweep}, {"engine", l.engine}, {"x", x.evidence->x},
+    std::cout << nlohmann::json{{"listing", where}, {"scenario", l.scenario}, {"sweep", l.sweep}, {"engine", l.engine}, {"x", x.evidence->x}, {"from_error", errs},
                                 {"params", l.params}, {"change", x.evidence->change}, {"metric", x.evidence->metric},
                                 {"from", from}, {"to", to}, {"recorded_from", x.evidence->from}, {"recorded_to", x.evidence->to},
                                 {"tolerance", tol}, {"holds", holds}}.dump() << "\n";

@@ -41,6 +41,11 @@ bool Evidence::holds(double from_now, double to_now, double tolerance) const {
   return std::isfinite(from_now) && std::isfinite(to_now) && near(from_now, from) && near(to_now, to) && moved;
 }
 
+bool Evidence::holds_from_error(bool errs_now, double to_now, double tolerance) const {
+  const bool near = to <= tolerance ? to_now <= tolerance : to_now <= kReproduce * to && to_now >= to / kReproduce;
+  return errs_now && std::isfinite(to_now) && near;
+}
+
 std::string Evidence::change_text() const {
   std::string s;
   for (const auto& [k, v] : change) s += (s.empty() ? "" : ", ") + k + "=" + v;
@@ -66,10 +71,11 @@ std::vector<Evidence> parse_evidence(const nlohmann::json& listing, const std::s
     }
     if (!e.contains("metric") || !e.at("metric").is_string()) throw fail("needs the \"metric\" whose figure moves");
     ev.metric = e.at("metric");
+    ev.from_error = e.contains("from") && e.at("from") == "error";
     for (const char* k : {"from", "to"})
-      if (!e.contains(k) || !e.at(k).is_number() || !(e.at(k).get<double>() >= 0.0))
-        throw fail(fmt::format("needs \"{}\": the compared error measured", k));
-    ev.from = e.at("from"), ev.to = e.at("to");
+      if (!(ev.from_error && std::string(k) == "from") && (!e.contains(k) || !e.at(k).is_number() || !(e.at(k).get<double>() >= 0.0)))
+        throw fail(fmt::format("needs \"{}\": the compared error measured (\"from\": \"error\" for a run that ends in one)", k));
+    ev.from = ev.from_error ? NAN : e.at("from").get<double>(), ev.to = e.at("to");
     if (ev.from == ev.to) throw fail("records no move (\"from\" equals \"to\")");
     ev.x = e.value("x", 0.0);
     v.push_back(std::move(ev));

@@ -33,12 +33,17 @@ struct Evidence {
   std::vector<std::pair<std::string, std::string>> change;
   std::string metric;
   double from = 0.0, to = 0.0;  ///< the compared errors when the evidence was written
+  /// "from": "error": the listed run ends in an error (a known error listing), and the change lets
+  /// it finish with `metric` at `to`.
+  bool from_error = false;
   double x = 0.0;               ///< a sweep listing's point: the swept value the experiment runs at
   /// Holds when the runs made now reproduce it: each figure within kReproduce of its recorded
   /// value (a recorded figure within its tolerance: within it again), and the change moving the
   /// figure the recorded way by at least kMove.
   static constexpr double kReproduce = 2.0, kMove = 2.0;
   bool holds(double from_now, double to_now, double tolerance) const;
+  /// from_error: the listed run ended in an error now too, and the changed run gives `to` again.
+  bool holds_from_error(bool errs_now, double to_now, double tolerance) const;
   /// "velocity_steps=100, slop=0.001"
   std::string change_text() const;
 };

@@ -31,11 +31,19 @@ console.log = console.error;  // MuJoCo's warnings must not reach standard outpu
 const mj = await loadMujoco();
 const CONFIGS = { default: { stiff: false }, stiff: { stiff: true, impratio: 10 } };
 const CONFIG = CONFIGS[C.parseArgs(process.argv.slice(2), CONFIGS).config];
-// mujoco-stiff's one knob (engines/mujoco/mujoco_engine.cpp): impratio, the car's; the disks are frictionless.
+// The compiled-in configurations' knobs (engines/mujoco/mujoco_engine.cpp): mujoco-stiff's impratio,
+// the car's (the disks are frictionless); mujoco's solref time constant (cars and disks) and
+// friction cone (the car's).
+const TIMECONST_DEFAULT_S = 0.02;  // MuJoCo's default solref[0]
+const timeconstKnob = (vehicle) => ({ key: 'solref_timeconst_s', vehicle, kind: 'real', min: 0, min_exclusive: true, max: 1, default: '0.02',
+  help: 'time constant of the contacts\' soft constraint: solref[0] of the geom defaults (MuJoCo\'s default 0.02 s), damping ratio 1; '
+    + 'at least 2 dt, refsafe\'s floor, to which MuJoCo would raise a smaller one without a word' });
 const KNOBS = CONFIG.stiff
   ? [{ key: 'impratio', vehicle: 'car', kind: 'real', min: 0, min_exclusive: true, max: 1000, default: String(CONFIG.impratio),
       help: 'ratio of frictional to normal constraint impedance (option impratio)' }]
-  : [];
+  : [timeconstKnob('car'), timeconstKnob('disks'),
+     { key: 'cone', vehicle: 'car', kind: 'choice', choices: ['pyramidal', 'elliptic'], default: 'pyramidal',
+       help: 'friction cone (option cone): pyramidal, MuJoCo\'s default, or elliptic' }];
 const DIR = '/liftcheck';
 mj.FS.mkdir(DIR);
 const num = (x) => x.toPrecision(17);
@@ -86,15 +94,20 @@ function timestep(dt_s) {
   if (sim.m.opt.timestep !== dt_s) sim.m.opt.timestep = dt_s;
 }
 
-/// The <option> element (and, for stiff, the geom defaults) at time step dt: mujoco_engine.cpp's option_xml.
-function option(dt_s, g, impratio) {
+/// The <option> element and the geom defaults at time step dt: mujoco_engine.cpp's option_xml. A
+/// time constant under refsafe's floor of 2 dt is refused: MuJoCo would raise it without a word.
+function option(dt_s, g, { impratio, solref_timeconst_s: tc = TIMECONST_DEFAULT_S, cone = 'pyramidal' }) {
   const base = `timestep="${num(dt_s)}" gravity="${g.map(num).join(' ')}"`;
-  if (!CONFIG.stiff) return `<option ${base}/>`;
+  if (!CONFIG.stiff) {
+    if (!(tc >= 2 * dt_s)) throw new Error(`setting solref_timeconst_s = ${tc} s is below 2 dt = ${2 * dt_s} s, the floor MuJoCo's refsafe raises it to without a word`);
+    return `<option ${base}${cone === 'elliptic' ? ' cone="elliptic"' : ''}/>
+<default><geom solref="${num(tc)} 1"/></default>`;
+  }
   return `<option ${base} cone="elliptic" impratio="${num(impratio)}"/>
 <default><geom solref="${num(2 * dt_s)} 1"/></default>`;
 }
 
-function carXml({ car: d, q0, servo, mu, dt_s, gravity_W }, impratio) {
+function carXml({ car: d, q0, servo, mu, dt_s, gravity_W }, knob) {
   const R = d.R_m, l = d.l_m, w = d.track_m;
   const ik = d.knuckle_mass_kg * C.KNUCKLE_GYRATION_SQ_M2;
   const spinI = 0.4 * d.wheel_mass_kg * R * R, steerI = spinI + ik;  // kv = I / dt: deadbeat when unloaded
@@ -114,7 +127,7 @@ function carXml({ car: d, q0, servo, mu, dt_s, gravity_W }, impratio) {
     `<velocity name="spin${sfx}" joint="spin${sfx}" kv="${num(spinI / dt_s)}" forcelimited="true" forcerange="${num(-servo.spin_Nm)} ${num(servo.spin_Nm)}"/>
 <velocity name="steer${sfx}" joint="steer${sfx}" kv="${num(steerI / dt_s)}" forcelimited="true" forcerange="${num(-servo.steer_Nm)} ${num(servo.steer_Nm)}"/>`).join('\n');
   return `<mujoco model="liftcheck ${fronts.length === 1 ? 'tricycle' : 'four-wheel car'}">
-${option(dt_s, gravity_W, impratio)}
+${option(dt_s, gravity_W, knob)}
 <worldbody>
 <geom name="ground" type="plane" size="0 0 1" condim="3" friction="${num(mu)} 0.005 0.0001" contype="2" conaffinity="1"/>
 <body name="chassis" pos="${num(q0.x_m)} ${num(q0.y_m)} ${num(R)}" quat="${num(qw)} 0 0 ${num(qz)}">
@@ -136,7 +149,7 @@ function buildCar(req) {
   car = disks = null;  // a build that fails leaves no world to step
   const knob = C.applySettings(KNOBS, req.settings, 'car');
   const r = C.carRequest(req);
-  const id = compile(carXml(r, knob.impratio));
+  const id = compile(carXml(r, knob));
   const { m } = sim;
   const fronts = C.frontWheels(r.car, r.q0.beta_rad).map((f, k, all) => {
     const sfx = all.length === 1 ? '' : ['_left', '_right'][k];
@@ -188,10 +201,10 @@ function stepCar(req) {
   return carState(engine_s);
 }
 
-function disksXml({ radius_m, dt_s, cM0, cN0 }) {
+function disksXml({ radius_m, dt_s, cM0, cN0 }, knob) {
   const r = num(radius_m);
   return `<mujoco model="liftcheck disks">
-${option(dt_s, [0, 0, 0], CONFIG.impratio)}
+${option(dt_s, [0, 0, 0], { impratio: CONFIG.impratio, ...knob })}
 <worldbody>
 <body name="M" pos="${num(cM0[0])} ${num(cM0[1])} 0">
   <joint name="x" type="slide" axis="1 0 0"/><joint name="y" type="slide" axis="0 1 0"/>
@@ -206,9 +219,9 @@ ${option(dt_s, [0, 0, 0], CONFIG.impratio)}
 
 function buildDisks(req) {
   car = disks = null;
-  C.applySettings(KNOBS, req.settings, 'disks');
+  const knob = C.applySettings(KNOBS, req.settings, 'disks');
   const r = C.diskRequest(req);
-  const id = compile(disksXml(r));
+  const id = compile(disksXml(r, knob));
   const { m } = sim;
   const M = id('body', 'M'), N = id('body', 'N');
   disks = { dt_s: r.dt_s, M, N, mocap: m.body_mocapid[N], gM: m.body_geomadr[M], gN: m.body_geomadr[N], ax: id('actuator', 'x'), ay: id('actuator', 'y') };
@@ -266,7 +279,7 @@ serve({
         : 'mj_step1 / set ctrl / mj_step2 (equal to mj_step); MuJoCo\'s defaults: Euler, Newton solver, 100 iterations, tolerance 1e-8, pyramidal cone, impratio 1, noslip off'],
       ['contact', CONFIG.stiff
         ? 'every geom solref (2 dt, 1): the time constant at its refsafe floor of 2 x timestep, damping ratio 1; solimp 0.9 0.95 0.001 (default), margin 0'
-        : 'MuJoCo\'s defaults: solref 0.02 1, solimp 0.9 0.95 0.001, margin 0'],
+        : 'solref (solref_timeconst_s, 1): the geom defaults\' time constant, --set solref_timeconst_s for cars and disks (default 0.02 s, MuJoCo\'s; refused below 2 dt, refsafe\'s floor); solimp 0.9 0.95 0.001 (default), margin 0; car --set cone (default pyramidal, MuJoCo\'s; elliptic)'],
       ['joints', 'free-joint chassis at the front-axle centre (box l/2 behind it, no collision); knuckle hinged about the chassis z (inertia m x 2e-3 m^2); front wheel hinged about the knuckle y; rear wheels hinged about the chassis y; four wheels: two knuckles at (0, +-track/2), each at its Ackermann angle'],
       ['actuators', 'velocity actuators on spin and steering, kv = the joint\'s own inertia / dt, forcerange the request\'s torque limit'],
       ['friction', 'wheels and ground friction mu (MuJoCo takes the larger of the two geoms\'), condim 3'],

@@ -3,7 +3,7 @@
 
 A reason that names a cause is a claim; its evidence is an experiment: the listed run, and the same
 run with one change (a setting or a scenario parameter, as --set takes it), which moves a failing
-figure. The plan lists the experiments to make:
+figure (a listed run that ends in an error: the change lets it finish, "from": "error"). The plan lists the experiments to make:
 
     [{"scenario": "car.circle", "engine": "jolt", "change": {"velocity_steps": "100"}, "metric": "front_radius"},
      {"sweep": "error_vs_dt", "engine": "ode", "x": 0.01, "change": {"speed": "1"}, "metric": "heading_residual"}, ...]
@@ -68,15 +68,18 @@ def main():
     weak = 0
     for e, m in zip(plan, figures):
         f, t, tol = (math.nan if m[k] is None else m[k] for k in ("from", "to", "tolerance"))
+        if math.isnan(tol):
+            tol = 0.0
         where = (f"sweep {e['sweep']} x={e['x']:g}" if "sweep" in e else e["scenario"]) + f" on {e['engine']}"
         change = ", ".join(f"{k}={v}" for k, v in e["change"].items())
-        moved = math.isfinite(f) and math.isfinite(t) and f > 0 and (t * MOVE <= f or t >= MOVE * f)
+        from_error = m.get("from_error", False)
+        moved = math.isfinite(t) and (from_error or (math.isfinite(f) and f > 0 and (t * MOVE <= f or t >= MOVE * f)))
         print(f"{where}: {change}: {e['metric']} {f:.3g} -> {t:.3g} (tolerance {tol:.3g}){'' if moved else '  NOT MOVED 2x'}")
         if not moved:
             weak += 1
             continue
         listing = listing_of(exp, e)
-        ev = {"change": e["change"], "metric": e["metric"], "from": float(f"{f:.3g}"), "to": float(f"{t:.3g}")}
+        ev = {"change": e["change"], "metric": e["metric"], "from": "error" if from_error else float(f"{f:.3g}"), "to": float(f"{t:.3g}")}
         if "sweep" in e:
             ev["x"] = e["x"]
         kept = [x for x in listing.get("evidence", []) if not (x["change"] == ev["change"] and x["metric"] == ev["metric"]
