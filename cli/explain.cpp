@@ -1,6 +1,7 @@
 // liftcheck explain: a known failure's reason is a claim, and its evidence is an experiment (the
 // run as listed, and the same run with one change). This re-runs every experiment of the chosen
 // listings and says whether each still holds (harness/expectations.hpp, Evidence::holds).
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 #include <iostream>
@@ -60,10 +61,10 @@ bool selected(const ListedReason& l, const std::vector<std::string>& names, cons
 /// One line per experiment; returns whether it holds.
 bool report(const Experiment& x, const nlohmann::json& base, const nlohmann::json& changed, bool json) {
   const auto [from, tol] = figure(base, x.evidence->metric);
-  const auto to = figure(changed, x.evidence->metric).first;
+  const auto [to, to_tol] = figure(changed, x.evidence->metric);
   const bool measuring = std::isnan(x.evidence->from) && !x.evidence->from_error;  // --measure: nothing recorded to hold
   const bool errs = base["status"] == "error";
-  const bool holds = measuring || (x.evidence->from_error ? x.evidence->holds_from_error(errs, to, tol) : x.evidence->holds(from, to, tol));
+  const bool holds = measuring || (x.evidence->from_error ? x.evidence->holds_from_error(errs, to, to_tol) : x.evidence->holds(from, to, tol, to_tol));
   const ListedReason& l = *x.listing;
   const std::string where = l.sweep ? fmt::format("sweep {} at x = {} on {}", l.scenario, x.evidence->x, l.engine)
                                     : fmt::format("{} on {}", l.scenario, l.engine);
@@ -127,22 +128,29 @@ int cmd_explain(const std::vector<std::string>& names, const std::string& engine
   SuitePlan plan;
   std::map<std::string, size_t> index;
   std::vector<Experiment> experiments;
-  int unexplained = 0;
+  int unexplained = 0, pending = 0;
   for (const ListedReason& l : plan_file.empty() ? listed_reasons() : planned) {
     if (!selected(l, names, configs)) continue;
     if (l.evidence.empty() && !is_negative_control(l.reason)) {
-      ++unexplained;
-      if (!json) std::cout << fmt::format("{}{} on {}: its reason names no experiment\n", l.sweep ? "sweep " : "", l.scenario, l.engine);
+      if (!l.experiment_pending.empty()) ++pending;
+      else ++unexplained;
+      if (!json)
+        std::cout << fmt::format("{}{} on {}: {}\n", l.sweep ? "sweep " : "", l.scenario, l.engine,
+                                 l.experiment_pending.empty() ? "its reason names no experiment" : "experiment pending: " + l.experiment_pending);
     }
     for (const Evidence& ev : l.evidence) {
       const auto [s, ov] = listed_run(l, ev);
       Overrides with_change = ov;
-      with_change.insert(with_change.end(), ev.change.begin(), ev.change.end());
+      for (const auto& [key, value] : ev.change) {
+        if (std::any_of(ov.begin(), ov.end(), [&](const auto& kv) { return kv.first == key; }))
+          throw InputError(fmt::format("{} on {}: the experiment changes '{}', which the listed run sets already", l.scenario, l.engine, key));
+        with_change.emplace_back(key, value);
+      }
       const EngineInfo& e = engine_or_throw(l.engine);
       experiments.push_back({&l, &ev, item_for(plan, index, *s, e, ov), item_for(plan, index, *s, e, with_change)});
     }
   }
-  if (experiments.empty() && unexplained == 0) throw InputError("no listing of harness/expectations.json with evidence matches the names and configurations given");
+  if (experiments.empty() && unexplained == 0 && pending == 0) throw InputError("no listing of harness/expectations.json with evidence matches the names and configurations given");
   std::vector<size_t> all(plan.items.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
   std::vector<nlohmann::json> records;
@@ -155,8 +163,8 @@ int cmd_explain(const std::vector<std::string>& names, const std::string& engine
   int failing = 0;
   for (const Experiment& x : experiments) failing += report(x, records.at(x.base), records.at(x.changed), json) ? 0 : 1;
   if (!json)
-    std::cout << fmt::format("{} experiments: {} hold, {} do not; {} listings without evidence\n", experiments.size(), experiments.size() - failing,
-                             failing, unexplained);
+    std::cout << fmt::format("{} experiments: {} hold, {} do not; {} listings await their experiment, {} have none\n", experiments.size(),
+                             experiments.size() - failing, failing, pending, unexplained);
   return failing == 0 && unexplained == 0 ? 0 : 1;
 }
 

@@ -32,13 +32,14 @@ std::vector<std::string> beyond_ceilings(const Ceilings& ceilings, const std::ve
   return problems;
 }
 
-bool Evidence::holds(double from_now, double to_now, double tolerance) const {
-  const auto near = [&](double now, double recorded) {
-    if (recorded <= tolerance) return now <= tolerance;
+bool Evidence::holds(double from_now, double to_now, double tolerance, double to_tolerance) const {
+  const auto near = [](double now, double recorded, double tol) {
+    if (recorded <= tol) return now <= tol;
     return now <= kReproduce * recorded && now >= recorded / kReproduce;
   };
   const bool moved = to < from ? to_now * kMove <= from_now : to_now >= kMove * from_now;
-  return std::isfinite(from_now) && std::isfinite(to_now) && near(from_now, from) && near(to_now, to) && moved;
+  return std::isfinite(from_now) && std::isfinite(to_now) && from_now > tolerance && near(from_now, from, tolerance) &&
+         near(to_now, to, to_tolerance) && moved;
 }
 
 bool Evidence::holds_from_error(bool errs_now, double to_now, double tolerance) const {
@@ -114,11 +115,19 @@ const std::vector<ListedReason>& listed_reasons() {
   static const std::vector<ListedReason> all = [] {
     std::vector<ListedReason> v;
     const nlohmann::json j = nlohmann::json::parse(kExpectationsJson);
-    for (const KnownFailure& k : known_run_failures()) v.push_back({k.scenario, false, k.engine, k.params, k.reason, k.evidence});
+    const auto pending = [](const nlohmann::json& e) { return e.value("experiment_pending", std::string()); };
+    for (const auto& e : j.value("runs", nlohmann::json::array()))
+      for (const auto& engine : e.at("engines")) {
+        std::vector<std::pair<std::string, std::string>> params;
+        const nlohmann::json given = e.value("params", nlohmann::json::object());
+        for (const auto& [key, value] : given.items()) params.emplace_back(key, value.get<std::string>());
+        const std::string where = fmt::format("{} on {}", e.at("scenario").get<std::string>(), engine.get<std::string>());
+        v.push_back({e.at("scenario"), false, engine, params, e.at("reason"), parse_evidence(e, where), pending(e)});
+      }
     for (const auto& e : j.value("sweep_points", nlohmann::json::array()))
       for (const auto& engine : e.at("engines")) {
         const std::string sweep = e.at("sweep");
-        v.push_back({sweep, true, engine, {}, e.at("reason"), parse_evidence(e, fmt::format("sweep {} on {}", sweep, engine.get<std::string>()))});
+        v.push_back({sweep, true, engine, {}, e.at("reason"), parse_evidence(e, fmt::format("sweep {} on {}", sweep, engine.get<std::string>())), pending(e)});
       }
     return v;
   }();

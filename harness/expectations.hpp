@@ -37,11 +37,12 @@ struct Evidence {
   /// it finish with `metric` at `to`.
   bool from_error = false;
   double x = 0.0;               ///< a sweep listing's point: the swept value the experiment runs at
-  /// Holds when the runs made now reproduce it: each figure within kReproduce of its recorded
-  /// value (a recorded figure within its tolerance: within it again), and the change moving the
-  /// figure the recorded way by at least kMove.
+  /// Holds when the runs made now reproduce it: the listed run still fails the metric (beyond
+  /// `tolerance`, its own), each figure within kReproduce of its recorded value (a recorded `to`
+  /// within the changed run's tolerance `to_tolerance`: within it again), and the change moving
+  /// the figure the recorded way by at least kMove.
   static constexpr double kReproduce = 2.0, kMove = 2.0;
-  bool holds(double from_now, double to_now, double tolerance) const;
+  bool holds(double from_now, double to_now, double tolerance, double to_tolerance) const;
   /// from_error: the listed run ended in an error now too, and the changed run gives `to` again.
   bool holds_from_error(bool errs_now, double to_now, double tolerance) const;
   /// "velocity_steps=100, slop=0.001"
@@ -74,6 +75,10 @@ struct ListedReason {
   std::vector<std::pair<std::string, std::string>> params;  ///< a run listing's "params"
   std::string reason;
   std::vector<Evidence> evidence;
+  /// "experiment_pending": the reason names a cause that no experiment has shown yet (no declared
+  /// setting reaches it, or none tried moved the figure): what the experiment must show. explain
+  /// names each; a listing has evidence, this, or a negative control's reason.
+  std::string experiment_pending = {};
 };
 const std::vector<ListedReason>& listed_reasons();
 

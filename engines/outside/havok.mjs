@@ -3,8 +3,8 @@
 // is the step it is called with. HavokPhysics.d.ts (1.3.14) documents HP_World_SetIdealStepTime as
 // "the ideal delta time which you intend to call HP_World_Step() with", from which the solver
 // parameters are adjusted when the step differs; Havok's samples set it to their fixed step, and
-// Babylon.js's HavokPlugin steps at its fixed time step (setTimeStep; 1/60 s by default, the ideal
-// step time's own default), so its users run the two equal. Left at 1/60 s under a 1 ms step, the
+// Babylon.js's HavokPlugin.executeStep calls HP_World_SetIdealStepTime(world, deltaTime) right
+// before every HP_World_Step, so its users run the two equal. Left at 1/60 s under a 1 ms step, the
 // radii of car.circle were off by 356% and car.slope's car left the ground: that is a misuse, not a
 // configuration (the knob ideal_step_time keeps it reachable). This build exposes no solver
 // iterations; its other world setting, HP_World_SetSpeedLimit (200 m/s, 100 rad/s), is never reached.
@@ -256,7 +256,7 @@ serve({
       engine: 'Havok', version: VERSION, precision: 'float32',
       vehicles: ['car', 'disks'], four_wheels: true, settings: SETTINGS,
       fixed: [
-        ['configuration', 'Havok as its users run it: HP_World_SetIdealStepTime(dt), re-set when a step of another length comes (HavokPhysics.d.ts 1.3.14: "the ideal delta time which you intend to call HP_World_Step() with", the solver parameters adjusted from it; Havok\'s samples set it to their fixed step, and Babylon.js\'s HavokPlugin steps at its fixed time step, 1/60 s by default, the ideal step time\'s default); everything else as a new world has it; no solver iterations are exposed; the speed limits (HP_World_SetSpeedLimit, 200 m/s and 100 rad/s) are never reached'],
+        ['configuration', 'Havok as its users run it: HP_World_SetIdealStepTime(dt), re-set when a step of another length comes (HavokPhysics.d.ts 1.3.14: "the ideal delta time which you intend to call HP_World_Step() with", the solver parameters adjusted from it; Havok\'s samples set it to their fixed step, and Babylon.js\'s HavokPlugin.executeStep calls HP_World_SetIdealStepTime(world, deltaTime) before every HP_World_Step); everything else as a new world has it; no solver iterations are exposed; the speed limits (HP_World_SetSpeedLimit, 200 m/s and 100 rad/s) are never reached'],
         ['joints', '6-DOF constraints with only ANGULAR_X free (Babylon.js HingeConstraint): steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y) with VELOCITY motors, max torque the servo torque; passive ones for the rear wheels; joint angles from the bodies\' orientations'],
         ['bodies', `chassis box of the chassis mass (filter colliding with nothing); knuckle a ${C.KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg, colliding with nothing; wheels spheres of radius R (or y-axis cylinders) of wheel_mass_kg; inertias HP_Shape_BuildMassProperties gives for the shapes at those masses; no damping, always active`],
         ['ground', 'static box, top face z = 0, 60 m square (or 20 l) centred under the start (float32 contact precision degrades on large shapes)'],

@@ -73,7 +73,7 @@ def main():
         where = (f"sweep {e['sweep']} x={e['x']:g}" if "sweep" in e else e["scenario"]) + f" on {e['engine']}"
         change = ", ".join(f"{k}={v}" for k, v in e["change"].items())
         from_error = m.get("from_error", False)
-        moved = math.isfinite(t) and (from_error or (math.isfinite(f) and f > 0 and (t * MOVE <= f or t >= MOVE * f)))
+        moved = math.isfinite(t) and (from_error or (math.isfinite(f) and f > tol and (t * MOVE <= f or t >= MOVE * f)))
         print(f"{where}: {change}: {e['metric']} {f:.3g} -> {t:.3g} (tolerance {tol:.3g}){'' if moved else '  NOT MOVED 2x'}")
         if not moved:
             weak += 1
