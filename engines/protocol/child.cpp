@@ -143,7 +143,8 @@ ProtocolChild::ProtocolChild(std::string label, const std::vector<std::string>& 
   for (std::string& a : args) cargs.push_back(a.data());
   cargs.push_back(nullptr);
   // Its tag, inherited by whatever it starts: a process that leaves the group (setsid) is still found.
-  tag_ = fmt::format("{}{}/{}", kAdapterVar, process_tag(getpid()), ++g_adapters);
+  // Ended by a '/': as a prefix it names this adapter alone (".../1/" is no prefix of ".../10/").
+  tag_ = fmt::format("{}{}/{}/", kAdapterVar, process_tag(getpid()), ++g_adapters);
   std::vector<std::string> env = adapter_environment(tag_);
   std::vector<char*> cenv;
   for (std::string& v : env) cenv.push_back(v.data());

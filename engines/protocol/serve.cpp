@@ -106,6 +106,9 @@ class ProtocolServer {
     const json& q = req.at("q0");
     const car::Config q0{0.0, q.at("beta_rad"), q.at("x_m"), q.at("y_m"), q.at("phi_rad")};
     car_->reset(setup, q0);
+    // The request's motor limits (docs/protocol.md), not ones derived again from this setup's unit gravity.
+    car_->servo_.spin_torque_max_Nm = req.at("servo").at("spin_torque_max_Nm");
+    car_->servo_.steer_torque_max_Nm = req.at("servo").at("steer_torque_max_Nm");
     return car_state();
   }
 
