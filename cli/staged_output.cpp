@@ -32,38 +32,60 @@ constexpr const char* kNewPrefix = ".liftcheck-new-";  ///< a mount point's entr
 
 bool ends_with(const std::string& s, const std::string& tail) { return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0; }
 
-/// The files liftcheck writes at the top of an output folder (for folders written before
-/// manifests), and their ".tmp" while being written.
-bool known_file(const std::string& name) {
-  if (ends_with(name, ".tmp")) return known_file(name.substr(0, name.size() - 4));
-  return name == "results.json" || name == "junit.xml" || name == "summary.md" || name == "screenshot.png" || name == StagedOutput::kMarker ||
-         ends_with(name, ".html");
+/// What a liftcheck output folder written before manifests holds, by its results.json (a missing
+/// or unreadable one: only the fixed names): the fixed files, a page per scenario, and the plots,
+/// snapshots and strips its "report" lists. Nothing is taken as liftcheck's by its name's pattern:
+/// a user's notes.html or plots/mine.svg is not among these.
+std::set<std::string> legacy_written(const fs::path& dir) {
+  std::set<std::string> v{"results.json", "junit.xml", "summary.md", "index.html", "screenshot.png", StagedOutput::kMarker,
+                          "plots/plots.gp", "plots/gnuplot.log"};
+  try {
+    const nlohmann::json r = nlohmann::json::parse(read_text_file(dir / "results.json", std::size_t{512} << 20, "results file"));
+    for (const auto& sc : r.value("scenarios", nlohmann::json::array())) {
+      std::string page = sc.value("name", "");
+      std::replace(page.begin(), page.end(), '.', '_');
+      v.insert("scenario-" + page + ".html");
+    }
+    const nlohmann::json report = r.value("report", nlohmann::json::object());
+    for (const char* list : {"plots", "snapshots", "strips"})
+      for (const auto& item : report.value(list, nlohmann::json::array()))
+        if (item.is_object() && item.contains("file") && item["file"].is_string()) v.insert(item["file"].get<std::string>());
+  } catch (const std::exception&) {
+  }
+  return v;
 }
 
-/// The files liftcheck writes inside snapshots/ and plots/ (no folders).
-bool known_inner_file(const std::string& folder, const std::string& name) {
-  if (ends_with(name, ".tmp")) return known_inner_file(folder, name.substr(0, name.size() - 4));
-  if (folder == "snapshots") return ends_with(name, ".png");
-  return ends_with(name, ".svg") || name == "plots.gp" || name == "gnuplot.log";
+/// A staging folder's files (its process died while writing them, before any manifest): the
+/// names liftcheck writes at the top, and inside snapshots/ and plots/, with their ".tmp".
+bool staged_file(const std::string& rel) {
+  if (ends_with(rel, ".tmp")) return staged_file(rel.substr(0, rel.size() - 4));
+  if (rel.rfind("snapshots/", 0) == 0) return ends_with(rel, ".png") && rel.find('/', 10) == std::string::npos;
+  if (rel.rfind("plots/", 0) == 0)
+    return rel.find('/', 6) == std::string::npos && (ends_with(rel, ".svg") || rel == "plots/plots.gp" || rel == "plots/gnuplot.log");
+  return rel == "results.json" || rel == "junit.xml" || rel == "summary.md" || rel == "screenshot.png" || ends_with(rel, ".html");
 }
 
-/// A folder without a manifest: what in it is not liftcheck's, at any depth (a user's file inside
-/// plots/ is not removed with it), at most `max`.
+/// A folder without a manifest: what in it is not liftcheck's, at any depth, at most `max`. An
+/// output folder's own files are those its results.json names (legacy_written); a staging
+/// folder's, the names liftcheck writes (staged_file).
 void foreign_without_manifest(const fs::path& dir, std::size_t max, std::vector<std::string>& foreign) {
   std::error_code ec;
+  const bool staging = fs::exists(dir / StagedOutput::kStaging, ec);
+  const std::set<std::string> legacy = staging ? std::set<std::string>{} : legacy_written(dir);
+  const auto ours = [&](const std::string& rel) { return staging ? staged_file(rel) : legacy.count(rel) > 0; };
   for (const auto& e : fs::directory_iterator(dir, ec)) {
     const std::string name = e.path().filename().string();
     const fs::file_type type = fs::symlink_status(e.path(), ec).type();
     if (name == StagedOutput::kStaging || name.rfind(kNewPrefix, 0) == 0) continue;
     if (type == fs::file_type::directory && (name == "snapshots" || name == "plots")) {
       for (const auto& inner : fs::directory_iterator(e.path(), ec)) {
-        const std::string file = inner.path().filename().string();
+        const std::string file = name + "/" + inner.path().filename().string();
         const bool dir_inside = fs::symlink_status(inner.path(), ec).type() == fs::file_type::directory;
-        if (dir_inside || fs::symlink_status(inner.path(), ec).type() != fs::file_type::regular || !known_inner_file(name, file))
-          foreign.push_back(name + "/" + file + (dir_inside ? "/" : ""));
+        if (dir_inside || fs::symlink_status(inner.path(), ec).type() != fs::file_type::regular || !ours(file))
+          foreign.push_back(file + (dir_inside ? "/" : ""));
         if (foreign.size() >= max) return;
       }
-    } else if (type != fs::file_type::regular || !known_file(name)) {
+    } else if (type != fs::file_type::regular || !ours(name)) {
       foreign.push_back(name + (type == fs::file_type::directory ? "/" : ""));
     }
     if (foreign.size() >= max) return;

@@ -303,6 +303,16 @@ for sub in plots snapshots snapshots/deep; do
   bad_input "out-user-file-in-$name" "$named" "$bin" validate --engines analytic --filter car.cycle --no-report --out "$tmp/copied"
   if [ -s "$tmp/copied/$sub/notes.txt" ]; then pass "out-user-file-in-$name-kept"; else fail "out-user-file-in-$name-kept" "deleted"; fi
 done
+# Files named as liftcheck names its own are still the user's where the old results.json does not
+# list them: a page, a plot, a snapshot, a results.json.tmp.
+for named in my-notes.html plots/mine.svg snapshots/mine.png results.json.tmp; do
+  name=$(echo "$named" | tr '/.' '--')
+  rm -rf "$tmp/copied" && mkdir -p "$tmp/copied/plots" "$tmp/copied/snapshots"
+  cp "$tmp/src/results.json" "$tmp/copied/"
+  echo mine >"$tmp/copied/$named"
+  bad_input "out-user-named-like-ours-$name" "$named" "$bin" validate --engines analytic --filter car.cycle --no-report --out "$tmp/copied"
+  if [ -s "$tmp/copied/$named" ]; then pass "out-user-named-like-ours-$name-kept"; else fail "out-user-named-like-ours-$name-kept" "deleted"; fi
+done
 # A stale staging folder (its process gone) with the user's file in a subfolder is not removed.
 rm -rf "$tmp/st" && mkdir -p "$tmp/st/.out.partial-999999-abcdef/plots"
 printf 'liftcheck-staging pid 999999 start 1\n' >"$tmp/st/.out.partial-999999-abcdef/.liftcheck-staging"
