@@ -44,7 +44,7 @@ struct ServoDef {
   double spin_gain_per_s = 40.0;
   double steer_gain_per_s = 40.0;
   double spin_torque_max_Nm = 0.0;   ///< for_car: kGripMultiple x mu N R of a driven wheel
-  double steer_torque_max_Nm = 0.0;  ///< for_car: the same limit
+  double steer_torque_max_Nm = 0.0;  ///< for_car: the same limit (a convention: a sphere wheel's scrub torque is far below it)
   /// A real drive is sized to its grip: the motor can lock its wheel against the full Coulomb
   /// torque mu N R with half as much again to spare, and can never overpower the grip by more.
   /// (A 500 N m limit, seven times the grip of the default car's front wheel, let the motor spin
