@@ -84,10 +84,10 @@ ls "$tmp/report" | grep -q '\.tmp$' && { echo "FAIL temporary files left"; fails
 python3 - "$tmp/report/junit.xml" <<'PY' && passes=$((passes + 1)) || { echo "FAIL junit.xml"; fails=$((fails + 1)); }
 import sys, xml.etree.ElementTree as ET
 root = ET.parse(sys.argv[1]).getroot()
-# 11 runs (car.slip, car.coulomb and car.beyond-grip skipped: no contact forces), and the 6 car sweeps' gates on the one engine
-assert root.tag == "testsuites" and root.get("tests") == "17" and root.get("failures") == "0", root.attrib
-assert len(root.findall("testsuite")) == 17
-assert len([s for s in root.findall("testsuite") if s.get("name").startswith("sweep.")]) == 6
+# 11 runs (car.slip, car.coulomb and car.beyond-grip skipped: no contact forces), and the 7 car sweeps' gates on the one engine
+assert root.tag == "testsuites" and root.get("tests") == "18" and root.get("failures") == "0", root.attrib
+assert len(root.findall("testsuite")) == 18
+assert len([s for s in root.findall("testsuite") if s.get("name").startswith("sweep.")]) == 7
 # every run's metrics ride on its suite as properties
 props = [p.get("name") for p in root.iter("property")]
 assert "analytic front_radius" in props and len(props) > 30, props[:5]
@@ -292,7 +292,7 @@ check shard-whole 0 "$bin" "${sub[@]}" --jobs 2 --out "$tmp/sh0"
 for i in 1 2 3; do check "shard-$i" 0 "$bin" "${sub[@]}" --jobs 1 --shard "$i/3" --out "$tmp/sh$i"; done
 check merge 0 "$bin" merge "$tmp/sh1" "$tmp/sh2" "$tmp/sh3" --out "$tmp/shm" --no-report
 python3 "$same" "$tmp/sh0/results.json" "$tmp/shm/results.json" && passes=$((passes + 1)) || { echo "FAIL merged shards differ from the unsharded run"; fails=$((fails + 1)); }
-python3 -c 'import json,sys; a,b=(json.load(open(p)) for p in sys.argv[1:]); assert a["summary"]["sweep_gates"] == b["summary"]["sweep_gates"] > 0 and len(b["sweeps"]) == 5 and b["maps"], b["summary"]' \
+python3 -c 'import json,sys; a,b=(json.load(open(p)) for p in sys.argv[1:]); assert a["summary"]["sweep_gates"] == b["summary"]["sweep_gates"] > 0 and len(b["sweeps"]) == 6 and b["maps"], b["summary"]' \
   "$tmp/sh0/results.json" "$tmp/shm/results.json" && passes=$((passes + 1)) || { echo "FAIL merge assembled no sweeps"; fails=$((fails + 1)); }
 check shard-gtest-env 0 env GTEST_SHARD_INDEX=1 GTEST_TOTAL_SHARDS=3 "$bin" "${sub[@]}" --jobs 1 --out "$tmp/shg"
 python3 -c 'import json,sys; a,b=(json.load(open(p)) for p in sys.argv[1:]); assert a["shard"] == b["shard"] == {"index": 2, "total": 3, "items": a["shard"]["items"]} and sorted(a["points"]) == sorted(b["points"])' \

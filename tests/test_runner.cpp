@@ -378,11 +378,12 @@ TEST(Evidence, HoldsOnlyWhenReproducedAndMoved) {
   EXPECT_FALSE(down.holds(2.5e-3, 1.5e-3, 1e-3, 1e-3)); // recorded within its tolerance, now outside it
   EXPECT_FALSE(down.holds(NAN, 3.6e-4, tol, tol));      // an error run shows nothing
   EXPECT_FALSE(down.holds(2.5e-3, 3.6e-4, 3e-3, 3e-3)); // the listed run passes now: nothing to explain
-  EXPECT_FALSE(down.holds(2.5e-3, 3.6e-4, tol, 5e-4)); // recorded outside the changed run's tolerance, now inside it: not reproduced
+  EXPECT_TRUE(down.holds(2.5e-3, 3.6e-4, tol, 5e-4));  // the changed run's own tolerance judges the figure it changed
   Evidence to_pass;  // a change that makes it pass: within the tolerance again is enough
   to_pass.from = 4.85e-3, to_pass.to = 2e-9;
   EXPECT_TRUE(to_pass.holds(4.85e-3, 5e-7, 1e-6, 1e-6));
   EXPECT_FALSE(to_pass.holds(4.85e-3, 2e-6, 1e-6, 1e-6));
+  EXPECT_FALSE(to_pass.holds(4.85e-3, 5e-7, 1e-6, 1e-7));  // within the listed run's tolerance, not within the changed run's
   Evidence up;  // a change that strengthens the cause raises the figure
   up.from = 1e-3, up.to = 2e-2;
   EXPECT_TRUE(up.holds(1e-3, 2.1e-2, 1e-4, 1e-4));
