@@ -155,6 +155,8 @@ int cmd_validate(const ValidateOptions& v) {
   context["jobs"] = runner.jobs;
   context["timeout_s"] = runner.timeout_s;
   context["memory_limit_mib"] = runner.memory_limit_mib;
+  // Which adapters the outside configurations ran: those beside this binary, or the source tree's.
+  context["outside_suite"] = {{"folder", default_suite_dir()}, {"beside_binary", default_suite_is_beside_binary()}};
   context["set"] = nlohmann::json::object();
   for (const auto& [key, value] : def.set) context["set"][key] = value;
   nlohmann::json results = shard_total > 0 ? shard_results(plan, which, ran, context, shard_index, shard_total)
