@@ -1,5 +1,6 @@
 #include "cli/suite_output.hpp"
 
+
 #include <cstdlib>
 #include <cerrno>
 #include <csignal>
@@ -16,6 +17,7 @@
 
 #include "cli/baseline.hpp"
 #include "cli/interrupts.hpp"
+#include "harness/suite.hpp"  // set_memory_limit
 #include "input/atomic_file.hpp"
 #include "input/params.hpp"  // InputError
 #include "input/trace.hpp"   // printable
@@ -74,9 +76,7 @@ std::string renderer_problem(int status, double limit_mib) {
 [[noreturn]] void render_in_child(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def, double limit_mib, int fd) {
   int status = 0;
   try {
-    const rlim_t bytes = static_cast<rlim_t>(limit_mib * 1048576.0);
-    const rlimit limit{bytes, bytes};
-    ::setrlimit(RLIMIT_AS, &limit);
+    set_memory_limit(limit_mib);  // as a worker's (none under AddressSanitizer, whose shadow memory needs terabytes)
     write_report(results, out, def);
     const std::string text = results["report"].dump();
     for (std::size_t done = 0; done < text.size();) {
