@@ -65,6 +65,19 @@ void print_run_line(const nlohmann::json& r) {
 }
 
 /// One line per run as it ends (the points only count), the progress line between.
+/// One line on stderr when an outside configuration of the default suite runs the adapters of the
+/// source tree this binary was built from (no outside/suite beside the binary: a copied build
+/// without its outside folder), so a user sees whose adapters are judged.
+void warn_if_outside_suite_is_the_source_trees(const std::vector<const EngineInfo*>& engines) {
+  if (default_suite_is_beside_binary()) return;
+  const std::string dir = default_suite_dir();
+  for (const EngineInfo* e : engines)
+    if (!e->registration.empty() && e->registration.rfind(dir, 0) == 0) {
+      std::cerr << fmt::format("liftcheck: note: no outside/suite beside the binary; the outside configurations run the adapters in {}\n", dir);
+      return;
+    }
+}
+
 Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner) {
   Ran ran;
   const auto t0 = std::chrono::steady_clock::now();
@@ -143,6 +156,7 @@ int cmd_validate(const ValidateOptions& v) {
   StagedOutput staged(o.out_dir, {{o.baseline_path, "--baseline"}, {v.trace_dir, "--trace-dir"}});
 
   const std::vector<size_t> which = shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
+  warn_if_outside_suite_is_the_source_trees(listed);
   Ran ran = run_share(plan, which, runner);
   nlohmann::json context = context_json(listed, ran.wall_s);
   context["runs_s"] = ran.runs_s;

@@ -171,6 +171,15 @@ check copied-engines-text 0 "$tmp/copy/liftcheck" engines
 grep -q "^default suite of outside configurations: $(realpath "$tmp/copy")/outside/suite (beside the binary)$" "$tmp/out" \
   && passes=$((passes + 1)) || { echo "FAIL copied build's engines names its suite"; head -1 "$tmp/out"; fails=$((fails + 1)); }
 
+# A binary copied without its outside/ folder falls back to the source tree's adapters, and says so.
+mkdir -p "$tmp/bare"
+cp "$bin" "$tmp/bare/"
+check bare-validate-note 0 "$tmp/bare/liftcheck" validate --engines cannon --filter disks.copy --out "$tmp/bare/report" --no-report
+grep -q "^liftcheck: note: no outside/suite beside the binary; the outside configurations run the adapters in " "$tmp/err" \
+  && passes=$((passes + 1)) || { echo "FAIL bare copy's validate names the adapters it runs"; cat "$tmp/err"; fails=$((fails + 1)); }
+check copied-validate-quiet 0 "$tmp/copy/liftcheck" validate --engines cannon --filter disks.copy --out "$tmp/copy/report" --no-report
+! grep -q "note: no outside/suite" "$tmp/err" && passes=$((passes + 1)) || { echo "FAIL copied build warns although its adapters are beside it"; cat "$tmp/err"; fails=$((fails + 1)); }
+
 # A simulator outside liftcheck: the path out, the example simulator, the trace scored.
 check path-csv 0 "$bin" path car.circle
 cp "$tmp/out" "$tmp/path.csv"
