@@ -128,15 +128,15 @@ int cmd_explain(const std::vector<std::string>& names, const std::string& engine
   SuitePlan plan;
   std::map<std::string, size_t> index;
   std::vector<Experiment> experiments;
-  int unexplained = 0, pending = 0;
+  int unexplained = 0, not_shown = 0;
   for (const ListedReason& l : plan_file.empty() ? listed_reasons() : planned) {
     if (!selected(l, names, configs)) continue;
     if (l.evidence.empty() && !is_negative_control(l.reason)) {
-      if (!l.experiment_pending.empty()) ++pending;
+      if (!l.cause_not_shown.empty()) ++not_shown;
       else ++unexplained;
       if (!json)
         std::cout << fmt::format("{}{} on {}: {}\n", l.sweep ? "sweep " : "", l.scenario, l.engine,
-                                 l.experiment_pending.empty() ? "its reason names no experiment" : "experiment pending: " + l.experiment_pending);
+                                 l.cause_not_shown.empty() ? "its reason names no experiment" : "cause not shown; tried: " + l.cause_not_shown);
     }
     for (const Evidence& ev : l.evidence) {
       const auto [s, ov] = listed_run(l, ev);
@@ -150,7 +150,7 @@ int cmd_explain(const std::vector<std::string>& names, const std::string& engine
       experiments.push_back({&l, &ev, item_for(plan, index, *s, e, ov), item_for(plan, index, *s, e, with_change)});
     }
   }
-  if (experiments.empty() && unexplained == 0 && pending == 0) throw InputError("no listing of harness/expectations.json with evidence matches the names and configurations given");
+  if (experiments.empty() && unexplained == 0 && not_shown == 0) throw InputError("no listing of harness/expectations.json with evidence matches the names and configurations given");
   std::vector<size_t> all(plan.items.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
   std::vector<nlohmann::json> records;
@@ -163,8 +163,8 @@ int cmd_explain(const std::vector<std::string>& names, const std::string& engine
   int failing = 0;
   for (const Experiment& x : experiments) failing += report(x, records.at(x.base), records.at(x.changed), json) ? 0 : 1;
   if (!json)
-    std::cout << fmt::format("{} experiments: {} hold, {} do not; {} listings await their experiment, {} have none\n", experiments.size(),
-                             experiments.size() - failing, failing, pending, unexplained);
+    std::cout << fmt::format("{} experiments: {} hold, {} do not; {} listings name no cause (none of the experiments tried moved their figure), {} name one without an experiment\n", experiments.size(),
+                             experiments.size() - failing, failing, not_shown, unexplained);
   return failing == 0 && unexplained == 0 ? 0 : 1;
 }
 

@@ -115,19 +115,19 @@ const std::vector<ListedReason>& listed_reasons() {
   static const std::vector<ListedReason> all = [] {
     std::vector<ListedReason> v;
     const nlohmann::json j = nlohmann::json::parse(kExpectationsJson);
-    const auto pending = [](const nlohmann::json& e) { return e.value("experiment_pending", std::string()); };
+    const auto tried = [](const nlohmann::json& e) { return e.value("cause_not_shown", std::string()); };
     for (const auto& e : j.value("runs", nlohmann::json::array()))
       for (const auto& engine : e.at("engines")) {
         std::vector<std::pair<std::string, std::string>> params;
         const nlohmann::json given = e.value("params", nlohmann::json::object());
         for (const auto& [key, value] : given.items()) params.emplace_back(key, value.get<std::string>());
         const std::string where = fmt::format("{} on {}", e.at("scenario").get<std::string>(), engine.get<std::string>());
-        v.push_back({e.at("scenario"), false, engine, params, e.at("reason"), parse_evidence(e, where), pending(e)});
+        v.push_back({e.at("scenario"), false, engine, params, e.at("reason"), parse_evidence(e, where), tried(e)});
       }
     for (const auto& e : j.value("sweep_points", nlohmann::json::array()))
       for (const auto& engine : e.at("engines")) {
         const std::string sweep = e.at("sweep");
-        v.push_back({sweep, true, engine, {}, e.at("reason"), parse_evidence(e, fmt::format("sweep {} on {}", sweep, engine.get<std::string>())), pending(e)});
+        v.push_back({sweep, true, engine, {}, e.at("reason"), parse_evidence(e, fmt::format("sweep {} on {}", sweep, engine.get<std::string>())), tried(e)});
       }
     return v;
   }();

@@ -68,6 +68,9 @@ struct KnownFailure {
 
 /// A listing of harness/expectations.json as reviewed: a run's ("runs") or a sweep's
 /// ("sweep_points"), with the reason it gives and the experiments behind it, once per configuration.
+/// How the reason of a listing without evidence begins: it states the measured failure, no cause.
+inline constexpr const char* kCauseNotShown = "cause not shown: ";
+
 struct ListedReason {
   std::string scenario;  ///< a run's scenario, or the sweep's name for a sweep listing
   bool sweep = false;
@@ -75,10 +78,10 @@ struct ListedReason {
   std::vector<std::pair<std::string, std::string>> params;  ///< a run listing's "params"
   std::string reason;
   std::vector<Evidence> evidence;
-  /// "experiment_pending": the reason names a cause that no experiment has shown yet (no declared
-  /// setting reaches it, or none tried moved the figure): what the experiment must show. explain
-  /// names each; a listing has evidence, this, or a negative control's reason.
-  std::string experiment_pending = {};
+  /// "cause_not_shown": the experiments tried, none of which moved a listed figure twofold. Such a
+  /// listing's reason says what is measured and names no cause; it begins with
+  /// kCauseNotShown. explain names each; a listing has evidence, this, or a negative control's reason.
+  std::string cause_not_shown = {};
 };
 const std::vector<ListedReason>& listed_reasons();
 

@@ -404,8 +404,12 @@ TEST(Expectations, EveryNamedCauseHasAnExperiment) {
   for (const ListedReason& l : listed_reasons()) {
     const std::string where = fmt::format("{}{} on {}", l.sweep ? "sweep " : "", l.scenario, l.engine);
     if (!is_negative_control(l.reason))
-      EXPECT_TRUE(!l.evidence.empty() || !l.experiment_pending.empty()) << where << ": its reason names no experiment (nor says which is pending): " << l.reason;
-    if (!l.evidence.empty()) EXPECT_TRUE(l.experiment_pending.empty()) << where << ": has evidence and says its experiment is pending";
+      EXPECT_TRUE(!l.evidence.empty() || !l.cause_not_shown.empty()) << where << ": its reason names no experiment (nor the ones tried): " << l.reason;
+    if (!l.evidence.empty()) EXPECT_TRUE(l.cause_not_shown.empty()) << where << ": has evidence and says no experiment moved its figure";
+    // A reason without evidence states the failure, not a cause: it says so first.
+    const bool says_not_shown = l.reason.rfind(kCauseNotShown, 0) == 0;
+    EXPECT_EQ(says_not_shown, !l.cause_not_shown.empty()) << where << ": a reason begins with '" << kCauseNotShown
+                                                          << "' exactly when no experiment shows its cause: " << l.reason;
     const SweepDef* sw = nullptr;
     for (const SweepDef& d : sweep_catalogue())
       if (d.name == l.scenario) sw = &d;
