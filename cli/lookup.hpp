@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
-#include "harness/suite.hpp"
+#include "harness/suite_plan.hpp"
+#include "harness/suite_results.hpp"
+#include "harness/worker_pool.hpp"
 
 namespace liftcheck::cli {
 

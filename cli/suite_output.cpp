@@ -17,7 +17,9 @@
 
 #include "cli/baseline.hpp"
 #include "cli/interrupts.hpp"
-#include "harness/suite.hpp"  // set_memory_limit
+#include "harness/suite_plan.hpp"
+#include "harness/suite_results.hpp"
+#include "harness/worker_pool.hpp"  // set_memory_limit
 #include "input/atomic_file.hpp"
 #include "input/params.hpp"  // InputError
 #include "input/trace.hpp"   // printable

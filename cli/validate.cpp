@@ -47,13 +47,10 @@ SuiteDef suite_def(const ValidateOptions& v, const RunnerDef& runner) {
   return def;
 }
 
-/// The records of a share by key, with what they cost in engine seconds.
+/// The records of a share by key, with where its time went.
 struct Ran {
   std::map<std::string, nlohmann::json> by_key;
-  double wall_s = 0.0, runs_s = 0.0, points_s = 0.0, held_s = 0.0;
-  std::map<std::string, double> cost_by_part, cost_by_config;
-  /// Wall seconds the items held a worker (an outside engine's protocol included), likewise.
-  std::map<std::string, double> held_by_part, held_by_config;
+  SuiteTiming timing;
 };
 
 /// A run's line: its verdict, scenario, configuration, engine seconds and message.
@@ -64,7 +61,6 @@ void print_run_line(const nlohmann::json& r) {
                            known ? fmt::format(" (known: {})", r["expectation"]["reason"].get<std::string>()) : "");
 }
 
-/// One line per run as it ends (the points only count), the progress line between.
 /// One line on stderr when an outside configuration of the default suite runs the adapters of the
 /// source tree this binary was built from (no outside/suite beside the binary: a copied build
 /// without its outside folder), so a user sees whose adapters are judged.
@@ -78,6 +74,7 @@ void warn_if_outside_suite_is_the_source_trees(const std::vector<const EngineInf
     }
 }
 
+/// One line per run as it ends (the points only count), the progress line between.
 Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner) {
   Ran ran;
   const auto t0 = std::chrono::steady_clock::now();
@@ -85,14 +82,7 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
   std::vector<nlohmann::json> records;
   const auto done = [&](size_t i, const nlohmann::json& r, double held_s) {
     const SuiteItem& it = plan.items[i];
-    (it.kind == SuiteItem::kRun ? ran.runs_s : ran.points_s) += r["wall_s"].get<double>();
-    // Where the time goes: engine seconds by part of the suite and by configuration, and the
-    // worker's wall seconds likewise.
-    ran.cost_by_part[item_part(it)] += r["wall_s"].get<double>();
-    ran.cost_by_config[it.engine->name] += r["wall_s"].get<double>();
-    ran.held_s += held_s;
-    ran.held_by_part[item_part(it)] += held_s;
-    ran.held_by_config[it.engine->name] += held_s;
+    ran.timing.count(it, r, held_s);
     if (it.kind != SuiteItem::kRun) return;
     progress.clear();
     print_run_line(r);
@@ -105,7 +95,7 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
     throw Interrupted(pending_signal(), e.what());
   }
   progress.clear();
-  ran.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  ran.timing.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   for (size_t k = 0; k < which.size(); ++k) ran.by_key[plan.items[which[k]].key] = records[k];
   take_shared_records(plan, ran.by_key);
   return ran;
@@ -158,21 +148,7 @@ int cmd_validate(const ValidateOptions& v) {
   const std::vector<size_t> which = shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
   warn_if_outside_suite_is_the_source_trees(listed);
   Ran ran = run_share(plan, which, runner);
-  nlohmann::json context = context_json(listed, ran.wall_s);
-  context["runs_s"] = ran.runs_s;
-  context["points_s"] = ran.points_s;
-  context["engine_s_by_part"] = ran.cost_by_part;
-  context["engine_s_by_configuration"] = ran.cost_by_config;
-  context["worker_s_by_part"] = ran.held_by_part;
-  context["worker_s_by_configuration"] = ran.held_by_config;
-  context["worker_s"] = ran.held_s;
-  context["jobs"] = runner.jobs;
-  context["timeout_s"] = runner.timeout_s;
-  context["memory_limit_mib"] = runner.memory_limit_mib;
-  // Which adapters the outside configurations ran: those beside this binary, or the source tree's.
-  context["outside_suite"] = {{"folder", default_suite_dir()}, {"beside_binary", default_suite_is_beside_binary()}};
-  context["set"] = nlohmann::json::object();
-  for (const auto& [key, value] : def.set) context["set"][key] = value;
+  const nlohmann::json context = suite_context(listed, ran.timing, runner, def.set);
   nlohmann::json results = shard_total > 0 ? shard_results(plan, which, ran, context, shard_index, shard_total)
                                            : suite_results(plan, ran.by_key, context);
   return finish_suite(results, o, baseline, staged);

@@ -3,7 +3,9 @@
 #include <cstdlib>
 
 #include "engines/protocol/outside.hpp"
-#include "harness/suite.hpp"
+#include "harness/suite_plan.hpp"
+#include "harness/suite_results.hpp"
+#include "harness/worker_pool.hpp"
 
 namespace liftcheck::cli {
 

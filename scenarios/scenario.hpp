@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "engines/engine.hpp"
+#include "engines/vehicle.hpp"
 #include "input/params.hpp"
 #include "input/vehicle.hpp"
 #include "scenarios/details.hpp"
@@ -130,11 +130,7 @@ struct Scenario {
   nlohmann::json to_json() const;
 };
 
-/// What one run may ask for: engine steps (a run's time) and recorded samples (its memory: each
-/// is kept, the exact lift's too). dt and sample_dt are bounded below by the run's duration over
-/// these, so that no parameter makes a step count overflow or a trace outgrow memory.
-constexpr double kMaxRunSteps = 1e8;
-constexpr double kMaxRunSamples = 1e6;
+// kMaxRunSteps and kMaxRunSamples, what one run may ask for: engines/vehicle.hpp.
 
 /// InputError naming dt or sample_dt, the count it asks for and its lower bound for this
 /// duration, when duration_s / dt_s > kMaxRunSteps or duration_s / sample_dt_s > kMaxRunSamples.

@@ -14,7 +14,9 @@
 
 #include "harness/results.hpp"
 #include "harness/runner.hpp"
-#include "harness/suite.hpp"
+#include "harness/suite_plan.hpp"
+#include "harness/suite_results.hpp"
+#include "harness/worker_pool.hpp"
 #include "harness/sweeps.hpp"
 #include "scenarios/disk_scenarios.hpp"
 #include "models/holonomy.hpp"
