@@ -169,8 +169,8 @@ void BM_ProtocolRoundTrip(benchmark::State& state) {
   const OnOneCore pinned;
   static const EngineInfo served = outside_engine("ode-protocol", {LIFTCHECK_EXE, "serve", "ode"}, ".");
   const EngineInfo* ode = find_engine("ode");
-  if (!served.unavailable.empty()) {
-    for (auto _ : state) state.SkipWithError(served.unavailable.c_str());
+  if (!served.outside.unavailable.empty()) {
+    for (auto _ : state) state.SkipWithError(served.outside.unavailable.c_str());
     return;
   }
   const CarSetup setup = circle_setup();
@@ -214,8 +214,8 @@ BENCHMARK(BM_ProtocolRoundTrip)->UseManualTime()->Unit(benchmark::kMillisecond)-
 /// others (the fastest of five counts). Skipped where Node or the npm packages are missing.
 void BM_ProtocolOutside(benchmark::State& state, const std::string& name) {
   const EngineInfo* outside = find_engine(name);  // read its hello (its knobs, or why it cannot run)
-  if (!outside->unavailable.empty()) {
-    for (auto _ : state) state.SkipWithError(outside->unavailable.c_str());
+  if (!outside->outside.unavailable.empty()) {
+    for (auto _ : state) state.SkipWithError(outside->outside.unavailable.c_str());
     return;
   }
   const OnOneCore pinned;
@@ -244,7 +244,7 @@ void BM_ProtocolOutside(benchmark::State& state, const std::string& name) {
 
 const bool kOutsideRegistered = [] {
   for (const EngineInfo& e : engines())
-    if (!e.registration.empty())
+    if (!e.outside.registration.empty())
       benchmark::RegisterBenchmark(("BM_ProtocolOutside/" + e.name).c_str(), BM_ProtocolOutside, e.name)
           ->UseManualTime()
           ->Unit(benchmark::kMillisecond)

@@ -24,8 +24,8 @@ int cmd_engines(bool json) {
     }(), 0.0)["engines"];
     // An outside configuration's files: which adapter it runs, so a copied build can be checked.
     for (size_t i = 0; i < all_engines.size(); ++i)
-      if (!all_engines[i].registration.empty())
-        es[i]["outside"] = {{"registration", all_engines[i].registration}, {"adapter", adapter_path(all_engines[i])}};
+      if (all_engines[i].is_outside())
+        es[i]["outside"] = {{"registration", all_engines[i].outside.registration}, {"adapter", adapter_path(all_engines[i])}};
     std::cout << es.dump(2) << "\n";
     return 0;
   }
@@ -36,10 +36,10 @@ int cmd_engines(bool json) {
   for (const auto& e : all_engines) {
     std::vector<std::string> vehicles;
     for (const Vehicle v : vehicles_of(e)) vehicles.push_back(to_string(v));
-    if (!e.unavailable.empty()) vehicles = {"UNAVAILABLE"};
+    if (!e.outside.unavailable.empty()) vehicles = {"UNAVAILABLE"};
     std::cout << fmt::format("{}  [{} {}; {}{}; {}; colour {}{}]\n  {}\n", e.name, line(e.library), line(e.version), fmt::join(vehicles, ", "),
                              e.is_reference ? "; the reference" : "", e.precision, line(e.color),
-                             e.registration.empty() ? "" : "; outside: " + line(e.registration) + ", runs " + line(adapter_path(e)),
+                             !e.is_outside() ? "" : "; outside: " + line(e.outside.registration) + ", runs " + line(adapter_path(e)),
                              line(e.description));
     for (const auto& [k, v] : e.settings) std::cout << fmt::format("    {:<22} {}\n", line(k), line(v));
     for (const SettingSpec& k : e.knobs)

@@ -88,7 +88,7 @@ std::vector<std::string> configurations(const std::string& names, bool compiled_
   std::vector<std::string> v = split_list(names);
   if (v.empty())
     for (const EngineInfo& e : engines())
-      if (!compiled_in || e.registration.empty()) v.push_back(e.name);
+      if (!compiled_in || !e.is_outside()) v.push_back(e.name);
   return v;
 }
 

@@ -68,7 +68,7 @@ void warn_if_outside_suite_is_the_source_trees(const std::vector<const EngineInf
   if (default_suite_is_beside_binary()) return;
   const std::string dir = default_suite_dir();
   for (const EngineInfo* e : engines)
-    if (!e->registration.empty() && e->registration.rfind(dir, 0) == 0) {
+    if (!e->outside.registration.empty() && e->outside.registration.rfind(dir, 0) == 0) {
       std::cerr << fmt::format("liftcheck: note: no outside/suite beside the binary; the outside configurations run the adapters in {}\n", dir);
       return;
     }

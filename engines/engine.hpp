@@ -22,6 +22,24 @@ class RawCar;  // engines/raw_car.hpp
 /// Makes a configuration's raw car at q0 with the given settings (its car knobs).
 using RawCarFactory = std::unique_ptr<RawCar> (*)(const Settings&, const CarSetup&, const car::Config&);
 
+/// What only an engine outside liftcheck has (engines/protocol/outside.hpp): its registration file,
+/// the argument vector that starts it, the points it joins, and whether its hello was read.
+struct OutsideEngine {
+  std::string registration = {};
+  std::vector<std::string> command = {};
+  /// Which of a suite's points it joins besides its runs (the registration's "points"): every
+  /// sweep, outcome case and map point (kAll); the speed-accuracy map's dt and iteration axes, no
+  /// sweep or outcome point (kMap); or none, the map showing its default run (kRuns).
+  /// validate --all-points gives every configuration all of them.
+  enum class Points { kAll, kMap, kRuns };
+  Points points = Points::kAll;
+  /// False until its hello has been read (find_engine reads it).
+  bool described = true;
+  /// Why it cannot run (its command did not start, its hello was wrong); its runs are error
+  /// records saying so. Empty when it is available.
+  std::string unavailable = {};
+};
+
 struct EngineInfo {
   std::string name;          ///< configuration name, the run target ("ode-quick")
   std::string library;       ///< the engine it configures ("ODE"), for grouping
@@ -49,21 +67,10 @@ struct EngineInfo {
   /// bookkeeping (MetricDef::bookkeeping) scale with it (bookkeeping_factor). Every compiled-in
   /// engine here is double precision.
   std::string precision = "float64";
-  /// An engine outside liftcheck (engines/protocol/outside.hpp): its registration file and the
-  /// argument vector that starts it; empty for a compiled-in configuration.
-  std::string registration = {};
-  std::vector<std::string> command = {};
-  /// Which of a suite's points it joins besides its runs (an outside configuration's registration,
-  /// "points"): every sweep, outcome case and map point (kAll); the speed-accuracy map's dt and
-  /// iteration axes, no sweep or outcome point (kMap); or none, the map showing its default run
-  /// (kRuns). validate --all-points gives every configuration all of them.
-  enum class Points { kAll, kMap, kRuns };
-  Points points = Points::kAll;
-  /// False until an outside configuration's hello has been read (find_engine reads it).
-  bool described = true;
-  /// Why an outside configuration cannot run (its command did not start, its hello was wrong);
-  /// its runs are error records saying so. Empty when it is available.
-  std::string unavailable = {};
+  /// What only an engine outside liftcheck has; empty (registration "") for a compiled-in one.
+  OutsideEngine outside = {};
+  /// An engine outside liftcheck, started over the engine protocol.
+  bool is_outside() const { return !outside.registration.empty(); }
 
   /// Every knob of `vehicle` at its default.
   Settings defaults(Vehicle vehicle) const;

@@ -52,7 +52,7 @@ const std::vector<EngineInfo>& engines() { return registry(); }
 
 const std::vector<EngineInfo>& described_engines() {
   for (EngineInfo& e : registry())
-    if (!e.described) describe_outside(e);
+    if (!e.outside.described) describe_outside(e);
   return registry();
 }
 
@@ -124,7 +124,7 @@ const EngineInfo& reference_engine() {
 const EngineInfo* find_engine(const std::string& name) {
   for (EngineInfo& e : registry())
     if (e.name == name) {
-      if (!e.described) describe_outside(e);
+      if (!e.outside.described) describe_outside(e);
       return &e;
     }
   return nullptr;

@@ -427,14 +427,14 @@ class Dispenser {
       }
     handed_[pick] = 1, --left_;
     const EngineInfo* e = plan_.items[which_[order_[pick]]].engine;
-    if (!e->registration.empty()) owner_.emplace(e, w);
+    if (e->is_outside()) owner_.emplace(e, w);
     return order_[pick];
   }
 
  private:
   bool fits(size_t i, size_t w) const {
     const EngineInfo* e = plan_.items[which_[i]].engine;
-    if (e->registration.empty()) return true;
+    if (!e->is_outside()) return true;
     const auto o = owner_.find(e);
     return o == owner_.end() || o->second == w;
   }

@@ -26,7 +26,7 @@ namespace {
 std::vector<std::string> engine_names(bool outside = false) {
   std::vector<std::string> v;
   for (const auto& e : engines())
-    if (outside || e.command.empty()) v.push_back(e.name);
+    if (outside || !e.is_outside()) v.push_back(e.name);
   return v;
 }
 std::vector<std::string> scenario_names() {

@@ -433,7 +433,7 @@ TEST(Expectations, EveryNamedCauseHasAnExperiment) {
       if (l.sweep && sw) EXPECT_NE(std::find(sw->values.begin(), sw->values.end(), ev.x), sw->values.end()) << where << ": no point " << ev.x;
       const EngineInfo* e = nullptr;
       for (const EngineInfo& c : engines())
-        if (c.name == l.engine && c.registration.empty()) e = &c;
+        if (c.name == l.engine && !c.is_outside()) e = &c;
       if (!e || (l.sweep && !sw)) continue;  // outside configurations: explain checks them when it runs them
       Overrides base = l.sweep ? point_overrides(*sw, ev.x) : l.params, changed = base;
       changed.insert(changed.end(), ev.change.begin(), ev.change.end());

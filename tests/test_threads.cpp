@@ -60,7 +60,7 @@ std::vector<Job> jobs() {
   const Scenario* disks = find_scenario("disks.linear");
   std::vector<Job> out;
   for (const EngineInfo& e : engines()) {
-    if (!e.command.empty()) continue;  // outside configurations run in worker processes, each with its own child
+    if (e.is_outside()) continue;  // outside configurations run in worker processes, each with its own child
     if (offers(e, *car)) out.push_back({car, &e, {{"drive", "2"}}});
     if (offers(e, *disks)) out.push_back({disks, &e, {{"T", "2.5"}}});
   }
@@ -75,7 +75,7 @@ constexpr int kRounds = 4;
 TEST(Threads, ConcurrentRunsEqualTheSequentialOnes) {
   const std::vector<Job> all = jobs();
   size_t compiled_in = 0;
-  for (const EngineInfo& e : engines()) compiled_in += e.command.empty() ? 1 : 0;
+  for (const EngineInfo& e : engines()) compiled_in += e.is_outside() ? 0 : 1;
   ASSERT_GE(all.size(), 2 * compiled_in - 2) << "every configuration should offer a car or disks";
 
   std::vector<std::string> sequential;

@@ -403,14 +403,14 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
       e.settings.emplace_back(printable(p[0].get<std::string>(), 300), printable(p[1].get<std::string>(), 1000));
     }
   }
-  e.settings.insert(e.settings.begin(), {"protocol", fmt::format("{} (docs/protocol.md), precision {}", fmt::join(e.command, " "), e.precision)});
+  e.settings.insert(e.settings.begin(), {"protocol", fmt::format("{} (docs/protocol.md), precision {}", fmt::join(e.outside.command, " "), e.precision)});
   if (vehicles.count(Vehicle::kCar)) e.make_car = [o](const Settings& s) { return std::make_unique<ProtocolCar>(o, s); };
   if (vehicles.count(Vehicle::kDisks)) e.make_disks = [o](const Settings& s) { return std::make_unique<ProtocolDisks>(o, s); };
 }
 
 /// A configuration whose hello failed: every run of it is an error record saying why.
 void make_unavailable(EngineInfo& e, const std::string& why) {
-  e.unavailable = why;
+  e.outside.unavailable = why;
   e.library = "unavailable";
   e.version = "-";
   e.knobs.clear();
@@ -444,8 +444,8 @@ bool read_registration(const std::filesystem::path& file, EngineInfo& e, std::st
     if (!a.is_string() || a.get<std::string>().empty()) return problem = registration_problem(file, "'command' must hold non-empty strings"), false;
     // An argument vector holds C strings: a NUL would cut the argument short, unseen.
     if (a.get<std::string>().find('\0') != std::string::npos)
-      return problem = registration_problem(file, fmt::format("'command' argument {} holds a NUL byte ('{}')", e.command.size(), printable(a.get<std::string>(), 80))), false;
-    e.command.push_back(a.get<std::string>());
+      return problem = registration_problem(file, fmt::format("'command' argument {} holds a NUL byte ('{}')", e.outside.command.size(), printable(a.get<std::string>(), 80))), false;
+    e.outside.command.push_back(a.get<std::string>());
   }
   e.description = str("description");
   e.color = str("color");
@@ -456,8 +456,8 @@ bool read_registration(const std::filesystem::path& file, EngineInfo& e, std::st
   const std::string points = j.contains("points") ? str("points") : "all";
   if (points != "all" && points != "map" && points != "runs")
     return problem = registration_problem(file, "'points' must be \"all\", \"map\" or \"runs\""), false;
-  e.points = points == "all" ? EngineInfo::Points::kAll : points == "map" ? EngineInfo::Points::kMap : EngineInfo::Points::kRuns;
-  e.registration = std::filesystem::absolute(file).lexically_normal().string();
+  e.outside.points = points == "all" ? OutsideEngine::Points::kAll : points == "map" ? OutsideEngine::Points::kMap : OutsideEngine::Points::kRuns;
+  e.outside.registration = std::filesystem::absolute(file).lexically_normal().string();
   return true;
 }
 
@@ -488,11 +488,11 @@ std::string default_suite_dir() {
 bool default_suite_is_beside_binary() { return default_suite_dir() != LIFTCHECK_OUTSIDE_DIR; }
 
 std::string adapter_path(const EngineInfo& e) {
-  if (e.registration.empty()) return {};
-  const std::filesystem::path cwd = std::filesystem::path(e.registration).parent_path();
+  if (e.outside.registration.empty()) return {};
+  const std::filesystem::path cwd = std::filesystem::path(e.outside.registration).parent_path();
   std::error_code ec;
-  for (size_t i = 0; i < e.command.size(); ++i) {
-    const std::string& a = e.command[i];
+  for (size_t i = 0; i < e.outside.command.size(); ++i) {
+    const std::string& a = e.outside.command[i];
     // A bare command[0] is looked up on PATH (the interpreter); options are not files.
     if ((i == 0 && a.find('/') == std::string::npos) || a.empty() || a[0] == '-') continue;
     const std::filesystem::path p = cwd / a;  // an absolute argument stands for itself
@@ -545,7 +545,7 @@ std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled
       e.library = "outside";
       e.version = "?";
       e.contact_dynamics = true;
-      e.described = false;
+      e.outside.described = false;
       out.push_back(std::move(e));
     }
   }
@@ -555,11 +555,11 @@ std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled
 void describe_outside(EngineInfo& e) {
   static std::mutex m;
   std::lock_guard<std::mutex> lock(m);
-  if (e.described) return;
+  if (e.outside.described) return;
   auto o = std::make_shared<Outside>();
   o->name = e.name;
-  o->argv = e.command;
-  o->cwd = std::filesystem::path(e.registration).parent_path().string();
+  o->argv = e.outside.command;
+  o->cwd = std::filesystem::path(e.outside.registration).parent_path().string();
   try {
     std::unique_ptr<ProtocolChild> c = start(*o);
     const json r = hello(*c, now_s() + protocol_timeout_s());
@@ -574,17 +574,17 @@ void describe_outside(EngineInfo& e) {
   } catch (const std::exception& err) {  // a mistyped optional field of the hello
     make_unavailable(e, fmt::format("engine '{}' (hello): malformed: {}", e.name, err.what()));
   }
-  e.described = true;
+  e.outside.described = true;
 }
 
 EngineInfo outside_engine(const std::string& name, const std::vector<std::string>& command, const std::string& dir) {
   EngineInfo e;
   e.name = name;
-  e.command = command;
-  e.registration = (std::filesystem::path(dir) / (name + ".json")).string();
+  e.outside.command = command;
+  e.outside.registration = (std::filesystem::path(dir) / (name + ".json")).string();
   e.color = "#7f7f7f";
   e.contact_dynamics = true;
-  e.described = false;
+  e.outside.described = false;
   describe_outside(e);
   return e;
 }

@@ -211,7 +211,7 @@ std::string reply_to(ProtocolServer& server, const std::string& line, bool& bye)
 int serve_main(const std::string& config) {
   const EngineInfo* e = nullptr;
   for (const EngineInfo& x : engines())
-    if (x.name == config && x.registration.empty()) e = &x;
+    if (x.name == config && !x.is_outside()) e = &x;
   if (!e || e->is_reference) {
     std::cerr << fmt::format("liftcheck: error: serve: '{}' is not a compiled-in rigid-body configuration (see 'liftcheck engines')\n", config);
     return 2;
