@@ -6,6 +6,7 @@
 #include <map>
 
 #include "scenarios/car_scenarios.hpp"
+#include "scenarios/declare.hpp"
 #include "scenarios/fit.hpp"
 #include "models/holonomy.hpp"
 #include "models/lift.hpp"
@@ -14,30 +15,10 @@ namespace liftcheck {
 
 namespace {
 
+using namespace declare;
 using car::Config;
 using car::Vec5;
 constexpr double kHalfPi = std::numbers::pi / 2.0;
-
-ParamSpec number(std::string key, std::string def, std::string unit, std::string help,
-                 double min = -INFINITY, bool min_exclusive = false, double max = INFINITY) {
-  return {.key = std::move(key), .kind = ParamKind::kNumber, .default_text = std::move(def), .unit = std::move(unit),
-          .help = std::move(help), .min = min, .min_exclusive = min_exclusive, .max = max};
-}
-/// An integer in [min, max].
-ParamSpec integer(std::string key, std::string def, std::string unit, std::string help, double min, double max) {
-  return {.key = std::move(key), .kind = ParamKind::kInteger, .default_text = std::move(def), .unit = std::move(unit),
-          .help = std::move(help), .min = min, .max = max};
-}
-/// A vector of two numbers, each coordinate within [-bound, bound].
-ParamSpec vec2(std::string key, std::string def, std::string unit, std::string help, double bound) {
-  return {.key = std::move(key), .kind = ParamKind::kVec2, .default_text = std::move(def), .unit = std::move(unit),
-          .help = std::move(help), .min = -bound, .max = bound};
-}
-/// One of `choices` (no unit).
-ParamSpec choice(std::string key, std::string def, std::string help, std::vector<std::string> choices) {
-  return {.key = std::move(key), .kind = ParamKind::kChoice, .default_text = std::move(def), .help = std::move(help),
-          .choices = std::move(choices)};
-}
 
 /// Parameters every car scenario shares: geometry, start pose, driving, engine settings.
 std::vector<ParamSpec> car_params(const std::string& beta_default) {
@@ -69,18 +50,6 @@ std::vector<ParamSpec> car_params(const std::string& beta_default) {
       number("wheel_mass", "2", "kg", "mass of each wheel", 0.0, true, 1e4),
       number("knuckle_mass", "2", "kg", "mass of each steering knuckle (the body between the chassis and a steered wheel)", 0.0, true, 1e4),
   };
-}
-
-std::vector<ParamSpec> with(std::vector<ParamSpec> base, std::vector<ParamSpec> extra) {
-  base.insert(base.end(), extra.begin(), extra.end());
-  return base;
-}
-
-/// `params` with some keys' defaults replaced (a scenario's own speed or friction).
-std::vector<ParamSpec> with_defaults(std::vector<ParamSpec> params, const std::map<std::string, std::string>& defaults) {
-  for (auto& ps : params)
-    if (const auto d = defaults.find(ps.key); d != defaults.end()) ps.default_text = d->second;
-  return params;
 }
 
 CarSetup setup_from(const Params& p) {
@@ -757,21 +726,11 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
   return o;
 }
 
-/// A relative metric: tolerance `analytic` for the reference, `engines` for every other engine.
-MetricDef rel(std::string name, std::string unit, double analytic, double engines, std::string help) {
-  return {.name = std::move(name), .unit = std::move(unit), .kind = TolKind::kRelative,
-          .tolerance = {{TolRole::kReference, analytic}, {TolRole::kDefault, engines}}, .help = std::move(help)};
-}
 MetricDef reference_only(MetricDef m) {
   m.reference_only = true;
   return m;
 }
 
-/// An absolute metric, tolerances as rel's.
-MetricDef abs_(std::string name, std::string unit, double analytic, double engines, std::string help) {
-  return {.name = std::move(name), .unit = std::move(unit), .kind = TolKind::kAbsolute,
-          .tolerance = {{TolRole::kReference, analytic}, {TolRole::kDefault, engines}}, .help = std::move(help)};
-}
 
 // Contact-point slip, measured by the engine every step (not produced by the analytic lift). A
 // gripping wheel's contact point is at rest: 0.1 mm/s is 2e-4 of the default speed.

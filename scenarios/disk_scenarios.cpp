@@ -1,6 +1,7 @@
 // The two-disk scenarios (Farber, Kurz, Pillin, sections 3, 5, 6). Expected values come from the
 // paper's closed forms where it has them, otherwise from the lift (21) integrated in models/.
 #include "scenarios/disk_scenarios.hpp"
+#include "scenarios/declare.hpp"
 
 #include "models/disk_contact.hpp"
 
@@ -14,16 +15,8 @@ namespace liftcheck {
 
 namespace {
 
+using namespace declare;
 using disks::Vec2;
-
-ParamSpec number(std::string key, std::string def, std::string unit, std::string help, double min = -INFINITY,
-                 bool min_exclusive = false, double max = INFINITY) {
-  return {std::move(key), ParamKind::kNumber, std::move(def), std::move(unit), std::move(help), min, min_exclusive, max, {}};
-}
-/// A point or velocity; each coordinate within [-bound, bound].
-ParamSpec vec2(std::string key, std::string def, std::string unit, std::string help, double bound = 1e4) {
-  return {std::move(key), ParamKind::kVec2, std::move(def), std::move(unit), std::move(help), -bound, false, bound, {}};
-}
 
 /// Parameters every disk scenario shares; `path` is left out where the scenario fixes N's motion.
 std::vector<ParamSpec> disk_params(const std::string& cM, const std::string& cN, const std::string& vN,
@@ -34,7 +27,7 @@ std::vector<ParamSpec> disk_params(const std::string& cM, const std::string& cN,
       vec2("vN", vN, "m/s", "N's velocity (line path) or speed as |vN| (toward path)", 1e3),
   };
   if (with_path)
-    v.push_back({"path", ParamKind::kChoice, path, "", "N's path", -INFINITY, false, INFINITY, {"line", "circle", "figure8"}});
+    v.push_back(choice("path", path, "N's path", {"line", "circle", "figure8"}));
   v.push_back(number("path_r", "3", "m", "radius of the circle and figure-eight paths", 0.0, true, 100.0));
   v.push_back(number("path_omega", "0.5", "rad/s", "angular rate of the circle and figure-eight paths", -10.0, false, 10.0));
   v.push_back(number("T", T, "s", "duration", 0.0, true, T_max));
@@ -43,10 +36,6 @@ std::vector<ParamSpec> disk_params(const std::string& cM, const std::string& cN,
   return v;
 }
 
-std::vector<ParamSpec> with(std::vector<ParamSpec> base, std::vector<ParamSpec> extra) {
-  base.insert(base.end(), extra.begin(), extra.end());
-  return base;
-}
 
 disks::NPath path_from(const Params& p) {
   disks::NPath path;
@@ -342,9 +331,6 @@ DiskProblem problem(const Params& p, const disks::Mechanism& m) {
   return {disks::rule_of(m), path_from(p), p.vec("cM"), p.num("T")};
 }
 
-MetricDef abs_(std::string name, std::string unit, double analytic, double engines, std::string help) {
-  return {std::move(name), std::move(unit), TolKind::kAbsolute, {{TolRole::kReference, analytic}, {TolRole::kDefault, engines}}, std::move(help)};
-}
 const MetricDef kCollision{"collision", "1", TolKind::kAbsolute, {{TolRole::kDefault, 0.0}}, "1 if the disks touch within T, else 0"};
 // The contact time is compared in engine steps: the tolerance is this many steps of dt.
 const MetricDef kTContact{"t_contact", "s", TolKind::kAbsolute, {{TolRole::kReference, 1e-6}, {TolRole::kDefault, 1.0}},
