@@ -2,6 +2,6 @@
 #include <vector>
 #include "scenarios/scenario.hpp"
 namespace liftcheck {
-/// car.circle, car.cycle, car.iterated, car.iterated-beta, car.steer-in-place, car.reparam.
+/// The car scenarios, in catalogue order (scenarios/car_circle.cpp, car_cycles.cpp, car_slope.cpp).
 std::vector<Scenario> car_scenarios();
 }  // namespace liftcheck
