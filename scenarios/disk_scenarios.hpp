@@ -2,8 +2,7 @@
 #include <vector>
 #include "scenarios/scenario.hpp"
 namespace liftcheck {
-/// disks.copy, disks.actuated, disks.repel, disks.orbit, disks.linear, disks.forced,
-/// disks.moving-away, disks.extended, disks.target.
+/// The disk scenarios, in catalogue order (scenarios/disk_free.cpp, disk_contact.cpp).
 std::vector<Scenario> disk_scenarios();
 
 /// disks.linear's horizon for a collision outcome (the outcome grid's runs): the time after which the
