@@ -487,6 +487,34 @@ std::optional<nlohmann::json> read_record(Worker& w, const SuiteItem& item, doub
 
 }  // namespace
 
+namespace {
+
+/// Hands `item` (the slot-th of the share) to worker `w`, starting the worker first where it has
+/// none (bound to `cpu` unless it is -1); the item's error record where the request cannot be
+/// written (the worker is ended), nullopt once it runs.
+std::optional<nlohmann::json> start_item(Worker& w, long slot, const SuiteItem& item, const RunnerDef& runner, const RunningBinary& binary, int cpu) {
+  if (w.pid < 0) {
+    w = spawn_worker(binary.path, binary.shown);
+    if (cpu >= 0) bind_worker(w.pid, cpu);
+  }
+  w.slot = slot;
+  w.started = std::chrono::steady_clock::now();
+  nlohmann::json request = item_request(item);
+  request["cpu_limit_s"] = runner.timeout_s;
+  request["memory_limit_mib"] = runner.memory_limit_mib;
+  if (write_all(w.in_fd, request.dump() + "\n")) return std::nullopt;
+  const std::string how = end_worker(w, true);
+  return error_record(item, fmt::format("the worker process {} before the run", how));
+}
+
+/// The message of an item stopped at the wall-clock limit.
+std::string waited_too_long(double wall_limit_s, double timeout_s) {
+  return fmt::format("timed out: no record after {:g} s of wall-clock time ({:g} s of CPU time allowed by --timeout; "
+                     "the run waited rather than computed), stopped", wall_limit_s, timeout_s);
+}
+
+}  // namespace
+
 std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
                                       const std::function<void(size_t, const nlohmann::json&, double)>& done,
                                       const std::function<void(size_t, size_t)>& progress) {
@@ -527,19 +555,9 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
       for (size_t k = 0; k < workers.size(); ++k) {
         Worker& w = workers[k];
         if (w.slot >= 0 || dispenser.empty()) continue;
-        if (w.pid < 0) {
-          w = spawn_worker(binary.path, binary.shown);
-          if (!cpus.empty()) bind_worker(w.pid, cpus[k % cpus.size()]);
-        }
-        w.slot = static_cast<long>(dispenser.next_for(k));
-        w.started = clock::now();
-        nlohmann::json request = item_request(plan.items[which[static_cast<size_t>(w.slot)]]);
-        request["cpu_limit_s"] = runner.timeout_s;
-        request["memory_limit_mib"] = runner.memory_limit_mib;
-        if (!write_all(w.in_fd, request.dump() + "\n")) {
-          const std::string how = end_worker(w, true);
-          finish(w, error_record(plan.items[which[static_cast<size_t>(w.slot)]], fmt::format("the worker process {} before the run", how)));
-        }
+        const long slot = static_cast<long>(dispenser.next_for(k));
+        if (auto failed = start_item(w, slot, plan.items[which[static_cast<size_t>(slot)]], runner, binary, cpus.empty() ? -1 : cpus[k % cpus.size()]))
+          finish(w, std::move(*failed));
       }
       for (const auto& [k, is_out] : poll_workers(workers, wall_limit_s)) {
         Worker& w = workers[k];
@@ -555,8 +573,7 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
         if (w.slot >= 0 && std::chrono::duration<double>(clock::now() - w.started).count() > wall_limit_s) {
           const SuiteItem& item = plan.items[which[static_cast<size_t>(w.slot)]];
           end_worker(w, true);
-          finish(w, error_record(item, fmt::format("timed out: no record after {:g} s of wall-clock time ({:g} s of CPU time allowed by --timeout; "
-                                                   "the run waited rather than computed), stopped", wall_limit_s, runner.timeout_s)));
+          finish(w, error_record(item, waited_too_long(wall_limit_s, runner.timeout_s)));
         }
       std::vector<size_t> now;
       while (printed < n && ready[printed]) now.push_back(printed++);

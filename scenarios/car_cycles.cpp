@@ -210,9 +210,8 @@ Outcome run_reparam(const Params& p, CarEngine& engine) {
   return o;
 }
 
-}  // namespace
-
-std::vector<Scenario> cycle_scenarios() {
+/// The parking cycles and their holonomies.
+std::vector<Scenario> parking_cycle_scenarios() {
   return {
     {
         .name = "car.cycle",
@@ -244,7 +243,13 @@ std::vector<Scenario> cycle_scenarios() {
         .params = with(car_params("0.2"), {number("eps", "0.3", "rad", "step size eps (alpha and beta)", 0.0, true, 1.0)}),
         .metrics = cycle_metrics(),
         .run_car = run_iterated_beta,
-        .headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"}},
+        .headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"}}
+  };
+}
+
+/// Steering in place, the lift's reparametrisation invariance and its E(2) covariance.
+std::vector<Scenario> lift_property_scenarios() {
+  return {
     {
         .name = "car.steer-in-place",
         .vehicle = Vehicle::kCar,
@@ -297,6 +302,14 @@ std::vector<Scenario> cycle_scenarios() {
         .run_car = run_covariance,
         .headline = {.metrics = {"spread_xy"}, .label = "end spread", .unit = "mm", .scale = 1e3}}
   };
+}
+
+}  // namespace
+
+std::vector<Scenario> cycle_scenarios() {
+  std::vector<Scenario> v = parking_cycle_scenarios();
+  for (Scenario& s : lift_property_scenarios()) v.push_back(std::move(s));
+  return v;
 }
 
 }  // namespace liftcheck
