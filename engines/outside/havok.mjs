@@ -53,7 +53,7 @@ function ok(result, what) {
   return Array.isArray(result) ? result[1] : undefined;
 }
 
-function drop_world() {
+function dropWorld() {
   if (!world) return;
   for (const c of world.constraints) HK.HP_Constraint_Release(c);
   for (const b of world.bodies) {
@@ -68,8 +68,8 @@ function drop_world() {
 /// A new world with the request's gravity and the ideal step time the knob names. Havok has no
 /// getter for it: the value set is kept in world.ideal_s and sent back in the build reply
 /// (ideal_step_time_s), for the adapter's tests.
-function new_world(gravity_W, knob, dt_s) {
-  drop_world();
+function newWorld(gravity_W, knob, dt_s) {
+  dropWorld();
   const id = ok(HK.HP_World_Create(), 'HP_World_Create');
   ok(HK.HP_World_SetGravity(id, gravity_W), 'HP_World_SetGravity');
   const ideal_s = { '1/60': 1 / 60, dt: dt_s, off: 0 }[knob.ideal_step_time];
@@ -79,7 +79,7 @@ function new_world(gravity_W, knob, dt_s) {
 
 /// One world step of dt_s. Where the ideal step time follows the step, a step of another length
 /// (a run's last, shorter one) re-sets it first: it is the step "you intend to call HP_World_Step() with".
-function world_step(dt_s) {
+function worldStep(dt_s) {
   if (world.follows_dt && dt_s !== world.ideal_s) {
     ok(HK.HP_World_SetIdealStepTime(world.id, dt_s), 'HP_World_SetIdealStepTime');
     world.ideal_s = dt_s;
@@ -97,7 +97,7 @@ function shape(made, filter, friction) {
 
 /// A body of shape s at pose (p_W, q_W); mass_kg > 0: dynamic, with the inertia Havok computes for
 /// the shape scaled to that mass; else the given motion type.
-function add_body(s, p_W, q_W, motion, mass_kg) {
+function addBody(s, p_W, q_W, motion, mass_kg) {
   const b = ok(HK.HP_Body_Create(), 'HP_Body_Create');
   world.bodies.push(b);
   ok(HK.HP_Body_SetShape(b, s), 'HP_Body_SetShape');
@@ -118,7 +118,7 @@ function add_body(s, p_W, q_W, motion, mass_kg) {
 /// A hinge (6-DOF constraint, ANGULAR_X free) between parent and child: pivot and axes in each
 /// body's own frame (axis_x the hinge axis, axis_y where both bodies' angle is zero);
 /// motor_Nm > 0 gives it a velocity motor.
-function add_hinge(parent, child, pivot_P, axis_x_P, axis_y_P, pivot_C, axis_x_C, axis_y_C, motor_Nm) {
+function addHinge(parent, child, pivot_P, axis_x_P, axis_y_P, pivot_C, axis_x_C, axis_y_C, motor_Nm) {
   const c = ok(HK.HP_Constraint_Create(), 'HP_Constraint_Create');
   world.constraints.push(c);
   HK.HP_Constraint_SetParentBody(c, parent);
@@ -136,19 +136,19 @@ function add_hinge(parent, child, pivot_P, axis_x_P, axis_y_P, pivot_C, axis_x_C
   return c;
 }
 
-function build_car(req) {
-  drop_world();  // a build that fails leaves no world to step
+function buildCar(req) {
+  dropWorld();  // a build that fails leaves no world to step
   C.carRequest(req, ['sphere', 'cylinder']);
   const knob = C.applySettings(SETTINGS, req.settings, 'car');
-  new_world(req.gravity_W, knob, req.dt_s);
+  newWorld(req.gravity_W, knob, req.dt_s);
   const c = req.car, q0 = req.q0, R = c.R_m, DYN = HK.MotionType.DYNAMIC;
   const at = (bx, by, bz) => C.chassisPoint(q0, bx, by, bz);
   const q_chassis = C.yawQuat(q0.phi_rad);
   const side = 2 * C.groundHalf_m(c);
   // Havok's pair coefficient is min(mu, mu) = mu.
-  add_body(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [side, side, 1]), F_GROUND, req.mu), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1],
+  addBody(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [side, side, 1]), F_GROUND, req.mu), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1],
            HK.MotionType.STATIC, 0);
-  const chassis = add_body(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [c.l_m, c.track_m, c.chassis_height_m]), F_GHOST, 0),
+  const chassis = addBody(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [c.l_m, c.track_m, c.chassis_height_m]), F_GHOST, 0),
                            at(-0.5 * c.l_m, 0, R), q_chassis, DYN, c.chassis_mass_kg);
   const wheel_shape = () => shape(C.wheelShapeOf(req, knob) === 'cylinder'
     ? HK.HP_Shape_CreateCylinder([0, -0.5 * c.wheel_width_m, 0], [0, 0.5 * c.wheel_width_m, 0], R)  // axis along local y
@@ -159,19 +159,19 @@ function build_car(req) {
   // direction (cos b0, -sin b0, 0) in the knuckle's.
   world.fronts = C.frontWheels(c, q0.beta_rad).map(({ y_m, beta0_rad: b0 }) => {
     const q_front = C.yawQuat(q0.phi_rad + b0), hub = at(0, y_m, R);
-    const knuckle = add_body(shape(HK.HP_Shape_CreateSphere(O, C.KNUCKLE_RADIUS_M), F_GHOST, 0), hub, q_front, DYN, c.knuckle_mass_kg);
-    const body = add_body(wheel_shape(), hub, q_front, DYN, c.wheel_mass_kg);
-    const steer = add_hinge(chassis, knuckle, [0.5 * c.l_m, y_m, 0], Z, X, O, Z, [Math.cos(b0), -Math.sin(b0), 0], req.servo.steer_torque_max_Nm);
-    const spin = add_hinge(knuckle, body, O, Y, Z, O, Y, Z, req.servo.spin_torque_max_Nm);
+    const knuckle = addBody(shape(HK.HP_Shape_CreateSphere(O, C.KNUCKLE_RADIUS_M), F_GHOST, 0), hub, q_front, DYN, c.knuckle_mass_kg);
+    const body = addBody(wheel_shape(), hub, q_front, DYN, c.wheel_mass_kg);
+    const steer = addHinge(chassis, knuckle, [0.5 * c.l_m, y_m, 0], Z, X, O, Z, [Math.cos(b0), -Math.sin(b0), 0], req.servo.steer_torque_max_Nm);
+    const spin = addHinge(knuckle, body, O, Y, Z, O, Y, Z, req.servo.spin_torque_max_Nm);
     return { knuckle, body, steer, spin };
   });
   world.rear = [0.5, -0.5].map((y) => {
-    const body = add_body(wheel_shape(), at(-c.l_m, y * c.track_m, R), q_chassis, DYN, c.wheel_mass_kg);
-    add_hinge(chassis, body, [-0.5 * c.l_m, y * c.track_m, 0], Y, Z, O, Y, Z, 0);
+    const body = addBody(wheel_shape(), at(-c.l_m, y * c.track_m, R), q_chassis, DYN, c.wheel_mass_kg);
+    addHinge(chassis, body, [-0.5 * c.l_m, y * c.track_m, 0], Y, Z, O, Y, Z, 0);
     return body;
   });
   world.chassis = chassis;
-  return { ...car_state(0), ideal_step_time_s: world.ideal_s };
+  return { ...carState(0), ideal_step_time_s: world.ideal_s };
 }
 
 function pose(b) {
@@ -179,49 +179,49 @@ function pose(b) {
   return { p, q };
 }
 
-function body_state(b) {
+function bodyState(b) {
   const { p, q } = pose(b);
   return { p, q, v: HK.HP_Body_GetLinearVelocity(b)[1], w: HK.HP_Body_GetAngularVelocity(b)[1] };
 }
 
-function car_state(engine_s) {
+function carState(engine_s) {
   const q_chassis = pose(world.chassis).q;
   // The joints' angles from the bodies: the knuckle's twist about the chassis z (the steering angle
   // itself: the hinge's zero is the chassis x), the wheel's about the knuckle y.
-  const knuckles = world.fronts.map((f) => pose(f.knuckle).q), wheels = world.fronts.map((f) => body_state(f.body));
+  const knuckles = world.fronts.map((f) => pose(f.knuckle).q), wheels = world.fronts.map((f) => bodyState(f.body));
   return C.carReply(engine_s, wheels.map((w, k) => C.twist(knuckles[k], w.q, 1)), knuckles.map((q) => C.twist(q_chassis, q, 2)),
-    q_chassis, wheels, world.rear.map(body_state));
+    q_chassis, wheels, world.rear.map(bodyState));
 }
 
-function step_car(req) {
+function stepCar(req) {
   const { spin, steer } = C.carStep(req);
   world.fronts.forEach((f, k) => {
     HK.HP_Constraint_SetAxisMotorTarget(f.spin, A.ANGULAR_X, spin[k]);
     HK.HP_Constraint_SetAxisMotorTarget(f.steer, A.ANGULAR_X, steer[k]);
   });
-  return car_state(world_step(req.dt_s));
+  return carState(worldStep(req.dt_s));
 }
 
-function build_disks(req) {
-  drop_world();
+function buildDisks(req) {
+  dropWorld();
   if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
   const knob = C.applySettings(SETTINGS, req.settings, 'disks');
-  new_world([0, 0, 0], knob, req.dt_s);
+  newWorld([0, 0, 0], knob, req.dt_s);
   const ball = () => shape(HK.HP_Shape_CreateSphere([0, 0, 0], req.radius_m), F_DISK, 0);
-  world.M = add_body(ball(), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], HK.MotionType.DYNAMIC, 1);
+  world.M = addBody(ball(), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], HK.MotionType.DYNAMIC, 1);
   HK.HP_Body_SetGravityFactor(world.M, 0);
-  world.N = add_body(ball(), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], HK.MotionType.KINEMATIC, 0);
+  world.N = addBody(ball(), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], HK.MotionType.KINEMATIC, 0);
   HK.HP_Body_SetEventMask(world.M, HK.EventType.COLLISION_STARTED.value | HK.EventType.COLLISION_CONTINUED.value);
-  return { ...disk_state(), ideal_step_time_s: world.ideal_s };
+  return { ...diskState(), ideal_step_time_s: world.ideal_s };
 }
 
-function disk_state() {
+function diskState() {
   const m = pose(world.M).p, n = pose(world.N).p;
   return { cM: [m[0], m[1]], cN: [n[0], n[1]] };
 }
 
 /// The M-N collision events of the last step: their count and smallest signed distance.
-function disk_contacts() {
+function diskContacts() {
   const out = { count: 0, distance_min_m: Infinity };
   const m = world.M[0], n = world.N[0];
   let ev = HK.HP_World_GetCollisionEvents(world.id)[1];
@@ -239,15 +239,15 @@ function disk_contacts() {
   return out;
 }
 
-function step_disks(req) {
+function stepDisks(req) {
   HK.HP_Body_SetLinearVelocity(world.M, [req.vM_cmd[0], req.vM_cmd[1], 0]);  // in the plane: no out-of-plane velocity
   HK.HP_Body_SetTargetQTransform(world.N, [[req.cN_next[0], req.cN_next[1], 0], [0, 0, 0, 1]]);
-  const engine_s = world_step(req.dt_s);
-  const c = disk_contacts();
+  const engine_s = worldStep(req.dt_s);
+  const c = diskContacts();
   const contacts = c.count > 0
     ? { count: c.count, depth_max_m: Math.max(0, -c.distance_min_m), distance_min_m: c.distance_min_m }
     : { count: 0, depth_max_m: 0, distance_min_m: 0 };
-  return { engine_s, ...disk_state(), contacts };
+  return { engine_s, ...diskState(), contacts };
 }
 
 serve({
@@ -266,8 +266,8 @@ serve({
       ],
     };
   },
-  car: build_car,
-  disks: build_disks,
-  stepCar: step_car,
-  stepDisks: step_disks,
+  car: buildCar,
+  disks: buildDisks,
+  stepCar: stepCar,
+  stepDisks: stepDisks,
 });

@@ -69,10 +69,10 @@ let world = null;  // { jolt, system, bodies: Body[], constraints: Constraint[],
 function vec3(v) { return new Jolt.Vec3(v[0], v[1], v[2]); }
 function rvec3(v) { return new Jolt.RVec3(v[0], v[1], v[2]); }
 function quat(q) { return new Jolt.Quat(q[0], q[1], q[2], q[3]); }
-function destroy_all(...objs) { for (const o of objs) Jolt.destroy(o); }
+function destroyAll(...objs) { for (const o of objs) Jolt.destroy(o); }
 
 /// A JoltInterface with the four layers and the knob values applied.
-function make_system(knob, gravity_W) {
+function makeSystem(knob, gravity_W) {
   const settings = new Jolt.JoltSettings();
   const pairs = new Jolt.ObjectLayerPairFilterTable(N_LAYERS);
   pairs.EnableCollision(L_GROUND, L_WHEEL);
@@ -85,7 +85,7 @@ function make_system(knob, gravity_W) {
   settings.mBroadPhaseLayerInterface = bp;
   settings.mObjectVsBroadPhaseLayerFilter = new Jolt.ObjectVsBroadPhaseLayerFilterTable(bp, 2, pairs, N_LAYERS);
   const jolt = new Jolt.JoltInterface(settings);  // owns the filters from here on
-  destroy_all(settings, bp_static, bp_moving);
+  destroyAll(settings, bp_static, bp_moving);
   const system = jolt.GetPhysicsSystem();
   const ps = new Jolt.PhysicsSettings();  // Jolt's defaults, then the knobs
   ps.mNumVelocitySteps = knob.velocity_steps;
@@ -99,7 +99,7 @@ function make_system(knob, gravity_W) {
   return { jolt, system, bi: system.GetBodyInterface(), bodies: [], constraints: [], listener: null, owned: [] };
 }
 
-function drop_world() {
+function dropWorld() {
   if (!world) return;
   const { jolt, system, bi } = world;
   for (const c of world.constraints) system.RemoveConstraint(c);
@@ -119,10 +119,10 @@ function drop_world() {
 
 /// Adds a body: shape (owned by the body from here on), pose, motion type and layer; mass_kg
 /// sets the mass with the inertia Jolt computes from the shape for it.
-function add_body(shape, p_W, q_W, motion, layer, opts = {}) {
+function addBody(shape, p_W, q_W, motion, layer, opts = {}) {
   const pos = rvec3(p_W), rot = quat(q_W);
   const s = new Jolt.BodyCreationSettings(shape, pos, rot, motion, layer);
-  destroy_all(pos, rot);
+  destroyAll(pos, rot);
   s.mAllowSleeping = false;
   s.mLinearDamping = 0;
   s.mAngularDamping = 0;
@@ -143,7 +143,7 @@ function add_body(shape, p_W, q_W, motion, layer, opts = {}) {
 
 /// A hinge between body1 and body2 about the world axis through p_W (normal: a world direction
 /// perpendicular to it, where both bodies' angle is zero); motor_Nm > 0 gives it a velocity motor.
-function add_hinge(body1, body2, p_W, axis_W, normal_W, motor_Nm) {
+function addHinge(body1, body2, p_W, axis_W, normal_W, motor_Nm) {
   const s = new Jolt.HingeConstraintSettings();
   s.mSpace = Jolt.EConstraintSpace_WorldSpace;
   const p1 = rvec3(p_W), p2 = rvec3(p_W), a1 = vec3(axis_W), a2 = vec3(axis_W), n1 = vec3(normal_W), n2 = vec3(normal_W);
@@ -153,7 +153,7 @@ function add_hinge(body1, body2, p_W, axis_W, normal_W, motor_Nm) {
     s.mMotorSettings.mMaxTorqueLimit = motor_Nm;
   }
   const c = s.Create(body1, body2);
-  destroy_all(s, p1, p2, a1, a2, n1, n2);
+  destroyAll(s, p1, p2, a1, a2, n1, n2);
   world.system.AddConstraint(c);
   world.constraints.push(c);
   const hinge = Jolt.castObject(c, Jolt.HingeConstraint);
@@ -161,45 +161,45 @@ function add_hinge(body1, body2, p_W, axis_W, normal_W, motor_Nm) {
   return hinge;
 }
 
-function build_car(req) {
-  drop_world();  // a build that fails leaves no world to step
+function buildCar(req) {
+  dropWorld();  // a build that fails leaves no world to step
   C.carRequest(req, ['sphere', 'cylinder']);
   const knob = C.applySettings(SETTINGS, req.settings, 'car');
-  world = make_system(knob, req.gravity_W);
+  world = makeSystem(knob, req.gravity_W);
   const c = req.car, q0 = req.q0, R = c.R_m;
   const at = (bx, by, bz) => C.chassisPoint(q0, bx, by, bz);
   const q_chassis = C.yawQuat(q0.phi_rad);
   const half = C.groundHalf_m(c);
   const ext = vec3([half, half, 0.5]);
-  add_body(new Jolt.BoxShape(ext, 0.05, null), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1], Jolt.EMotionType_Static, L_GROUND,
+  addBody(new Jolt.BoxShape(ext, 0.05, null), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1], Jolt.EMotionType_Static, L_GROUND,
            { friction: req.mu });  // Jolt combines friction as sqrt(f_wheel f_ground): both mu give mu
   Jolt.destroy(ext);
   const box = vec3([0.5 * c.l_m, 0.5 * c.track_m, 0.5 * c.chassis_height_m]);
-  const chassis = add_body(new Jolt.BoxShape(box, 0, null), at(-0.5 * c.l_m, 0, R), q_chassis, Jolt.EMotionType_Dynamic, L_GHOST,
+  const chassis = addBody(new Jolt.BoxShape(box, 0, null), at(-0.5 * c.l_m, 0, R), q_chassis, Jolt.EMotionType_Dynamic, L_GHOST,
                            { mass_kg: c.chassis_mass_kg });
   Jolt.destroy(box);
   const wheel_shape = () => C.wheelShapeOf(req, knob) === 'cylinder'
     ? new Jolt.CylinderShape(0.5 * c.wheel_width_m, R, Math.min(0.05, 0.25 * c.wheel_width_m), null)  // axis along local y
     : new Jolt.SphereShape(R, null);
-  const wheel = (p, q) => add_body(wheel_shape(), p, q, Jolt.EMotionType_Dynamic, L_WHEEL, { mass_kg: c.wheel_mass_kg, friction: req.mu });
+  const wheel = (p, q) => addBody(wheel_shape(), p, q, Jolt.EMotionType_Dynamic, L_WHEEL, { mass_kg: c.wheel_mass_kg, friction: req.mu });
   // Each front wheel on its own knuckle, both yawed by the wheel's start steering angle.
   world.fronts = C.frontWheels(c, q0.beta_rad).map(({ y_m, beta0_rad }) => {
     const q_front = C.yawQuat(q0.phi_rad + beta0_rad), hub = at(0, y_m, R);
-    const knuckle = add_body(new Jolt.SphereShape(C.KNUCKLE_RADIUS_M, null), hub, q_front, Jolt.EMotionType_Dynamic, L_GHOST,
+    const knuckle = addBody(new Jolt.SphereShape(C.KNUCKLE_RADIUS_M, null), hub, q_front, Jolt.EMotionType_Dynamic, L_GHOST,
                              { mass_kg: c.knuckle_mass_kg });
     const body = wheel(hub, q_front);
-    const steer = add_hinge(chassis, knuckle, hub, [0, 0, 1], C.rotate(q_front, [1, 0, 0]), req.servo.steer_torque_max_Nm);
-    const spin = add_hinge(knuckle, body, hub, C.rotate(q_front, [0, 1, 0]), [0, 0, 1], req.servo.spin_torque_max_Nm);
+    const steer = addHinge(chassis, knuckle, hub, [0, 0, 1], C.rotate(q_front, [1, 0, 0]), req.servo.steer_torque_max_Nm);
+    const spin = addHinge(knuckle, body, hub, C.rotate(q_front, [0, 1, 0]), [0, 0, 1], req.servo.spin_torque_max_Nm);
     return { body, steer, spin, beta0_rad };
   });
   const axle_chassis = C.rotate(q_chassis, [0, 1, 0]);
   world.rear = [0.5, -0.5].map((y) => {
     const body = wheel(at(-c.l_m, y * c.track_m, R), q_chassis);
-    add_hinge(chassis, body, at(-c.l_m, y * c.track_m, R), axle_chassis, [0, 0, 1], 0);
+    addHinge(chassis, body, at(-c.l_m, y * c.track_m, R), axle_chassis, [0, 0, 1], 0);
     return body;
   });
   world.chassis = chassis;
-  return car_state(0);
+  return carState(0);
 }
 
 function pose(body) {
@@ -208,31 +208,31 @@ function pose(body) {
 }
 
 /// A wheel's body state {p, q, v, w}, copied out of the binding's reused result objects.
-function body_state(body) {
+function bodyState(body) {
   const { p, q } = pose(body);
   const v = body.GetLinearVelocity(), v_W = [v.GetX(), v.GetY(), v.GetZ()];
   const w = body.GetAngularVelocity(), w_W = [w.GetX(), w.GetY(), w.GetZ()];
   return { p, q, v: v_W, w: w_W };
 }
 
-function car_state(engine_s) {
+function carState(engine_s) {
   // Hinge angles are zero at the build pose: the steering angle is the start angle plus it.
   return C.carReply(engine_s, world.fronts.map((f) => f.spin.GetCurrentAngle()), world.fronts.map((f) => f.beta0_rad + f.steer.GetCurrentAngle()),
-    pose(world.chassis).q, world.fronts.map((f) => body_state(f.body)), world.rear.map(body_state));
+    pose(world.chassis).q, world.fronts.map((f) => bodyState(f.body)), world.rear.map(bodyState));
 }
 
-function step_car(req) {
+function stepCar(req) {
   const { spin, steer } = C.carStep(req);
   world.fronts.forEach((f, k) => {
     f.spin.SetTargetAngularVelocity(spin[k]);
     f.steer.SetTargetAngularVelocity(steer[k]);
   });
-  return car_state(timed(() => world.jolt.Step(req.dt_s, 1)));
+  return carState(timed(() => world.jolt.Step(req.dt_s, 1)));
 }
 
 /// Counts the M-N contact points of one narrow-phase manifold and keeps the smallest signed
 /// distance (Jolt's mPenetrationDepth is negative for a speculative manifold).
-function contact_listener() {
+function contactListener() {
   const listener = new Jolt.ContactListenerJS();
   const seen = (b1, b2, manifold_ptr) => {
     const pair = [Jolt.getPointer(world.M), Jolt.getPointer(world.N)];
@@ -248,19 +248,19 @@ function contact_listener() {
   return listener;
 }
 
-function build_disks(req) {
-  drop_world();
+function buildDisks(req) {
+  dropWorld();
   if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
   const knob = { ...PRESETS[CONFIG], ...C.applySettings(SETTINGS, req.settings, 'disks') };
-  world = make_system(knob, [0, 0, 0]);
-  world.M = add_body(new Jolt.SphereShape(req.radius_m, null), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Dynamic, L_DISK,
+  world = makeSystem(knob, [0, 0, 0]);
+  world.M = addBody(new Jolt.SphereShape(req.radius_m, null), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Dynamic, L_DISK,
                      { mass_kg: 1, gravity_factor: 0, dofs: Jolt.EAllowedDOFs_Plane2D });
-  world.N = add_body(new Jolt.SphereShape(req.radius_m, null), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Kinematic, L_DISK);
-  world.listener = contact_listener();
+  world.N = addBody(new Jolt.SphereShape(req.radius_m, null), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Kinematic, L_DISK);
+  world.listener = contactListener();
   world.system.SetContactListener(world.listener);
   world.identity = new Jolt.Quat(0, 0, 0, 1);
   world.owned.push(world.identity);
-  return disk_state();
+  return diskState();
 }
 
 // A by-value result of the binding is one object reused by every call of that method: copy it out
@@ -270,11 +270,11 @@ function xy(body) {
   return [p.GetX(), p.GetY()];
 }
 
-function disk_state() {
+function diskState() {
   return { cM: xy(world.M), cN: xy(world.N) };
 }
 
-function step_disks(req) {
+function stepDisks(req) {
   const v = vec3([req.vM_cmd[0], req.vM_cmd[1], 0]);
   world.bi.SetLinearVelocity(world.M.GetID(), v);
   Jolt.destroy(v);
@@ -287,7 +287,7 @@ function step_disks(req) {
   const contacts = c.count > 0
     ? { count: c.count, depth_max_m: Math.max(0, -c.distance_min_m), distance_min_m: c.distance_min_m }
     : { count: 0, depth_max_m: 0, distance_min_m: 0 };
-  return { engine_s, ...disk_state(), contacts };
+  return { engine_s, ...diskState(), contacts };
 }
 
 const FIXED = {
@@ -311,8 +311,8 @@ serve({
       ],
     };
   },
-  car: build_car,
-  disks: build_disks,
-  stepCar: step_car,
-  stepDisks: step_disks,
+  car: buildCar,
+  disks: buildDisks,
+  stepCar: stepCar,
+  stepDisks: stepDisks,
 });
