@@ -60,11 +60,26 @@ class WheelFrictionWorld final : public btDiscreteDynamicsWorld {
 
 class RawBulletCar;
 
+/// bullet's car knobs, typed once when the car is made.
+struct BulletKnobs {
+  bool wheel_dirs = true;  ///< friction_dirs: the first direction along the rolling direction
+  int iterations = 100;    ///< btContactSolverInfo::m_numIterations
+  bool cylinder = false;   ///< wheel: cylinders instead of spheres
+  static BulletKnobs from(const Settings& s) {
+    return {.wheel_dirs = s.choice("friction_dirs") == "wheel", .iterations = s.integer("iterations"), .cylinder = s.choice("wheel") == "cylinder"};
+  }
+};
+
 class BulletCar final : public RigidCar {
   friend class RawBulletCar;  // the benchmarks' raw loop on these bodies
 
  public:
-  using RigidCar::RigidCar;
+  explicit BulletCar(Settings settings) : RigidCar(std::move(settings)), knobs_(BulletKnobs::from(settings_)) {}
+
+ private:
+  const BulletKnobs knobs_;
+
+ public:
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
@@ -78,9 +93,9 @@ class BulletCar final : public RigidCar {
     core_ = std::make_unique<BulletCore>();
     world_ = core_->make_world<WheelFrictionWorld>();
     world_->setGravity(btVector3(setup.gravity_W().x(), setup.gravity_W().y(), setup.gravity_W().z()));
-    world_->align = settings_.choice("friction_dirs") == "wheel";
+    world_->align = knobs_.wheel_dirs;
     btContactSolverInfo& info = world_->getSolverInfo();
-    info.m_numIterations = settings_.integer("iterations");
+    info.m_numIterations = knobs_.iterations;
     info.m_solverMode |= SOLVER_USE_2_FRICTION_DIRECTIONS;
     // Fixed world axes when not aligned: no velocity-dependent friction direction either.
     info.m_solverMode |= SOLVER_DISABLE_VELOCITY_DEPENDENT_FRICTION_DIRECTION;
@@ -103,7 +118,7 @@ class BulletCar final : public RigidCar {
     chassis_ = add_body(d.chassis_mass_kg, chassis_shape, btTransform(yaw_chassis, to_world(-0.5 * d.l_m, 0, d.R_m)), 0, 0);
 
     btCollisionShape* wheel_shape = nullptr;
-    if (settings_.choice("wheel") == "cylinder")
+    if (knobs_.cylinder)
       wheel_shape = add_shape(std::make_unique<btCylinderShape>(btVector3(d.R_m, 0.5 * d.wheel_width_m, d.R_m)));  // along local y
     else
       wheel_shape = add_shape(std::make_unique<btSphereShape>(d.R_m));

@@ -142,16 +142,26 @@ Eigen::Vector3d eig(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
 
 class RawMultiBodyCar;
 
+/// bullet-multibody's car knobs, typed once when the car is made.
+struct MultiBodyKnobs {
+  int iterations = 10;    ///< btContactSolverInfo::m_numIterations
+  double damping = 0.04;  ///< btMultiBody linear and angular damping
+  static MultiBodyKnobs from(const Settings& s) { return {.iterations = s.integer("iterations"), .damping = s.number("damping")}; }
+};
+
 class MultiBodyCar final : public RigidCar {
   friend class RawMultiBodyCar;  // the benchmarks' raw loop on this multibody
 
+ private:
+  const MultiBodyKnobs knobs_;
+
  public:
-  using RigidCar::RigidCar;
+  explicit MultiBodyCar(Settings settings) : RigidCar(std::move(settings)), knobs_(MultiBodyKnobs::from(settings_)) {}
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
     scene_.reset();
-    scene_ = std::make_unique<MultiBodyScene>(setup.gravity_W(), settings_.integer("iterations"));
+    scene_ = std::make_unique<MultiBodyScene>(setup.gravity_W(), knobs_.iterations);
     dt_s_ = setup.dt_s;
 
     // Ground plane z = 0; Bullet multiplies both bodies' friction coefficients: mu x 1.
@@ -174,7 +184,7 @@ class MultiBodyCar final : public RigidCar {
     mb->setupRevolute(kRearLeft, d.wheel_mass_kg, wheel_inertia, -1, same, axle, btVector3(-0.5 * d.l_m, 0.5 * d.track_m, 0), zero, true);
     mb->setupRevolute(kRearRight, d.wheel_mass_kg, wheel_inertia, -1, same, axle, btVector3(-0.5 * d.l_m, -0.5 * d.track_m, 0), zero, true);
     mb->finalizeMultiDof();
-    const double damping = settings_.number("damping");
+    const double damping = knobs_.damping;
     mb->setLinearDamping(damping);
     mb->setAngularDamping(damping);
 

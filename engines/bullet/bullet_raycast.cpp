@@ -78,11 +78,23 @@ class LockedRaycastVehicle final : public btRaycastVehicle {
 
 class RawRaycastCar;
 
+/// bullet-raycast's knobs, typed once when the car is made.
+struct RaycastKnobs {
+  bool heading_angle = true;            ///< wheel_angle: the travel along the wheel's heading (else Bullet's m_rotation)
+  double suspension_stiffness = 1e4;    ///< per unit chassis mass, 1/s^2
+  static RaycastKnobs from(const Settings& s) {
+    return {.heading_angle = s.choice("wheel_angle") == "heading", .suspension_stiffness = s.number("suspension_stiffness")};
+  }
+};
+
 class BulletRaycastCar final : public RigidCar {
   friend class RawRaycastCar;  // the benchmarks' raw loop on this vehicle
 
+ private:
+  const RaycastKnobs knobs_;
+
  public:
-  using RigidCar::RigidCar;
+  explicit BulletRaycastCar(Settings settings) : RigidCar(std::move(settings)), knobs_(RaycastKnobs::from(settings_)) {}
   ~BulletRaycastCar() override { teardown(); }
 
   bool wheels_spin() const override { return false; }
@@ -99,8 +111,8 @@ class BulletRaycastCar final : public RigidCar {
     world_ = core_->make_world<btDiscreteDynamicsWorld>();
     world_->setGravity(btVector3(setup.gravity_W().x(), setup.gravity_W().y(), setup.gravity_W().z()));
     const double g = -setup.gravity_W().z();  // the component along the ground's normal loads the suspension
-    heading_angle_ = settings_.choice("wheel_angle") == "heading";
-    const double k = settings_.number("suspension_stiffness");
+    heading_angle_ = knobs_.heading_angle;
+    const double k = knobs_.suspension_stiffness;
     R_ = d.R_m;
     mass_ = d.chassis_mass_kg + 3 * d.wheel_mass_kg + d.knuckle_mass_kg;  // one body: the whole car
     mu_ = setup.mu;

@@ -111,7 +111,8 @@ class DartCar final : public RigidCar {
   friend class RawDartCar;  // the benchmarks' raw loop on this world
 
  public:
-  explicit DartCar(Settings settings) : RigidCar(std::move(settings)), det_(detector_of(settings_)) {}
+  explicit DartCar(Settings settings)
+      : RigidCar(std::move(settings)), det_(detector_of(settings_)), wheel_dirs_(settings_.choice("friction_dirs") == "wheel") {}
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
@@ -140,7 +141,7 @@ class DartCar final : public RigidCar {
     // friction_dirs = wheel: the first friction direction is the rolling direction, x of the body
     // that steers the wheel (the knuckle for the front wheel, the chassis for the rear ones);
     // world: DART's default, a direction derived from the contact normal alone.
-    const bool wheel_dirs = settings_.choice("friction_dirs") == "wheel";
+    const bool wheel_dirs = wheel_dirs_;
     const auto wheel_body = [&](BodyNode* b, const BodyNode* heading) {
       b->setMass(d.wheel_mass_kg);
       b->setMomentOfInertia(I_wheel, I_wheel, I_wheel);
@@ -229,6 +230,8 @@ class DartCar final : public RigidCar {
   BodyNode* wheels_[3] = {nullptr, nullptr, nullptr};
   Joint* steer_ = nullptr;
   Joint* spin_ = nullptr;
+  /// friction_dirs: the first friction direction along the rolling direction (typed once when the car is made).
+  const bool wheel_dirs_;
 };
 
 /// Two disks: M on a translational joint with SERVO actuators, N on one with VELOCITY actuators.

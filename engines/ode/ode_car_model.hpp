@@ -14,11 +14,24 @@
 
 namespace liftcheck {
 
+/// The ODE car's knobs, typed once when the car is made.
+struct OdeCarKnobs {
+  bool cylinder = false;                          ///< wheel: cylinders instead of spheres
+  double soft_erp = kContactSoftErp;              ///< contact_erp (ode-quick has none: ODE's default)
+  double soft_cfm = kContactSoftCfm_m_per_Ns;     ///< contact_cfm
+  bool wheel_dirs = true;                         ///< friction_dirs: dContactFDir1 along the rolling direction
+  static OdeCarKnobs from(const Settings& s) {
+    return {.cylinder = s.choice("wheel") == "cylinder", .soft_erp = s.has("contact_erp") ? s.number("contact_erp") : kContactSoftErp,
+            .soft_cfm = s.number("contact_cfm"), .wheel_dirs = s.choice("friction_dirs") == "wheel"};
+  }
+};
+
 class OdeCar : public RigidCar {
   friend class OdeRawCar;  // the benchmarks' raw loop on these bodies (ode_raw.cpp)
 
  public:
-  explicit OdeCar(Settings settings, const OdeStepper& stepper = {}) : RigidCar(std::move(settings)), stepper_(stepper) {}
+  explicit OdeCar(Settings settings, const OdeStepper& stepper = {})
+      : RigidCar(std::move(settings)), stepper_(stepper), knobs_(OdeCarKnobs::from(settings_)) {}
   ~OdeCar() override { destroy(); }
 
  protected:
@@ -52,7 +65,7 @@ class OdeCar : public RigidCar {
       dMass wm;
       dGeomID g;
       dMatrix3 Rw;
-      if (settings_.choice("wheel") == "cylinder") {
+      if (knobs_.cylinder) {
         dMassSetCylinderTotal(&wm, d.wheel_mass_kg, 3, d.R_m, d.wheel_width_m);  // along local z
         g = dCreateCylinder(space_, d.R_m, d.wheel_width_m);
         // Local z along the axle: rotate +90 deg about x (z -> -y), then yaw.
@@ -115,9 +128,9 @@ class OdeCar : public RigidCar {
       dJointSetHingeAxis(rear_joint_[i], -s, c, 0);
     }
     mu_ = setup.mu;
-    soft_erp_ = settings_.has("contact_erp") ? settings_.number("contact_erp") : kContactSoftErp;  // ode-quick has none
-    soft_cfm_ = settings_.number("contact_cfm");
-    wheel_dirs_ = settings_.choice("friction_dirs") == "wheel";
+    soft_erp_ = knobs_.soft_erp;
+    soft_cfm_ = knobs_.soft_cfm;
+    wheel_dirs_ = knobs_.wheel_dirs;
   }
 
   bool four_wheels() const override { return true; }
@@ -226,6 +239,7 @@ class OdeCar : public RigidCar {
   double soft_erp_ = kContactSoftErp, soft_cfm_ = kContactSoftCfm_m_per_Ns;  ///< the wheel-ground contacts' soft_erp, soft_cfm
   bool wheel_dirs_ = true;
   OdeStepper stepper_;
+  const OdeCarKnobs knobs_;
 };
 
 
