@@ -11,6 +11,7 @@
 #include "cli/interrupts.hpp"
 #include "cli/lookup.hpp"
 #include "harness/sweeps.hpp"
+#include "input/record_view.hpp"
 #include "input/read_file.hpp"
 
 namespace liftcheck::cli {
@@ -47,10 +48,9 @@ size_t item_for(SuitePlan& plan, std::map<std::string, size_t>& index, const Sce
 
 /// The metric's compared error and tolerance in a record; NaN where the run has no such figure.
 std::pair<double, double> figure(const nlohmann::json& record, const std::string& metric) {
-  const nlohmann::json* m = record.contains("metrics") && record["metrics"].contains(metric) ? &record["metrics"][metric] : nullptr;
-  if (!m) return {NAN, NAN};
-  const auto number = [&](const char* key) { return m->contains(key) && (*m)[key].is_number() ? (*m)[key].get<double>() : NAN; };
-  return {number(m->value("tolerance_kind", nlohmann::json()) == "rel" ? "rel_error" : "abs_error"), number("tolerance")};
+  const RecordView r(record);
+  if (!r.has(metric)) return {NAN, NAN};
+  return {r.metric(metric).compared_error(), r.metric(metric).tolerance()};
 }
 
 bool selected(const ListedReason& l, const std::vector<std::string>& names, const std::vector<std::string>& engines) {

@@ -9,6 +9,7 @@
 #include "cli/interrupts.hpp"
 #include "cli/terminal.hpp"
 #include "engines/protocol/outside.hpp"
+#include "input/record_view.hpp"
 #include "input/suggest.hpp"
 #include "reports/headline.hpp"
 
@@ -78,32 +79,30 @@ void print_record(const nlohmann::json& r) {
                              r["as_expected"].get<bool>() ? "known failure" : "listed as a known failure (harness/expectations.json)",
                              r["expectation"]["reason"].get<std::string>(), r["expectation"]["measured"].get<std::string>());
   // The headline's metrics first, then the rest from the worst ratio to its tolerance down.
-  const nlohmann::json def = headline_def(nlohmann::json::object(), r["scenario"]);
-  const std::vector<std::string> head = def.is_object() ? def["metrics"].get<std::vector<std::string>>() : std::vector<std::string>{};
-  const nlohmann::json metrics = r["metrics"];
-  const auto num = [](const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; };
+  const Scenario* scenario = find_scenario(r["scenario"].get<std::string>());
+  const std::vector<std::string> head = scenario ? scenario->headline.metrics : std::vector<std::string>{};
+  const RecordView record(r);
   std::vector<std::pair<double, std::string>> order;
-  for (const auto& [name, m] : metrics.items()) {
-    const bool rel = m["tolerance_kind"] == "rel";
-    const double err = num(m[rel ? "rel_error" : "abs_error"]), tol = num(m["tolerance"]);
+  record.each_metric([&](const std::string& name, const MetricView& m) {
+    const double err = m.compared_error(), tol = m.tolerance();
     const auto it = std::find(head.begin(), head.end(), name);
     double key = it != head.end() ? 1e300 - static_cast<double>(it - head.begin()) : tol > 0 ? err / tol : 0.0;
     order.emplace_back(std::isfinite(key) ? key : 1e299, name);
-  }
+  });
   std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::cout << fmt::format("  {:<22} {:>14} {:>14} {:>13} {:>10} {:<5} {:>9}  {}\n", "metric", "expected", "measured", "error", "tolerance", "unit",
                            "err/tol", "result");
   for (const auto& [key, name] : order) {
-    const nlohmann::json& m = metrics[name];
-    const bool rel = m["tolerance_kind"] == "rel";
-    const double err = num(m[rel ? "rel_error" : "abs_error"]), tol = num(m["tolerance"]);
-    const std::string verdict = m.value("informational", false) ? "info" : m["pass"].get<bool>() ? "ok" : "FAIL";
+    const MetricView m = record.metric(name);
+    const bool rel = m.relative();
+    const double err = m.compared_error(), tol = m.tolerance();
+    const std::string verdict = !m.counted() ? "info" : m.pass() ? "ok" : "FAIL";
     const bool is_head = std::find(head.begin(), head.end(), name) != head.end();
     std::cout << fmt::format("  {:<22} {:>14.8g} {:>14.8g} {:>9.3g} {:<3} {:>10.3g} {:<5} {:>9}  {}\n", is_head ? name + " *" : name,
-                             num(m["expected"]), num(m["measured"]), err, rel ? "rel" : "abs", tol, rel ? "1" : m["unit"].get<std::string>(),
+                             m.expected(), m.measured(), err, rel ? "rel" : "abs", tol, rel ? "1" : m.unit(),
                              tol > 0 ? short_number(err / tol) : "-", paint(verdict == "ok" ? "pass" : verdict == "info" ? "skip" : "fail", verdict));
   }
-  if (!head.empty()) std::cout << fmt::format("  * the headline: {}\n", def.value("label", ""));
+  if (!head.empty()) std::cout << fmt::format("  * the headline: {}\n", scenario->headline.label);
 }
 
 int run_one(const SuitePlan& plan, const RunnerDef& runner, bool json, const std::string& during) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fmt/format.h>
 
+#include "input/record_view.hpp"
 #include "scenarios/details.hpp"
 #include "scenarios/disk_scenarios.hpp"
 #include "scenarios/fit.hpp"
@@ -185,9 +186,7 @@ nlohmann::json value_of(const nlohmann::json& record, const std::string& key) {
   if (kind == RecordedField::kMetric) {
     const auto& ms = record["metrics"];
     if (!ms.contains(name)) return nullptr;
-    const auto& m = ms[name];
-    return {{"expected", m["expected"]}, {"measured", m["measured"]}, {"rel_error", m["rel_error"]},
-            {"abs_error", m["abs_error"]}, {"pass", m["pass"]}};
+    return MetricView(ms[name]).point_figures();
   }
   const auto& d = record["details"];
   return d.contains(name) ? d[name] : nlohmann::json();
@@ -233,20 +232,17 @@ std::string outcome_key(const EngineInfo& e, const OutcomeCase& c) {
   return fmt::format("outcomes/{}/{}/a={}/b={}", e.name, c.path, c.a, c.b);
 }
 
-/// A number of a stored record, NaN where it is null (JSON has no infinities or NaN).
-double number_or_nan(const nlohmann::json& v) { return v.is_number() ? v.get<double>() : NAN; }
 
 /// A stored record's failing counted metrics with their errors (a NaN error counts as infinite).
 std::pair<std::vector<std::pair<std::string, double>>, nlohmann::json> failed_metrics(const nlohmann::json& rec) {
   std::vector<std::pair<std::string, double>> failed;
   nlohmann::json failed_errors = nlohmann::json::object();
-  const nlohmann::json metrics = rec["metrics"];
-  for (const auto& [name, m] : metrics.items())
-    if (!m["pass"].get<bool>() && !m.value("informational", false)) {
-      const double err = number_or_nan(m["tolerance_kind"] == "rel" ? m["rel_error"] : m["abs_error"]);
-      failed.emplace_back(name, std::isnan(err) ? INFINITY : err);
-      failed_errors[name] = failed.back().second;
-    }
+  RecordView(rec).each_metric([&](const std::string& name, const MetricView& m) {
+    if (m.pass() || !m.counted()) return;
+    const double err = m.compared_error();
+    failed.emplace_back(name, std::isnan(err) ? INFINITY : err);
+    failed_errors[name] = failed.back().second;
+  });
   return {failed, failed_errors};
 }
 
@@ -401,10 +397,10 @@ nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInf
       for (const MapPoint& g : map_grid(map, *e, all_points)) {
         const nlohmann::json& r = record(map_key(map, panel, *e, g));
         double err = NAN;
-        const nlohmann::json metrics = r["metrics"];
-        for (const auto& [name, m] : metrics.items())
-          if (std::find(panel.error_metrics.begin(), panel.error_metrics.end(), name) != panel.error_metrics.end() && m["rel_error"].is_number())
-            err = std::isnan(err) ? m["rel_error"].get<double>() : std::max(err, m["rel_error"].get<double>());
+        RecordView(r).each_metric([&](const std::string& name, const MetricView& m) {
+          if (std::find(panel.error_metrics.begin(), panel.error_metrics.end(), name) != panel.error_metrics.end() && !std::isnan(m.rel_error()))
+            err = std::isnan(err) ? m.rel_error() : std::max(err, m.rel_error());
+        });
         // An outside engine's cost is its own stepping time as its adapter reports it, so that the
         // protocol's round trip does not count against it; in process, the run's wall clock.
         const double wall_s = r["wall_s"], simulated_s = r["simulated_s"];
@@ -471,10 +467,9 @@ nlohmann::json assemble_sweep(const SweepDef& s, const std::vector<const EngineI
       const nlohmann::json& rec = record(sweep_key(s, *e, x));
       nlohmann::json pt{{"x", x}, {"status", rec["status"]}, {"message", rec["message"]}, {"failed", nlohmann::json::array()}};
       pt["errors"] = nlohmann::json::object();
-      const nlohmann::json metrics = rec["metrics"];
-      for (const auto& [name, m] : metrics.items())
-        if (!m["pass"].get<bool>() && !m.value("informational", false))
-          pt["failed"].push_back(name), pt["errors"][name] = m["tolerance_kind"] == "rel" ? m["rel_error"] : m["abs_error"];
+      RecordView(rec).each_metric([&](const std::string& name, const MetricView& m) {
+        if (!m.pass() && m.counted()) pt["failed"].push_back(name), pt["errors"][name] = m.written_compared_error();
+      });
       for (const auto& key : s.record) pt[key] = value_of(rec, key);
       if (s.loglog_fit && rec["status"] != "error") {
         const nlohmann::json y = value_of(rec, s.fit_y), noise = value_of(rec, s.fit_noise);

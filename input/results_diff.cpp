@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "input/interrupt.hpp"
+#include "input/record_view.hpp"
 #include "input/trace.hpp"  // printable
 
 namespace liftcheck {
@@ -76,21 +77,6 @@ void put_in_key_order(std::vector<RunKey>& found, json& out) {
   for (const auto& key : found) out.push_back(id_of(key));
 }
 
-/// A record's verdict ("known failure", ...), or its status in files written before verdicts.
-std::string verdict_of(const json& r) { return r.value("verdict", r["status"].get<std::string>()); }
-
-/// A number of a record; null (how a NaN or infinite value is written) or absent reads as infinite.
-double number_of(const json& m, const char* key) {
-  const auto it = m.find(key);
-  return it != m.end() && it->is_number() ? it->get<double>() : INFINITY;
-}
-
-/// Error of a metric as a fraction of its tolerance (input/results_file.cpp checks these fields
-/// of a file read back).
-double ratio(const json& m) {
-  return metric_ratio(number_of(m, m.value("tolerance_kind", "abs") == "rel" ? "rel_error" : "abs_error"), number_of(m, "tolerance"),
-                      number_of(m, "abs_error"), m.value("floor", 0.0));
-}
 
 /// The metric of that name, or null.
 const MetricFigures* metric_named(const std::vector<MetricFigures>& metrics, const std::string& name) {
@@ -115,12 +101,6 @@ void compare_metrics(const RunKey& key, const RunFigures& br, const RunFigures& 
 
 }  // namespace
 
-double metric_ratio(double error, double tolerance, double abs_error, double floor) {
-  double r = tolerance > 0 ? error / tolerance : (error > 0 ? INFINITY : 0.0);
-  if (floor > 0.0) r = std::min(r, abs_error / floor);
-  return r;
-}
-
 ResultsIndex index_of(const json& results) {
   ResultsIndex index;
   const json& runs = results.at("runs");
@@ -129,14 +109,14 @@ ResultsIndex index_of(const json& results) {
     RunFigures f;
     f.scenario = r.at("scenario").get<std::string>();
     f.engine = r.at("engine").get<std::string>();
-    f.verdict = verdict_of(r);
+    f.verdict = RecordView(r).verdict();
     f.message = r.value("message", "");
     f.as_expected = record_as_expected(r);
     const auto ms = r.find("metrics");
     f.has_metrics = ms != r.end() && ms->is_object();
     if (f.has_metrics)
       for (const auto& [name, m] : ms->get_ref<const json::object_t&>())  // in name order
-        f.metrics.push_back({name, ratio(m), m.value("informational", false), m.value("measured", json())});
+        f.metrics.push_back({name, MetricView(m).ratio(), !MetricView(m).counted(), MetricView(m).raw("measured")});
     index.runs.push_back(std::move(f));
   }
   return index;
@@ -153,7 +133,7 @@ json baseline_json(const json& results) {
     json metrics = json::object();
     for (const auto& [name, m] : r["metrics"].items()) {
       json kept = json::object();
-      for (const char* k : {"expected", "measured", "abs_error", "rel_error", "tolerance", "tolerance_kind", "floor", "pass", "informational"})
+      for (const char* k : kBaselineMetricFields)
         if (m.contains(k)) kept[k] = m[k];
       metrics[name] = kept;
     }

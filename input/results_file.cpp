@@ -15,6 +15,7 @@
 #include "input/interrupt.hpp"
 #include "input/params.hpp"
 #include "input/read_file.hpp"
+#include "input/record_view.hpp"
 #include "input/trace.hpp"
 
 namespace liftcheck {
@@ -386,7 +387,7 @@ class IndexReader {
       const Slot *floor = m.field("floor"), *informational = m.field("informational");
       const bool rel = m.field("tolerance_kind")->text == "rel";
       f.metrics.push_back({metrics_[k].first,
-                           metric_ratio(number_in(m, rel ? "rel_error" : "abs_error"), number_in(m, "tolerance"), number_in(m, "abs_error"),
+                           metric_ratio(compared_error_of(rel, number_in(m, "rel_error"), number_in(m, "abs_error")), number_in(m, "tolerance"), number_in(m, "abs_error"),
                                         floor ? floor->scalar.get<double>() : 0.0),
                            informational && informational->scalar.get<bool>(), m.field("measured")->scalar});
     }

@@ -13,7 +13,7 @@ namespace liftcheck {
 /// One metric of a run, as the diff compares it.
 struct MetricFigures {
   std::string name;
-  double ratio = 0.0;          ///< its error as a fraction of its tolerance (see metric_ratio)
+  double ratio = 0.0;          ///< its error as a fraction of its tolerance (MetricView::ratio)
   bool informational = false;  ///< not compared
   nlohmann::json measured;     ///< the measured value as written (a number or null), printed as it was
 };
@@ -32,11 +32,6 @@ struct RunFigures {
 struct ResultsIndex {
   std::vector<RunFigures> runs;
 };
-
-/// Error of a metric as a fraction of its tolerance: `error` (its rel_error for a "rel" tolerance,
-/// its abs_error otherwise) over `tolerance`; with a `floor` above 0, at most abs_error over the
-/// floor. A figure absent or null (how a NaN or infinite value is written) is passed as infinite.
-double metric_ratio(double error, double tolerance, double abs_error, double floor);
 
 /// The same figures taken from a document (a results file in memory, a baseline read whole).
 ResultsIndex index_of(const nlohmann::json& results);

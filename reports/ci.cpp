@@ -2,6 +2,8 @@
 
 #include "reports/escape.hpp"
 
+#include "input/record_view.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
@@ -16,11 +18,9 @@ using json = nlohmann::json;
 std::string xml(const std::string& s) { return escape_markup(s); }
 
 /// "expected E, measured M, error X (rel|abs), tolerance T": one metric of a record, as CI shows it.
-std::string metric_text(const json& m) {
-  const bool rel = m.value("tolerance_kind", "abs") == "rel";
-  return fmt::format("expected {:.9g}, measured {:.9g}, {} error {:.3g}, tolerance {:.3g}{}", m["expected"].get<double>(),
-                     m["measured"].get<double>(), rel ? "relative" : "absolute", m[rel ? "rel_error" : "abs_error"].get<double>(),
-                     m["tolerance"].get<double>(), m.value("informational", false) ? " (shown, not counted)" : "");
+std::string metric_text(const MetricView& m) {
+  return fmt::format("expected {:.9g}, measured {:.9g}, {} error {:.3g}, tolerance {:.3g}{}", m.expected(), m.measured(),
+                     m.relative() ? "relative" : "absolute", m.compared_error(), m.tolerance(), m.counted() ? "" : " (shown, not counted)");
 }
 
 /// "known failure: reason; ..." for the known-failure points of a sweep entry, one reason each.
@@ -36,10 +36,10 @@ std::string known_points_text(const json& entry) {
 
 /// A failure's message: what went wrong and, for each metric out of tolerance, its figures.
 std::string failure_text(const json& r) {
-  std::string msg = r.value("verdict", r["status"].get<std::string>()) + ": " + r.value("message", "");
-  const json metrics = r.value("metrics", json::object());  // items() must not outlive it
-  for (const auto& [name, m] : metrics.items())
-    if (!m.value("pass", true) && !m.value("informational", false)) msg += fmt::format("; {}: {}", name, metric_text(m));
+  std::string msg = RecordView(r).verdict() + ": " + r.value("message", "");
+  RecordView(r).each_metric([&](const std::string& name, const MetricView& m) {
+    if (!m.pass() && m.counted()) msg += fmt::format("; {}: {}", name, metric_text(m));
+  });
   return msg;
 }
 
@@ -62,9 +62,9 @@ std::string junit_xml(const json& results) {
     // on cases): "CONFIGURATION METRIC" = expected, measured, error, tolerance.
     std::string props;
     for (const json* r : by[sc]) {
-      const json metrics = r->value("metrics", json::object());  // items() must not outlive it
-      for (const auto& [name, m] : metrics.items())
+      RecordView(*r).each_metric([&](const std::string& name, const MetricView& m) {
         props += fmt::format("    <property name=\"{} {}\" value=\"{}\"/>\n", xml((*r)["engine"]), xml(name), xml(metric_text(m)));
+      });
     }
     if (!props.empty()) props = "    <properties>\n" + props + "    </properties>\n";
     for (const json* r : by[sc]) {

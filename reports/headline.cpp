@@ -3,29 +3,13 @@
 #include <cmath>
 #include <fmt/format.h>
 
-#include "scenarios/scenario.hpp"
+#include "input/record_view.hpp"
 
 namespace liftcheck {
 
 namespace {
 
 using json = nlohmann::json;
-
-/// The error a metric's tolerance is compared with (relative or absolute, by its kind).
-double compared_error(const json& m) {
-  const bool rel = m.value("tolerance_kind", "abs") == "rel";
-  const json& e = m[rel ? "rel_error" : "abs_error"];
-  return e.is_number() ? e.get<double>() : NAN;
-}
-
-double ratio_of(const json& m) {
-  const double err = compared_error(m), tol = m.value("tolerance", 0.0);
-  double r = tol > 0 ? err / tol : (err > 0 ? INFINITY : 0.0);
-  if (m.value("floor", 0.0) > 0.0) r = std::min(r, m.value("abs_error", 0.0) / m["floor"].get<double>());
-  return r;
-}
-
-bool counted(const json& m) { return !m.value("informational", false); }
 
 }  // namespace
 
@@ -50,25 +34,25 @@ std::string Figure::text() const { return unit.empty() ? short_number(value) : s
 json headline_def(const json& results, const std::string& scenario) {
   for (const auto& s : results.value("scenarios", json::array()))
     if (s.value("name", "") == scenario && s.contains("headline") && s["headline"].is_object()) return s["headline"];
-  if (const Scenario* s = find_scenario(scenario); s && !s->headline.metrics.empty()) return s->headline.to_json();
   return nullptr;
 }
 
 std::optional<Figure> headline_figure(const json& run, const json& def) {
-  if (!def.is_object() || !run.contains("metrics") || !run["metrics"].is_object()) return std::nullopt;
+  if (!def.is_object()) return std::nullopt;
+  const RecordView record(run);
   std::optional<Figure> best;
   double best_err = -1.0;
   for (const auto& name : def.value("metrics", json::array())) {
     const std::string n = name.get<std::string>();
-    if (!run["metrics"].contains(n) || !counted(run["metrics"][n])) continue;
-    const json& m = run["metrics"][n];
-    double err = compared_error(m);
+    if (!record.has(n) || !record.metric(n).counted()) continue;
+    const MetricView m = record.metric(n);
+    double err = m.compared_error();
     if (!(err > best_err) && best) continue;
     best_err = err;
-    Figure f{n, err * def.value("scale", 1.0), def.value("unit", std::string()), ratio_of(m)};
+    Figure f{n, err * def.value("scale", 1.0), def.value("unit", std::string()), m.ratio()};
     if (def.value("per_step", false)) {
       const double dt = run.value("params", json::object()).value("dt", 0.0);
-      f.value = dt > 0 ? m.value("abs_error", 0.0) / dt : NAN;
+      f.value = dt > 0 ? m.abs_error() / dt : NAN;
     }
     best = f;
   }
@@ -77,14 +61,12 @@ std::optional<Figure> headline_figure(const json& run, const json& def) {
 
 std::optional<Figure> worst_failing(const json& run) {
   std::optional<Figure> worst;
-  const json metrics = run.value("metrics", json::object());  // items() must not outlive it
-  for (const auto& [name, m] : metrics.items()) {
-    if (m.value("pass", true) || !counted(m)) continue;
-    const double r = ratio_of(m);
-    if (worst && !(r > worst->ratio)) continue;
-    const bool rel = m.value("tolerance_kind", "abs") == "rel";
-    worst = Figure{name, compared_error(m), rel ? "" : m.value("unit", std::string()), r};
-  }
+  RecordView(run).each_metric([&](const std::string& name, const MetricView& m) {
+    if (m.pass() || !m.counted()) return;
+    const double r = m.ratio();
+    if (worst && !(r > worst->ratio)) return;
+    worst = Figure{name, m.compared_error(), m.relative() ? "" : m.unit(), r};
+  });
   return worst;
 }
 

@@ -16,8 +16,7 @@ struct Figure {
   std::string text() const;  ///< "1.1e-7", "257 µm/s"
 };
 
-/// The scenario's headline definition: results["scenarios"]'s when it has one, else the
-/// catalogue's (a results file written before headlines existed); null when neither knows it.
+/// The scenario's headline definition as results["scenarios"] records it; null when it has none.
 nlohmann::json headline_def(const nlohmann::json& results, const std::string& scenario);
 
 /// The run's headline figure: the largest compared error among the declared metrics it measured

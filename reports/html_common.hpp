@@ -2,12 +2,14 @@
 // the page head with its CSS, a run's status, and lookups in results.json.
 #pragma once
 
+#include <cmath>
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
 
+#include "input/record_view.hpp"
 #include "reports/escape.hpp"
 
 namespace liftcheck::html {
@@ -17,6 +19,8 @@ using json = nlohmann::json;
 inline std::string esc(const std::string& s) { return escape_markup(s); }
 
 inline std::string num(const json& v) { return v.is_number() ? fmt::format("{:.6g}", v.get<double>()) : "&ndash;"; }
+/// A figure read through MetricView: NaN (null or absent in the record) is a dash.
+inline std::string num(double v) { return std::isnan(v) ? "&ndash;" : fmt::format("{:.6g}", v); }
 
 inline constexpr const char* kCss =
     "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:0 auto;padding:.5em 1.2em;max-width:96em;color:#222;line-height:1.35}"
@@ -87,13 +91,11 @@ inline const json* scenario_info(const json& results, const std::string& sc) {
 }
 
 /// "dx: measured 7.7e-4, expected 7.38e-4, relative error 0.043, tolerance 0.02 (2.1× tolerance)".
-inline std::string metric_figures(const std::string& name, const json& m) {
-  const bool rel = m.value("tolerance_kind", "abs") == "rel";
-  const json& err = m[rel ? "rel_error" : "abs_error"];
-  const double tol = m.value("tolerance", 0.0);
-  const double e = err.is_number() ? err.get<double>() : NAN;
-  return fmt::format("{}: measured {} {}, expected {}, {} error {:.3g}, tolerance {:.3g} ({:.3g}&times; tolerance)", esc(name), num(m["measured"]),
-                     esc(m.value("unit", "")), num(m["expected"]), rel ? "relative" : "absolute", e, tol, tol > 0 ? e / tol : INFINITY);
+inline std::string metric_figures(const std::string& name, const json& metric) {
+  const MetricView m(metric);
+  const double tol = m.tolerance(), e = m.compared_error();
+  return fmt::format("{}: measured {} {}, expected {}, {} error {:.3g}, tolerance {:.3g} ({:.3g}&times; tolerance)", esc(name), num(m.measured()),
+                     esc(m.unit()), num(m.expected()), m.relative() ? "relative" : "absolute", e, tol, tol > 0 ? e / tol : INFINITY);
 }
 
 /// The suite's --set assignments and a run's settings, as text ("" when there are none).

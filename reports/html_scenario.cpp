@@ -28,17 +28,15 @@ std::string metric_table(const json& r, const json& def) {
   std::string h = "<table><tr><th class=\"l\">metric</th><th>expected</th><th>measured</th><th>abs error</th>"
                   "<th>rel error</th><th>tolerance</th><th>error / tolerance</th><th class=\"l\">unit</th><th>result</th></tr>\n";
   for (const auto& [key, name] : order) {
-    const json& m = r["metrics"][name];
-    const bool ok = m["pass"].get<bool>(), info = m.value("informational", false);
-    const bool rel = m.value("tolerance_kind", "abs") == "rel";
+    const MetricView m = RecordView(r).metric(name);
+    const bool ok = m.pass(), info = !m.counted(), rel = m.relative();
     const bool head = std::find(first.begin(), first.end(), name) != first.end();
-    const double err = m[rel ? "rel_error" : "abs_error"].is_number() ? m[rel ? "rel_error" : "abs_error"].get<double>() : NAN;
-    const double tol = m.value("tolerance", 0.0);
+    const double err = m.compared_error(), tol = m.tolerance();
     h += fmt::format("<tr><td class=\"l\">{}{}{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{} ({})</td><td>{}</td><td class=\"l\">{}</td>"
                      "<td class=\"st {}\">{}</td></tr>\n",
-                     head ? "<b>" : "", esc(name), head ? "</b> (headline)" : "", num(m["expected"]), num(m["measured"]), num(m["abs_error"]),
-                     rel ? num(m["rel_error"]) : "&ndash;", num(m["tolerance"]), esc(m["tolerance_kind"]),
-                     tol > 0 ? short_number(err / tol) : "&ndash;", esc(m["unit"]), info ? "skip" : ok ? "pass" : "fail",
+                     head ? "<b>" : "", esc(name), head ? "</b> (headline)" : "", num(m.expected()), num(m.measured()), num(m.abs_error()),
+                     rel ? num(m.rel_error()) : "&ndash;", num(m.tolerance()), esc(m.tolerance_kind()),
+                     tol > 0 ? short_number(err / tol) : "&ndash;", esc(m.unit()), info ? "skip" : ok ? "pass" : "fail",
                      info ? "info (not counted)" : ok ? "ok" : "FAIL");
   }
   return h + "</table>\n";

@@ -1,6 +1,7 @@
 #include "reports/plots.hpp"
 
 #include "harness/sweeps.hpp"
+#include "input/record_view.hpp"
 #include "input/vehicle.hpp"
 #include "scenarios/details.hpp"
 
@@ -221,19 +222,17 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
     for (const auto& pt : e["points"]) {
       const double x = pt["x"].get<double>();
       if (values) {  // the error of each value, not the value: every engine's radius would overlap
-        const auto& f = pt[rec[0].get<std::string>()];
-        const auto& r = pt[rec[1].get<std::string>()];
-        if (f.is_object() && f["rel_error"].is_number()) a.push_back({x, std::max(f["rel_error"].get<double>(), 1e-16)});
-        if (r.is_object() && r["rel_error"].is_number()) b2.push_back({x, std::max(r["rel_error"].get<double>(), 1e-16)});
+        const double f = MetricView(pt[rec[0].get<std::string>()]).rel_error(), r = MetricView(pt[rec[1].get<std::string>()]).rel_error();
+        if (!std::isnan(f)) a.push_back({x, std::max(f, 1e-16)});
+        if (!std::isnan(r)) b2.push_back({x, std::max(r, 1e-16)});
       } else if (holonomy) {
         const auto& ex = pt[detail_field(detail_key::kHolonomySize)];
         const auto& me = pt[detail_field(detail_key::kMeasuredSize)];
         if (ex.is_number()) exact.push_back({x, ex.get<double>()});
         if (me.is_number()) a.push_back({x, me.get<double>()});
       } else {
-        const auto& m = pt[rec[0].get<std::string>()];
-        if (m.is_object() && m["rel_error"].is_number() && m["rel_error"].get<double>() > 0)
-          a.push_back({x, std::max(m["rel_error"].get<double>(), 1e-16)});
+        const double e = MetricView(pt[rec[0].get<std::string>()]).rel_error();
+        if (e > 0) a.push_back({x, std::max(e, 1e-16)});
       }
     }
     if (a.empty()) continue;

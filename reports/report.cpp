@@ -7,7 +7,6 @@
 
 #include "input/atomic_file.hpp"
 #include "reports/gl_render.hpp"
-#include "reports/headline.hpp"
 #include "reports/html.hpp"
 #include "reports/plots.hpp"
 #include "reports/scene_build.hpp"
@@ -98,16 +97,6 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
   report["gl_version"] = gl_version;
 }
 
-/// A results file from before headlines were declared gets the catalogue's (what the pages show).
-void add_missing_headlines(json& results) {
-  if (results.contains("scenarios") && results["scenarios"].is_array())
-    for (auto& s : results["scenarios"])
-      if (!s.contains("headline")) {
-        const json def = headline_def(json{{"scenarios", json::array()}}, s.value("name", ""));
-        if (!def.is_null()) s["headline"] = def;
-      }
-}
-
 }  // namespace
 
 void write_report(json& results, const std::filesystem::path& out, const ReportDef& def) {
@@ -132,7 +121,6 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
   report["report_s"] = seconds_since(t0);
   results["report"] = report;
 
-  add_missing_headlines(results);
   std::vector<std::string> scenarios;
   for (const auto& r : results["runs"])
     if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end()) scenarios.push_back(r["scenario"]);

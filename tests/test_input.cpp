@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "input/read_file.hpp"
+#include "input/record_view.hpp"
 #include "input/results_file.hpp"
 #include "input/suggest.hpp"
 #include "input/trace.hpp"
@@ -279,4 +280,38 @@ TEST(ResultsIndex, DiffsAsTheDocumentDoes) {
   EXPECT_EQ(d["added"].size(), 1u);
   EXPECT_EQ(d["removed"].size(), 1u);
   EXPECT_FALSE(d["worse"].empty());
+}
+
+// The typed view every reader of a record goes through: the compared error by the tolerance's
+// kind, its ratio (floor included), a null figure as infinite, informational metrics not counted.
+TEST(RecordView, ComparedErrorRatioAndCounting) {
+  const nlohmann::json rec = nlohmann::json::parse(R"({"scenario": "car.circle", "status": "fail", "metrics": {
+    "radius": {"expected": 2.0, "measured": 2.01, "abs_error": 0.01, "rel_error": 0.005, "tolerance": 0.002, "tolerance_kind": "rel", "pass": false},
+    "drift":  {"expected": 0.0, "measured": 3e-4, "abs_error": 3e-4, "rel_error": null, "tolerance": 1e-3, "tolerance_kind": "abs", "pass": true, "floor": 1e-3},
+    "creep":  {"expected": 0.0, "measured": 0.5, "abs_error": 0.5, "rel_error": null, "tolerance": 0.1, "tolerance_kind": "abs", "floor": 2.0, "pass": false},
+    "lost":   {"expected": 1.0, "measured": null, "abs_error": null, "rel_error": null, "tolerance": 0.1, "tolerance_kind": "abs", "pass": false},
+    "shown":  {"expected": 1.0, "measured": 1.5, "abs_error": 0.5, "rel_error": 0.5, "tolerance": 0.1, "tolerance_kind": "rel", "pass": false, "informational": true}}})");
+  const liftcheck::RecordView r(rec);
+  EXPECT_EQ(r.verdict(), "fail");  // a file from before verdicts: its status
+  ASSERT_TRUE(r.has("radius"));
+  EXPECT_FALSE(r.has("heading"));
+  const liftcheck::MetricView radius = r.metric("radius"), drift = r.metric("drift"), creep = r.metric("creep");
+  EXPECT_TRUE(radius.relative());
+  EXPECT_DOUBLE_EQ(radius.compared_error(), 0.005);  // rel_error, not abs_error 0.01
+  EXPECT_DOUBLE_EQ(radius.ratio(), 2.5);
+  EXPECT_FALSE(drift.relative());
+  EXPECT_DOUBLE_EQ(drift.compared_error(), 3e-4);
+  EXPECT_DOUBLE_EQ(drift.ratio(), 0.3);  // abs 3e-4 over the floor 1e-3 is 0.3 too
+  EXPECT_DOUBLE_EQ(creep.ratio(), 0.25);  // 5 against the tolerance, 0.25 against the floor 2.0
+  EXPECT_TRUE(std::isnan(r.metric("lost").compared_error()));
+  EXPECT_TRUE(std::isinf(r.metric("lost").ratio()));  // a lost figure fails, never passes
+  EXPECT_TRUE(r.metric("lost").written_compared_error().is_null());
+  EXPECT_FALSE(r.metric("shown").counted());
+  EXPECT_TRUE(radius.counted());
+  int counted = 0;
+  r.each_metric([&](const std::string&, const liftcheck::MetricView& m) { counted += m.counted() && !m.pass(); });
+  EXPECT_EQ(counted, 3);  // radius, creep, lost
+  const nlohmann::json point = radius.point_figures();
+  EXPECT_DOUBLE_EQ(point.at("rel_error").get<double>(), 0.005);
+  EXPECT_DOUBLE_EQ(liftcheck::MetricView(point).rel_error(), 0.005);  // a sweep's point reads the same way
 }
