@@ -17,18 +17,13 @@ nlohmann::json scenario_path(const Scenario& scenario, const Overrides& override
   const Params params = Params::resolve(scenario.params, overrides, scenario.name);
   nlohmann::json out{{"scenario", scenario.name}, {"vehicle", scenario.vehicle}, {"params", params.to_json()},
            {"columns", path_columns(scenario.vehicle)}};
-  if (scenario.vehicle == Vehicle::kCar) {
-    RecordingCar rec(scenario.name);
-    scenario.run_car(params, rec);
-    const car::Config& q = rec.start;
-    out["start"] = {{"alpha", q.alpha_rad}, {"beta", q.beta_rad}, {"x", q.x_m}, {"y", q.y_m}, {"phi", q.phi_rad}};
-    out["rows"] = rec.rows;
-  } else {
-    RecordingDisks rec(scenario.name);
-    scenario.run_disks(params, rec);
-    out["start"] = {{"cMx", rec.cM0.x()}, {"cMy", rec.cM0.y()}, {"T", rec.T_s}};
-    out["rows"] = rec.rows;
-  }
+  RecordingCar car(scenario.name);
+  RecordingDisks disks(scenario.name);
+  const RecordedPath* recorded = nullptr;
+  (void)drive_vehicle(scenario, params, {[&]() -> CarEngine& { return recorded = &car.recorded, car; },
+                                         [&]() -> DiskEngine& { return recorded = &disks.recorded, disks; }});
+  out["start"] = recorded->start;
+  out["rows"] = recorded->rows;
   return out;
 }
 

@@ -190,13 +190,9 @@ void check_run_inputs(const Scenario& scenario, const EngineInfo& engine, const 
   if (lack == Lack::kFourWheels) throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
   if (lack != Lack::kNothing) return;  // skipped: nothing of it runs
   try {
-    if (scenario.vehicle == Vehicle::kDisks) {
-      ProbeDisks d;
-      (void)scenario.run_disks(run.params, d);
-    } else {
-      ProbeCar c;
-      (void)scenario.run_car(run.params, c);
-    }
+    ProbeCar car;
+    ProbeDisks disks;
+    (void)drive_vehicle(scenario, run.params, {[&]() -> CarEngine& { return car; }, [&]() -> DiskEngine& { return disks; }});
   } catch (const ProbeStop&) {
   } catch (const InputError&) {
     throw;
@@ -283,19 +279,13 @@ RunRecord run_scenario(const ResolvedRun& run) {
   if (skipped) return r;
   const auto t0 = std::chrono::steady_clock::now();
   try {
-    Outcome outcome;
-    if (scenario.vehicle == Vehicle::kDisks) {
-      auto d = engine.make_disks(run.settings);
-      outcome = scenario.run_disks(run.params, *d);
-      r.simulated_s = d->simulated_s();
-      r.engine_s = d->reported_engine_s();
-    } else {
-      auto car = engine.make_car(run.settings);
-      outcome = scenario.run_car(run.params, *car);
-      r.simulated_s = car->simulated_s();
-      r.engine_s = car->reported_engine_s();
-    }
-    finish_record(r, run, outcome);
+    std::unique_ptr<CarEngine> car;
+    std::unique_ptr<DiskEngine> disks;
+    const Driven d = drive_vehicle(scenario, run.params, {[&]() -> CarEngine& { return *(car = engine.make_car(run.settings)); },
+                                                          [&]() -> DiskEngine& { return *(disks = engine.make_disks(run.settings)); }});
+    r.simulated_s = d.simulated_s;
+    r.engine_s = d.engine_s;
+    finish_record(r, run, d.outcome);
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {

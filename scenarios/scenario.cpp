@@ -78,4 +78,15 @@ const Scenario* find_scenario(const std::string& name) {
   return nullptr;
 }
 
+Driven drive_vehicle(const Scenario& scenario, const Params& params, const VehicleMakers& make) {
+  if (scenario.vehicle == Vehicle::kDisks) {
+    DiskEngine& disks = make.disks();
+    Outcome outcome = scenario.run_disks(params, disks);
+    return {std::move(outcome), disks.simulated_s(), disks.reported_engine_s()};
+  }
+  CarEngine& car = make.car();
+  Outcome outcome = scenario.run_car(params, car);
+  return {std::move(outcome), car.simulated_s(), car.reported_engine_s()};
+}
+
 }  // namespace liftcheck

@@ -1,6 +1,7 @@
 // A scenario is data (parameters, metric definitions with per-engine tolerances) plus one function.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <map>
 #include <nlohmann/json.hpp>
@@ -129,6 +130,24 @@ struct Scenario {
   const MetricDef* metric(const std::string& name) const;
   nlohmann::json to_json() const;
 };
+
+/// The vehicles a run may drive, owned by whoever runs it; only the one of the scenario's kind is
+/// made (an engine's car, a probe, a recorder).
+struct VehicleMakers {
+  std::function<CarEngine&()> car;
+  std::function<DiskEngine&()> disks;
+};
+
+/// A scenario's outcome on its vehicle, with the vehicle's clocks.
+struct Driven {
+  Outcome outcome;
+  double simulated_s = 0.0;  ///< simulated time the vehicle stepped, s
+  double engine_s = NAN;     ///< the engine's own stepping time as it reports it, s
+};
+
+/// Runs `scenario` on the vehicle of its kind, made by `make`: the one place that dispatches on a
+/// scenario's vehicle (the runner, the probe of a run's inputs and `liftcheck path` go through it).
+Driven drive_vehicle(const Scenario& scenario, const Params& params, const VehicleMakers& make);
 
 // kMaxRunSteps and kMaxRunSamples, what one run may ask for: engines/vehicle.hpp.
 

@@ -137,9 +137,9 @@ std::vector<car::TimedConfig> RecordingCar::drive(const car::BasePath& path) {
   const double h = setup_.sample_dt_s;
   for (const double t : grid(path.duration_s(), h)) {
     const car::BaseSample s = path.at(t);
-    rows.push_back({t, s.alpha_rad, s.beta_rad});
+    recorded.rows.push_back({t, s.alpha_rad, s.beta_rad});
   }
-  start = q0_;
+  recorded.start = {{"alpha", q0_.alpha_rad}, {"beta", q0_.beta_rad}, {"x", q0_.x_m}, {"y", q0_.y_m}, {"phi", q0_.phi_rad}};
   car::LiftDef def;
   def.sample_dt_s = h;
   return car::lift(setup_.car, path, q0_, def);
@@ -154,10 +154,9 @@ DiskRun RecordingDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
                                  setup.dt_s, pb.T_s / setup.dt_s, pb.T_s, kMaxRunSamples, pb.T_s / kMaxRunSamples));
   for (const double t : grid(pb.T_s, setup.dt_s)) {
     const disks::Vec2 c = pb.path.position(t);
-    rows.push_back({t, c.x(), c.y()});
+    recorded.rows.push_back({t, c.x(), c.y()});
   }
-  cM0 = pb.cM0;
-  T_s = pb.T_s;
+  recorded.start = {{"cMx", pb.cM0.x()}, {"cMy", pb.cM0.y()}, {"T", pb.T_s}};
   disks::LiftDef def;
   def.sample_dt_s = setup.sample_dt_s;
   const disks::LiftResult r = disks::lift(pb.rule, pb.path, pb.cM0, pb.T_s, def);

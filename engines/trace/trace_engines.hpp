@@ -3,6 +3,7 @@
 // validate --trace-dir). The scenario function runs unchanged on both, as on any engine.
 #pragma once
 
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,13 @@
 #include "input/trace.hpp"
 
 namespace liftcheck {
+
+/// The path a scenario commands, as `liftcheck path` writes it: its rows (t and the commanded
+/// coordinates) and where it starts.
+struct RecordedPath {
+  std::vector<std::vector<double>> rows;
+  nlohmann::json start;  ///< {alpha, beta, x, y, phi} of the car; {cMx, cMy, T} of the disks
+};
 
 /// Captures the path a car scenario commands; drives it with the exact lift so that the scenario
 /// function completes (its outcome is discarded).
@@ -25,8 +33,7 @@ class RecordingCar final : public CarEngine {
   bool exact_by_construction() const override { return true; }  // it drives the exact lift
   std::vector<WheelSlip> slip() const override { return {}; }
 
-  std::vector<std::vector<double>> rows;
-  car::Config start;
+  RecordedPath recorded;
 
  private:
   std::string scenario_;
@@ -42,9 +49,7 @@ class RecordingDisks final : public DiskEngine {
   DiskRun run(const DiskSetup& setup, const DiskProblem& pb) override;
   double simulated_s() const override { return 0.0; }
 
-  std::vector<std::vector<double>> rows;
-  disks::Vec2 cM0 = disks::Vec2::Zero();
-  double T_s = 0.0;
+  RecordedPath recorded;
 
  private:
   std::string scenario_;
