@@ -39,10 +39,7 @@ size_t item_for(SuitePlan& plan, std::map<std::string, size_t>& index, const Sce
   std::string key = fmt::format("explain/{}/{}", s.name, e.name);
   for (const auto& [k, v] : ov) key += fmt::format("/{}={}", k, v);
   if (const auto it = index.find(key); it != index.end()) return it->second;
-  SuiteItem item;
-  item.key = key;
-  item.scenario = &s, item.engine = &e, item.overrides = ov;
-  plan.items.push_back(item);
+  plan.items.push_back(planned_item(SuiteItem::kRun, key, s, e, ov));
   return index[key] = plan.items.size() - 1;
 }
 

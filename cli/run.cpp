@@ -18,14 +18,11 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   const EngineInfo& e = engine_or_throw(engine);
   close_idle_children();  // its worker starts its own
   const Overrides ov = overrides_or_throw(sets, s, &e);
-  // Bad names and values are input errors here, not error records.
-  (void)resolve_run(s, e, ov);
-  // In a worker process, like every validate run: a hang or a crash of the engine is an error record.
   SuitePlan plan;
-  SuiteItem item;
-  item.key = "run";
-  item.scenario = &s, item.engine = &e, item.overrides = ov;
-  plan.items.push_back(item);
+  plan.items.push_back(planned_item(SuiteItem::kRun, "run", s, e, ov));
+  // Bad names and values are input errors here, not error records.
+  if (!plan.items.back().run) throw InputError(plan.items.back().resolve_error);
+  // In a worker process, like every validate run: a hang or a crash of the engine is an error record.
   return run_one(plan, runner, json, "during the run");
 }
 

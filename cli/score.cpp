@@ -18,12 +18,11 @@ int cmd_score(const std::string& scenario, const std::string& trace_file, const 
   // Read and checked here (a bad trace is exit 2 at once), scored in a worker like every run: an
   // interruption stops it, the time limit holds.
   SuitePlan plan;
-  SuiteItem item;
-  item.key = "score";
-  item.owned = std::make_shared<const EngineInfo>(replay_engine(name, s, read_trace(trace_file, s.vehicle)));
+  auto owned = std::make_shared<const EngineInfo>(replay_engine(name, s, read_trace(trace_file, s.vehicle)));
+  SuiteItem item = planned_item(SuiteItem::kRun, "score", s, *owned, ov);
+  item.owned = std::move(owned);
   item.trace_file = trace_file;  // the worker reads it again, from the same working folder
-  item.scenario = &s, item.engine = item.owned.get(), item.overrides = ov;
-  plan.items.push_back(item);
+  plan.items.push_back(std::move(item));
   return run_one(plan, runner_def(1, 120.0), json, "during the score");
 }
 

@@ -95,6 +95,25 @@ std::map<std::string, std::string> Settings::texts() const {
   return out;
 }
 
+nlohmann::json Settings::to_json() const {
+  nlohmann::json j = nlohmann::json::object();
+  for (const auto& [key, value] : values_) {
+    if (const double* d = std::get_if<double>(&value)) j[key] = *d;
+    else j[key] = std::get<std::string>(value);
+  }
+  return j;
+}
+
+Settings Settings::from_json(const nlohmann::json& values) {
+  Settings s;
+  for (const auto& [key, v] : values.items()) {
+    if (v.is_number()) s.values_[key] = v.get<double>();
+    else if (v.is_string()) s.values_[key] = v.get<std::string>();
+    else throw std::invalid_argument("setting '" + key + "': neither a number nor a choice");
+  }
+  return s;
+}
+
 std::string SettingSpec::range_text() const {
   switch (kind) {
     case ParamKind::kInteger: return fmt::format("{:g} to {:g}", min, max);

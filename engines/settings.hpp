@@ -50,6 +50,10 @@ class Settings {
   /// Every value as at() shows it, by key.
   std::map<std::string, std::string> texts() const;
   bool operator==(const Settings&) const = default;
+  /// Every value as it is (numbers as numbers, unrounded), and read back: what a worker is sent
+  /// of a run resolved before it. std::invalid_argument on another shape.
+  nlohmann::json to_json() const;
+  static Settings from_json(const nlohmann::json& values);
 
  private:
   std::map<std::string, Value> values_;

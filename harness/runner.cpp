@@ -183,8 +183,16 @@ ResolvedRun resolve_run(const Scenario& scenario, const EngineInfo& engine, cons
   return {.scenario = &scenario, .engine = &engine, .params = Params::resolve(scenario.params, params, scenario.name), .settings = std::move(settings)};
 }
 
-void check_run_inputs(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
-  const ResolvedRun run = resolve_run(scenario, engine, overrides);
+nlohmann::json resolved_values(const ResolvedRun& run) { return {{"params", run.params.to_json()}, {"settings", run.settings.to_json()}}; }
+
+ResolvedRun resolved_from_values(const Scenario& scenario, const EngineInfo& engine, const nlohmann::json& values) {
+  return {.scenario = &scenario, .engine = &engine, .params = Params::from_json(values.at("params")),
+          .settings = Settings::from_json(values.at("settings"))};
+}
+
+void check_run_inputs(const ResolvedRun& run) {
+  const Scenario& scenario = *run.scenario;
+  const EngineInfo& engine = *run.engine;
   const Needs needs = needs_of(scenario, run.params.to_json());
   const Lack lack = lacks(engine, needs);
   if (lack == Lack::kFourWheels) throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));

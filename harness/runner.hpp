@@ -69,6 +69,12 @@ struct ResolvedRun {
 /// Params::resolve.
 ResolvedRun resolve_run(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides);
 
+/// A resolved run as the suite sends it to a worker: its parameters and settings by value.
+nlohmann::json resolved_values(const ResolvedRun& run);
+/// The run `values` (resolved_values) describe, on `scenario` and `engine`, read back as they are:
+/// nothing is resolved or checked by key again.
+ResolvedRun resolved_from_values(const Scenario& scenario, const EngineInfo& engine, const nlohmann::json& values);
+
 /// Runs a resolved run and scores it. Engine failures become an error record; InputError raised by
 /// the scenario for non-physical combinations propagates. A run whose parameters and settings are
 /// the defaults carries its known failure, if the expectations list one.
@@ -81,12 +87,12 @@ RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const
 /// simulated and engine seconds in each). Engine failures make every record an error.
 std::vector<RunRecord> run_shared_drive(const std::vector<ResolvedRun>& runs);
 
-/// The checks of run_scenario that come before the engine works, without running it: the
-/// parameters and settings, the configuration's wheels, and the scenario's own checks up to its
+/// The checks of run_scenario that come before the engine works, without running it, on a run
+/// resolved (its parameters and settings checked): the configuration's wheels, and the scenario's own checks up to its
 /// first engine call (dt and sample_dt against the steps and samples a run may take,
 /// check_run_budget). InputError as run_scenario would raise it; validate calls it for every run a
 /// --set changes, so that a bad value is exit 2 before the suite runs, not an error record per run.
-void check_run_inputs(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides);
+void check_run_inputs(const ResolvedRun& run);
 
 /// Splits `overrides` into the scenario's parameters and the engine's settings for the scenario's
 /// vehicle, validates the settings and fills in their defaults. A key that is neither a parameter

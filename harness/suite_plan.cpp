@@ -74,7 +74,8 @@ void check_set_values(const SuitePlan& plan) {
   for (const SuiteItem& it : plan.items) {
     if (it.kind != SuiteItem::kRun || it.owned || it.overrides.empty()) continue;
     try {
-      check_run_inputs(*it.scenario, *it.engine, it.overrides);
+      if (!it.run) throw InputError(it.resolve_error);
+      check_run_inputs(*it.run);
     } catch (const InputError& e) {
       throw InputError(fmt::format("--set: {} on {}: {}", it.scenario->name, it.engine->name, e.what()));
     }
@@ -85,19 +86,16 @@ void check_set_values(const SuitePlan& plan) {
 void add_runs(SuitePlan& plan, const SuiteDef& def) {
   for (const Scenario* s : plan.scenarios)
     for (const EngineInfo* e : def.engines) {
-      SuiteItem it;
-      it.key = run_key(s->name, e->name);
-      it.scenario = s, it.engine = e, it.overrides = overrides_for(def.set, *s, *e);
-      plan.items.push_back(std::move(it));
+      plan.items.push_back(planned_item(SuiteItem::kRun, run_key(s->name, e->name), *s, *e, overrides_for(def.set, *s, *e)));
     }
   for (const Scenario* s : plan.scenarios) {
     const auto t = def.traces.find(s->name);
     if (t == def.traces.end()) continue;
-    SuiteItem it;
-    it.key = run_key(s->name, def.external_name);
-    it.owned = std::make_shared<const EngineInfo>(replay_engine(def.external_name, *s, t->second));
+    auto owned = std::make_shared<const EngineInfo>(replay_engine(def.external_name, *s, t->second));
+    SuiteItem it = planned_item(SuiteItem::kRun, run_key(s->name, def.external_name), *s, *owned, {});
+    it.owned = std::move(owned);
     it.trace_file = t->second.file;
-    it.scenario = s, it.engine = it.owned.get(), it.cost = 1.0;
+    it.cost = 1.0;
     plan.items.push_back(std::move(it));
   }
 }
@@ -122,17 +120,11 @@ void add_points(SuitePlan& plan, const SuiteDef& def) {
     const auto runs = map_runs(map, def.engines, def.all_points);
     points.insert(points.end(), runs.begin(), runs.end());
   }
-  for (PointRun& p : points) {
-    SuiteItem it;
-    it.kind = SuiteItem::kPoint;
-    it.key = std::move(p.key);
-    it.scenario = p.scenario, it.engine = p.engine, it.overrides = std::move(p.overrides);
-    plan.items.push_back(std::move(it));
-  }
+  for (PointRun& p : points) plan.items.push_back(planned_item(SuiteItem::kPoint, std::move(p.key), *p.scenario, *p.engine, std::move(p.overrides)));
 }
 
-/// Keys are unique; each item's run is resolved once, for its cost and its identity; an item the
-/// same as an earlier one is marked so it runs once.
+/// Keys are unique; each item's resolved run gives its cost and its identity; an item the same as
+/// an earlier one is marked so it runs once.
 void resolve_items(SuitePlan& plan) {
   std::set<std::string> keys;
   for (const SuiteItem& it : plan.items)
@@ -142,22 +134,16 @@ void resolve_items(SuitePlan& plan) {
   std::map<std::string, long> first, drive_maker;
   for (size_t i = 0; i < plan.items.size(); ++i) {
     SuiteItem& it = plan.items[i];
-    if (it.owned) continue;
-    nlohmann::json identity;
-    try {
-      const ResolvedRun run = resolve_run(*it.scenario, *it.engine, it.overrides);
-      it.cost = cost_estimate(run);
-      identity = {{"engine", it.engine->name}, {"params", run.params.to_json()}, {"settings", run.settings.texts()}};
-    } catch (const InputError&) {
-      continue;  // it will be an error record of its own
-    }
+    if (it.owned || !it.run) continue;  // a run not resolved is an error record of its own
+    it.cost = cost_estimate(*it.run);
+    const nlohmann::json identity{{"engine", it.engine->name}, {"params", it.run->params.to_json()}, {"settings", it.run->settings.texts()}};
     const auto [where, inserted] = first.emplace(nlohmann::json{{"scenario", it.scenario->name}, {"run", identity}}.dump(), static_cast<long>(i));
     if (!inserted) it.same_as = where->second;
     if (!inserted || it.kind != SuiteItem::kRun || !it.scenario->shared_drive) continue;
     const auto [maker, first_judge] = drive_maker.emplace(nlohmann::json{{"drive", it.scenario->shared_drive->name}, {"run", identity}}.dump(), static_cast<long>(i));
     if (first_judge) continue;
     it.judges_drive_of = maker->second;
-    plan.items[static_cast<size_t>(maker->second)].drive_judges.push_back(it.scenario);
+    plan.items[static_cast<size_t>(maker->second)].drive_judges.push_back(*it.run);
   }
 }
 
@@ -168,6 +154,19 @@ std::vector<const EngineInfo*> sweep_engines(const SuiteDef& def) {
   for (const EngineInfo* e : def.engines)
     if (e->outside.points == OutsideEngine::Points::kAll || def.all_points) v.push_back(e);
   return v;
+}
+
+SuiteItem planned_item(SuiteItem::Kind kind, std::string key, const Scenario& scenario, const EngineInfo& engine, Overrides overrides) {
+  SuiteItem it;
+  it.kind = kind;
+  it.key = std::move(key);
+  it.scenario = &scenario, it.engine = &engine, it.overrides = std::move(overrides);
+  try {
+    it.run = resolve_run(scenario, engine, it.overrides);
+  } catch (const InputError& e) {
+    it.resolve_error = e.what();
+  }
+  return it;
 }
 
 std::string run_key(const std::string& scenario, const std::string& engine) { return fmt::format("run/{}/{}", scenario, engine); }

@@ -9,6 +9,7 @@
 #include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,7 @@
 #include "harness/external.hpp"
 #include "input/params.hpp"
 #include "scenarios/scenario.hpp"
+#include "harness/runner.hpp"
 #include "harness/sweeps.hpp"
 
 namespace liftcheck {
@@ -45,7 +47,11 @@ struct SuiteItem {
   const EngineInfo* engine = nullptr;
   std::shared_ptr<const EngineInfo> owned;  ///< a replaying configuration (--trace-dir)
   std::string trace_file;                    ///< its trace, read again by the worker process
-  Overrides overrides;
+  Overrides overrides;  ///< the --set values and point values it was asked with
+  /// Its run, resolved once when the item is made (planned_item): what the worker runs. None when
+  /// a name or value could not be resolved: `resolve_error` says why (the run's error record).
+  std::optional<ResolvedRun> run;
+  std::string resolve_error;
   double cost = 1.0;  ///< scheduling estimate (engine steps), longest first
   /// The earlier item with the same scenario, configuration, parameters and settings (-1: none):
   /// its record is this item's too (same inputs, same numbers), so it runs once.
@@ -54,11 +60,14 @@ struct SuiteItem {
   /// parameters and settings; -1: none): that run's worker makes the drive once and returns this
   /// run's record with its own (take_shared_records), so this item is not handed out.
   long judges_drive_of = -1;
-  /// The scenarios of the later runs that judge this run's drive.
-  std::vector<const Scenario*> drive_judges;
+  /// The runs of the later items that judge this run's drive.
+  std::vector<ResolvedRun> drive_judges;
   /// Run by a worker of its own: neither the same as an earlier item nor judging another's drive.
   bool runs_itself() const { return same_as < 0 && judges_drive_of < 0; }
 };
+
+/// An item of `kind` that runs `scenario` on `engine` with `overrides`, its run resolved now.
+SuiteItem planned_item(SuiteItem::Kind kind, std::string key, const Scenario& scenario, const EngineInfo& engine, Overrides overrides);
 
 struct SuitePlan {
   SuiteDef def;

@@ -95,8 +95,8 @@ namespace {
 
 /// The record of a run whose drive later runs judge too, with theirs in its "shared" list.
 nlohmann::json shared_drive_record(const SuiteItem& item) {
-  std::vector<ResolvedRun> runs{resolve_run(*item.scenario, *item.engine, item.overrides)};
-  for (const Scenario* s : item.drive_judges) runs.push_back(resolve_run(*s, *item.engine, item.overrides));
+  std::vector<ResolvedRun> runs{*item.run};
+  runs.insert(runs.end(), item.drive_judges.begin(), item.drive_judges.end());
   const std::vector<RunRecord> records = run_shared_drive(runs);
   nlohmann::json j = records.front().to_json();
   j["shared"] = nlohmann::json::array();
@@ -111,8 +111,9 @@ nlohmann::json run_item(const SuiteItem& item) {
   bool input_error = false;
   try {
     test_hook_allocate(item);
+    if (!item.run) throw InputError(item.resolve_error);  // its error record, as the run would give it
     if (!item.drive_judges.empty()) return shared_drive_record(item);
-    r = run_scenario(resolve_run(*item.scenario, *item.engine, item.overrides));
+    r = run_scenario(*item.run);
   } catch (const std::bad_alloc&) {
     r = RunRecord{};
     r.scenario = item.scenario->name;
@@ -315,13 +316,12 @@ void bind_worker(pid_t pid, int cpu) {
 }  // namespace
 
 nlohmann::json item_request(const SuiteItem& item) {
-  nlohmann::json ov = nlohmann::json::array();
-  for (const auto& [k, v] : item.overrides) ov.push_back({k, v});
-  nlohmann::json j{{"kind", item.kind == SuiteItem::kRun ? "run" : "point"}, {"scenario", item.scenario->name},
-                   {"engine", item.engine->name}, {"overrides", ov}};
+  nlohmann::json j{{"kind", item.kind == SuiteItem::kRun ? "run" : "point"}, {"scenario", item.scenario->name}, {"engine", item.engine->name}};
+  if (item.run) j["run"] = resolved_values(*item.run);
+  else j["resolve_error"] = item.resolve_error;
   if (!item.drive_judges.empty()) {
     j["drive_judges"] = nlohmann::json::array();
-    for (const Scenario* s : item.drive_judges) j["drive_judges"].push_back(s->name);
+    for (const ResolvedRun& judge : item.drive_judges) j["drive_judges"].push_back({{"scenario", judge.scenario->name}, {"run", resolved_values(judge)}});
   }
   if (item.owned) j["trace_file"] = item.trace_file;
   return j;
@@ -359,12 +359,14 @@ SuiteItem item_from_request(const nlohmann::json& j) {
     it.engine = find_engine(engine);
     if (!it.engine) throw InputError(fmt::format("worker: unknown configuration '{}'", engine));
   }
-  for (const auto& kv : j.at("overrides")) it.overrides.emplace_back(kv.at(0).get<std::string>(), kv.at(1).get<std::string>());
-  for (const auto& name : j.value("drive_judges", nlohmann::json::array())) {
-    const Scenario* s = find_scenario(name.get<std::string>());
+  if (j.contains("run")) it.run = resolved_from_values(*it.scenario, *it.engine, j.at("run"));
+  else it.resolve_error = j.at("resolve_error").get<std::string>();
+  for (const auto& judge : j.value("drive_judges", nlohmann::json::array())) {
+    const std::string name = judge.at("scenario");
+    const Scenario* s = find_scenario(name);
     if (!s || !s->shared_drive || !it.scenario->shared_drive || s->shared_drive->name != it.scenario->shared_drive->name)
-      throw InputError(fmt::format("worker: '{}' does not judge the drive of '{}'", name.get<std::string>(), it.scenario->name));
-    it.drive_judges.push_back(s);
+      throw InputError(fmt::format("worker: '{}' does not judge the drive of '{}'", name, it.scenario->name));
+    it.drive_judges.push_back(resolved_from_values(*s, *it.engine, judge.at("run")));
   }
   it.key = j.value("key", "");
   return it;

@@ -139,6 +139,17 @@ nlohmann::json Params::to_json() const {
   return j;
 }
 
+Params Params::from_json(const nlohmann::json& values) {
+  Params p;
+  for (const auto& [k, v] : values.items()) {
+    if (v.is_number()) p.values_[k] = v.get<double>();
+    else if (v.is_string()) p.values_[k] = v.get<std::string>();
+    else if (v.is_array() && v.size() == 2 && v[0].is_number() && v[1].is_number()) p.values_[k] = Eigen::Vector2d(v[0].get<double>(), v[1].get<double>());
+    else throw std::invalid_argument("parameter '" + k + "': not a value Params::to_json writes");
+  }
+  return p;
+}
+
 std::pair<std::string, std::string> split_assignment(const std::string& arg) {
   const auto eq = arg.find('=');
   if (eq == std::string::npos || trim(arg.substr(0, eq)).empty())

@@ -55,6 +55,9 @@ class Params {
   /// Every value, by key.
   const std::map<std::string, ParamValue>& values() const { return values_; }
   nlohmann::json to_json() const;
+  /// The values to_json wrote, read back as they are (what a worker is sent of a run resolved
+  /// before it): nothing is parsed against a spec again. std::invalid_argument on another shape.
+  static Params from_json(const nlohmann::json& values);
 
  private:
   std::map<std::string, ParamValue> values_;

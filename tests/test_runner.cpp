@@ -649,3 +649,33 @@ TEST(SharedDrive, PlannedOnceAndItsRecordsShared) {
   EXPECT_NEAR(budget["by_configuration"][plan.items[makers[0]].engine->name]["total_s"].get<double>(),
               records.at(plan.items[makers[0]].key)["simulated_s"].get<double>(), 1e-6);  // one drive, counted once
 }
+
+// A run is resolved once, when its item is made; the worker gets the values, unrounded, and runs
+// exactly them (a setting's number is not sent as its "{:g}" text); a run that cannot be resolved
+// carries its reason to the worker, which makes it the run's error record.
+TEST(SuitePlan, AWorkerRunsTheRunResolvedInThePlan) {
+  const EngineInfo& ode = *find_engine("ode-quick");
+  const SuiteItem car = planned_item(SuiteItem::kRun, "k", *find_scenario("car.circle"), ode,
+                                     {{"w", "1.23456789"}, {"contact_cfm", "1.234567890123e-6"}, {"R", "0.3123456789"}});
+  ASSERT_TRUE(car.run) << car.resolve_error;
+  const SuiteItem back = item_from_request(nlohmann::json::parse(item_request(car).dump()));
+  ASSERT_TRUE(back.run);
+  EXPECT_EQ(back.run->settings, car.run->settings);
+  EXPECT_DOUBLE_EQ(back.run->settings.number("w"), 1.23456789);  // "{:g}" would give 1.23457
+  EXPECT_DOUBLE_EQ(back.run->settings.number("contact_cfm"), 1.234567890123e-6);
+  EXPECT_DOUBLE_EQ(back.run->params.num("R"), 0.3123456789);
+  EXPECT_EQ(back.run->params.to_json(), car.run->params.to_json());
+  const SuiteItem disks = planned_item(SuiteItem::kRun, "d", *find_scenario("disks.target"), ode, {{"target", "4.25,-0.375"}});
+  ASSERT_TRUE(disks.run) << disks.resolve_error;
+  const SuiteItem disks_back = item_from_request(nlohmann::json::parse(item_request(disks).dump()));
+  EXPECT_DOUBLE_EQ(disks_back.run->params.vec("target").x(), 4.25);
+  EXPECT_DOUBLE_EQ(disks_back.run->params.vec("target").y(), -0.375);
+
+  const SuiteItem bad = planned_item(SuiteItem::kRun, "b", *find_scenario("car.circle"), ode, {{"w", "7"}});
+  ASSERT_FALSE(bad.run);
+  EXPECT_NE(bad.resolve_error.find("'w'"), std::string::npos) << bad.resolve_error;
+  const nlohmann::json rec = run_item(item_from_request(nlohmann::json::parse(item_request(bad).dump())));
+  EXPECT_EQ(rec.at("status"), "error");
+  EXPECT_EQ(rec.at("message"), bad.resolve_error);
+  EXPECT_TRUE(rec.value("input_error", false));
+}
