@@ -195,15 +195,15 @@ RigidCarState car_state_of(const FlatReply& f, int wheels) {
 /// A car stepped by an outside engine: RigidCar's servo and bookkeeping over the protocol.
 class ProtocolCar final : public RigidCar {
  public:
-  ProtocolCar(std::shared_ptr<Outside> o, Settings s) : RigidCar(std::move(s)), lease_(std::move(o)) {}
+  ProtocolCar(std::shared_ptr<Outside> o, Settings s)
+      : RigidCar(std::move(s)), lease_(std::move(o)), wheel_shape_(settings_.has("wheel") ? settings_.choice("wheel") : "sphere") {}
   double reported_engine_s() const override { return engine_s_; }
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    const std::string shape = settings_.has("wheel") ? settings_.choice("wheel") : "sphere";
     const json car{{"R_m", d.R_m}, {"l_m", d.l_m}, {"track_m", d.track_m}, {"wheels", d.wheels},
                    {"parallel_steering", d.parallel_steering}, {"wheel_width_m", d.wheel_width_m},
-                   {"wheel_shape", shape}, {"chassis_height_m", d.chassis_height_m},
+                   {"wheel_shape", wheel_shape_}, {"chassis_height_m", d.chassis_height_m},
                    {"chassis_mass_kg", d.chassis_mass_kg}, {"wheel_mass_kg", d.wheel_mass_kg}, {"knuckle_mass_kg", d.knuckle_mass_kg}};
     const json req{{"op", "car"}, {"settings", settings_json(settings_)}, {"dt_s", setup.dt_s}, {"mu", setup.mu},
                    {"gravity_W", vec(setup.gravity_W())}, {"car", car},
@@ -240,6 +240,7 @@ class ProtocolCar final : public RigidCar {
 
  private:
   Lease lease_;
+  std::string wheel_shape_;  ///< the "wheel" setting, read once (sphere when the engine has none)
   FrontRates rates_;
   RigidCarState state_{};
   double engine_s_ = 0.0;
