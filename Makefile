@@ -2,13 +2,14 @@
 #   make validate   install missing packages, build, run every scenario on every engine, write the report
 #   make test       install missing packages, build, run the test suite (ctest)
 #   make sanitize   AddressSanitizer + UndefinedBehaviorSanitizer build (build-sanitize): unit tests and a short validate
+#   make format     apply .clang-format to the C++ sources (the ctest `format` checks them)
 #   make fuzz       libFuzzer targets (clang, build-fuzz) over --set, results files and traces, FUZZ_TIME seconds each
 
 PACKAGES := cmake g++ make pkg-config git python3 \
             libeigen3-dev libboost-dev nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev \
             libbullet-dev libode-dev libosmesa6-dev libpng-dev libstb-dev fonts-dejavu-core gnuplot-nox \
             libbenchmark-dev libmujoco-dev libqhull-dev libdart-dev libdart-external-ikfast-dev libxml2-utils \
-            libmd4c-dev libmd4c-html0-dev libsimdjson-dev
+            libmd4c-dev libmd4c-html0-dev libsimdjson-dev clang-format
 # Node and npm run the outside engines (engines/outside): Debian's packages, unless a node with its
 # npm is installed already (NodeSource's nodejs bundles npm and conflicts with Debian's npm).
 NODE_PACKAGES := nodejs npm
@@ -30,7 +31,7 @@ OUTSIDE_DIR := engines/outside
 # into node_modules at the end of every install; it is redone when the lock file changes).
 NODE_STAMP := $(OUTSIDE_DIR)/node_modules/.package-lock.json
 
-.PHONY: all deps install-packages configure build validate test report-check bench clean sanitize fuzz npm-deps
+.PHONY: all deps install-packages configure build validate test report-check bench clean sanitize fuzz npm-deps format
 
 all: build
 
@@ -67,7 +68,7 @@ $(NODE_STAMP): $(OUTSIDE_DIR)/package-lock.json $(OUTSIDE_DIR)/package.json
 	@touch $@
 
 validate: build
-	./$(BUILD_DIR)/liftcheck validate --out $(REPORT_DIR) --baseline reports/baselines/default.json
+	./$(BUILD_DIR)/liftcheck validate --out $(REPORT_DIR) --baseline data/baselines/default.json
 
 test: build
 	ctest --test-dir $(BUILD_DIR) --output-on-failure -j $(JOBS)
@@ -102,6 +103,11 @@ fuzz: deps
 	    || { tail -40 $(FUZZ_DIR)/fuzz_$$t.log; exit 1; }; \
 	  grep -E '^stat::number_of_executed_units|^Done' $(FUZZ_DIR)/fuzz_$$t.log; \
 	done
+
+format:
+	@$(MAKE) --no-print-directory install-packages PKGS="clang-format"
+	find models engines scenarios harness reports cli input tests bench examples -path '*/node_modules' -prune -o \
+	  \( -name '*.cpp' -o -name '*.hpp' -o -name '*.h' \) -print | xargs clang-format --style=file -i
 
 # Every benchmark (analytic models, car steps per engine against its raw loop, rendering); the
 # results also go to $(BUILD_DIR)/bench.json.

@@ -87,7 +87,8 @@ void BM_CarSteps(benchmark::State& state, const EngineInfo* engine, RawCarFactor
       const std::vector<car::TimedConfig> trace = engine_car->drive(path);
       liftcheck_s = thread_cpu_s() - t0;
       const double miss_m = std::hypot(trace.back().q.x_m - exact_end.x_m, trace.back().q.y_m - exact_end.y_m);
-      if (!(miss_m < kCheckLiftcheck_m)) problem = fmt::format("liftcheck's car ended {:.3g} m from the exact lift", miss_m);
+      if (!(miss_m < kCheckLiftcheck_m))
+        problem = fmt::format("liftcheck's car ended {:.3g} m from the exact lift", miss_m);
     };
     const auto time_raw = [&] {
       auto raw = make_raw(settings, setup, kStart);
@@ -97,10 +98,13 @@ void BM_CarSteps(benchmark::State& state, const EngineInfo* engine, RawCarFactor
       raw->run(drive_steps, setup.drive.speed_mps / setup.car.R_m);
       raw_s = thread_cpu_s() - t0;
       const double moved_m = (raw->front_xy_m() - start).norm();
-      if (!(std::abs(moved_m / chord_m - 1.0) < kCheckRawRel)) problem = fmt::format("the raw car moved {:.4g} m, not {:.4g} m", moved_m, chord_m);
+      if (!(std::abs(moved_m / chord_m - 1.0) < kCheckRawRel))
+        problem = fmt::format("the raw car moved {:.4g} m, not {:.4g} m", moved_m, chord_m);
     };
-    if (iteration++ % 2 == 0) time_liftcheck(), time_raw();
-    else time_raw(), time_liftcheck();
+    if (iteration++ % 2 == 0)
+      time_liftcheck(), time_raw();
+    else
+      time_raw(), time_liftcheck();
     if (!problem.empty()) {
       state.SkipWithError(problem.c_str());
       break;

@@ -26,10 +26,11 @@ namespace {
 std::string results_text(long n) {
   std::string t = R"({"context": {"liftcheck": {"version": "0"}}, "runs": [)";
   for (long i = 0; i < n; ++i)
-    t += fmt::format(R"({}{{"scenario": "s{}", "engine": "ode", "status": "pass", "verdict": "pass", "as_expected": true, "message": "", )"
-                     R"("metrics": {{"front_radius": {{"expected": 1.0, "measured": 1.0000001, "abs_error": 1e-7, "rel_error": 1e-7, )"
-                     R"("tolerance": 1e-6, "tolerance_kind": "rel", "unit": "m", "pass": true}}}}}})",
-                     i ? "," : "", i);
+    t += fmt::format(
+        R"({}{{"scenario": "s{}", "engine": "ode", "status": "pass", "verdict": "pass", "as_expected": true, "message": "", )"
+        R"("metrics": {{"front_radius": {{"expected": 1.0, "measured": 1.0000001, "abs_error": 1e-7, "rel_error": 1e-7, )"
+        R"("tolerance": 1e-6, "tolerance_kind": "rel", "unit": "m", "pass": true}}}}}})",
+        i ? "," : "", i);
   return t + "]}";
 }
 
@@ -37,7 +38,8 @@ void BM_DiffResults(benchmark::State& state) {
   const std::string text = results_text(state.range(0));
   for (auto _ : state) {
     // What `diff` reads: the index of each file (every check, no document).
-    const liftcheck::ResultsIndex base = liftcheck::parse_results_index(text, "base.json"), head = liftcheck::parse_results_index(text, "head.json");
+    const liftcheck::ResultsIndex base = liftcheck::parse_results_index(text, "base.json"),
+                                  head = liftcheck::parse_results_index(text, "head.json");
     benchmark::DoNotOptimize(liftcheck::diff_results(base, head));
   }
   state.SetComplexityN(state.range(0));
@@ -50,7 +52,8 @@ BENCHMARK(BM_DiffResults)->Arg(1000000)->Iterations(1)->Unit(benchmark::kMillise
 /// process of its own (reading, parsing both in parallel, checking, comparing, printing, exiting).
 /// Counters: `cpu_s` its user + system CPU time, `wall_s` its wall-clock time (the benchmark's time).
 void BM_DiffCommand(benchmark::State& state) {
-  const std::filesystem::path dir = std::filesystem::temp_directory_path() / fmt::format("liftcheck-bench-diff-{}", getpid());
+  const std::filesystem::path dir =
+      std::filesystem::temp_directory_path() / fmt::format("liftcheck-bench-diff-{}", getpid());
   std::filesystem::create_directories(dir);
   const std::string a = (dir / "a.json").string(), b = (dir / "b.json").string();
   {
@@ -74,7 +77,9 @@ void BM_DiffCommand(benchmark::State& state) {
     posix_spawn_file_actions_destroy(&fa);
     state.SetIterationTime(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
     getrusage(RUSAGE_CHILDREN, &after);
-    const auto secs = [](const timeval& t) { return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec); };
+    const auto secs = [](const timeval& t) {
+      return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+    };
     cpu_s = secs(after.ru_utime) - secs(before.ru_utime) + secs(after.ru_stime) - secs(before.ru_stime);
     if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) state.SkipWithError("liftcheck diff did not exit 0");
   }

@@ -41,8 +41,11 @@ void BM_HolonomyTenSegmentLoop(benchmark::State& state) {
   }
   const double err_integrated = (h - integrated).norm() / integrated.norm();
   const double err_leading = (h - leading).norm() / leading.norm();
-  if (!(err_integrated < 1e-8)) return state.SkipWithError(fmt::format("holonomy off the integrated lift by {:.3g} (relative)", err_integrated).c_str());
-  if (!(err_leading < 3 * eps)) return state.SkipWithError(fmt::format("holonomy off (5.9) by {:.3g} (relative)", err_leading).c_str());
+  if (!(err_integrated < 1e-8))
+    return state.SkipWithError(
+        fmt::format("holonomy off the integrated lift by {:.3g} (relative)", err_integrated).c_str());
+  if (!(err_leading < 3 * eps))
+    return state.SkipWithError(fmt::format("holonomy off (5.9) by {:.3g} (relative)", err_leading).c_str());
   state.counters["holonomy_m"] = std::hypot(h[car::kX], h[car::kY]);
   state.counters["rel_error_vs_integrated"] = err_integrated;
 }
@@ -59,8 +62,10 @@ void BM_LiftTenSecondPath(benchmark::State& state) {
   const double ramp_s = std::numbers::pi * kDrive.speed_mps / (2.0 * kDrive.accel_mps2);
   const double d_m = (2.5 - ramp_s) * kDrive.speed_mps;
   const double d_alpha = d_m / kCar.R_m;
-  const car::BasePath path({{d_alpha, 0.4}, {d_alpha, -0.8}, {d_alpha, 0.8}, {d_alpha, -0.4}}, 0.0, kStart.beta_rad, kDrive);
-  if (!(std::abs(path.duration_s() - 10.0) < 1e-9)) return state.SkipWithError(fmt::format("the path lasts {} s, not 10 s", path.duration_s()).c_str());
+  const car::BasePath path({{d_alpha, 0.4}, {d_alpha, -0.8}, {d_alpha, 0.8}, {d_alpha, -0.4}}, 0.0, kStart.beta_rad,
+                           kDrive);
+  if (!(std::abs(path.duration_s() - 10.0) < 1e-9))
+    return state.SkipWithError(fmt::format("the path lasts {} s, not 10 s", path.duration_s()).c_str());
   car::LiftDef bs;
   bs.method = car::LiftMethod::kBulirschStoer;
   const car::Config reference = car::lift_end(kCar, path, kStart, bs);
@@ -72,7 +77,8 @@ void BM_LiftTenSecondPath(benchmark::State& state) {
     benchmark::DoNotOptimize(end);
   }
   const double miss = (end.vec() - reference.vec()).norm();
-  if (!(miss < 1e-7)) return state.SkipWithError(fmt::format("the lift missed Bulirsch-Stoer's by {:.3g}", miss).c_str());
+  if (!(miss < 1e-7))
+    return state.SkipWithError(fmt::format("the lift missed Bulirsch-Stoer's by {:.3g}", miss).c_str());
   state.counters["end_x_m"] = end.x_m;
   state.counters["miss_vs_bs"] = miss;
 }
@@ -95,7 +101,9 @@ void BM_DiskLiftFirstContact(benchmark::State& state) {
     benchmark::DoNotOptimize(r);
   }
   if (!r.t_contact_s || !(std::abs(*r.t_contact_s - expected_s) < 1e-9))
-    return state.SkipWithError(fmt::format("first contact at {} s, Lemma 5.1 says {:.10f} s", r.t_contact_s.value_or(NAN), expected_s).c_str());
+    return state.SkipWithError(
+        fmt::format("first contact at {} s, Lemma 5.1 says {:.10f} s", r.t_contact_s.value_or(NAN), expected_s)
+            .c_str());
   state.counters["t_contact_s"] = *r.t_contact_s;
 }
 BENCHMARK(BM_DiskLiftFirstContact)->Unit(benchmark::kMicrosecond);

@@ -51,7 +51,8 @@ std::string png_problem(const std::filesystem::path& path) {
   };
   if (head.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0 || head.compare(12, 4, "IHDR") != 0) return "not a PNG file";
   if (be32(16) != 800 || be32(20) != 600) return fmt::format("the PNG is {} x {}", be32(16), be32(20));
-  if (std::filesystem::file_size(path) < 1000) return fmt::format("the PNG has only {} bytes", std::filesystem::file_size(path));
+  if (std::filesystem::file_size(path) < 1000)
+    return fmt::format("the PNG has only {} bytes", std::filesystem::file_size(path));
   return "";
 }
 
@@ -70,8 +71,10 @@ void BM_EncodePng800x600(benchmark::State& state) {
   const auto path = std::filesystem::temp_directory_path() / "liftcheck_bench.png";
   for (auto _ : state) render::write_png(path, img);
   const std::string p = png_problem(path);
-  if (!p.empty()) state.SkipWithError(p.c_str());
-  else state.counters["png_bytes"] = static_cast<double>(std::filesystem::file_size(path));
+  if (!p.empty())
+    state.SkipWithError(p.c_str());
+  else
+    state.counters["png_bytes"] = static_cast<double>(std::filesystem::file_size(path));
   std::filesystem::remove(path);
 }
 BENCHMARK(BM_EncodePng800x600)->Unit(benchmark::kMillisecond);
@@ -84,8 +87,10 @@ void BM_RenderAndEncode800x600(benchmark::State& state) {
   for (auto _ : state) render::write_png(path, r.render(scene));
   std::string p = frame_problem(r.render(scene));
   if (p.empty()) p = png_problem(path);
-  if (!p.empty()) state.SkipWithError(p.c_str());
-  else state.counters["png_bytes"] = static_cast<double>(std::filesystem::file_size(path));
+  if (!p.empty())
+    state.SkipWithError(p.c_str());
+  else
+    state.counters["png_bytes"] = static_cast<double>(std::filesystem::file_size(path));
   std::filesystem::remove(path);
 }
 BENCHMARK(BM_RenderAndEncode800x600)->Unit(benchmark::kMillisecond);

@@ -5,7 +5,7 @@
 #include <iostream>
 #include <set>
 
-#include "input/params.hpp"  // InputError
+#include "input/params.hpp"     // InputError
 #include "input/read_file.hpp"  // require_utf8
 #include "input/results_diff.hpp"
 #include "input/results_file.hpp"
@@ -23,9 +23,11 @@ nlohmann::json read_baseline(const std::string& path, bool update_baseline) {
     std::error_code ec;
     const std::filesystem::file_status st = std::filesystem::status(path, ec);
     if (std::filesystem::is_directory(st))
-      throw InputError(fmt::format("--baseline '{}' is a folder: --update-baseline writes a file (name it)", printable(path, 200)));
+      throw InputError(
+          fmt::format("--baseline '{}' is a folder: --update-baseline writes a file (name it)", printable(path, 200)));
     if (std::filesystem::exists(st) && !std::filesystem::is_regular_file(st))
-      throw InputError(fmt::format("--baseline '{}' is not a regular file: --update-baseline writes a file", printable(path, 200)));
+      throw InputError(
+          fmt::format("--baseline '{}' is not a regular file: --update-baseline writes a file", printable(path, 200)));
   }
   return !path.empty() && !update_baseline ? read_results(path) : nlohmann::json();
 }

@@ -23,8 +23,10 @@ int cmd_diff(const std::string& base_path, const std::string& head_path, double 
   } catch (const nlohmann::json::exception& e) {
     throw InputError(fmt::format("malformed results: {}", e.what()));
   }
-  if (json) std::cout << d.dump() << "\n";
-  else std::cout << diff_text(d);
+  if (json)
+    std::cout << d.dump() << "\n";
+  else
+    std::cout << diff_text(d);
   return d["regressions"].empty() && d["worse"].empty() ? 0 : 1;
 }
 
@@ -40,7 +42,8 @@ Command add_diff(CLI::App& app) {
   auto* diff = app.add_subcommand("diff", "compare two results.json files: regressions and metrics whose errors grew");
   diff->add_option("base", o->base_path, "the earlier results.json")->required();
   diff->add_option("head", o->head_path, "the later results.json")->required();
-  diff->add_option("--growth", o->growth, "factor by which a metric's error must grow to count as worse")->capture_default_str();
+  diff->add_option("--growth", o->growth, "factor by which a metric's error must grow to count as worse")
+      ->capture_default_str();
   diff->add_flag("--json", o->json, "print the diff as one JSON object");
   return {diff, [o] { return cmd_diff(o->base_path, o->head_path, o->growth, o->json); }};
 }

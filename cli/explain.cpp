@@ -35,7 +35,8 @@ std::pair<const Scenario*, Overrides> listed_run(const ListedReason& l, const Ev
 }
 
 /// The plan's item for this run, added once (two experiments on one listing share its run).
-size_t item_for(SuitePlan& plan, std::map<std::string, size_t>& index, const Scenario& s, const EngineInfo& e, const Overrides& ov) {
+size_t item_for(SuitePlan& plan, std::map<std::string, size_t>& index, const Scenario& s, const EngineInfo& e,
+                const Overrides& ov) {
   std::string key = fmt::format("explain/{}/{}", s.name, e.name);
   for (const auto& [k, v] : ov) key += fmt::format("/{}={}", k, v);
   if (const auto it = index.find(key); it != index.end()) return it->second;
@@ -51,7 +52,9 @@ std::pair<double, double> figure(const nlohmann::json& record, const std::string
 }
 
 bool selected(const ListedReason& l, const std::vector<std::string>& names, const std::vector<std::string>& engines) {
-  const auto in = [](const std::vector<std::string>& v, const std::string& x) { return v.empty() || std::find(v.begin(), v.end(), x) != v.end(); };
+  const auto in = [](const std::vector<std::string>& v, const std::string& x) {
+    return v.empty() || std::find(v.begin(), v.end(), x) != v.end();
+  };
   return in(names, (l.sweep ? "sweep:" : "") + l.scenario) && in(engines, l.engine);
 }
 
@@ -59,23 +62,40 @@ bool selected(const ListedReason& l, const std::vector<std::string>& names, cons
 bool report(const Experiment& x, const nlohmann::json& base, const nlohmann::json& changed, bool json) {
   const auto [from, tol] = figure(base, x.evidence->metric);
   const auto [to, to_tol] = figure(changed, x.evidence->metric);
-  const bool measuring = std::isnan(x.evidence->from) && !x.evidence->from_error;  // --measure: nothing recorded to hold
+  const bool measuring =
+      std::isnan(x.evidence->from) && !x.evidence->from_error;  // --measure: nothing recorded to hold
   const bool errs = base["status"] == "error";
-  const bool holds = measuring || (x.evidence->from_error ? x.evidence->holds_from_error(errs, to, to_tol) : x.evidence->holds(from, to, tol, to_tol));
+  const bool holds = measuring || (x.evidence->from_error ? x.evidence->holds_from_error(errs, to, to_tol)
+                                                          : x.evidence->holds(from, to, tol, to_tol));
   const ListedReason& l = *x.listing;
   const std::string where = l.sweep ? fmt::format("sweep {} at x = {} on {}", l.scenario, x.evidence->x, l.engine)
                                     : fmt::format("{} on {}", l.scenario, l.engine);
   if (json) {
-    std::cout << nlohmann::json{{"listing", where}, {"scenario", l.scenario}, {"sweep", l.sweep}, {"engine", l.engine}, {"x", x.evidence->x}, {"from_error", errs},
-                                {"params", l.params}, {"change", x.evidence->change}, {"metric", x.evidence->metric},
-                                {"from", from}, {"to", to}, {"recorded_from", x.evidence->from}, {"recorded_to", x.evidence->to},
-                                {"tolerance", tol}, {"holds", holds}}.dump() << "\n";
+    std::cout << nlohmann::json{{"listing", where},
+                                {"scenario", l.scenario},
+                                {"sweep", l.sweep},
+                                {"engine", l.engine},
+                                {"x", x.evidence->x},
+                                {"from_error", errs},
+                                {"params", l.params},
+                                {"change", x.evidence->change},
+                                {"metric", x.evidence->metric},
+                                {"from", from},
+                                {"to", to},
+                                {"recorded_from", x.evidence->from},
+                                {"recorded_to", x.evidence->to},
+                                {"tolerance", tol},
+                                {"holds", holds}}
+                     .dump()
+              << "\n";
     return holds;
   }
-  std::cout << fmt::format("{}: {} moves {} {:.3g} -> {:.3g} (recorded {:.3g} -> {:.3g}, tolerance {:.3g}): {}\n", where, x.evidence->change_text(),
-                           x.evidence->metric, from, to, x.evidence->from, x.evidence->to, tol, holds ? "holds" : "DOES NOT HOLD");
+  std::cout << fmt::format("{}: {} moves {} {:.3g} -> {:.3g} (recorded {:.3g} -> {:.3g}, tolerance {:.3g}): {}\n",
+                           where, x.evidence->change_text(), x.evidence->metric, from, to, x.evidence->from,
+                           x.evidence->to, tol, holds ? "holds" : "DOES NOT HOLD");
   for (const nlohmann::json* r : {&base, &changed})
-    if ((*r)["status"] == "error" && (*r)["message"].is_string()) std::cout << "  error: " << printable((*r)["message"].get<std::string>(), 300) << "\n";
+    if ((*r)["status"] == "error" && (*r)["message"].is_string())
+      std::cout << "  error: " << printable((*r)["message"].get<std::string>(), 300) << "\n";
   return holds;
 }
 
@@ -96,12 +116,16 @@ std::vector<ListedReason> read_plan(const std::string& path) {
   if (!plan.is_array()) throw InputError(fmt::format("{}: a plan is a JSON list of experiments", path));
   std::vector<ListedReason> v;
   for (const auto& e : plan) {
-    if (!e.is_object() || !e.contains("engine")) throw InputError(fmt::format("{}: each experiment names its \"engine\"", path));
+    if (!e.is_object() || !e.contains("engine"))
+      throw InputError(fmt::format("{}: each experiment names its \"engine\"", path));
     const bool sweep = e.contains("sweep");
     ListedReason l{e.value(sweep ? "sweep" : "scenario", ""), sweep, e.at("engine"), {}, "", {}};
     const nlohmann::json params = e.value("params", nlohmann::json::object());
     for (const auto& [k, val] : params.items()) l.params.emplace_back(k, val.get<std::string>());
-    nlohmann::json ev = {{"change", e.value("change", nlohmann::json::object())}, {"metric", e.value("metric", "")}, {"from", 0.0}, {"to", 1.0}};
+    nlohmann::json ev = {{"change", e.value("change", nlohmann::json::object())},
+                         {"metric", e.value("metric", "")},
+                         {"from", 0.0},
+                         {"to", 1.0}};
     if (sweep) ev["x"] = e.value("x", 0.0);
     try {
       l.evidence = parse_evidence(nlohmann::json{{"evidence", {ev}}}, path);
@@ -114,8 +138,8 @@ std::vector<ListedReason> read_plan(const std::string& path) {
   return v;
 }
 
-int cmd_explain(const std::vector<std::string>& names, const std::string& engine_names, bool compiled_in, const std::string& plan_file,
-                int jobs, double timeout_s, bool json) {
+int cmd_explain(const std::vector<std::string>& names, const std::string& engine_names, bool compiled_in,
+                const std::string& plan_file, int jobs, double timeout_s, bool json) {
   const std::vector<std::string> configs = configurations(engine_names, compiled_in);
   for (const auto& name : names)
     if (name.rfind("sweep:", 0) != 0) (void)scenario_or_throw(name);
@@ -129,25 +153,31 @@ int cmd_explain(const std::vector<std::string>& names, const std::string& engine
   for (const ListedReason& l : plan_file.empty() ? listed_reasons() : planned) {
     if (!selected(l, names, configs)) continue;
     if (l.evidence.empty() && !is_negative_control(l.reason)) {
-      if (!l.cause_not_shown.empty()) ++not_shown;
-      else ++unexplained;
+      if (!l.cause_not_shown.empty())
+        ++not_shown;
+      else
+        ++unexplained;
       if (!json)
         std::cout << fmt::format("{}{} on {}: {}\n", l.sweep ? "sweep " : "", l.scenario, l.engine,
-                                 l.cause_not_shown.empty() ? "its reason names no experiment" : "cause not shown; tried: " + l.cause_not_shown);
+                                 l.cause_not_shown.empty() ? "its reason names no experiment"
+                                                           : "cause not shown; tried: " + l.cause_not_shown);
     }
     for (const Evidence& ev : l.evidence) {
       const auto [s, ov] = listed_run(l, ev);
       Overrides with_change = ov;
       for (const auto& [key, value] : ev.change) {
         if (std::any_of(ov.begin(), ov.end(), [&](const auto& kv) { return kv.first == key; }))
-          throw InputError(fmt::format("{} on {}: the experiment changes '{}', which the listed run sets already", l.scenario, l.engine, key));
+          throw InputError(fmt::format("{} on {}: the experiment changes '{}', which the listed run sets already",
+                                       l.scenario, l.engine, key));
         with_change.emplace_back(key, value);
       }
       const EngineInfo& e = engine_or_throw(l.engine);
       experiments.push_back({&l, &ev, item_for(plan, index, *s, e, ov), item_for(plan, index, *s, e, with_change)});
     }
   }
-  if (experiments.empty() && unexplained == 0 && not_shown == 0) throw InputError("no listing of harness/expectations.json with evidence matches the names and configurations given");
+  if (experiments.empty() && unexplained == 0 && not_shown == 0)
+    throw InputError(
+        "no listing of harness/expectations.json with evidence matches the names and configurations given");
   std::vector<size_t> all(plan.items.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
   std::vector<nlohmann::json> records;
@@ -160,8 +190,10 @@ int cmd_explain(const std::vector<std::string>& names, const std::string& engine
   int failing = 0;
   for (const Experiment& x : experiments) failing += report(x, records.at(x.base), records.at(x.changed), json) ? 0 : 1;
   if (!json)
-    std::cout << fmt::format("{} experiments: {} hold, {} do not; {} listings name no cause (none of the experiments tried moved their figure), {} name one without an experiment\n", experiments.size(),
-                             experiments.size() - failing, failing, not_shown, unexplained);
+    std::cout << fmt::format(
+        "{} experiments: {} hold, {} do not; {} listings name no cause (none of the experiments tried moved their "
+        "figure), {} name one without an experiment\n",
+        experiments.size(), experiments.size() - failing, failing, not_shown, unexplained);
   return failing == 0 && unexplained == 0 ? 0 : 1;
 }
 
@@ -178,15 +210,19 @@ Command add_explain(CLI::App& app) {
     std::string plan;
   };
   auto o = std::make_shared<Options>();
-  auto* cmd = app.add_subcommand("explain", "re-run the experiments behind the known failures' reasons and say whether each still holds");
+  auto* cmd = app.add_subcommand(
+      "explain", "re-run the experiments behind the known failures' reasons and say whether each still holds");
   cmd->add_option("names", o->names, "scenarios, or sweep:NAME for a sweep's listings (default: every listing)");
   cmd->add_option("--engine,--engines", o->engines, "configurations, comma-separated (default: every listed one)");
-  cmd->add_flag("--compiled-in", o->compiled_in, "only the compiled-in configurations' listings (no outside engine is started)");
+  cmd->add_flag("--compiled-in", o->compiled_in,
+                "only the compiled-in configurations' listings (no outside engine is started)");
   cmd->add_option("--jobs", o->jobs, "runs at once")->capture_default_str();
   cmd->add_option("--timeout", o->timeout_s, "limit of each run's CPU time in seconds")->capture_default_str();
   cmd->add_flag("--json", o->json, "one JSON object per experiment");
-  cmd->add_option("--measure", o->plan, "measure the experiments of a plan file instead of the listed ones (tests/tools/write_evidence.py)");
-  return {cmd, [o] { return cmd_explain(o->names, o->engines, o->compiled_in, o->plan, o->jobs, o->timeout_s, o->json); }};
+  cmd->add_option("--measure", o->plan,
+                  "measure the experiments of a plan file instead of the listed ones (tests/tools/write_evidence.py)");
+  return {cmd,
+          [o] { return cmd_explain(o->names, o->engines, o->compiled_in, o->plan, o->jobs, o->timeout_s, o->json); }};
 }
 
 }  // namespace liftcheck::cli

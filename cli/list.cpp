@@ -24,15 +24,19 @@ int cmd_list(bool json) {
     for (const auto& s : scenarios())
       if (s.vehicle == vehicle) of.push_back(&s);
     if (of.empty()) continue;
-    const auto same = [](const ParamSpec& a, const ParamSpec& b) { return a.key == b.key && a.default_text == b.default_text && a.unit == b.unit; };
+    const auto same = [](const ParamSpec& a, const ParamSpec& b) {
+      return a.key == b.key && a.default_text == b.default_text && a.unit == b.unit;
+    };
     std::vector<ParamSpec> shared;
     for (const auto& p : of.front()->params)
       if (std::all_of(of.begin(), of.end(), [&](const Scenario* s) {
             return std::any_of(s->params.begin(), s->params.end(), [&](const ParamSpec& q) { return same(p, q); });
           }))
         shared.push_back(p);
-    std::cout << fmt::format("parameters of every {} scenario (unless listed with the scenario):\n", to_string(vehicle));
-    for (const auto& p : shared) std::cout << fmt::format("    {:<14} {:<10} {:<6} {}\n", p.key, p.default_text, p.unit, p.help);
+    std::cout << fmt::format("parameters of every {} scenario (unless listed with the scenario):\n",
+                             to_string(vehicle));
+    for (const auto& p : shared)
+      std::cout << fmt::format("    {:<14} {:<10} {:<6} {}\n", p.key, p.default_text, p.unit, p.help);
     for (const Scenario* s : of) {
       std::cout << s->name << "  [" << to_string(s->vehicle) << "; " << s->equations << "]\n  " << s->summary << "\n";
       for (const auto& p : s->params)

@@ -28,14 +28,16 @@ const Scenario& scenario_or_throw(const std::string& name) {
   if (const Scenario* s = find_scenario(name)) return *s;
   std::vector<std::string> names;
   for (const auto& s : scenarios()) names.push_back(s.name);
-  throw InputError(fmt::format("unknown scenario '{}' (see 'liftcheck list'){}", printable(name), did_you_mean(name, names)));
+  throw InputError(
+      fmt::format("unknown scenario '{}' (see 'liftcheck list'){}", printable(name), did_you_mean(name, names)));
 }
 
 const EngineInfo& engine_or_throw(const std::string& name) {
   if (const EngineInfo* e = find_engine(name)) return *e;
   std::vector<std::string> names;
   for (const auto& e : engines()) names.push_back(e.name);
-  throw InputError(fmt::format("unknown engine configuration '{}' (available: {}){}", printable(name), fmt::join(names, ", "), did_you_mean(name, names)));
+  throw InputError(fmt::format("unknown engine configuration '{}' (available: {}){}", printable(name),
+                               fmt::join(names, ", "), did_you_mean(name, names)));
 }
 
 Overrides overrides_or_throw(const std::vector<std::string>& sets, const Scenario& s, const EngineInfo* e) {
@@ -43,22 +45,28 @@ Overrides overrides_or_throw(const std::vector<std::string>& sets, const Scenari
   for (const auto& a : sets) ov.push_back(split_assignment(a));
   for (const auto& [key, value] : ov) {
     // A key some configuration takes for this scenario (the run then names the one it lacks).
-    if (std::any_of(engines().begin(), engines().end(), [&](const EngineInfo& x) { return key_owner(s, x, key) != KeyOwner::kNeither; })) continue;
+    if (std::any_of(engines().begin(), engines().end(),
+                    [&](const EngineInfo& x) { return key_owner(s, x, key) != KeyOwner::kNeither; }))
+      continue;
     std::vector<std::string> own;
     for (const auto& p : s.params) own.push_back(p.key);
     for (const auto& engine : engines())
       for (const SettingSpec& k : engine.knobs)
         if (k.vehicle == s.vehicle && (!e || e == &engine)) own.push_back(k.key);
-    throw InputError(fmt::format("unknown parameter '{}' for scenario '{}'{}", printable(key), s.name, did_you_mean(key, own)));
+    throw InputError(
+        fmt::format("unknown parameter '{}' for scenario '{}'{}", printable(key), s.name, did_you_mean(key, own)));
   }
   return ov;
 }
 
 RunnerDef runner_def(int jobs, double timeout_s, double memory_limit_mib) {
   if (jobs < 1) throw InputError(fmt::format("--jobs {} must be at least 1", jobs));
-  if (!(timeout_s > 0.0) || !std::isfinite(timeout_s)) throw InputError(fmt::format("--timeout {} must be a positive number of seconds", timeout_s));
+  if (!(timeout_s > 0.0) || !std::isfinite(timeout_s))
+    throw InputError(fmt::format("--timeout {} must be a positive number of seconds", timeout_s));
   if (!(memory_limit_mib >= 256.0) || !std::isfinite(memory_limit_mib))
-    throw InputError(fmt::format("--memory-limit {} must be at least 256 MiB (a worker with every engine loaded takes about 250 MiB)", memory_limit_mib));
+    throw InputError(fmt::format(
+        "--memory-limit {} must be at least 256 MiB (a worker with every engine loaded takes about 250 MiB)",
+        memory_limit_mib));
   RunnerDef r;
   r.memory_limit_mib = memory_limit_mib;
   r.jobs = std::min(jobs, usable_cores());  // more would only queue for the same cores
@@ -72,12 +80,14 @@ RunnerDef runner_def(int jobs, double timeout_s, double memory_limit_mib) {
 
 void print_record(const nlohmann::json& r) {
   const std::string message = r["message"];
-  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(), printable(r["engine"].get<std::string>(), 200), coloured_verdict(r["verdict"]),
+  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(),
+                           printable(r["engine"].get<std::string>(), 200), coloured_verdict(r["verdict"]),
                            message.empty() ? "" : " (" + printable(message, 1000) + ")");
   if (r["expectation"].is_object())
-    std::cout << fmt::format("  {}: {}\n  measured when reviewed: {}\n",
-                             r["as_expected"].get<bool>() ? "known failure" : "listed as a known failure (harness/expectations.json)",
-                             r["expectation"]["reason"].get<std::string>(), r["expectation"]["measured"].get<std::string>());
+    std::cout << fmt::format(
+        "  {}: {}\n  measured when reviewed: {}\n",
+        r["as_expected"].get<bool>() ? "known failure" : "listed as a known failure (harness/expectations.json)",
+        r["expectation"]["reason"].get<std::string>(), r["expectation"]["measured"].get<std::string>());
   // The headline's metrics first, then the rest from the worst ratio to its tolerance down.
   const Scenario* scenario = find_scenario(r["scenario"].get<std::string>());
   const std::vector<std::string> head = scenario ? scenario->headline.metrics : std::vector<std::string>{};
@@ -90,17 +100,21 @@ void print_record(const nlohmann::json& r) {
     order.emplace_back(std::isfinite(key) ? key : 1e299, name);
   });
   std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
-  std::cout << fmt::format("  {:<22} {:>14} {:>14} {:>13} {:>10} {:<5} {:>9}  {}\n", "metric", "expected", "measured", "error", "tolerance", "unit",
-                           "err/tol", "result");
+  std::cout << fmt::format("  {:<22} {:>14} {:>14} {:>13} {:>10} {:<5} {:>9}  {}\n", "metric", "expected", "measured",
+                           "error", "tolerance", "unit", "err/tol", "result");
   for (const auto& [key, name] : order) {
     const MetricView m = record.metric(name);
     const bool rel = m.relative();
     const double err = m.compared_error(), tol = m.tolerance();
     const std::string verdict = !m.counted() ? "info" : m.pass() ? "ok" : "FAIL";
     const bool is_head = std::find(head.begin(), head.end(), name) != head.end();
-    std::cout << fmt::format("  {:<22} {:>14.8g} {:>14.8g} {:>9.3g} {:<3} {:>10.3g} {:<5} {:>9}  {}\n", is_head ? name + " *" : name,
-                             m.expected(), m.measured(), err, rel ? "rel" : "abs", tol, rel ? "1" : m.unit(),
-                             tol > 0 ? short_number(err / tol) : "-", paint(verdict == "ok" ? "pass" : verdict == "info" ? "skip" : "fail", verdict));
+    std::cout << fmt::format("  {:<22} {:>14.8g} {:>14.8g} {:>9.3g} {:<3} {:>10.3g} {:<5} {:>9}  {}\n",
+                             is_head ? name + " *" : name, m.expected(), m.measured(), err, rel ? "rel" : "abs", tol,
+                             rel ? "1" : m.unit(), tol > 0 ? short_number(err / tol) : "-",
+                             paint(verdict == "ok"     ? "pass"
+                                   : verdict == "info" ? "skip"
+                                                       : "fail",
+                                   verdict));
   }
   if (!head.empty()) std::cout << fmt::format("  * the headline: {}\n", scenario->headline.label);
 }
@@ -115,8 +129,10 @@ int run_one(const SuitePlan& plan, const RunnerDef& runner, bool json, const std
   throw_if_interrupted(during);
   const nlohmann::json& r = records.at(0);
   if (r.value("input_error", false)) throw InputError(r["message"].get<std::string>());
-  if (json) std::cout << r.dump() << "\n";
-  else print_record(r);
+  if (json)
+    std::cout << r.dump() << "\n";
+  else
+    print_record(r);
   return r["as_expected"].get<bool>() ? 0 : 1;
 }
 

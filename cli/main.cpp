@@ -16,7 +16,7 @@
 #include <fmt/ranges.h>
 #include "input/params.hpp"  // InputError
 #include "input/suggest.hpp"
-#include "input/trace.hpp"   // printable: a message stays one line, whatever names it holds
+#include "input/trace.hpp"  // printable: a message stays one line, whatever names it holds
 #include "liftcheck_version.hpp"
 
 using namespace liftcheck;
@@ -32,7 +32,8 @@ std::string suggestion(const CLI::App& app, int argc, char** argv) {
   if (first_at >= argc) return "";
   const std::string first = argv[first_at];
   std::vector<std::string> names;
-  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; })) names.push_back(sub->get_name());
+  for (const CLI::App* sub : app.get_subcommands([](const CLI::App*) { return true; }))
+    names.push_back(sub->get_name());
   const CLI::App* sub = nullptr;
   for (const CLI::App* s : app.get_subcommands([](const CLI::App*) { return true; }))
     if (s->get_name() == first) sub = s;
@@ -70,8 +71,10 @@ void engine_dirs_from_args(int argc, char** argv) {
   std::vector<std::string> dirs;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--engine-dir" && i + 1 < argc) dirs.push_back(argv[++i]);
-    else if (a.rfind("--engine-dir=", 0) == 0) dirs.push_back(a.substr(13));
+    if (a == "--engine-dir" && i + 1 < argc)
+      dirs.push_back(argv[++i]);
+    else if (a.rfind("--engine-dir=", 0) == 0)
+      dirs.push_back(a.substr(13));
   }
   if (const char* old = std::getenv("LIFTCHECK_ENGINE_PATH"); old && *old) {
     std::stringstream ss(old);
@@ -97,16 +100,18 @@ int help_or_version(const CLI::App& app, const CLI::Error& e) {
 
 int main(int argc, char** argv) {
   engine_dirs_from_args(argc, argv);
-  CLI::App app{"liftcheck: validates physics engines against exact kinematics (rolling without slipping, "
-               "reaction mechanisms)"};
+  CLI::App app{
+      "liftcheck: validates physics engines against exact kinematics (rolling without slipping, "
+      "reaction mechanisms)"};
   app.require_subcommand(1);
-  app.fallthrough();  // --engine-dir after the subcommand
+  app.fallthrough();                         // --engine-dir after the subcommand
   std::vector<std::string> engine_dir_args;  // read before parsing (engine_dirs_from_args)
-  app.add_option("--engine-dir", engine_dir_args, "a folder of outside engine registrations, NAME.json (docs/protocol.md; also LIFTCHECK_ENGINE_PATH)");
+  app.add_option("--engine-dir", engine_dir_args,
+                 "a folder of outside engine registrations, NAME.json (docs/protocol.md; also LIFTCHECK_ENGINE_PATH)");
   app.set_version_flag("--version", std::string(LIFTCHECK_VERSION_STRING));
-  const std::vector<Command> commands = {add_list(app), add_engines(app), add_run(app),   add_validate(app), add_merge(app),
-                                         add_worker(app), add_path(app),  add_score(app), add_diff(app), add_report(app),
-                                         add_serve(app), add_explain(app)};
+  const std::vector<Command> commands = {add_list(app),  add_engines(app), add_run(app),   add_validate(app),
+                                         add_merge(app), add_worker(app),  add_path(app),  add_score(app),
+                                         add_diff(app),  add_report(app),  add_serve(app), add_explain(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {
@@ -116,7 +121,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::CallForVersion& e) {
     return help_or_version(app, e);
   } catch (const CLI::ParseError& e) {
-    std::cerr << "liftcheck: error: " << printable(e.what(), 2000) << printable(suggestion(app, argc, argv), 2000) << "\n";
+    std::cerr << "liftcheck: error: " << printable(e.what(), 2000) << printable(suggestion(app, argc, argv), 2000)
+              << "\n";
     return 2;
   }
   try {
@@ -128,7 +134,8 @@ int main(int argc, char** argv) {
       return stdout_written() ? status : 2;
     }
   } catch (const Interrupted& e) {
-    std::cerr << fmt::format("liftcheck: interrupted by {}: {}; the previous outputs are left as they were\n", strsignal(e.sig), printable(e.what(), 2000));
+    std::cerr << fmt::format("liftcheck: interrupted by {}: {}; the previous outputs are left as they were\n",
+                             strsignal(e.sig), printable(e.what(), 2000));
     return 128 + e.sig;
   } catch (const InputError& e) {
     std::cerr << "liftcheck: error: " << printable(e.what(), 2000) << "\n";

@@ -26,11 +26,13 @@ const nlohmann::json& field(const nlohmann::json& j, const std::string& file, co
   for (size_t from = 0; from <= path.size();) {
     const size_t dot = std::min(path.find('.', from), path.size());
     const std::string key = path.substr(from, dot - from);
-    if (!at->is_object() || !at->contains(key)) throw InputError(fmt::format("'{}' is not a shard's results: no '{}' (run validate --shard I/N)", file, path));
+    if (!at->is_object() || !at->contains(key))
+      throw InputError(fmt::format("'{}' is not a shard's results: no '{}' (run validate --shard I/N)", file, path));
     at = &(*at)[key];
     from = dot + 1;
   }
-  if (!((*at).*is)()) throw InputError(fmt::format("'{}': '{}' must be {}, not {}", file, path, want, printable(at->dump(), 60)));
+  if (!((*at).*is)())
+    throw InputError(fmt::format("'{}': '{}' must be {}, not {}", file, path, want, printable(at->dump(), 60)));
   return *at;
 }
 
@@ -43,22 +45,28 @@ void check_shard(const nlohmann::json& j, const std::string& file) {
       throw InputError(fmt::format("'{}': 'shard.{}' must be from 1 to {}, not {}", file, k, kMaxShards, n.dump()));
   }
   if (j["shard"]["index"].get<long>() > j["shard"]["total"].get<long>())
-    throw InputError(fmt::format("'{}': 'shard.index' {} is beyond 'shard.total' {}", file, j["shard"]["index"].dump(), j["shard"]["total"].dump()));
-  for (const char* k : {"version", "commit"}) field(j, file, fmt::format("context.liftcheck.{}", k), "a string", &J::is_string);
+    throw InputError(fmt::format("'{}': 'shard.index' {} is beyond 'shard.total' {}", file, j["shard"]["index"].dump(),
+                                 j["shard"]["total"].dump()));
+  for (const char* k : {"version", "commit"})
+    field(j, file, fmt::format("context.liftcheck.{}", k), "a string", &J::is_string);
   field(j, file, "context.set", "an object", &J::is_object);
   for (const char* k : {"engines", "filter", "set"})
     for (const J& v : field(j, file, fmt::format("plan.selection.{}", k), "an array of strings", &J::is_array))
-      if (!v.is_string()) throw InputError(fmt::format("'{}': 'plan.selection.{}' must be an array of strings", file, k));
+      if (!v.is_string())
+        throw InputError(fmt::format("'{}': 'plan.selection.{}' must be an array of strings", file, k));
   field(j, file, "plan.selection.sweeps", "true or false", &J::is_boolean);
-  if (j["plan"]["selection"].contains("all_points")) field(j, file, "plan.selection.all_points", "true or false", &J::is_boolean);
-  if (j["plan"]["selection"].contains("timeout_s")) field(j, file, "plan.selection.timeout_s", "a number", &J::is_number);
+  if (j["plan"]["selection"].contains("all_points"))
+    field(j, file, "plan.selection.all_points", "true or false", &J::is_boolean);
+  if (j["plan"]["selection"].contains("timeout_s"))
+    field(j, file, "plan.selection.timeout_s", "a number", &J::is_number);
   for (const J& v : field(j, file, "plan.keys", "an array of strings", &J::is_array))
     if (!v.is_string()) throw InputError(fmt::format("'{}': 'plan.keys' must be an array of strings", file));
   for (const char* k : {"wall_s", "runs_s", "points_s"})
     if (j["context"].contains(k)) field(j, file, fmt::format("context.{}", k), "a number", &J::is_number);
   if (j["context"].contains("jobs")) field(j, file, "context.jobs", "a whole number", &J::is_number_integer);
   for (const auto& [key, r] : field(j, file, "points", "an object", &J::is_object).items())
-    if (!r.is_object()) throw InputError(fmt::format("'{}': point '{}' must be a record (an object)", file, printable(key, 80)));
+    if (!r.is_object())
+      throw InputError(fmt::format("'{}': point '{}' must be a record (an object)", file, printable(key, 80)));
 }
 
 /// Every folder's results.json, each a shard's.
@@ -79,16 +87,19 @@ std::vector<nlohmann::json> read_shards(const std::vector<std::string>& dirs) {
 /// the number of shares.
 int check_shards(const std::vector<std::string>& dirs, const std::vector<nlohmann::json>& shards) {
   const auto version = [](const nlohmann::json& j) {
-    return fmt::format("{} ({})", j["context"]["liftcheck"].value("version", "?"), j["context"]["liftcheck"].value("commit", "?"));
+    return fmt::format("{} ({})", j["context"]["liftcheck"].value("version", "?"),
+                       j["context"]["liftcheck"].value("commit", "?"));
   };
   const std::string mine = fmt::format("{} ({})", LIFTCHECK_VERSION, LIFTCHECK_COMMIT);
   long total = 0;
   std::set<long> seen;
   for (size_t k = 0; k < shards.size(); ++k) {
     const auto& j = shards[k];
-    if (version(j) != mine) throw InputError(fmt::format("'{}' was made by liftcheck {}, this is liftcheck {}", dirs[k], version(j), mine));
+    if (version(j) != mine)
+      throw InputError(fmt::format("'{}' was made by liftcheck {}, this is liftcheck {}", dirs[k], version(j), mine));
     if (j["plan"]["selection"] != shards[0]["plan"]["selection"] || j["context"]["set"] != shards[0]["context"]["set"])
-      throw InputError(fmt::format("'{}' ran other settings than '{}': {} against {}", dirs[k], dirs[0], j["plan"]["selection"].dump(), shards[0]["plan"]["selection"].dump()));
+      throw InputError(fmt::format("'{}' ran other settings than '{}': {} against {}", dirs[k], dirs[0],
+                                   j["plan"]["selection"].dump(), shards[0]["plan"]["selection"].dump()));
     const long i = j["shard"]["index"].get<long>(), n = j["shard"]["total"].get<long>();
     if (k == 0) total = n;
     if (n != total) throw InputError(fmt::format("'{}' is a share of {}, '{}' of {}", dirs[k], n, dirs[0], total));
@@ -124,7 +135,8 @@ int cmd_merge(const std::vector<std::string>& dirs, const OutputOptions& o) {
   const SuitePlan plan = plan_suite(def);
   nlohmann::json keys = nlohmann::json::array();
   for (const SuiteItem& it : plan.items) keys.push_back(it.key);
-  if (keys != shards[0]["plan"]["keys"]) throw InputError(fmt::format("'{}' was planned with another catalogue than this liftcheck's", dirs[0]));
+  if (keys != shards[0]["plan"]["keys"])
+    throw InputError(fmt::format("'{}' was planned with another catalogue than this liftcheck's", dirs[0]));
   std::map<std::string, nlohmann::json> by_key;
   double wall = 0.0, runs_s = 0.0, points_s = 0.0;
   for (auto& j : shards) {
@@ -162,7 +174,8 @@ Command add_merge(CLI::App& app) {
     bool no_report = false;
   };
   auto m = std::make_shared<Options>();
-  auto* merge = app.add_subcommand("merge", "join the output folders of validate --shard I/N into one suite (results, JUnit, summary, report)");
+  auto* merge = app.add_subcommand(
+      "merge", "join the output folders of validate --shard I/N into one suite (results, JUnit, summary, report)");
   merge->add_option("dirs", m->dirs, "every shard's output folder")->required();
   merge->add_option("--out", m->out.out_dir, "output folder")->capture_default_str();
   merge->add_option("--baseline", m->out.baseline_path, "compare the merged runs with this baseline");
@@ -174,7 +187,8 @@ Command add_merge(CLI::App& app) {
               return cmd_merge(m->dirs, m->out);
             } catch (const nlohmann::json::exception& e) {
               // A record in a shard that the checks above do not cover: the shards are bad input.
-              throw InputError(fmt::format("the shards do not hold the records of validate --shard: {}", printable(e.what(), 300)));
+              throw InputError(
+                  fmt::format("the shards do not hold the records of validate --shard: {}", printable(e.what(), 300)));
             }
           }};
 }

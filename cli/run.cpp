@@ -11,8 +11,8 @@ namespace liftcheck::cli {
 
 namespace {
 
-int cmd_run(const std::string& scenario, const std::string& engine, const std::vector<std::string>& sets, bool json, double timeout_s,
-            double memory_limit_mib) {
+int cmd_run(const std::string& scenario, const std::string& engine, const std::vector<std::string>& sets, bool json,
+            double timeout_s, double memory_limit_mib) {
   const Scenario& s = scenario_or_throw(scenario);
   const RunnerDef runner = runner_def(1, timeout_s, memory_limit_mib);
   const EngineInfo& e = engine_or_throw(engine);
@@ -42,8 +42,12 @@ Command add_run(CLI::App& app) {
   run->add_option("--engine", o->engine, "engine configuration (see 'liftcheck engines')")->capture_default_str();
   run->add_option("--set", o->sets, "override a parameter, KEY=VALUE (repeatable)")->allow_extra_args(false);
   run->add_flag("--json", o->json, "print the run record as one JSON object");
-  run->add_option("--timeout", o->timeout_s, "limit of the run's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
-  run->add_option("--memory-limit", o->memory_limit_mib, "limit of the worker process's address space in MiB: a run that needs more is an error")->capture_default_str();
+  run->add_option("--timeout", o->timeout_s,
+                  "limit of the run's own CPU time in seconds: beyond it the engine is stopped and the run is an error")
+      ->capture_default_str();
+  run->add_option("--memory-limit", o->memory_limit_mib,
+                  "limit of the worker process's address space in MiB: a run that needs more is an error")
+      ->capture_default_str();
   return {run, [o] { return cmd_run(o->scenario, o->engine, o->sets, o->json, o->timeout_s, o->memory_limit_mib); }};
 }
 

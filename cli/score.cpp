@@ -10,10 +10,11 @@ namespace liftcheck::cli {
 
 namespace {
 
-int cmd_score(const std::string& scenario, const std::string& trace_file, const std::vector<std::string>& sets, const std::string& name,
-              bool json) {
+int cmd_score(const std::string& scenario, const std::string& trace_file, const std::vector<std::string>& sets,
+              const std::string& name, bool json) {
   const Scenario& s = scenario_or_throw(scenario);
-  if (name.empty() || find_engine(name)) throw InputError(fmt::format("--name '{}' must be new (not a built-in configuration)", printable(name)));
+  if (name.empty() || find_engine(name))
+    throw InputError(fmt::format("--name '{}' must be new (not a built-in configuration)", printable(name)));
   const Overrides ov = overrides_or_throw(sets, s, nullptr);
   // Read and checked here (a bad trace is exit 2 at once), scored in a worker like every run: an
   // interruption stops it, the time limit holds.
@@ -37,8 +38,12 @@ Command add_score(CLI::App& app) {
   auto o = std::make_shared<Options>();
   auto* score = app.add_subcommand("score", "score a simulator's trace of a scenario exactly as an engine run");
   score->add_option("scenario", o->scenario, "scenario name (see 'liftcheck list')")->required();
-  score->add_option("--trace", o->trace_file, "CSV with a header t,alpha,beta,x,y,phi (cars) or t,cMx,cMy,cNx,cNy (disks), or JSON")->required();
-  score->add_option("--set", o->sets, "override a parameter, KEY=VALUE (repeatable), as given to 'liftcheck path'")->allow_extra_args(false);
+  score
+      ->add_option("--trace", o->trace_file,
+                   "CSV with a header t,alpha,beta,x,y,phi (cars) or t,cMx,cMy,cNx,cNy (disks), or JSON")
+      ->required();
+  score->add_option("--set", o->sets, "override a parameter, KEY=VALUE (repeatable), as given to 'liftcheck path'")
+      ->allow_extra_args(false);
   score->add_option("--name", o->name, "the configuration name in the record")->capture_default_str();
   score->add_flag("--json", o->json, "print the run record as one JSON object");
   return {score, [o] { return cmd_score(o->scenario, o->trace_file, o->sets, o->name, o->json); }};

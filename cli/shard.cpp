@@ -28,7 +28,8 @@ std::pair<int, int> parse_shard(const std::string& text) {
     return {i + 1, n};
   }
   const auto slash = text.find('/');
-  if (slash == std::string::npos) throw InputError(fmt::format("--shard '{}' must be I/N, the I-th of N shares (1 <= I <= N)", text));
+  if (slash == std::string::npos)
+    throw InputError(fmt::format("--shard '{}' must be I/N, the I-th of N shares (1 <= I <= N)", text));
   const int i = number(text.substr(0, slash), "--shard index"), n = number(text.substr(slash + 1), "--shard count");
   if (n < 1 || i < 1 || i > n) throw InputError(fmt::format("--shard '{}' must be I/N with 1 <= I <= N", text));
   return {i, n};

@@ -18,7 +18,7 @@
 #include "input/atomic_file.hpp"
 #include "input/params.hpp"  // InputError
 #include "input/read_file.hpp"
-#include "input/trace.hpp"   // printable
+#include "input/trace.hpp"  // printable
 
 namespace liftcheck::cli {
 
@@ -30,17 +30,20 @@ constexpr const char* kManifestHeader = "liftcheck output manifest 1";
 constexpr std::size_t kMaxManifestBytes = std::size_t{64} << 20;
 constexpr const char* kNewPrefix = ".liftcheck-new-";  ///< a mount point's entries being copied in
 
-bool ends_with(const std::string& s, const std::string& tail) { return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0; }
+bool ends_with(const std::string& s, const std::string& tail) {
+  return s.size() > tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
 
 /// What a liftcheck output folder written before manifests holds, by its results.json (a missing
 /// or unreadable one: only the fixed names): the fixed files, a page per scenario, and the plots,
 /// snapshots and strips its "report" lists. Nothing is taken as liftcheck's by its name's pattern:
 /// a user's notes.html or plots/mine.svg is not among these.
 std::set<std::string> legacy_written(const fs::path& dir) {
-  std::set<std::string> v{"results.json", "junit.xml", "summary.md", "index.html", "screenshot.png", StagedOutput::kMarker,
-                          "plots/plots.gp", "plots/gnuplot.log"};
+  std::set<std::string> v{"results.json",   "junit.xml",           "summary.md",     "index.html",
+                          "screenshot.png", StagedOutput::kMarker, "plots/plots.gp", "plots/gnuplot.log"};
   try {
-    const nlohmann::json r = nlohmann::json::parse(read_text_file(dir / "results.json", std::size_t{512} << 20, "results file"));
+    const nlohmann::json r =
+        nlohmann::json::parse(read_text_file(dir / "results.json", std::size_t{512} << 20, "results file"));
     for (const auto& sc : r.value("scenarios", nlohmann::json::array())) {
       std::string page = sc.value("name", "");
       std::replace(page.begin(), page.end(), '.', '_');
@@ -49,9 +52,9 @@ std::set<std::string> legacy_written(const fs::path& dir) {
     const nlohmann::json report = r.value("report", nlohmann::json::object());
     for (const char* list : {"plots", "snapshots", "strips"})
       for (const auto& item : report.value(list, nlohmann::json::array()))
-        if (item.is_object() && item.contains("file") && item["file"].is_string()) v.insert(item["file"].get<std::string>());
-  } catch (const std::exception&) {
-  }
+        if (item.is_object() && item.contains("file") && item["file"].is_string())
+          v.insert(item["file"].get<std::string>());
+  } catch (const std::exception&) {}
   return v;
 }
 
@@ -61,8 +64,10 @@ bool staged_file(const std::string& rel) {
   if (ends_with(rel, ".tmp")) return staged_file(rel.substr(0, rel.size() - 4));
   if (rel.rfind("snapshots/", 0) == 0) return ends_with(rel, ".png") && rel.find('/', 10) == std::string::npos;
   if (rel.rfind("plots/", 0) == 0)
-    return rel.find('/', 6) == std::string::npos && (ends_with(rel, ".svg") || rel == "plots/plots.gp" || rel == "plots/gnuplot.log");
-  return rel == "results.json" || rel == "junit.xml" || rel == "summary.md" || rel == "screenshot.png" || ends_with(rel, ".html");
+    return rel.find('/', 6) == std::string::npos &&
+           (ends_with(rel, ".svg") || rel == "plots/plots.gp" || rel == "plots/gnuplot.log");
+  return rel == "results.json" || rel == "junit.xml" || rel == "summary.md" || rel == "screenshot.png" ||
+         ends_with(rel, ".html");
 }
 
 /// A folder without a manifest: what in it is not liftcheck's, at any depth, at most `max`. An
@@ -184,8 +189,10 @@ void copy_file_checked(const fs::path& from, const fs::path& to) {
 void copy_tree(const fs::path& from, const fs::path& to) {
   for (auto it = fs::recursive_directory_iterator(from); it != fs::recursive_directory_iterator(); ++it) {
     const fs::path dest = to / it->path().lexically_relative(from);
-    if (it->is_directory()) fs::create_directory(dest);
-    else copy_file_checked(it->path(), dest);
+    if (it->is_directory())
+      fs::create_directory(dest);
+    else
+      copy_file_checked(it->path(), dest);
   }
 }
 
@@ -217,12 +224,15 @@ std::vector<std::string> foreign_entries(const fs::path& dir, std::size_t max) {
     const bool marked = fs::exists(dir / StagedOutput::kMarker, ec) || fs::exists(dir / StagedOutput::kStaging, ec);
     const bool any = fs::directory_iterator(dir, ec) != fs::directory_iterator();
     foreign_without_manifest(dir, max, foreign);
-    if (foreign.empty() && any && !marked && !legacy_results_say_ours(dir)) foreign.push_back("results.json (not liftcheck's)");
+    if (foreign.empty() && any && !marked && !legacy_results_say_ours(dir))
+      foreign.push_back("results.json (not liftcheck's)");
     return foreign;
   }
-  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+  for (auto it = fs::recursive_directory_iterator(dir, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
     const std::string rel = rel_name(*it, dir);
-    if (rel == StagedOutput::kMarker || rel == StagedOutput::kStaging || rel.rfind(kNewPrefix, 0) == 0 || listed.count(rel)) {
+    if (rel == StagedOutput::kMarker || rel == StagedOutput::kStaging || rel.rfind(kNewPrefix, 0) == 0 ||
+        listed.count(rel)) {
       if (rel.rfind(kNewPrefix, 0) == 0) it.disable_recursion_pending();
       continue;
     }
@@ -234,13 +244,15 @@ std::vector<std::string> foreign_entries(const fs::path& dir, std::size_t max) {
   return foreign;
 }
 
-StagedOutput::StagedOutput(const std::string& out_dir, const std::vector<std::pair<std::string, std::string>>& inputs) : out_(out_dir) {
+StagedOutput::StagedOutput(const std::string& out_dir, const std::vector<std::pair<std::string, std::string>>& inputs)
+    : out_(out_dir) {
   if (out_dir.empty()) throw InputError("--out names no folder");
   // A name no file system takes is bad input, named, before anything is looked up or runs.
   for (const fs::path& part : out_)
     if (part.native().size() > NAME_MAX)
-      throw InputError(fmt::format("--out '{}': the name '{}' is {} bytes long, longer than the {} a file name may have", printable(out_dir, 80),
-                                   printable(part.string(), 40), part.native().size(), NAME_MAX));
+      throw InputError(
+          fmt::format("--out '{}': the name '{}' is {} bytes long, longer than the {} a file name may have",
+                      printable(out_dir, 80), printable(part.string(), 40), part.native().size(), NAME_MAX));
   try {
     prepare(out_dir, inputs);
   } catch (const fs::filesystem_error& e) {
@@ -258,8 +270,9 @@ void StagedOutput::prepare(const std::string& out_dir, const std::vector<std::pa
   if (fs::is_symlink(fs::symlink_status(out_, ec))) {
     const fs::path target = fs::read_symlink(out_, ec);
     if (!fs::exists(out_, ec))
-      throw InputError(fmt::format("--out '{}' is a symbolic link to '{}', which does not exist: give an existing folder or a new name",
-                                   printable(out_dir, 200), printable(target.string(), 200)));
+      throw InputError(fmt::format(
+          "--out '{}' is a symbolic link to '{}', which does not exist: give an existing folder or a new name",
+          printable(out_dir, 200), printable(target.string(), 200)));
   }
   out_ = fs::weakly_canonical(fs::absolute(out_));
   if (!out_.has_filename()) out_ = out_.parent_path();
@@ -267,20 +280,24 @@ void StagedOutput::prepare(const std::string& out_dir, const std::vector<std::pa
   const fs::path cwd = fs::weakly_canonical(fs::current_path(ec));
   const auto [o_end, c_it] = std::mismatch(out_.begin(), out_.end(), cwd.begin(), cwd.end());
   if (o_end == out_.end())
-    throw InputError(fmt::format("--out '{}' is the working folder or one above it: give a folder of its own", printable(out_dir, 200)));
+    throw InputError(fmt::format("--out '{}' is the working folder or one above it: give a folder of its own",
+                                 printable(out_dir, 200)));
   for (const auto& [path, what] : inputs) refuse_inside(path, what);
   if (fs::exists(out_, ec)) {
-    if (!fs::is_directory(out_, ec)) throw InputError(fmt::format("--out '{}' is a file, not a folder", printable(out_dir, 200)));
+    if (!fs::is_directory(out_, ec))
+      throw InputError(fmt::format("--out '{}' is a file, not a folder", printable(out_dir, 200)));
     const std::vector<std::string> foreign = foreign_entries(out_);
     if (!foreign.empty()) {
       std::string names;
       for (const auto& f : foreign) names += (names.empty() ? "'" : ", '") + printable(f, 80) + "'";
-      throw InputError(fmt::format("--out '{}' holds files that liftcheck did not write ({}{}): not a liftcheck output folder, left alone",
-                                   printable(out_dir, 200), names, foreign.size() >= 3 ? ", ..." : ""));
+      throw InputError(fmt::format(
+          "--out '{}' holds files that liftcheck did not write ({}{}): not a liftcheck output folder, left alone",
+          printable(out_dir, 200), names, foreign.size() >= 3 ? ", ..." : ""));
     }
   }
   if (!fs::create_directories(out_.parent_path(), ec) && ec)
-    throw InputError(fmt::format("cannot create output folder '{}': {}", printable(out_.parent_path().string(), 200), ec.message()));
+    throw InputError(
+        fmt::format("cannot create output folder '{}': {}", printable(out_.parent_path().string(), 200), ec.message()));
   const std::string prefix = fmt::format(".{}.partial-", short_name(out_.filename().string()));
   remove_stale_stages(out_.parent_path(), prefix);
   // A fresh name: an existing folder is never taken over (nor deleted).
@@ -289,7 +306,8 @@ void StagedOutput::prepare(const std::string& out_dir, const std::vector<std::pa
     throw InputError(fmt::format("cannot create output folder '{}': {}", printable(tmpl, 200), std::strerror(errno)));
   stage_ = tmpl;
   try {
-    write_file_atomic(stage_ / kStaging, fmt::format("liftcheck-staging pid {} start {}\n", getpid(), process_start(getpid())));
+    write_file_atomic(stage_ / kStaging,
+                      fmt::format("liftcheck-staging pid {} start {}\n", getpid(), process_start(getpid())));
   } catch (const std::exception& e) {
     fs::remove_all(stage_, ec);
     throw InputError(fmt::format("cannot create output folder '{}': {}", printable(stage_.string(), 200), e.what()));
@@ -305,8 +323,8 @@ void StagedOutput::refuse_inside(const std::string& path, const std::string& wha
   if (path.empty()) return;
   const fs::path f = fs::weakly_canonical(fs::absolute(path));
   if (std::mismatch(out_.begin(), out_.end(), f.begin(), f.end()).first == out_.end())
-    throw InputError(fmt::format("{} '{}' must not be inside --out '{}': that folder is replaced whole", what, printable(path, 200),
-                                 printable(out_.string(), 200)));
+    throw InputError(fmt::format("{} '{}' must not be inside --out '{}': that folder is replaced whole", what,
+                                 printable(path, 200), printable(out_.string(), 200)));
 }
 
 void StagedOutput::fail_keeping(const std::string& why, bool old_intact) {
@@ -314,15 +332,17 @@ void StagedOutput::fail_keeping(const std::string& why, bool old_intact) {
   keep_stage_ = true;
   std::error_code ec;
   fs::remove(stage_ / kStaging, ec);
-  throw InputError(fmt::format("cannot write '{}': {} ({}the results are kept in '{}')", printable(out_.string(), 200), why,
-                               old_intact ? "the previous output is as it was; " : "", printable(stage_.string(), 200)));
+  throw InputError(fmt::format("cannot write '{}': {} ({}the results are kept in '{}')", printable(out_.string(), 200),
+                               why, old_intact ? "the previous output is as it was; " : "",
+                               printable(stage_.string(), 200)));
 }
 
 void StagedOutput::publish() {
   std::error_code ec;
   // The manifest: every file and folder written, so that the next run knows what is liftcheck's.
   std::string manifest = std::string(kManifestHeader) + "\n";
-  for (auto it = fs::recursive_directory_iterator(stage_, ec); !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+  for (auto it = fs::recursive_directory_iterator(stage_, ec); !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
     const std::string rel = rel_name(*it, stage_);
     if (rel != kStaging && rel != kMarker) manifest += rel + "\n";
   }
@@ -336,8 +356,12 @@ void StagedOutput::publish() {
     if (::rename(stage_.c_str(), out_.c_str()) != 0) fail_keeping(std::strerror(errno));
   } else if (::renameat2(AT_FDCWD, stage_.c_str(), AT_FDCWD, out_.c_str(), RENAME_EXCHANGE) == 0) {
     // stage_ now holds the previous output: removed unless something not liftcheck's got in.
-    if (foreign_entries(stage_, 1).empty()) fs::remove_all(stage_, ec);
-    else std::cerr << fmt::format("liftcheck: the previous output is kept in '{}': it holds files liftcheck did not write\n", printable(stage_.string(), 200));
+    if (foreign_entries(stage_, 1).empty())
+      fs::remove_all(stage_, ec);
+    else
+      std::cerr << fmt::format(
+          "liftcheck: the previous output is kept in '{}': it holds files liftcheck did not write\n",
+          printable(stage_.string(), 200));
   } else if (errno == EBUSY || errno == EXDEV || errno == EINVAL) {
     replace_entries();  // a mount point (or a file system without an atomic exchange)
   } else {
@@ -368,7 +392,8 @@ void StagedOutput::replace_entries() {
   }
   std::vector<fs::path> entries;
   for (const auto& e : fs::directory_iterator(incoming, ec)) entries.push_back(e.path());
-  std::stable_partition(entries.begin(), entries.end(), [](const fs::path& p) { return p.filename() != StagedOutput::kMarker; });
+  std::stable_partition(entries.begin(), entries.end(),
+                        [](const fs::path& p) { return p.filename() != StagedOutput::kMarker; });
   for (const fs::path& p : entries)
     if (::rename(p.c_str(), (out_ / p.filename()).c_str()) != 0)
       fail_keeping(fmt::format("{} (moving the new entries in, the old ones removed)", std::strerror(errno)), false);

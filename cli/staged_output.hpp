@@ -23,7 +23,8 @@ class StagedOutput {
   static constexpr const char* kStaging = ".liftcheck-staging";
 
   /// `inputs` (path, what: "--baseline", "--trace-dir", "shard folder") must not lie inside it.
-  explicit StagedOutput(const std::string& out_dir, const std::vector<std::pair<std::string, std::string>>& inputs = {});
+  explicit StagedOutput(const std::string& out_dir,
+                        const std::vector<std::pair<std::string, std::string>>& inputs = {});
   ~StagedOutput();
   StagedOutput(const StagedOutput&) = delete;
   StagedOutput& operator=(const StagedOutput&) = delete;

@@ -1,6 +1,5 @@
 #include "cli/suite_output.hpp"
 
-
 #include <cstdlib>
 #include <cerrno>
 #include <csignal>
@@ -42,8 +41,11 @@ Gates sweep_gates(const nlohmann::json& results) {
       ++g.total;
       if (entry["gate"]["pass"].get<bool>()) continue;
       ++g.failed;
-      std::cout << fmt::format("FAIL   sweep {} on {}: {}\n", sw["name"].get<std::string>(), printable(entry["engine"].get<std::string>(), 200),
-                               printable(fmt::format("{}", fmt::join(entry["gate"]["problems"].get<std::vector<std::string>>(), "; ")), 1000));
+      std::cout << fmt::format(
+          "FAIL   sweep {} on {}: {}\n", sw["name"].get<std::string>(),
+          printable(entry["engine"].get<std::string>(), 200),
+          printable(fmt::format("{}", fmt::join(entry["gate"]["problems"].get<std::vector<std::string>>(), "; ")),
+                    1000));
     }
   return g;
 }
@@ -52,10 +54,14 @@ Gates sweep_gates(const nlohmann::json& results) {
 /// page, whose artifacts hold the report (GITHUB_SERVER_URL/GITHUB_REPOSITORY/actions/runs/
 /// GITHUB_RUN_ID); otherwise the report beside it. A pull-request comment needs an absolute link.
 std::string report_link() {
-  const auto env = [](const char* k) { const char* v = std::getenv(k); return std::string(v ? v : ""); };
+  const auto env = [](const char* k) {
+    const char* v = std::getenv(k);
+    return std::string(v ? v : "");
+  };
   if (!env("LIFTCHECK_REPORT_URL").empty()) return env("LIFTCHECK_REPORT_URL");
   if (!env("GITHUB_SERVER_URL").empty() && !env("GITHUB_REPOSITORY").empty() && !env("GITHUB_RUN_ID").empty())
-    return fmt::format("{}/{}/actions/runs/{}", env("GITHUB_SERVER_URL"), env("GITHUB_REPOSITORY"), env("GITHUB_RUN_ID"));
+    return fmt::format("{}/{}/actions/runs/{}", env("GITHUB_SERVER_URL"), env("GITHUB_REPOSITORY"),
+                       env("GITHUB_RUN_ID"));
   return "index.html";
 }
 
@@ -65,17 +71,24 @@ constexpr int kRendererOutOfMemory = 4;
 /// The renderer's end as a report error: past its memory limit, or how its process ended.
 std::string renderer_problem(int status, double limit_mib) {
   if (WIFEXITED(status) && WEXITSTATUS(status) == kRendererOutOfMemory)
-    return fmt::format("report: the renderer needed more than its limit of {:g} MiB of address space (--report-memory-limit), stopped; "
-                       "the runs' results are written, the report is not", limit_mib);
-  const std::string how = WIFSIGNALED(status) ? fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
-                                              : fmt::format("exited with status {}", WEXITSTATUS(status));
-  return fmt::format("report: the renderer's process {} (its limit: {:g} MiB of address space); the runs' results are written, the report is not whole",
-                     how, limit_mib);
+    return fmt::format(
+        "report: the renderer needed more than its limit of {:g} MiB of address space (--report-memory-limit), "
+        "stopped; "
+        "the runs' results are written, the report is not",
+        limit_mib);
+  const std::string how = WIFSIGNALED(status)
+                              ? fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
+                              : fmt::format("exited with status {}", WEXITSTATUS(status));
+  return fmt::format(
+      "report: the renderer's process {} (its limit: {:g} MiB of address space); the runs' results are written, the "
+      "report is not whole",
+      how, limit_mib);
 }
 
 /// The renderer's side of the fork: its address space limited, the report written, its index of
 /// files sent back on `fd`. Never returns.
-[[noreturn]] void render_in_child(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def, double limit_mib, int fd) {
+[[noreturn]] void render_in_child(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def,
+                                  double limit_mib, int fd) {
   int status = 0;
   try {
     set_memory_limit(limit_mib);  // as a worker's (none under AddressSanitizer, whose shadow memory needs terabytes)
@@ -91,7 +104,8 @@ std::string renderer_problem(int status, double limit_mib) {
     status = kRendererOutOfMemory;
   } catch (const std::system_error& e) {
     // A thread whose stack cannot be mapped under the limit is the same shortage.
-    const bool memory = e.code() == std::errc::resource_unavailable_try_again || e.code() == std::errc::not_enough_memory;
+    const bool memory =
+        e.code() == std::errc::resource_unavailable_try_again || e.code() == std::errc::not_enough_memory;
     if (!memory) std::cerr << "liftcheck: report: " << e.what() << "\n";
     status = memory ? kRendererOutOfMemory : 3;
   } catch (const std::exception& e) {
@@ -106,9 +120,11 @@ std::string renderer_problem(int status, double limit_mib) {
 /// The report rendered in a child process (fork) under its memory limit: a renderer that crashes
 /// or runs out of memory takes only the child, and the runs' results are written anyway, with the
 /// renderer's end as a report error.
-void write_report_isolated(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def, double limit_mib) {
+void write_report_isolated(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def,
+                           double limit_mib) {
   int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) throw std::runtime_error(fmt::format("cannot create a pipe for the report: {}", std::strerror(errno)));
+  if (::pipe2(fds, O_CLOEXEC) != 0)
+    throw std::runtime_error(fmt::format("cannot create a pipe for the report: {}", std::strerror(errno)));
   std::cout.flush();
   std::fflush(nullptr);
   const pid_t pid = ::fork();
@@ -135,16 +151,18 @@ void write_report_isolated(nlohmann::json& results, const std::filesystem::path&
   }
   ::close(fds[0]);
   int status = 0;
-  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
-  }
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
   throw_if_interrupted("while rendering the report");
   nlohmann::json report = nlohmann::json::parse(text, nullptr, false);
   if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && report.is_object()) {
     results["report"] = std::move(report);
     return;
   }
-  results["report"] = {{"report_s", 0.0}, {"snapshots", nlohmann::json::array()}, {"strips", nlohmann::json::array()},
-                       {"plots", nlohmann::json::array()}, {"errors", {renderer_problem(status, limit_mib)}}};
+  results["report"] = {{"report_s", 0.0},
+                       {"snapshots", nlohmann::json::array()},
+                       {"strips", nlohmann::json::array()},
+                       {"plots", nlohmann::json::array()},
+                       {"errors", {renderer_problem(status, limit_mib)}}};
 }
 
 /// summary.md's and the console's pointer to the report: only to an index.html that was written.
@@ -165,12 +183,16 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
       def.threads = o.threads;
       write_report_isolated(results, out, def, o.report_memory_limit_mib);
       const size_t problems = results["report"]["errors"].size();
-      std::cout << fmt::format("report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", results["report"]["report_s"].get<double>(),
-                               results["report"]["snapshots"].size(), results["report"]["strips"].size(), results["report"]["plots"].size(),
-                               problems == 0 ? "" : fmt::format("; {} problems{}", problems, index_written(out) ? ", see index.html" : ", its pages are not written"));
+      std::cout << fmt::format(
+          "report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", results["report"]["report_s"].get<double>(),
+          results["report"]["snapshots"].size(), results["report"]["strips"].size(), results["report"]["plots"].size(),
+          problems == 0 ? ""
+                        : fmt::format("; {} problems{}", problems,
+                                      index_written(out) ? ", see index.html" : ", its pages are not written"));
     }
     write_file_atomic(out / "junit.xml", junit_xml(results));
-    write_file_atomic(out / "summary.md", summary_markdown(results, o.report && index_written(out) ? report_link() : ""));
+    write_file_atomic(out / "summary.md",
+                      summary_markdown(results, o.report && index_written(out) ? report_link() : ""));
     write_file_atomic(out / "results.json", results.dump(1));
     throw_if_interrupted("while writing the outputs");
     const std::string pending = o.baseline_path + ".new";
@@ -189,8 +211,9 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
     }
     if (o.update_baseline) {
       if (std::rename(pending.c_str(), o.baseline_path.c_str()) != 0 && (std::remove(pending.c_str()), true))
-        throw InputError(fmt::format("cannot write the baseline '{}': {}; the output folder '{}' is written, the baseline is as it was",
-                                     printable(o.baseline_path, 200), std::strerror(errno), printable(staged.final_path().string(), 200)));
+        throw InputError(fmt::format(
+            "cannot write the baseline '{}': {}; the output folder '{}' is written, the baseline is as it was",
+            printable(o.baseline_path, 200), std::strerror(errno), printable(staged.final_path().string(), 200)));
       std::cout << "baseline written: " << printable(o.baseline_path, 200) << "\n";
     }
   } catch (const Interrupted&) {
@@ -211,41 +234,52 @@ void print_simulated(const nlohmann::json& results) {
     for (const auto& [kind, s] : k) out += fmt::format("{}{} {:.1f}", out.empty() ? "" : ", ", kind, s);
     return out;
   };
-  std::cout << fmt::format("simulated time: {:.1f} s in all ({})\n", sim["total_s"].get<double>(), kinds(sim["by_part"]));
+  std::cout << fmt::format("simulated time: {:.1f} s in all ({})\n", sim["total_s"].get<double>(),
+                           kinds(sim["by_part"]));
   for (const auto& [config, c] : sim["by_configuration"].items())
-    std::cout << fmt::format("  {:<18} {:8.1f} s  ({})\n", printable(config, 200), c["total_s"].get<double>(), kinds(c["by_part"]));
+    std::cout << fmt::format("  {:<18} {:8.1f} s  ({})\n", printable(config, 200), c["total_s"].get<double>(),
+                             kinds(c["by_part"]));
 }
 
 /// The last line: the verdict counts and where the results are.
-void print_summary(const nlohmann::json& results, const OutputOptions& o, const Gates& gates, const StagedOutput& staged) {
+void print_summary(const nlohmann::json& results, const OutputOptions& o, const Gates& gates,
+                   const StagedOutput& staged) {
   print_simulated(results);
   const auto& sum = results["summary"];
-  std::cout << fmt::format("{}: {} runs and {} sweep gates, {} unexpected ({} pass, {} known failures, {} unexpected passes, {} fail, "
-                           "{} error, {} skip; {} sweep gates failed); {}\n",
-                           results.contains("shard") ? fmt::format("shard {}/{}", results["shard"]["index"].get<int>(), results["shard"]["total"].get<int>()) : "validate",
-                           sum["total"].get<int>(), gates.total, sum["unexpected"].get<int>(), sum["pass"].get<int>(), sum["known failure"].get<int>(),
-                           sum["unexpected pass"].get<int>(), sum["fail"].get<int>(), sum["error"].get<int>(), sum["skip"].get<int>(), gates.failed,
-                           printable(o.report && index_written(staged.final_path()) ? "report: " + (staged.final_path() / "index.html").string()
-                                                                                     : "results: " + (staged.final_path() / "results.json").string(), 300));
+  std::cout << fmt::format(
+      "{}: {} runs and {} sweep gates, {} unexpected ({} pass, {} known failures, {} unexpected passes, {} fail, "
+      "{} error, {} skip; {} sweep gates failed); {}\n",
+      results.contains("shard")
+          ? fmt::format("shard {}/{}", results["shard"]["index"].get<int>(), results["shard"]["total"].get<int>())
+          : "validate",
+      sum["total"].get<int>(), gates.total, sum["unexpected"].get<int>(), sum["pass"].get<int>(),
+      sum["known failure"].get<int>(), sum["unexpected pass"].get<int>(), sum["fail"].get<int>(),
+      sum["error"].get<int>(), sum["skip"].get<int>(), gates.failed,
+      printable(o.report && index_written(staged.final_path())
+                    ? "report: " + (staged.final_path() / "index.html").string()
+                    : "results: " + (staged.final_path() / "results.json").string(),
+                300));
 }
 
 }  // namespace
 
 void add_report_memory_option(CLI::App* cmd, OutputOptions& o) {
-  cmd->add_option("--report-memory-limit", o.report_memory_limit_mib,
-                  "limit of the report renderer's address space in MiB: past it the report is an error, the results are written")
+  cmd->add_option(
+         "--report-memory-limit", o.report_memory_limit_mib,
+         "limit of the report renderer's address space in MiB: past it the report is an error, the results are written")
       ->capture_default_str()
       ->check([](const std::string& v) {
         double mib = 0.0;
         try {
           mib = std::stod(v);
-        } catch (const std::exception&) {
-        }
-        return mib >= 64.0 && std::isfinite(mib) ? std::string() : fmt::format("--report-memory-limit {} must be at least 64 MiB", v);
+        } catch (const std::exception&) {}
+        return mib >= 64.0 && std::isfinite(mib) ? std::string()
+                                                 : fmt::format("--report-memory-limit {} must be at least 64 MiB", v);
       });
 }
 
-int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann::json& baseline, StagedOutput& staged) {
+int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann::json& baseline,
+                 StagedOutput& staged) {
   bool all_pass = results["summary"]["unexpected"].get<int>() == 0;
   const Gates gates = sweep_gates(results);
   all_pass = all_pass && gates.failed == 0;
@@ -268,7 +302,8 @@ int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann
     }
   print_summary(results, o, gates, staged);
   if (report_problems > 0)
-    std::cout << fmt::format("the report has {} problems (listed above{})\n", report_problems, index_written(staged.final_path()) ? " and in index.html" : "");
+    std::cout << fmt::format("the report has {} problems (listed above{})\n", report_problems,
+                             index_written(staged.final_path()) ? " and in index.html" : "");
   return all_pass && report_problems == 0 ? 0 : 1;
 }
 
@@ -278,7 +313,8 @@ int render_again(nlohmann::json& results, const OutputOptions& o, StagedOutput& 
   gates.total = results["summary"].value("sweep_gates", 0);
   gates.failed = results["summary"].value("sweep_gates_failed", 0);
   print_summary(results, o, gates, staged);
-  return results["summary"].value("unexpected", 0) == 0 && results["summary"].value("baseline_problems", 0) == 0 ? 0 : 1;
+  return results["summary"].value("unexpected", 0) == 0 && results["summary"].value("baseline_problems", 0) == 0 ? 0
+                                                                                                                 : 1;
 }
 
 }  // namespace liftcheck::cli

@@ -19,11 +19,16 @@ inline bool stdout_in_colour() {
 inline std::string paint(const std::string& verdict, std::string text, std::size_t width = 0) {
   if (text.size() < width) text.append(width - text.size(), ' ');
   if (!stdout_in_colour()) return text;
-  const char* code = verdict == "pass" ? "32" : verdict == "known failure" ? "36" : verdict == "error" ? "33"
-                     : verdict == "skip" ? "2" : "1;31";
+  const char* code = verdict == "pass"            ? "32"
+                     : verdict == "known failure" ? "36"
+                     : verdict == "error"         ? "33"
+                     : verdict == "skip"          ? "2"
+                                                  : "1;31";
   return std::string("\033[") + code + "m" + text + "\033[0m";
 }
 
-inline std::string coloured_verdict(const std::string& verdict, std::size_t width = 0) { return paint(verdict, verdict, width); }
+inline std::string coloured_verdict(const std::string& verdict, std::size_t width = 0) {
+  return paint(verdict, verdict, width);
+}
 
 }  // namespace liftcheck::cli

@@ -56,8 +56,10 @@ struct Ran {
 /// A run's line: its verdict, scenario, configuration, engine seconds and message.
 void print_run_line(const nlohmann::json& r) {
   const bool known = r["expectation"].is_object() && r["as_expected"].get<bool>();
-  std::cout << fmt::format("{} {:<22} {:<16} {:8.3f} s  {}{}\n", coloured_verdict(r["verdict"].get<std::string>(), 15), printable(r["scenario"].get<std::string>(), 200),
-                           printable(r["engine"].get<std::string>(), 200), r["wall_s"].get<double>(), printable(r["message"].get<std::string>(), 1000),
+  std::cout << fmt::format("{} {:<22} {:<16} {:8.3f} s  {}{}\n", coloured_verdict(r["verdict"].get<std::string>(), 15),
+                           printable(r["scenario"].get<std::string>(), 200),
+                           printable(r["engine"].get<std::string>(), 200), r["wall_s"].get<double>(),
+                           printable(r["message"].get<std::string>(), 1000),
                            known ? fmt::format(" (known: {})", r["expectation"]["reason"].get<std::string>()) : "");
 }
 
@@ -69,7 +71,9 @@ void warn_if_outside_suite_is_the_source_trees(const std::vector<const EngineInf
   const std::string dir = default_suite_dir();
   for (const EngineInfo* e : engines)
     if (!e->outside.registration.empty() && e->outside.registration.rfind(dir, 0) == 0) {
-      std::cerr << fmt::format("liftcheck: note: no outside/suite beside the binary; the outside configurations run the adapters in {}\n", dir);
+      std::cerr << fmt::format(
+          "liftcheck: note: no outside/suite beside the binary; the outside configurations run the adapters in {}\n",
+          dir);
       return;
     }
 }
@@ -102,8 +106,8 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
 }
 
 /// A share: its runs and the records of its points, which merge assembles with the others'.
-nlohmann::json shard_results(const SuitePlan& plan, const std::vector<size_t>& which, const Ran& ran, const nlohmann::json& context,
-                             int shard_index, int shard_total) {
+nlohmann::json shard_results(const SuitePlan& plan, const std::vector<size_t>& which, const Ran& ran,
+                             const nlohmann::json& context, int shard_index, int shard_total) {
   nlohmann::json runs = nlohmann::json::array(), points = nlohmann::json::object();
   // Its items and the runs that judged their drives, in plan order (ran.by_key holds exactly those).
   for (const SuiteItem& it : plan.items) {
@@ -121,8 +125,9 @@ nlohmann::json shard_results(const SuitePlan& plan, const std::vector<size_t>& w
   results["points"] = points;
   results["scenarios"] = nlohmann::json::array();
   for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
-  std::cout << fmt::format("shard {}/{}: {} of {} runs and points ({} sweep, outcome and map points; their gates are judged at merge)\n",
-                           shard_index, shard_total, which.size(), plan.items.size(), points.size());
+  std::cout << fmt::format(
+      "shard {}/{}: {} of {} runs and points ({} sweep, outcome and map points; their gates are judged at merge)\n",
+      shard_index, shard_total, which.size(), plan.items.size(), points.size());
   return results;
 }
 
@@ -145,7 +150,8 @@ int cmd_validate(const ValidateOptions& v) {
   const SuitePlan plan = plan_suite(def);
   StagedOutput staged(o.out_dir, {{o.baseline_path, "--baseline"}, {v.trace_dir, "--trace-dir"}});
 
-  const std::vector<size_t> which = shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
+  const std::vector<size_t> which =
+      shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
   warn_if_outside_suite_is_the_source_trees(listed);
   Ran ran = run_share(plan, which, runner);
   const nlohmann::json context = suite_context(listed, ran.timing, runner, def.set);
@@ -160,21 +166,44 @@ Command add_validate(CLI::App& app) {
   auto v = std::make_shared<ValidateOptions>();
   v->jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   auto* validate = app.add_subcommand("validate", "run every scenario on every engine and write the report");
-  validate->add_option("--engines", v->engine_list, "comma-separated engine configurations (default: all; see 'liftcheck engines')");
-  validate->add_option("--filter", v->filter, "glob on scenario names (comma-separated globs: any may match)")->capture_default_str();
+  validate->add_option("--engines", v->engine_list,
+                       "comma-separated engine configurations (default: all; see 'liftcheck engines')");
+  validate->add_option("--filter", v->filter, "glob on scenario names (comma-separated globs: any may match)")
+      ->capture_default_str();
   validate->add_option("--out", v->out.out_dir, "output folder")->capture_default_str();
-  validate->add_option("--baseline", v->out.baseline_path, "compare the runs made with this baseline (reports/baselines/default.json): a regression or a metric grown tenfold exits 1");
-  validate->add_flag("--update-baseline", v->out.update_baseline, "rewrite the --baseline file from this run instead of comparing");
-  validate->add_option("--set", v->sets, "KEY=VALUE for every run whose scenario has that parameter or whose configuration has that setting (repeatable; the sweeps keep their own values)")->allow_extra_args(false);
-  validate->add_option("--trace-dir", v->trace_dir, "score every SCENARIO.csv (or .json) in this folder as a run of the configuration named after it");
+  validate->add_option("--baseline", v->out.baseline_path,
+                       "compare the runs made with this baseline (data/baselines/default.json): a regression or a "
+                       "metric grown tenfold exits 1");
+  validate->add_flag("--update-baseline", v->out.update_baseline,
+                     "rewrite the --baseline file from this run instead of comparing");
+  validate
+      ->add_option("--set", v->sets,
+                   "KEY=VALUE for every run whose scenario has that parameter or whose configuration has that setting "
+                   "(repeatable; the sweeps keep their own values)")
+      ->allow_extra_args(false);
+  validate->add_option(
+      "--trace-dir", v->trace_dir,
+      "score every SCENARIO.csv (or .json) in this folder as a run of the configuration named after it");
   validate->add_flag("--no-sweeps", v->no_sweeps, "skip the parameter sweeps");
-  validate->add_flag("--all-points", v->all_points, "run the parameter sweeps, the outcome grid and the map's axes also on the configurations registered for fewer points (\"points\": \"map\" or \"runs\")");
+  validate->add_flag("--all-points", v->all_points,
+                     "run the parameter sweeps, the outcome grid and the map's axes also on the configurations "
+                     "registered for fewer points (\"points\": \"map\" or \"runs\")");
   validate->add_flag("--no-report", v->no_report, "write results.json only (no snapshots, plots or HTML)");
   validate->add_option("--jobs,-j", v->jobs, "runs at once (default: the number of cores)")->capture_default_str();
-  validate->add_option("--timeout", v->timeout_s, "limit of each run's or sweep point's own CPU time in seconds: beyond it the engine is stopped and the run is an error")->capture_default_str();
-  validate->add_option("--memory-limit", v->memory_limit_mib, "limit of each worker process's address space in MiB: a run that needs more is an error, the suite goes on")->capture_default_str();
+  validate
+      ->add_option("--timeout", v->timeout_s,
+                   "limit of each run's or sweep point's own CPU time in seconds: beyond it the engine is stopped and "
+                   "the run is an error")
+      ->capture_default_str();
+  validate
+      ->add_option(
+          "--memory-limit", v->memory_limit_mib,
+          "limit of each worker process's address space in MiB: a run that needs more is an error, the suite goes on")
+      ->capture_default_str();
   add_report_memory_option(validate, v->out);
-  validate->add_option("--shard", v->shard, "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");
+  validate->add_option("--shard", v->shard,
+                       "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: "
+                       "GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");
   return {validate, [v] {
             v->out.report = !v->no_report;
             return cmd_validate(*v);

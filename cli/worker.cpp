@@ -12,11 +12,13 @@ namespace liftcheck::cli {
 Command add_worker(CLI::App& app) {
   auto* worker = app.add_subcommand("worker", "");
   worker->group("");
-  return {worker, [] {
+  return {worker,
+          [] {
             // The run's --timeout, from the liftcheck that started this worker (cli/lookup.cpp).
             if (const char* t = std::getenv("LIFTCHECK_RUN_TIMEOUT_S")) set_protocol_timeout(std::strtod(t, nullptr));
             return worker_main();
-          }, false};
+          },
+          false};
 }
 
 }  // namespace liftcheck::cli

@@ -19,11 +19,16 @@ std::vector<Vehicle> vehicles_of(const EngineInfo& e) {
 
 std::string lack_text(Lack lack, const Needs& needs) {
   switch (lack) {
-    case Lack::kNothing: return "";
-    case Lack::kFourWheels: return "has no four-wheel car (wheels=4): it builds the tricycle only";
-    case Lack::kVehicle: return needs.vehicle == Vehicle::kCar ? "has no car" : "has no two-disk vehicles";
-    case Lack::kContactDynamics: return "simulates no contact forces";
-    case Lack::kRawCar: return "has no raw loop (EngineInfo::make_raw_car)";
+    case Lack::kNothing:
+      return "";
+    case Lack::kFourWheels:
+      return "has no four-wheel car (wheels=4): it builds the tricycle only";
+    case Lack::kVehicle:
+      return needs.vehicle == Vehicle::kCar ? "has no car" : "has no two-disk vehicles";
+    case Lack::kContactDynamics:
+      return "simulates no contact forces";
+    case Lack::kRawCar:
+      return "has no raw loop (EngineInfo::make_raw_car)";
   }
   return "";
 }

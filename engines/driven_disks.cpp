@@ -57,7 +57,8 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     // much shorter than dt is left out (a contact's push-out over it is no speed).
     const double runaway_mps = std::max(kRunawaySpeed_mps, kRunawayFactor * fastest_commanded_mps);
     if (const double v = (s.cM - cM_before).norm() / h; h >= 0.5 * dt && !(v <= runaway_mps))
-      throw EngineError(fmt::format("disk M speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {:g} m/s)", v, t + h, runaway_mps));
+      throw EngineError(
+          fmt::format("disk M speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {:g} m/s)", v, t + h, runaway_mps));
     const double d1 = (s.cM - s.cN).norm();
     r.min_distance = std::min(r.min_distance, d1);
     // Free: the engine's actuation and integrator alone moved M. The step in which a contact the
@@ -65,7 +66,8 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     // contact's, not free motion; a speculative contact that slows M before that is counted.
     const bool stopped_at_touch = c.count > 0 && !(d1 - touch > touching_distance_m());
     if (!r.t_contact_s) {
-      if (const double e = ((s.cM - cM_before) - vM_cmd * h).norm(); !stopped_at_touch && e > log.step_displacement_error_max_m)
+      if (const double e = ((s.cM - cM_before) - vM_cmd * h).norm();
+          !stopped_at_touch && e > log.step_displacement_error_max_m)
         log.step_displacement_error_max_m = e, log.step_displacement_error_at_s = t;
     } else if (!r.t_release_s && d1 - touch > separation_m) {
       r.t_release_s = t + h;

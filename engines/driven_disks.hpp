@@ -33,7 +33,8 @@ class DrivenDisks : public DiskEngine {
   virtual void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) = 0;
   /// One engine step of dt_s from the current state: M's actuation tracks vM_cmd, N moves to
   /// cN_next (velocity vN), collision detection runs on the state at the start of the step.
-  virtual StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt_s) = 0;
+  virtual StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN,
+                            double dt_s) = 0;
   virtual State read() const = 0;
   /// A step's contacts touch when their smallest reported distance is at most this (an engine
   /// that reports distances stores positions with a rounding of about this much).

@@ -41,15 +41,15 @@ struct OutsideEngine {
 };
 
 struct EngineInfo {
-  std::string name;          ///< configuration name, the run target ("ode-quick")
-  std::string library;       ///< the engine it configures ("ODE"), for grouping
+  std::string name;     ///< configuration name, the run target ("ode-quick")
+  std::string library;  ///< the engine it configures ("ODE"), for grouping
   std::string version;
   std::string description;
-  std::string color;         ///< "#rrggbb": its traces in every plot and snapshot
+  std::string color;  ///< "#rrggbb": its traces in every plot and snapshot
   /// The exact model every other target is compared with (sweeps, outcome maps): tolerances
   /// for the reference are those of TolRole::kReference in the scenario data.
   bool is_reference = false;
-  std::function<std::unique_ptr<CarEngine>(const Settings&)> make_car;  ///< empty: the engine has no car
+  std::function<std::unique_ptr<CarEngine>(const Settings&)> make_car;     ///< empty: the engine has no car
   std::function<std::unique_ptr<DiskEngine>(const Settings&)> make_disks;  ///< empty: no two-disk vehicles
   /// Simulates contact forces with friction, so wheels can slip (the analytic model cannot).
   bool contact_dynamics = false;
@@ -78,15 +78,16 @@ struct EngineInfo {
 
 /// The settings of `engine` for `vehicle`: its knobs' defaults, overridden by `overrides` (each
 /// key one of those knobs), validated as scenario parameters are (InputError naming the setting).
-Settings resolve_settings(const EngineInfo& engine, Vehicle vehicle, const Overrides& overrides, const std::string& scenario);
+Settings resolve_settings(const EngineInfo& engine, Vehicle vehicle, const Overrides& overrides,
+                          const std::string& scenario);
 
 /// What a run asks of a configuration, and the first thing a configuration lacks of it (checked in
 /// this order). The runner, the conformance suite and the benchmark all ask `lacks`.
 struct Needs {
   Vehicle vehicle = Vehicle::kCar;  ///< make_car or make_disks
-  bool four_wheels = false;       ///< a four-wheel car (wheels=4)
-  bool contact_dynamics = false;  ///< contact forces with friction (the negative controls)
-  bool raw_car = false;           ///< the benchmark's raw loop
+  bool four_wheels = false;         ///< a four-wheel car (wheels=4)
+  bool contact_dynamics = false;    ///< contact forces with friction (the negative controls)
+  bool raw_car = false;             ///< the benchmark's raw loop
 };
 enum class Lack { kNothing, kFourWheels, kVehicle, kContactDynamics, kRawCar };
 Lack lacks(const EngineInfo& e, const Needs& needs);

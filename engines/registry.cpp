@@ -71,15 +71,18 @@ double bookkeeping_factor(const std::string& precision) {
 
 Settings EngineInfo::defaults(Vehicle vehicle) const { return resolve_settings(*this, vehicle, {}, name); }
 
-Settings resolve_settings(const EngineInfo& engine, Vehicle vehicle, const Overrides& overrides, const std::string& scenario) {
+Settings resolve_settings(const EngineInfo& engine, Vehicle vehicle, const Overrides& overrides,
+                          const std::string& scenario) {
   std::vector<ParamSpec> specs;
   for (const SettingSpec& k : engine.knobs)
     if (k.vehicle == vehicle) specs.push_back(k);
   const Params resolved = Params::resolve(specs, overrides, scenario);
   Settings s;
   for (const auto& [key, value] : resolved.values())
-    if (const double* d = std::get_if<double>(&value)) s[key] = *d;
-    else s[key] = std::get<std::string>(value);
+    if (const double* d = std::get_if<double>(&value))
+      s[key] = *d;
+    else
+      s[key] = std::get<std::string>(value);
   return s;
 }
 
@@ -98,8 +101,10 @@ std::map<std::string, std::string> Settings::texts() const {
 nlohmann::json Settings::to_json() const {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [key, value] : values_) {
-    if (const double* d = std::get_if<double>(&value)) j[key] = *d;
-    else j[key] = std::get<std::string>(value);
+    if (const double* d = std::get_if<double>(&value))
+      j[key] = *d;
+    else
+      j[key] = std::get<std::string>(value);
   }
   return j;
 }
@@ -107,18 +112,24 @@ nlohmann::json Settings::to_json() const {
 Settings Settings::from_json(const nlohmann::json& values) {
   Settings s;
   for (const auto& [key, v] : values.items()) {
-    if (v.is_number()) s.values_[key] = v.get<double>();
-    else if (v.is_string()) s.values_[key] = v.get<std::string>();
-    else throw std::invalid_argument("setting '" + key + "': neither a number nor a choice");
+    if (v.is_number())
+      s.values_[key] = v.get<double>();
+    else if (v.is_string())
+      s.values_[key] = v.get<std::string>();
+    else
+      throw std::invalid_argument("setting '" + key + "': neither a number nor a choice");
   }
   return s;
 }
 
 std::string SettingSpec::range_text() const {
   switch (kind) {
-    case ParamKind::kInteger: return fmt::format("{:g} to {:g}", min, max);
-    case ParamKind::kNumber: return fmt::format("{}{:g}, {:g}]", min_exclusive ? "(" : "[", min, max);
-    default: break;
+    case ParamKind::kInteger:
+      return fmt::format("{:g} to {:g}", min, max);
+    case ParamKind::kNumber:
+      return fmt::format("{}{:g}, {:g}]", min_exclusive ? "(" : "[", min, max);
+    default:
+      break;
   }
   return fmt::format("{}", fmt::join(choices, " | "));
 }

@@ -69,7 +69,9 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   // wheel angle alpha of (3.3) advances by the mean of the wheels' increments over their rho_k.
   // (The plain average of the two wheel angles, Fecko's introduction, runs faster by
   // (rho_left + rho_right)/2 - 1, 6.2e-4 at beta = 0.3, w/l = 0.8.)
-  const auto rho = [&](int k, double beta) { return four ? car::ackermann_drive_ratio(beta, def_.l_m, def_.track_m, kSides[k]) : 1.0; };
+  const auto rho = [&](int k, double beta) {
+    return four ? car::ackermann_drive_ratio(beta, def_.l_m, def_.track_m, kSides[k]) : 1.0;
+  };
   double beta = virtual_beta(s);
   double alpha = 0.0;  // unwrapped wheel angle of the tricycle equivalent
   double prev_joint[2] = {s.spin_joint_rad[0], s.spin_joint_rad[1]};
@@ -116,12 +118,14 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
     for (int w = 0; w < n_wheels; ++w) {
       const double v = s.wheels[w].v_hub_W.norm();
       if (!(v <= runaway_mps))
-        throw EngineError(fmt::format("{} wheel speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {:g} m/s)", names[w], v, t_end, runaway_mps));
+        throw EngineError(fmt::format("{} wheel speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {:g} m/s)", names[w],
+                                      v, t_end, runaway_mps));
     }
     for (const auto& [which, z] : {std::pair{"front", s.z_m}, std::pair{"rear", s.rear_z_m}})
       if (std::abs(z - def_.R_m) > def_.R_m)
-        throw EngineError(fmt::format("car left the ground ({} wheel centre at z = {:.3f} m, radius {:.3f} m) at t = {:.4f} s",
-                                      which, z, def_.R_m, t_end));
+        throw EngineError(
+            fmt::format("car left the ground ({} wheel centre at z = {:.3f} m, radius {:.3f} m) at t = {:.4f} s", which,
+                        z, def_.R_m, t_end));
   };
 
   // Settle on the wheels: the contacts load up while the servos hold alpha = 0 and beta = beta0.

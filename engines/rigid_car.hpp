@@ -16,12 +16,12 @@ namespace liftcheck {
 /// car behind it. Chassis frame: x forward along the tie rod, y left, z up; origin at the
 /// front-axle centre.
 struct TricycleDef {
-  double R_m = 0.3;              ///< front and rear wheel radius
-  double l_m = 1.0;              ///< tie rod: rear-axle centre to front-axle centre
-  double track_m = 0.8;          ///< distance between the two rear wheels (and the two front wheels of a four-wheel car)
-  int wheels = 3;                ///< 3: one front wheel at the front-axle centre; 4: front wheels at (0, +-track/2)
-  bool parallel_steering = false; ///< four wheels: both front wheels at beta instead of their Ackermann angles
-  double wheel_width_m = 0.09;   ///< cylinder wheels only
+  double R_m = 0.3;      ///< front and rear wheel radius
+  double l_m = 1.0;      ///< tie rod: rear-axle centre to front-axle centre
+  double track_m = 0.8;  ///< distance between the two rear wheels (and the two front wheels of a four-wheel car)
+  int wheels = 3;        ///< 3: one front wheel at the front-axle centre; 4: front wheels at (0, +-track/2)
+  bool parallel_steering = false;  ///< four wheels: both front wheels at beta instead of their Ackermann angles
+  double wheel_width_m = 0.09;     ///< cylinder wheels only
   double chassis_mass_kg = 40.0;
   double wheel_mass_kg = 2.0;
   /// Each steering knuckle: the body the steering joint turns and the spin joint carries the
@@ -30,7 +30,7 @@ struct TricycleDef {
   double knuckle_mass_kg = 2.0;
   static constexpr double kKnuckleGyrationSq_m2 = 2e-3;
   double knuckle_inertia_kgm2() const { return knuckle_mass_kg * kKnuckleGyrationSq_m2; }
-  double chassis_height_m = 0.1; ///< box thickness (the chassis does not collide)
+  double chassis_height_m = 0.1;  ///< box thickness (the chassis does not collide)
 
   static TricycleDef from(const CarSetup& setup);
 };
@@ -43,8 +43,9 @@ struct ServoDef {
   double hold_s = 0.2;
   double spin_gain_per_s = 40.0;
   double steer_gain_per_s = 40.0;
-  double spin_torque_max_Nm = 0.0;   ///< for_car: kGripMultiple x mu N R of a driven wheel
-  double steer_torque_max_Nm = 0.0;  ///< for_car: the same limit (a convention: a sphere wheel's scrub torque is far below it)
+  double spin_torque_max_Nm = 0.0;  ///< for_car: kGripMultiple x mu N R of a driven wheel
+  double steer_torque_max_Nm =
+      0.0;  ///< for_car: the same limit (a convention: a sphere wheel's scrub torque is far below it)
   /// A real drive is sized to its grip: the motor can lock its wheel against the full Coulomb
   /// torque mu N R with half as much again to spare, and can never overpower the grip by more.
   /// (A 500 N m limit, seven times the grip of the default car's front wheel, let the motor spin
@@ -68,21 +69,21 @@ struct FrontRates {
 
 /// One wheel's body state in world coordinates.
 struct WheelState {
-  Eigen::Vector3d v_hub_W;      ///< linear velocity of the wheel centre, m/s
-  Eigen::Vector3d omega_W;      ///< angular velocity, rad/s
-  Eigen::Vector3d axle_W;       ///< the axle direction (unit)
-  double hub_z_m = 0.0;         ///< height of the wheel centre above the ground
+  Eigen::Vector3d v_hub_W;  ///< linear velocity of the wheel centre, m/s
+  Eigen::Vector3d omega_W;  ///< angular velocity, rad/s
+  Eigen::Vector3d axle_W;   ///< the axle direction (unit)
+  double hub_z_m = 0.0;     ///< height of the wheel centre above the ground
 };
 
 /// The realized state an engine reads off its bodies and joints. Front wheel k is the tricycle's
 /// one front wheel (k = 0) or the four-wheel car's left (0) and right (1) front wheels.
 struct RigidCarState {
   double spin_joint_rad[2];  ///< front wheel k's angle about its axle relative to its steering knuckle, wrapped
-  double steer_rad[2];       ///< front wheel k's steering angle against the tie rod, left positive (start offset applied)
-  double x_m, y_m;           ///< front-axle centre (the front wheel centre; the midpoint of the two for four wheels)
-  double z_m;                ///< lowest front wheel centre height (for blow-up detection)
-  double phi_rad;            ///< chassis heading
-  double rear_z_m;           ///< lowest rear wheel centre height
+  double steer_rad[2];  ///< front wheel k's steering angle against the tie rod, left positive (start offset applied)
+  double x_m, y_m;      ///< front-axle centre (the front wheel centre; the midpoint of the two for four wheels)
+  double z_m;           ///< lowest front wheel centre height (for blow-up detection)
+  double phi_rad;       ///< chassis heading
+  double rear_z_m;      ///< lowest rear wheel centre height
   /// Tricycle: front, rear left, rear right; four wheels: front left, front right, rear left, rear right.
   WheelState wheels[4];
 };

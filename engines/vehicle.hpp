@@ -24,12 +24,12 @@ constexpr double kMaxRunSamples = 1e6;
 
 /// Everything needed to build and drive one car (the shared scenario parameters).
 struct CarSetup {
-  car::CarDef car;              ///< R, l
-  car::DriveDef drive;          ///< speed, steering rate, ramps
-  double dt_s = 1e-3;           ///< engine time step
-  double sample_dt_s = 0.01;    ///< spacing of the reported trace
-  double mu = 1.0;              ///< Coulomb friction coefficient, wheel against ground
-  double gravity_mps2 = 9.81;   ///< magnitude of gravity
+  car::CarDef car;             ///< R, l
+  car::DriveDef drive;         ///< speed, steering rate, ramps
+  double dt_s = 1e-3;          ///< engine time step
+  double sample_dt_s = 0.01;   ///< spacing of the reported trace
+  double mu = 1.0;             ///< Coulomb friction coefficient, wheel against ground
+  double gravity_mps2 = 9.81;  ///< magnitude of gravity
   /// Unit direction of gravity in the world frame: down -Z, or tilted (car.slope tilts gravity
   /// instead of the ground, which stays the plane z = 0). Every engine adapter applies it.
   Eigen::Vector3d gravity_dir_W = -Eigen::Vector3d::UnitZ();
@@ -37,14 +37,14 @@ struct CarSetup {
   /// steered, driven front wheels at +-track/2 (Ackermann angles, electronic differential;
   /// models/ackermann.hpp). The analytic reference is the same for both.
   int wheels = 3;
-  double track_m = 0.8;         ///< distance between the rear wheels (and between the front wheels of a four-wheel car)
+  double track_m = 0.8;  ///< distance between the rear wheels (and between the front wheels of a four-wheel car)
   /// Four wheels only: both front wheels at the virtual angle beta instead of their Ackermann
   /// angles (they fight and scrub: a negative control).
   bool parallel_steering = false;
   /// The car's masses (car_params in scenarios/car_scenarios.cpp gives the defaults and why).
   double chassis_mass_kg = 40.0;
-  double wheel_mass_kg = 2.0;     ///< each wheel
-  double knuckle_mass_kg = 2.0;   ///< each steering knuckle (between the chassis and a steered wheel)
+  double wheel_mass_kg = 2.0;    ///< each wheel
+  double knuckle_mass_kg = 2.0;  ///< each steering knuckle (between the chassis and a steered wheel)
 
   Eigen::Vector3d gravity_W() const { return gravity_mps2 * gravity_dir_W; }  ///< m/s^2
 };
@@ -110,16 +110,18 @@ struct DiskProblem {
 /// What an engine's own contact pipeline said over a stepped run. Distances are the engine's
 /// reported centre distances |c_M - c_N| at the states its collision passes ran on.
 struct DiskContactLog {
-  double distance_at_first_m = NAN;  ///< at the state on which contact was first reported
-  double overlap_unreported_m = 0.0; ///< largest 2 - |c_M - c_N| > 0 at any state reported free of contact
-  double gap_reported_max_m = 0.0;   ///< largest |c_M - c_N| - 2 > 0 at any state reported in contact
-  double depth_error_max_m = 0.0;    ///< largest |reported depth - (2 - |c_M - c_N|)| at states reported in contact
-  double overlap_growth_first_m = 0.0; ///< overlap on the state after the first contact minus that at it (a response acting at once stops the approach)
-  double penetration_max_m = 0.0;    ///< largest 2 - |c_M - c_N| from the first contact to T (the contact response bounds it)
-  double depth_reported_max_m = 0.0; ///< deepest penetration the engine's contact points reported
-  long steps_in_contact = 0;         ///< steps whose collision pass reported contact
-  double n_path_error_max_m = 0.0;   ///< largest distance of N from its path, every step
-  bool apart_at_end = false;         ///< after contact, |c_M - c_N| > 2 at T (the disks separated)
+  double distance_at_first_m = NAN;     ///< at the state on which contact was first reported
+  double overlap_unreported_m = 0.0;    ///< largest 2 - |c_M - c_N| > 0 at any state reported free of contact
+  double gap_reported_max_m = 0.0;      ///< largest |c_M - c_N| - 2 > 0 at any state reported in contact
+  double depth_error_max_m = 0.0;       ///< largest |reported depth - (2 - |c_M - c_N|)| at states reported in contact
+  double overlap_growth_first_m = 0.0;  ///< overlap on the state after the first contact minus that at it (a response
+                                        ///< acting at once stops the approach)
+  double penetration_max_m =
+      0.0;  ///< largest 2 - |c_M - c_N| from the first contact to T (the contact response bounds it)
+  double depth_reported_max_m = 0.0;  ///< deepest penetration the engine's contact points reported
+  long steps_in_contact = 0;          ///< steps whose collision pass reported contact
+  double n_path_error_max_m = 0.0;    ///< largest distance of N from its path, every step
+  bool apart_at_end = false;          ///< after contact, |c_M - c_N| > 2 at T (the disks separated)
   /// Largest |(c_M after - c_M before) - v_cmd h| over the steps before the first reported contact:
   /// an engine that realises its command moves M by exactly the commanded velocity times the step.
   double step_displacement_error_max_m = 0.0;
@@ -145,8 +147,9 @@ struct DiskRun {
   /// (models/disk_contact.hpp, kSeparationSteps; analytic: the root of the release); none while
   /// they touch to T.
   std::optional<double> t_release_s;
-  double min_distance = 0.0;          ///< smallest |c_M - c_N| (analytic: refined on the dense output; engines: over their steps)
-  std::vector<disks::Sample> trace;   ///< at t = i * sample_dt from 0 to T (and T)
+  double min_distance =
+      0.0;  ///< smallest |c_M - c_N| (analytic: refined on the dense output; engines: over their steps)
+  std::vector<disks::Sample> trace;           ///< at t = i * sample_dt from 0 to T (and T)
   std::optional<DiskContactLog> contact_log;  ///< stepping engines only
 };
 

@@ -10,17 +10,20 @@ namespace liftcheck {
 
 Ceilings parse_ceilings(const nlohmann::json& metrics, const std::string& where) {
   if (!metrics.is_object() || metrics.empty())
-    throw std::logic_error(fmt::format("harness/expectations.json: {}: \"metrics\" must map each failing metric to its error ceiling", where));
+    throw std::logic_error(fmt::format(
+        "harness/expectations.json: {}: \"metrics\" must map each failing metric to its error ceiling", where));
   Ceilings c;
   for (const auto& [name, v] : metrics.items()) {
     if (!v.is_number() || !(v.get<double>() > 0.0) || !std::isfinite(v.get<double>()))
-      throw std::logic_error(fmt::format("harness/expectations.json: {}: the ceiling of '{}' must be a positive number", where, name));
+      throw std::logic_error(
+          fmt::format("harness/expectations.json: {}: the ceiling of '{}' must be a positive number", where, name));
     c[name] = v.get<double>();
   }
   return c;
 }
 
-std::vector<std::string> beyond_ceilings(const Ceilings& ceilings, const std::vector<std::pair<std::string, double>>& failed) {
+std::vector<std::string> beyond_ceilings(const Ceilings& ceilings,
+                                         const std::vector<std::pair<std::string, double>>& failed) {
   std::vector<std::string> problems;
   for (const auto& [name, error] : failed) {
     const auto it = ceilings.find(name);
@@ -74,8 +77,10 @@ std::vector<Evidence> parse_evidence(const nlohmann::json& listing, const std::s
     ev.metric = e.at("metric");
     ev.from_error = e.contains("from") && e.at("from") == "error";
     for (const char* k : {"from", "to"})
-      if (!(ev.from_error && std::string(k) == "from") && (!e.contains(k) || !e.at(k).is_number() || !(e.at(k).get<double>() >= 0.0)))
-        throw fail(fmt::format("needs \"{}\": the compared error measured (\"from\": \"error\" for a run that ends in one)", k));
+      if (!(ev.from_error && std::string(k) == "from") &&
+          (!e.contains(k) || !e.at(k).is_number() || !(e.at(k).get<double>() >= 0.0)))
+        throw fail(fmt::format(
+            "needs \"{}\": the compared error measured (\"from\": \"error\" for a run that ends in one)", k));
     ev.from = ev.from_error ? NAN : e.at("from").get<double>(), ev.to = e.at("to");
     if (ev.from == ev.to) throw fail("records no move (\"from\" equals \"to\")");
     ev.x = e.value("x", 0.0);
@@ -90,21 +95,40 @@ const std::vector<KnownFailure>& known_run_failures() {
     const nlohmann::json j = nlohmann::json::parse(kExpectationsJson);
     for (const auto& e : j.value("runs", nlohmann::json::array()))
       for (const auto& engine : e.at("engines")) {
-        const std::string where = fmt::format("{} on {}", e.at("scenario").get<std::string>(), engine.get<std::string>());
+        const std::string where =
+            fmt::format("{} on {}", e.at("scenario").get<std::string>(), engine.get<std::string>());
         std::vector<std::pair<std::string, std::string>> params;
         const nlohmann::json changed = e.value("params", nlohmann::json::object());
         for (const auto& [key, value] : changed.items()) {
           if (!value.is_string())
-            throw std::logic_error(fmt::format("harness/expectations.json: {}: \"params\" values are text, as given to --set ('{}')", where, key));
+            throw std::logic_error(fmt::format(
+                "harness/expectations.json: {}: \"params\" values are text, as given to --set ('{}')", where, key));
           params.emplace_back(key, value.get<std::string>());
         }
         if (e.contains("error")) {
           if (!e.at("error").is_string() || e.at("error").get<std::string>().empty() || e.contains("metrics"))
-            throw std::logic_error(fmt::format("harness/expectations.json: {}: \"error\" is the start of the error message, given instead of \"metrics\"", where));
-          v.push_back({e.at("scenario"), engine, params, {}, e.at("reason"), e.at("measured"), e.at("error").get<std::string>(), parse_evidence(e, where)});
+            throw std::logic_error(
+                fmt::format("harness/expectations.json: {}: \"error\" is the start of the error message, given instead "
+                            "of \"metrics\"",
+                            where));
+          v.push_back({e.at("scenario"),
+                       engine,
+                       params,
+                       {},
+                       e.at("reason"),
+                       e.at("measured"),
+                       e.at("error").get<std::string>(),
+                       parse_evidence(e, where)});
           continue;
         }
-        v.push_back({e.at("scenario"), engine, params, parse_ceilings(e.at("metrics"), where), e.at("reason"), e.at("measured"), {}, parse_evidence(e, where)});
+        v.push_back({e.at("scenario"),
+                     engine,
+                     params,
+                     parse_ceilings(e.at("metrics"), where),
+                     e.at("reason"),
+                     e.at("measured"),
+                     {},
+                     parse_evidence(e, where)});
       }
     return v;
   }();
@@ -121,13 +145,20 @@ const std::vector<ListedReason>& listed_reasons() {
         std::vector<std::pair<std::string, std::string>> params;
         const nlohmann::json given = e.value("params", nlohmann::json::object());
         for (const auto& [key, value] : given.items()) params.emplace_back(key, value.get<std::string>());
-        const std::string where = fmt::format("{} on {}", e.at("scenario").get<std::string>(), engine.get<std::string>());
+        const std::string where =
+            fmt::format("{} on {}", e.at("scenario").get<std::string>(), engine.get<std::string>());
         v.push_back({e.at("scenario"), false, engine, params, e.at("reason"), parse_evidence(e, where), tried(e)});
       }
     for (const auto& e : j.value("sweep_points", nlohmann::json::array()))
       for (const auto& engine : e.at("engines")) {
         const std::string sweep = e.at("sweep");
-        v.push_back({sweep, true, engine, {}, e.at("reason"), parse_evidence(e, fmt::format("sweep {} on {}", sweep, engine.get<std::string>())), tried(e)});
+        v.push_back({sweep,
+                     true,
+                     engine,
+                     {},
+                     e.at("reason"),
+                     parse_evidence(e, fmt::format("sweep {} on {}", sweep, engine.get<std::string>())),
+                     tried(e)});
       }
     return v;
   }();

@@ -23,7 +23,8 @@ Ceilings parse_ceilings(const nlohmann::json& metrics, const std::string& where)
 
 /// The problems of a known failure's failing metrics (name, error) against its ceilings: a metric
 /// not listed, or an error above its ceiling. Empty when the failure is as known.
-std::vector<std::string> beyond_ceilings(const Ceilings& ceilings, const std::vector<std::pair<std::string, double>>& failed);
+std::vector<std::string> beyond_ceilings(const Ceilings& ceilings,
+                                         const std::vector<std::pair<std::string, double>>& failed);
 
 /// The experiment behind a reason that names a cause (a reason is a claim): the run as listed, and
 /// the same run with `change` (settings or scenario parameters, as --set takes them). The listed
@@ -36,7 +37,7 @@ struct Evidence {
   /// "from": "error": the listed run ends in an error (a known error listing), and the change lets
   /// it finish with `metric` at `to`.
   bool from_error = false;
-  double x = 0.0;               ///< a sweep listing's point: the swept value the experiment runs at
+  double x = 0.0;  ///< a sweep listing's point: the swept value the experiment runs at
   /// Holds when the runs made now reproduce it: the listed run still fails the metric (beyond
   /// `tolerance`, its own), each figure within kReproduce of its recorded value (a recorded `to`
   /// within the changed run's tolerance `to_tolerance`: within it again), and the change moving

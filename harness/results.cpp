@@ -21,19 +21,30 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
     // The settings a user may change (--set), with their defaults: part of what the engine is.
     for (const SettingSpec& k : e->knobs)
       settings[fmt::format("--set {} ({})", k.key, to_string(k.vehicle))] =
-          fmt::format("{}; default {}; {}", k.help, k.default_text,
-                      k.range_text());
+          fmt::format("{}; default {}; {}", k.help, k.default_text, k.range_text());
     nlohmann::json knobs = nlohmann::json::array();
     for (const SettingSpec& k : e->knobs) {
-      nlohmann::json j{{"key", k.key}, {"vehicle", k.vehicle}, {"default", k.default_text}, {"help", k.help},
+      nlohmann::json j{{"key", k.key},
+                       {"vehicle", k.vehicle},
+                       {"default", k.default_text},
+                       {"help", k.help},
                        {"kind", k.kind_name()}};
-      if (k.numeric()) j["min"] = k.min, j["max"] = k.max, j["min_exclusive"] = k.min_exclusive;
-      else j["choices"] = k.choices;
+      if (k.numeric())
+        j["min"] = k.min, j["max"] = k.max, j["min_exclusive"] = k.min_exclusive;
+      else
+        j["choices"] = k.choices;
       knobs.push_back(j);
     }
-    es.push_back({{"name", e->name}, {"library", e->library}, {"version", e->version}, {"description", e->description},
-                  {"color", e->color}, {"is_reference", e->is_reference}, {"vehicles", vehicles_of(*e)},
-                  {"contact_dynamics", e->contact_dynamics}, {"settings", settings}, {"knobs", knobs}});
+    es.push_back({{"name", e->name},
+                  {"library", e->library},
+                  {"version", e->version},
+                  {"description", e->description},
+                  {"color", e->color},
+                  {"is_reference", e->is_reference},
+                  {"vehicles", vehicles_of(*e)},
+                  {"contact_dynamics", e->contact_dynamics},
+                  {"settings", settings},
+                  {"knobs", knobs}});
   }
   char host[256] = "unknown";
   gethostname(host, sizeof host - 1);
@@ -45,8 +56,11 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
   if (gmtime_r(&now, &utc)) std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", &utc);
   return {{"liftcheck", {{"version", LIFTCHECK_VERSION}, {"commit", LIFTCHECK_COMMIT}}},
           {"date", date},
-          {"machine", {{"host", host}, {"os", fmt::format("{} {} {}", u.sysname, u.release, u.machine)},
-                       {"cpus", std::thread::hardware_concurrency()}, {"compiler", LIFTCHECK_COMPILER}}},
+          {"machine",
+           {{"host", host},
+            {"os", fmt::format("{} {} {}", u.sysname, u.release, u.machine)},
+            {"cpus", std::thread::hardware_concurrency()},
+            {"compiler", LIFTCHECK_COMPILER}}},
           {"engines", es},
           {"wall_s", wall_s},
           {"errata", kErrataMarkdown}};
@@ -60,7 +74,8 @@ nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::
 
 nlohmann::json results_from_records(const nlohmann::json& runs, const nlohmann::json& context) {
   // Counted by verdict: a known failure is not a fail, an unexpected pass is not a pass.
-  std::map<std::string, int> counts{{"pass", 0}, {"known failure", 0}, {"unexpected pass", 0}, {"fail", 0}, {"error", 0}, {"skip", 0}};
+  std::map<std::string, int> counts{{"pass", 0}, {"known failure", 0}, {"unexpected pass", 0},
+                                    {"fail", 0}, {"error", 0},         {"skip", 0}};
   int unexpected = 0;
   for (const auto& r : runs) {
     ++counts[r.at("verdict").get<std::string>()];

@@ -9,10 +9,14 @@ namespace liftcheck {
 
 const char* to_string(Status s) {
   switch (s) {
-    case Status::kPass: return "pass";
-    case Status::kFail: return "fail";
-    case Status::kError: return "error";
-    case Status::kSkip: return "skip";
+    case Status::kPass:
+      return "pass";
+    case Status::kFail:
+      return "fail";
+    case Status::kError:
+      return "error";
+    case Status::kSkip:
+      return "skip";
   }
   return "error";
 }
@@ -32,7 +36,8 @@ std::vector<std::string> RunRecord::beyond_known() const {
   std::vector<std::string> problems = beyond_ceilings(known->metrics, failed);
   // A listed metric that is no longer measured (or no longer counted) hides the failure it lists.
   for (const auto& [name, ceiling] : known->metrics)
-    if (std::none_of(metrics.begin(), metrics.end(), [&](const Metric& m) { return m.name == name && !m.informational; }))
+    if (std::none_of(metrics.begin(), metrics.end(),
+                     [&](const Metric& m) { return m.name == name && !m.informational; }))
       problems.push_back(fmt::format("{} is listed but was not measured", name));
   return problems;
 }
@@ -68,22 +73,35 @@ double RunRecord::worst_ratio() const {
 double RunRecord::worst_rel_error() const {
   double worst = NAN;
   for (const auto& m : metrics)
-    if (m.kind == TolKind::kRelative && std::isfinite(m.rel_error)) worst = std::isnan(worst) ? m.rel_error : std::max(worst, m.rel_error);
+    if (m.kind == TolKind::kRelative && std::isfinite(m.rel_error))
+      worst = std::isnan(worst) ? m.rel_error : std::max(worst, m.rel_error);
   return worst;
 }
 
 nlohmann::json RunRecord::to_json() const {
   nlohmann::json ms = nlohmann::json::object();
   for (const auto& m : metrics) ms[m.name] = m.to_json();
-  nlohmann::json j = {{"scenario", scenario}, {"engine", engine}, {"vehicle", vehicle}, {"params", params}, {"settings", settings},
-          {"status", to_string(status)}, {"message", message}, {"metrics", ms},
-          {"worst_ratio", metrics.empty() ? nlohmann::json() : nlohmann::json(worst_ratio())},
-          {"worst_rel_error", std::isnan(worst_rel_error()) ? nlohmann::json() : nlohmann::json(worst_rel_error())},
-          {"verdict", verdict()}, {"as_expected", as_expected()},
-          {"expectation", known ? nlohmann::json{{"metrics", known->metrics}, {"reason", known->reason}, {"measured", known->measured},
-                                                 {"beyond", beyond_known()}}
-                                : nlohmann::json()},
-          {"wall_s", wall_s}, {"simulated_s", simulated_s}, {"details", details}};
+  nlohmann::json j = {
+      {"scenario", scenario},
+      {"engine", engine},
+      {"vehicle", vehicle},
+      {"params", params},
+      {"settings", settings},
+      {"status", to_string(status)},
+      {"message", message},
+      {"metrics", ms},
+      {"worst_ratio", metrics.empty() ? nlohmann::json() : nlohmann::json(worst_ratio())},
+      {"worst_rel_error", std::isnan(worst_rel_error()) ? nlohmann::json() : nlohmann::json(worst_rel_error())},
+      {"verdict", verdict()},
+      {"as_expected", as_expected()},
+      {"expectation", known ? nlohmann::json{{"metrics", known->metrics},
+                                             {"reason", known->reason},
+                                             {"measured", known->measured},
+                                             {"beyond", beyond_known()}}
+                            : nlohmann::json()},
+      {"wall_s", wall_s},
+      {"simulated_s", simulated_s},
+      {"details", details}};
   if (std::isfinite(engine_s)) j["engine_s"] = engine_s;
   return j;
 }
@@ -114,8 +132,10 @@ std::vector<Metric> score(const Scenario& scenario, TolRole role, const Outcome&
 }
 
 KeyOwner key_owner(const Scenario& scenario, const EngineInfo& engine, const std::string& key) {
-  if (std::any_of(scenario.params.begin(), scenario.params.end(), [&](const ParamSpec& p) { return p.key == key; })) return KeyOwner::kParameter;
-  if (std::any_of(engine.knobs.begin(), engine.knobs.end(), [&](const SettingSpec& k) { return k.key == key && k.vehicle == scenario.vehicle; }))
+  if (std::any_of(scenario.params.begin(), scenario.params.end(), [&](const ParamSpec& p) { return p.key == key; }))
+    return KeyOwner::kParameter;
+  if (std::any_of(engine.knobs.begin(), engine.knobs.end(),
+                  [&](const SettingSpec& k) { return k.key == key && k.vehicle == scenario.vehicle; }))
     return KeyOwner::kSetting;
   return KeyOwner::kNeither;
 }
@@ -141,13 +161,15 @@ class ProbeDisks final : public DiskEngine {
 };
 
 /// The InputError for `key`, a setting of other configurations but not of `engine` here.
-[[noreturn]] void throw_not_a_setting(const Scenario& scenario, const EngineInfo& engine, const std::string& key, const std::vector<std::string>& owners) {
+[[noreturn]] void throw_not_a_setting(const Scenario& scenario, const EngineInfo& engine, const std::string& key,
+                                      const std::vector<std::string>& owners) {
   std::vector<std::string> names;
   for (const SettingSpec& k : engine.knobs)
     if (k.vehicle == scenario.vehicle) names.push_back(k.key);
-  throw InputError(fmt::format("engine '{}' has no setting '{}' for {} (its settings there: {}; '{}' is a setting of {})",
-                               engine.name, key, scenario.vehicle == Vehicle::kCar ? "cars" : "disks",
-                               names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", ")), key, fmt::join(owners, ", ")));
+  throw InputError(
+      fmt::format("engine '{}' has no setting '{}' for {} (its settings there: {}; '{}' is a setting of {})",
+                  engine.name, key, scenario.vehicle == Vehicle::kCar ? "cars" : "disks",
+                  names.empty() ? "none" : fmt::format("{}", fmt::join(names, ", ")), key, fmt::join(owners, ", ")));
 }
 
 /// What a run of `scenario` with these resolved parameters asks of a configuration.
@@ -159,17 +181,23 @@ Needs needs_of(const Scenario& scenario, const nlohmann::json& params) {
 
 }  // namespace
 
-std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
+std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine,
+                                              const Overrides& overrides) {
   Overrides params, knob_overrides;
   for (const auto& [key, value] : overrides) {
     switch (key_owner(scenario, engine, key)) {
-      case KeyOwner::kParameter: params.emplace_back(key, value); break;
-      case KeyOwner::kSetting: knob_overrides.emplace_back(key, value); break;
+      case KeyOwner::kParameter:
+        params.emplace_back(key, value);
+        break;
+      case KeyOwner::kSetting:
+        knob_overrides.emplace_back(key, value);
+        break;
       case KeyOwner::kNeither: {
         std::vector<std::string> owners;  // the configurations that do have it, for this vehicle or another
         for (const EngineInfo& other : engines())
           for (const SettingSpec& k : other.knobs)
-            if (k.key == key && std::find(owners.begin(), owners.end(), other.name) == owners.end()) owners.push_back(other.name);
+            if (k.key == key && std::find(owners.begin(), owners.end(), other.name) == owners.end())
+              owners.push_back(other.name);
         if (!owners.empty()) throw_not_a_setting(scenario, engine, key, owners);
         params.emplace_back(key, value);  // unknown: Params::resolve names it
       }
@@ -180,13 +208,20 @@ std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const En
 
 ResolvedRun resolve_run(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
   auto [params, settings] = split_settings(scenario, engine, overrides);
-  return {.scenario = &scenario, .engine = &engine, .params = Params::resolve(scenario.params, params, scenario.name), .settings = std::move(settings)};
+  return {.scenario = &scenario,
+          .engine = &engine,
+          .params = Params::resolve(scenario.params, params, scenario.name),
+          .settings = std::move(settings)};
 }
 
-nlohmann::json resolved_values(const ResolvedRun& run) { return {{"params", run.params.to_json()}, {"settings", run.settings.to_json()}}; }
+nlohmann::json resolved_values(const ResolvedRun& run) {
+  return {{"params", run.params.to_json()}, {"settings", run.settings.to_json()}};
+}
 
 ResolvedRun resolved_from_values(const Scenario& scenario, const EngineInfo& engine, const nlohmann::json& values) {
-  return {.scenario = &scenario, .engine = &engine, .params = Params::from_json(values.at("params")),
+  return {.scenario = &scenario,
+          .engine = &engine,
+          .params = Params::from_json(values.at("params")),
           .settings = Settings::from_json(values.at("settings"))};
 }
 
@@ -195,12 +230,14 @@ void check_run_inputs(const ResolvedRun& run) {
   const EngineInfo& engine = *run.engine;
   const Needs needs = needs_of(scenario, run.params.to_json());
   const Lack lack = lacks(engine, needs);
-  if (lack == Lack::kFourWheels) throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
+  if (lack == Lack::kFourWheels)
+    throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
   if (lack != Lack::kNothing) return;  // skipped: nothing of it runs
   try {
     ProbeCar car;
     ProbeDisks disks;
-    (void)drive_vehicle(scenario, run.params, {[&]() -> CarEngine& { return car; }, [&]() -> DiskEngine& { return disks; }});
+    (void)drive_vehicle(scenario, run.params,
+                        {[&]() -> CarEngine& { return car; }, [&]() -> DiskEngine& { return disks; }});
   } catch (const ProbeStop&) {
   } catch (const InputError&) {
     throw;
@@ -209,7 +246,9 @@ void check_run_inputs(const ResolvedRun& run) {
   }
 }
 
-TolRole tolerance_role(const EngineInfo& engine) { return engine.is_reference ? TolRole::kReference : TolRole::kDefault; }
+TolRole tolerance_role(const EngineInfo& engine) {
+  return engine.is_reference ? TolRole::kReference : TolRole::kDefault;
+}
 
 RunRecord run_scenario(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides) {
   return run_scenario(resolve_run(scenario, engine, overrides));
@@ -232,7 +271,8 @@ RunRecord begin_record(const ResolvedRun& run, bool& skipped) {
   const Needs needs = needs_of(scenario, r.params);
   const Lack lack = lacks(engine, needs);
   // A car with four wheels needs a configuration that builds one: never a tricycle instead.
-  if (lack == Lack::kFourWheels) throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
+  if (lack == Lack::kFourWheels)
+    throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
   // The expectations describe the default suite and the runs they name with changed parameters
   // ("params"); a run with anything else changed, or any setting, is judged on its own.
   if (run.settings == engine.defaults(scenario.vehicle))
@@ -248,7 +288,8 @@ RunRecord begin_record(const ResolvedRun& run, bool& skipped) {
 
 /// Scores the outcome into the record and gives it its status.
 void finish_record(RunRecord& r, const ResolvedRun& run, const Outcome& outcome) {
-  r.metrics = score(*run.scenario, tolerance_role(*run.engine), outcome, liftcheck::bookkeeping_factor(run.engine->precision));
+  r.metrics =
+      score(*run.scenario, tolerance_role(*run.engine), outcome, liftcheck::bookkeeping_factor(run.engine->precision));
   r.details = outcome.details;
   // A pass needs at least one counted metric; informational ones neither pass nor fail a run.
   bool finite = true, pass = false, any_fail = false;
@@ -289,8 +330,9 @@ RunRecord run_scenario(const ResolvedRun& run) {
   try {
     std::unique_ptr<CarEngine> car;
     std::unique_ptr<DiskEngine> disks;
-    const Driven d = drive_vehicle(scenario, run.params, {[&]() -> CarEngine& { return *(car = engine.make_car(run.settings)); },
-                                                          [&]() -> DiskEngine& { return *(disks = engine.make_disks(run.settings)); }});
+    const Driven d = drive_vehicle(scenario, run.params,
+                                   {[&]() -> CarEngine& { return *(car = engine.make_car(run.settings)); },
+                                    [&]() -> DiskEngine& { return *(disks = engine.make_disks(run.settings)); }});
     r.simulated_s = d.simulated_s;
     r.engine_s = d.engine_s;
     finish_record(r, run, d.outcome);

@@ -98,12 +98,14 @@ void check_run_inputs(const ResolvedRun& run);
 /// vehicle, validates the settings and fills in their defaults. A key that is neither a parameter
 /// of the scenario nor a setting of this engine is an InputError (naming the engine's settings when
 /// another engine has it).
-std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine, const Overrides& overrides);
+std::pair<Overrides, Settings> split_settings(const Scenario& scenario, const EngineInfo& engine,
+                                              const Overrides& overrides);
 
 /// Scores an outcome against the metric definitions' tolerances of `role` (a configuration's is
 /// tolerance_role()). Bookkeeping metrics' tolerances are multiplied by `bookkeeping_factor` (the
 /// engine's precision).
-std::vector<Metric> score(const Scenario& scenario, TolRole role, const Outcome& outcome, double bookkeeping_factor = 1.0);
+std::vector<Metric> score(const Scenario& scenario, TolRole role, const Outcome& outcome,
+                          double bookkeeping_factor = 1.0);
 
 /// The reference's role for the exact model; every other configuration is held to the same default
 /// tolerances.

@@ -63,7 +63,8 @@ void check_set_taken(const SuiteDef& def, const std::vector<const Scenario*>& sc
         for (const ParamSpec& p : s->params) names.push_back(p.key);
       for (const EngineInfo* e : def.engines)
         for (const SettingSpec& k : e->knobs) names.push_back(k.key);
-      throw InputError(fmt::format("--set {}: no scenario run here has a parameter or setting '{}'{}", printable(key), printable(key), did_you_mean(key, names)));
+      throw InputError(fmt::format("--set {}: no scenario run here has a parameter or setting '{}'{}", printable(key),
+                                   printable(key), did_you_mean(key, names)));
     }
   }
 }
@@ -86,7 +87,8 @@ void check_set_values(const SuitePlan& plan) {
 void add_runs(SuitePlan& plan, const SuiteDef& def) {
   for (const Scenario* s : plan.scenarios)
     for (const EngineInfo* e : def.engines) {
-      plan.items.push_back(planned_item(SuiteItem::kRun, run_key(s->name, e->name), *s, *e, overrides_for(def.set, *s, *e)));
+      plan.items.push_back(
+          planned_item(SuiteItem::kRun, run_key(s->name, e->name), *s, *e, overrides_for(def.set, *s, *e)));
     }
   for (const Scenario* s : plan.scenarios) {
     const auto t = def.traces.find(s->name);
@@ -115,12 +117,15 @@ void add_points(SuitePlan& plan, const SuiteDef& def) {
     points.insert(points.end(), runs.begin(), runs.end());
   }
   const MapDef& map = speed_accuracy_map();
-  if (std::any_of(map.panels.begin(), map.panels.end(), [&](const MapDef::Panel& p) { return matches_any(def.globs, p.scenario); })) {
+  if (std::any_of(map.panels.begin(), map.panels.end(),
+                  [&](const MapDef::Panel& p) { return matches_any(def.globs, p.scenario); })) {
     plan.map = true;
     const auto runs = map_runs(map, def.engines, def.all_points);
     points.insert(points.end(), runs.begin(), runs.end());
   }
-  for (PointRun& p : points) plan.items.push_back(planned_item(SuiteItem::kPoint, std::move(p.key), *p.scenario, *p.engine, std::move(p.overrides)));
+  for (PointRun& p : points)
+    plan.items.push_back(
+        planned_item(SuiteItem::kPoint, std::move(p.key), *p.scenario, *p.engine, std::move(p.overrides)));
 }
 
 /// Keys are unique; each item's resolved run gives its cost and its identity; an item the same as
@@ -136,11 +141,14 @@ void resolve_items(SuitePlan& plan) {
     SuiteItem& it = plan.items[i];
     if (it.owned || !it.run) continue;  // a run not resolved is an error record of its own
     it.cost = cost_estimate(*it.run);
-    const nlohmann::json identity{{"engine", it.engine->name}, {"params", it.run->params.to_json()}, {"settings", it.run->settings.texts()}};
-    const auto [where, inserted] = first.emplace(nlohmann::json{{"scenario", it.scenario->name}, {"run", identity}}.dump(), static_cast<long>(i));
+    const nlohmann::json identity{
+        {"engine", it.engine->name}, {"params", it.run->params.to_json()}, {"settings", it.run->settings.texts()}};
+    const auto [where, inserted] =
+        first.emplace(nlohmann::json{{"scenario", it.scenario->name}, {"run", identity}}.dump(), static_cast<long>(i));
     if (!inserted) it.same_as = where->second;
     if (!inserted || it.kind != SuiteItem::kRun || !it.scenario->shared_drive) continue;
-    const auto [maker, first_judge] = drive_maker.emplace(nlohmann::json{{"drive", it.scenario->shared_drive->name}, {"run", identity}}.dump(), static_cast<long>(i));
+    const auto [maker, first_judge] = drive_maker.emplace(
+        nlohmann::json{{"drive", it.scenario->shared_drive->name}, {"run", identity}}.dump(), static_cast<long>(i));
     if (first_judge) continue;
     it.judges_drive_of = maker->second;
     plan.items[static_cast<size_t>(maker->second)].drive_judges.push_back(*it.run);
@@ -156,7 +164,8 @@ std::vector<const EngineInfo*> sweep_engines(const SuiteDef& def) {
   return v;
 }
 
-SuiteItem planned_item(SuiteItem::Kind kind, std::string key, const Scenario& scenario, const EngineInfo& engine, Overrides overrides) {
+SuiteItem planned_item(SuiteItem::Kind kind, std::string key, const Scenario& scenario, const EngineInfo& engine,
+                       Overrides overrides) {
   SuiteItem it;
   it.kind = kind;
   it.key = std::move(key);
@@ -169,7 +178,9 @@ SuiteItem planned_item(SuiteItem::Kind kind, std::string key, const Scenario& sc
   return it;
 }
 
-std::string run_key(const std::string& scenario, const std::string& engine) { return fmt::format("run/{}/{}", scenario, engine); }
+std::string run_key(const std::string& scenario, const std::string& engine) {
+  return fmt::format("run/{}/{}", scenario, engine);
+}
 
 SuitePlan plan_suite(const SuiteDef& def) {
   SuitePlan plan;
@@ -187,11 +198,14 @@ SuitePlan plan_suite(const SuiteDef& def) {
 }
 
 std::vector<size_t> shard_share(const SuitePlan& plan, int index, int total) {
-  if (total < 1 || index < 1 || index > total) throw InputError(fmt::format("shard {}/{}: the index must be 1 to {} and the count at least 1", index, total, total));
+  if (total < 1 || index < 1 || index > total)
+    throw InputError(
+        fmt::format("shard {}/{}: the index must be 1 to {} and the count at least 1", index, total, total));
   std::vector<size_t> out;
   size_t k = 0;
   for (size_t i = 0; i < plan.items.size(); ++i)
-    if (plan.items[i].runs_itself() && k++ % static_cast<size_t>(total) == static_cast<size_t>(index - 1)) out.push_back(i);
+    if (plan.items[i].runs_itself() && k++ % static_cast<size_t>(total) == static_cast<size_t>(index - 1))
+      out.push_back(i);
   return out;
 }
 

@@ -31,9 +31,9 @@ struct SuiteDef {
   /// The parameter sweeps and the outcome grid on every configuration, also those registered for
   /// fewer points (EngineInfo::points; validate --all-points).
   bool all_points = false;
-  double timeout_s = 120.0;                ///< each item's wall-clock limit (a timed-out item is an error record)
-  std::string external_name;               ///< --trace-dir: the outside simulator's name
-  std::map<std::string, Trace> traces;     ///< its trace per scenario
+  double timeout_s = 120.0;             ///< each item's wall-clock limit (a timed-out item is an error record)
+  std::string external_name;            ///< --trace-dir: the outside simulator's name
+  std::map<std::string, Trace> traces;  ///< its trace per scenario
 };
 
 /// The configurations of `def` that the parameter sweeps and the outcome grid run on.
@@ -46,8 +46,8 @@ struct SuiteItem {
   const Scenario* scenario = nullptr;
   const EngineInfo* engine = nullptr;
   std::shared_ptr<const EngineInfo> owned;  ///< a replaying configuration (--trace-dir)
-  std::string trace_file;                    ///< its trace, read again by the worker process
-  Overrides overrides;  ///< the --set values and point values it was asked with
+  std::string trace_file;                   ///< its trace, read again by the worker process
+  Overrides overrides;                      ///< the --set values and point values it was asked with
   /// Its run, resolved once when the item is made (planned_item): what the worker runs. None when
   /// a name or value could not be resolved: `resolve_error` says why (the run's error record).
   std::optional<ResolvedRun> run;
@@ -67,7 +67,8 @@ struct SuiteItem {
 };
 
 /// An item of `kind` that runs `scenario` on `engine` with `overrides`, its run resolved now.
-SuiteItem planned_item(SuiteItem::Kind kind, std::string key, const Scenario& scenario, const EngineInfo& engine, Overrides overrides);
+SuiteItem planned_item(SuiteItem::Kind kind, std::string key, const Scenario& scenario, const EngineInfo& engine,
+                       Overrides overrides);
 
 struct SuitePlan {
   SuiteDef def;

@@ -10,15 +10,19 @@
 
 namespace liftcheck {
 
-std::vector<std::pair<size_t, nlohmann::json>> shared_records(const SuitePlan& plan, size_t maker, const nlohmann::json& record) {
+std::vector<std::pair<size_t, nlohmann::json>> shared_records(const SuitePlan& plan, size_t maker,
+                                                              const nlohmann::json& record) {
   std::vector<std::pair<size_t, nlohmann::json>> out;
   const nlohmann::json shared = record.contains("shared") ? record["shared"] : nlohmann::json::array();
   for (size_t i = 0; i < plan.items.size(); ++i) {
     const SuiteItem& it = plan.items[i];
     if (it.judges_drive_of != static_cast<long>(maker)) continue;
-    const auto mine = std::find_if(shared.begin(), shared.end(), [&](const nlohmann::json& r) { return r.value("scenario", "") == it.scenario->name; });
+    const auto mine = std::find_if(shared.begin(), shared.end(), [&](const nlohmann::json& r) {
+      return r.value("scenario", "") == it.scenario->name;
+    });
     // A maker that ended without recording the others (its worker died, its time ran out): theirs say so.
-    out.emplace_back(i, mine != shared.end() ? *mine : error_record(it, record.value("message", "no record of the shared drive")));
+    out.emplace_back(
+        i, mine != shared.end() ? *mine : error_record(it, record.value("message", "no record of the shared drive")));
   }
   return out;
 }
@@ -44,7 +48,8 @@ nlohmann::json assemble_suite(const SuitePlan& plan, const std::map<std::string,
   for (const SweepDef* sw : plan.sweeps) out["sweeps"].push_back(assemble_sweep(*sw, swept, lookup));
   if (plan.outcome_sweep) out["sweeps"].push_back(assemble_outcome_sweep(swept, lookup));
   out["maps"] = nlohmann::json::array();
-  if (plan.map) out["maps"].push_back(assemble_map(speed_accuracy_map(), plan.def.engines, lookup, plan.def.all_points));
+  if (plan.map)
+    out["maps"].push_back(assemble_map(speed_accuracy_map(), plan.def.engines, lookup, plan.def.all_points));
   return out;
 }
 
@@ -67,7 +72,8 @@ nlohmann::json simulated_budget(const SuitePlan& plan, const std::map<std::strin
     by_config[it.engine->name][item_part(it)] += s;
   }
   const auto us = [](double s) { return std::round(s * 1e6) / 1e6; };
-  nlohmann::json out{{"total_s", us(total_s)}, {"by_part", nlohmann::json::object()}, {"by_configuration", nlohmann::json::object()}};
+  nlohmann::json out{
+      {"total_s", us(total_s)}, {"by_part", nlohmann::json::object()}, {"by_configuration", nlohmann::json::object()}};
   for (const auto& [part, s] : by_part) out["by_part"][part] = us(s);
   for (const auto& [config, parts] : by_config) {
     double sum_s = 0.0;
@@ -79,7 +85,8 @@ nlohmann::json simulated_budget(const SuitePlan& plan, const std::map<std::strin
   return out;
 }
 
-nlohmann::json suite_results(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records, const nlohmann::json& context) {
+nlohmann::json suite_results(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records,
+                             const nlohmann::json& context) {
   const nlohmann::json simulated = simulated_budget(plan, records);
   fill_duplicates(plan, records);
   const nlohmann::json assembled = assemble_suite(plan, records);
@@ -102,7 +109,8 @@ void SuiteTiming::count(const SuiteItem& it, const nlohmann::json& record, doubl
   held_by_config[it.engine->name] += held;
 }
 
-nlohmann::json suite_context(const std::vector<const EngineInfo*>& engines, const SuiteTiming& t, const RunnerDef& runner, const Overrides& set) {
+nlohmann::json suite_context(const std::vector<const EngineInfo*>& engines, const SuiteTiming& t,
+                             const RunnerDef& runner, const Overrides& set) {
   nlohmann::json context = context_json(engines, t.wall_s);
   context["runs_s"] = t.runs_s;
   context["points_s"] = t.points_s;

@@ -15,7 +15,8 @@ namespace liftcheck {
 
 /// The records of the runs that judge the drive item `maker` made, by item index: from its record's
 /// "shared" list, or error records saying what became of the maker where the list is missing.
-std::vector<std::pair<size_t, nlohmann::json>> shared_records(const SuitePlan& plan, size_t maker, const nlohmann::json& record);
+std::vector<std::pair<size_t, nlohmann::json>> shared_records(const SuitePlan& plan, size_t maker,
+                                                              const nlohmann::json& record);
 /// shared_records of every drive-maker in `records`, put under their own keys (the makers' "shared"
 /// lists removed).
 void take_shared_records(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records);
@@ -37,7 +38,8 @@ nlohmann::json simulated_budget(const SuitePlan& plan, const std::map<std::strin
 /// The results of a whole suite (one unsharded run, or the merge of every share) from every item's
 /// record: the duplicates filled in, then {"context", "summary", "simulated", "runs", "sweeps",
 /// "maps", "scenarios"}.
-nlohmann::json suite_results(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records, const nlohmann::json& context);
+nlohmann::json suite_results(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records,
+                             const nlohmann::json& context);
 
 /// Where a suite's time went, counted as its items end: engine seconds (the records' wall_s) and
 /// the wall seconds each item held its worker (an outside engine's protocol included), in all, by
@@ -50,7 +52,7 @@ struct SuiteTiming {
 
 /// The results' "context" of a suite run in this process: the configurations (context_json), the
 /// timings, the runner's limits, the --set values and which adapters the outside configurations ran.
-nlohmann::json suite_context(const std::vector<const EngineInfo*>& engines, const SuiteTiming& timing, const RunnerDef& runner,
-                             const Overrides& set);
+nlohmann::json suite_context(const std::vector<const EngineInfo*>& engines, const SuiteTiming& timing,
+                             const RunnerDef& runner, const Overrides& set);
 
 }  // namespace liftcheck

@@ -30,8 +30,8 @@ struct KnownSweepFailure {
   Kind kind = kPoint;
   double x = NAN;
   Ceilings metrics;
-  std::string pattern;  ///< kError: part of the message; kFit: start of the fit problem
-  int points_max = 0;   ///< kAnywhere
+  std::string pattern;        ///< kError: part of the message; kFit: start of the fit problem
+  int points_max = 0;         ///< kAnywhere
   int disagreements_max = 0;  ///< kAnywhere of the outcome sweep: outcome disagreements away from the boundary allowed
   std::string reason, measured;
 };
@@ -65,7 +65,8 @@ using RecordLookup = std::function<const nlohmann::json&(const std::string& key)
 /// The runs of one sweep on the given engines (engines that cannot run the scenario are left
 /// out), and the sweep assembled from their records: the points, the fit and each engine's gate.
 std::vector<PointRun> sweep_runs(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines);
-nlohmann::json assemble_sweep(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines, const RecordLookup& record);
+nlohmann::json assemble_sweep(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines,
+                              const RecordLookup& record);
 
 /// disks.linear over a grid of (a, b) and N's paths: each engine's collision outcome against the
 /// analytic one (a confusion matrix), contact-time errors in steps, and the cases near the boundary
@@ -84,7 +85,8 @@ struct OutcomeHorizon {
   double t_max_s = 8.0, clearance_m = 0.5, after_s = 0.5, t_min_s = 1.0;
 };
 inline constexpr OutcomeHorizon kOutcomeHorizon{};
-nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engines, const RecordLookup& record, double near_m = 0.01);
+nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engines, const RecordLookup& record,
+                                      double near_m = 0.01);
 
 /// What a map point varies, as its record names it ("knob"): nothing (the exact model), dt, or the
 /// solver's iteration count (the setting with SettingRole::kSolverIterations, whatever its key).
@@ -97,6 +99,7 @@ inline constexpr const char* kMapIterations = "iterations";
 /// `all_points`: validate --all-points (a configuration registered for its runs only gets the map's
 /// axes too; without it, its default run is its one point).
 std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const EngineInfo*>& engines, bool all_points);
-nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines, const RecordLookup& record, bool all_points);
+nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines,
+                            const RecordLookup& record, bool all_points);
 
 }  // namespace liftcheck

@@ -30,7 +30,7 @@ struct RunnerDef {
   /// Limit of one worker's address space in MiB (RLIMIT_AS; 0: none): an allocation beyond it fails
   /// and the run is an error record saying so, the suite goes on. Not applied under AddressSanitizer.
   double memory_limit_mib = kDefaultRunMemoryMiB;
-  std::string exe;           ///< the liftcheck executable (empty: /proc/self/exe)
+  std::string exe;  ///< the liftcheck executable (empty: /proc/self/exe)
   /// Polled between events; true stops the runner (killing its workers) with RunnerStopped.
   std::function<bool()> stop = {};
 };
@@ -61,6 +61,9 @@ SuiteItem item_from_request(const nlohmann::json& request);
 /// `liftcheck worker`: reads requests from stdin, writes one record per line; stray output of the
 /// engines goes to stderr.
 int worker_main();
+
+/// Writes all of `text` to `fd` (a request to a worker, a record from one); false when it cannot.
+bool write_all(int fd, const std::string& text);
 
 /// The error record of `item` (a run's or a point's) saying `message`.
 nlohmann::json error_record(const SuiteItem& item, const std::string& message);

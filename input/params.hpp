@@ -43,9 +43,7 @@ using ParamValue = std::variant<double, Eigen::Vector2d, std::string>;
 class Params {
  public:
   /// Defaults of `specs`, overridden by `overrides` ("KEY=VALUE" already split). Throws InputError.
-  static Params resolve(const std::vector<ParamSpec>& specs,
-                        const Overrides& overrides,
-                        const std::string& scenario);
+  static Params resolve(const std::vector<ParamSpec>& specs, const Overrides& overrides, const std::string& scenario);
 
   double num(const std::string& key) const;
   int integer(const std::string& key) const { return static_cast<int>(num(key)); }

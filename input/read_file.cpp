@@ -37,10 +37,12 @@ std::string read_text_file(const std::filesystem::path& path, std::size_t max_by
   Fd f{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NOCTTY | O_NONBLOCK)};
   if (f.fd < 0) throw InputError(fmt::format("cannot read {} '{}': {}", what, name, std::strerror(errno)));
   struct stat st {};
-  if (::fstat(f.fd, &st) != 0) throw InputError(fmt::format("cannot read {} '{}': {}", what, name, std::strerror(errno)));
+  if (::fstat(f.fd, &st) != 0)
+    throw InputError(fmt::format("cannot read {} '{}': {}", what, name, std::strerror(errno)));
   if (S_ISDIR(st.st_mode)) throw InputError(fmt::format("{} '{}' is a folder, not a file", what, name));
   const auto too_big = [&] {
-    return InputError(fmt::format("{} '{}' is larger than the limit of {} for a {} (stopped reading there)", what, name, size_text(max_bytes), what));
+    return InputError(fmt::format("{} '{}' is larger than the limit of {} for a {} (stopped reading there)", what, name,
+                                  size_text(max_bytes), what));
   };
   if (S_ISREG(st.st_mode) && static_cast<std::size_t>(st.st_size) > max_bytes) throw too_big();
   ::fcntl(f.fd, F_SETFL, ::fcntl(f.fd, F_GETFL) & ~O_NONBLOCK);
@@ -73,11 +75,16 @@ bool is_utf8(const std::string& s) {
     const unsigned c = p[i];
     std::size_t len = 0;
     unsigned min = 0, cp = 0;
-    if (c < 0x80) len = 1, cp = c;
-    else if ((c & 0xE0) == 0xC0) len = 2, cp = c & 0x1F, min = 0x80;
-    else if ((c & 0xF0) == 0xE0) len = 3, cp = c & 0x0F, min = 0x800;
-    else if ((c & 0xF8) == 0xF0) len = 4, cp = c & 0x07, min = 0x10000;
-    else return false;
+    if (c < 0x80)
+      len = 1, cp = c;
+    else if ((c & 0xE0) == 0xC0)
+      len = 2, cp = c & 0x1F, min = 0x80;
+    else if ((c & 0xF0) == 0xE0)
+      len = 3, cp = c & 0x0F, min = 0x800;
+    else if ((c & 0xF8) == 0xF0)
+      len = 4, cp = c & 0x07, min = 0x10000;
+    else
+      return false;
     if (i + len > n) return false;
     for (std::size_t k = 1; k < len; ++k) {
       if ((p[i + k] & 0xC0) != 0x80) return false;
@@ -91,8 +98,9 @@ bool is_utf8(const std::string& s) {
 
 void require_utf8(const std::string& text, const std::string& what) {
   if (!is_utf8(text))
-    throw InputError(fmt::format("{} '{}' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only (rename it)", what,
-                                 printable(text, 200)));
+    throw InputError(
+        fmt::format("{} '{}' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only (rename it)",
+                    what, printable(text, 200)));
 }
 
 }  // namespace liftcheck

@@ -10,8 +10,9 @@
 namespace liftcheck {
 
 /// Limits on what one file may hold (bytes).
-constexpr std::size_t kMaxTraceBytes = std::size_t{256} << 20;    ///< a trace: 256 MiB
-constexpr std::size_t kMaxResultsBytes = std::size_t{512} << 20;  ///< a results file or baseline: 512 MiB (its document takes about 8 times that)
+constexpr std::size_t kMaxTraceBytes = std::size_t{256} << 20;  ///< a trace: 256 MiB
+constexpr std::size_t kMaxResultsBytes =
+    std::size_t{512} << 20;  ///< a results file or baseline: 512 MiB (its document takes about 8 times that)
 
 /// The whole text of `path`; InputError "cannot read WHAT 'PATH': REASON", "WHAT 'PATH' is a
 /// folder, not a file", or "WHAT 'PATH' is larger than the limit of N MiB". Checks for an

@@ -22,8 +22,11 @@ double MetricView::ratio() const {
 }
 
 nlohmann::json MetricView::point_figures() const {
-  return {{"expected", raw("expected")}, {"measured", raw("measured")}, {"rel_error", raw("rel_error")},
-          {"abs_error", raw("abs_error")}, {"pass", raw("pass")}};
+  return {{"expected", raw("expected")},
+          {"measured", raw("measured")},
+          {"rel_error", raw("rel_error")},
+          {"abs_error", raw("abs_error")},
+          {"pass", raw("pass")}};
 }
 
 const nlohmann::json& MetricView::raw(const char* key) const {

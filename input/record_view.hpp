@@ -15,7 +15,9 @@ namespace liftcheck {
 
 /// The error a tolerance is compared with: a relative tolerance compares rel_error, an absolute
 /// one abs_error (Metric::compared_error, as written).
-inline double compared_error_of(bool relative, double rel_error, double abs_error) { return relative ? rel_error : abs_error; }
+inline double compared_error_of(bool relative, double rel_error, double abs_error) {
+  return relative ? rel_error : abs_error;
+}
 
 /// Error of a metric as a fraction of its tolerance: `error` over `tolerance`; with a `floor`
 /// above 0, at most abs_error over the floor. A figure absent or null (how a NaN or infinite value
@@ -23,8 +25,8 @@ inline double compared_error_of(bool relative, double rel_error, double abs_erro
 double metric_ratio(double error, double tolerance, double abs_error, double floor);
 
 /// The fields of a metric that a baseline keeps, in the order written.
-inline constexpr std::array<const char*, 9> kBaselineMetricFields{"expected", "measured",       "abs_error", "rel_error", "tolerance",
-                                                                   "tolerance_kind", "floor", "pass",      "informational"};
+inline constexpr std::array<const char*, 9> kBaselineMetricFields{
+    "expected", "measured", "abs_error", "rel_error", "tolerance", "tolerance_kind", "floor", "pass", "informational"};
 
 /// One metric of a record (or of a sweep's point, which keeps a metric's figures).
 class MetricView {
@@ -33,12 +35,12 @@ class MetricView {
 
   /// Its tolerance is relative ("tolerance_kind": "rel").
   bool relative() const { return m_->is_object() && m_->value("tolerance_kind", "abs") == "rel"; }
-  double expected() const { return number("expected"); }       ///< NaN when null or absent
-  double measured() const { return number("measured"); }       ///< NaN when null or absent
-  double abs_error() const { return number("abs_error"); }     ///< NaN when null or absent
-  double rel_error() const { return number("rel_error"); }     ///< NaN when null or absent
-  double tolerance() const { return number("tolerance"); }     ///< NaN when null or absent
-  double floor() const { return number_or("floor", 0.0); }     ///< 0 when it has none
+  double expected() const { return number("expected"); }    ///< NaN when null or absent
+  double measured() const { return number("measured"); }    ///< NaN when null or absent
+  double abs_error() const { return number("abs_error"); }  ///< NaN when null or absent
+  double rel_error() const { return number("rel_error"); }  ///< NaN when null or absent
+  double tolerance() const { return number("tolerance"); }  ///< NaN when null or absent
+  double floor() const { return number_or("floor", 0.0); }  ///< 0 when it has none
   bool pass() const { return m_->value("pass", true); }
   bool counted() const { return !m_->value("informational", false); }  ///< not shown only
   std::string unit() const { return m_->value("unit", std::string()); }

@@ -41,10 +41,13 @@ std::vector<Entry> paired_order(const ResultsIndex& results) {
   v.reserve(results.runs.size());
   for (const auto& r : results.runs) {
     const std::uint64_t a = std::hash<std::string_view>()(r.scenario);
-    v.push_back({a ^ (std::hash<std::string_view>()(r.engine) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2)), {r.scenario, r.engine}, &r});
+    v.push_back({a ^ (std::hash<std::string_view>()(r.engine) + 0x9e3779b97f4a7c15ULL + (a << 6) + (a >> 2)),
+                 {r.scenario, r.engine},
+                 &r});
   }
   // Equal keys keep the file's order (the records are in one array); the last is kept.
-  std::sort(v.begin(), v.end(), [](const Entry& a, const Entry& b) { return before(a, b) || (!before(b, a) && a.run < b.run); });
+  std::sort(v.begin(), v.end(),
+            [](const Entry& a, const Entry& b) { return before(a, b) || (!before(b, a) && a.run < b.run); });
   std::size_t kept = 0;
   for (std::size_t i = 0; i < v.size(); ++i)
     if (i + 1 == v.size() || before(v[i], v[i + 1])) v[kept++] = v[i];
@@ -77,25 +80,30 @@ void put_in_key_order(std::vector<RunKey>& found, json& out) {
   for (const auto& key : found) out.push_back(id_of(key));
 }
 
-
 /// The metric of that name, or null.
 const MetricFigures* metric_named(const std::vector<MetricFigures>& metrics, const std::string& name) {
-  const auto it = std::lower_bound(metrics.begin(), metrics.end(), name, [](const MetricFigures& m, const std::string& n) { return m.name < n; });
+  const auto it = std::lower_bound(metrics.begin(), metrics.end(), name,
+                                   [](const MetricFigures& m, const std::string& n) { return m.name < n; });
   return it != metrics.end() && it->name == name ? &*it : nullptr;
 }
 
 /// The worse and better metrics of one run present in both files.
-void compare_metrics(const RunKey& key, const RunFigures& br, const RunFigures& hr, const DiffDef& def, Findings& found) {
+void compare_metrics(const RunKey& key, const RunFigures& br, const RunFigures& hr, const DiffDef& def,
+                     Findings& found) {
   if (!br.has_metrics || !hr.has_metrics) return;
   for (const MetricFigures& hm : hr.metrics) {
     const MetricFigures* bm = metric_named(br.metrics, hm.name);
     if (!bm || hm.informational) continue;
     const double rb = bm->ratio, rh = hm.ratio;
-    const bool worse = rh > def.floor && rh > def.growth * rb, better = !worse && rb > def.floor && rb > def.growth * rh;
+    const bool worse = rh > def.floor && rh > def.growth * rb,
+               better = !worse && rb > def.floor && rb > def.growth * rh;
     if (!worse && !better) continue;
     (worse ? found.worse : found.better)
-        .emplace_back(key, merged(id_of(key), {{"metric", hm.name}, {"base_ratio", rb}, {"head_ratio", rh},
-                                               {"base_measured", bm->measured}, {"head_measured", hm.measured}}));
+        .emplace_back(key, merged(id_of(key), {{"metric", hm.name},
+                                               {"base_ratio", rb},
+                                               {"head_ratio", rh},
+                                               {"base_measured", bm->measured},
+                                               {"head_measured", hm.measured}}));
   }
 }
 
@@ -137,9 +145,15 @@ json baseline_json(const json& results) {
         if (m.contains(k)) kept[k] = m[k];
       metrics[name] = kept;
     }
-    runs.push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"params", r["params"]}, {"settings", r["settings"]},
-                    {"status", r["status"]}, {"verdict", r.value("verdict", r["status"].get<std::string>())},
-                    {"as_expected", record_as_expected(r)}, {"message", r["message"]}, {"metrics", metrics}});
+    runs.push_back({{"scenario", r["scenario"]},
+                    {"engine", r["engine"]},
+                    {"params", r["params"]},
+                    {"settings", r["settings"]},
+                    {"status", r["status"]},
+                    {"verdict", r.value("verdict", r["status"].get<std::string>())},
+                    {"as_expected", record_as_expected(r)},
+                    {"message", r["message"]},
+                    {"metrics", metrics}});
   }
   return {{"liftcheck_baseline", 1}, {"context", {{"liftcheck", results["context"]["liftcheck"]}}}, {"runs", runs}};
 }
@@ -158,14 +172,15 @@ json diff_results(const ResultsIndex& base, const ResultsIndex& head, const Diff
     }
     const RunFigures &br = *b[at++].run, &hr = *he.run;
     if (br.as_expected && !hr.as_expected)
-      found.regressions.emplace_back(he.key, merged(id_of(he.key), {{"from", br.verdict}, {"to", hr.verdict}, {"message", hr.message}}));
+      found.regressions.emplace_back(
+          he.key, merged(id_of(he.key), {{"from", br.verdict}, {"to", hr.verdict}, {"message", hr.message}}));
     else if (!br.as_expected && hr.as_expected)
       found.fixed.emplace_back(he.key, merged(id_of(he.key), {{"from", br.verdict}, {"to", hr.verdict}}));
     compare_metrics(he.key, br, hr, def, found);
   }
   for (; at < b.size(); ++at) found.removed.push_back(b[at].key);
   json d{{"regressions", json::array()}, {"fixed", json::array()}, {"worse", json::array()},
-         {"better", json::array()}, {"added", json::array()}, {"removed", json::array()}};
+         {"better", json::array()},      {"added", json::array()}, {"removed", json::array()}};
   put_in_key_order(found.regressions, d["regressions"]);
   put_in_key_order(found.fixed, d["fixed"]);
   put_in_key_order(found.worse, d["worse"]);
@@ -175,28 +190,30 @@ json diff_results(const ResultsIndex& base, const ResultsIndex& head, const Diff
   return d;
 }
 
-json diff_results(const json& base, const json& head, const DiffDef& def) { return diff_results(index_of(base), index_of(head), def); }
+json diff_results(const json& base, const json& head, const DiffDef& def) {
+  return diff_results(index_of(base), index_of(head), def);
+}
 
 std::string diff_text(const json& d) {
   // Names and messages come from the files: one line each, whatever they hold.
   const auto name = [](const json& v) { return printable(v.get<std::string>(), 200); };
   std::string t;
   for (const auto& r : d["regressions"])
-    t += fmt::format("REGRESSION {} on {}: {} -> {} ({})\n", name(r["scenario"]), name(r["engine"]),
-                     name(r["from"]), name(r["to"]), printable(r["message"].get<std::string>(), 1000));
+    t += fmt::format("REGRESSION {} on {}: {} -> {} ({})\n", name(r["scenario"]), name(r["engine"]), name(r["from"]),
+                     name(r["to"]), printable(r["message"].get<std::string>(), 1000));
   for (const auto& r : d["fixed"])
-    t += fmt::format("fixed      {} on {}: {} -> {}\n", name(r["scenario"]), name(r["engine"]),
-                     name(r["from"]), name(r["to"]));
+    t += fmt::format("fixed      {} on {}: {} -> {}\n", name(r["scenario"]), name(r["engine"]), name(r["from"]),
+                     name(r["to"]));
   for (const char* kind : {"worse", "better"})
     for (const auto& r : d[kind])
-      t += fmt::format("{:<10} {} on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", kind, name(r["scenario"]),
-                       name(r["engine"]), name(r["metric"]), r["head_measured"].dump(), r["base_measured"].dump(),
-                       r["head_ratio"].get<double>(), r["base_ratio"].get<double>());
+      t += fmt::format("{:<10} {} on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", kind,
+                       name(r["scenario"]), name(r["engine"]), name(r["metric"]), r["head_measured"].dump(),
+                       r["base_measured"].dump(), r["head_ratio"].get<double>(), r["base_ratio"].get<double>());
   for (const char* kind : {"added", "removed"})
-    for (const auto& r : d[kind])
-      t += fmt::format("{:<10} {} on {}\n", kind, name(r["scenario"]), name(r["engine"]));
-  t += fmt::format("{} regressions, {} fixed, {} metrics worse, {} better, {} runs added, {} removed\n", d["regressions"].size(),
-                   d["fixed"].size(), d["worse"].size(), d["better"].size(), d["added"].size(), d["removed"].size());
+    for (const auto& r : d[kind]) t += fmt::format("{:<10} {} on {}\n", kind, name(r["scenario"]), name(r["engine"]));
+  t += fmt::format("{} regressions, {} fixed, {} metrics worse, {} better, {} runs added, {} removed\n",
+                   d["regressions"].size(), d["fixed"].size(), d["worse"].size(), d["better"].size(), d["added"].size(),
+                   d["removed"].size());
   return t;
 }
 

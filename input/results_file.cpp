@@ -54,7 +54,8 @@ class Fields {
     if (!obj_.is_object()) fail(fmt::format("is {}, not an object", type_of(obj_)));
   }
   [[noreturn]] void fail(const std::string& problem) const {
-    const std::string where = metric_ ? fmt::format("runs[{}].metrics.{}", run_, *metric_) : fmt::format("runs[{}]", run_);
+    const std::string where =
+        metric_ ? fmt::format("runs[{}].metrics.{}", run_, *metric_) : fmt::format("runs[{}]", run_);
     throw InputError(fmt::format("{}: {}: {}", name_, printable(where, 160), problem));
   }
   auto get(const char* key, bool required) const {
@@ -64,14 +65,25 @@ class Fields {
   }
   template <class Ok>
   void want(const char* key, bool required, Ok ok, const char* what) const {
-    if (const auto* v = get(key, required); v && !ok(*v)) fail(fmt::format("'{}' is {}, not {}", key, type_of(*v), what));
+    if (const auto* v = get(key, required); v && !ok(*v))
+      fail(fmt::format("'{}' is {}, not {}", key, type_of(*v), what));
   }
-  void string(const char* key, bool required) const { want(key, required, [](const auto& v) { return v.is_string(); }, "a string"); }
-  void boolean(const char* key, bool required) const { want(key, required, [](const auto& v) { return v.is_boolean(); }, "a boolean"); }
-  void number(const char* key, bool required) const { want(key, required, [](const auto& v) { return v.is_number(); }, "a number"); }
+  void string(const char* key, bool required) const {
+    want(
+        key, required, [](const auto& v) { return v.is_string(); }, "a string");
+  }
+  void boolean(const char* key, bool required) const {
+    want(
+        key, required, [](const auto& v) { return v.is_boolean(); }, "a boolean");
+  }
+  void number(const char* key, bool required) const {
+    want(
+        key, required, [](const auto& v) { return v.is_number(); }, "a number");
+  }
   /// A number, or null (liftcheck writes a NaN or an infinite error as null).
   void number_or_null(const char* key, bool required) const {
-    want(key, required, [](const auto& v) { return v.is_number() || v.is_null(); }, "a number or null");
+    want(
+        key, required, [](const auto& v) { return v.is_number() || v.is_null(); }, "a number or null");
   }
   void one_of(const char* key, bool required, std::initializer_list<const char*> values) const {
     const auto* v = get(key, required);
@@ -127,7 +139,9 @@ void check_metric(const Obj& m, const std::string& name, std::size_t i, const st
 /// The checks of the top level, with the type of the document and of its "runs" (null: none).
 template <class V>
 void check_top(const V& top, const V* runs, const std::string& name) {
-  if (!top.is_object()) throw InputError(fmt::format("{}: is not a liftcheck results file (the top level is {}, not an object)", name, type_of(top)));
+  if (!top.is_object())
+    throw InputError(
+        fmt::format("{}: is not a liftcheck results file (the top level is {}, not an object)", name, type_of(top)));
   if (!runs) throw InputError(fmt::format("{}: is not a liftcheck results file (no \"runs\")", name));
   if (!runs->is_array()) throw InputError(fmt::format("{}: 'runs' is {}, not an array", name, type_of(*runs)));
 }
@@ -141,7 +155,8 @@ struct Slot {
   bool is_null() const { return type == json::value_t::null; }
   bool is_boolean() const { return type == json::value_t::boolean; }
   bool is_number() const {
-    return type == json::value_t::number_integer || type == json::value_t::number_unsigned || type == json::value_t::number_float;
+    return type == json::value_t::number_integer || type == json::value_t::number_unsigned ||
+           type == json::value_t::number_float;
   }
   bool is_string() const { return type == json::value_t::string; }
   bool is_array() const { return type == json::value_t::array; }
@@ -149,9 +164,10 @@ struct Slot {
 };
 std::string_view text_of(const Slot& v) { return v.text; }
 
-constexpr std::array<std::string_view, 7> kRunFields{"scenario", "engine", "status", "verdict", "as_expected", "message", "metrics"};
-constexpr std::array<std::string_view, 9> kMetricFields{"tolerance_kind", "tolerance", "abs_error", "rel_error", "measured",
-                                                   "expected", "floor", "informational", "pass"};
+constexpr std::array<std::string_view, 7> kRunFields{"scenario",    "engine",  "status", "verdict",
+                                                     "as_expected", "message", "metrics"};
+constexpr std::array<std::string_view, 9> kMetricFields{
+    "tolerance_kind", "tolerance", "abs_error", "rel_error", "measured", "expected", "floor", "informational", "pass"};
 
 /// An object of which only the fields in `Names` are kept (its own type is the Slot's).
 template <const auto& Names>
@@ -172,7 +188,9 @@ struct SlotObject : Slot {
   }
 };
 template <const auto& Names>
-const Slot* field_of(const SlotObject<Names>& obj, const char* key) { return obj.field(key); }
+const Slot* field_of(const SlotObject<Names>& obj, const char* key) {
+  return obj.field(key);
+}
 
 using RunSlots = SlotObject<kRunFields>;
 using MetricSlots = SlotObject<kMetricFields>;
@@ -241,8 +259,8 @@ class IndexReader {
   struct Level {
     bool array = false;
     Role role = Role::other;
-    std::size_t count = 0;  ///< arrays: values begun
-    std::string key;        ///< objects: the key being read
+    std::size_t count = 0;          ///< arrays: values begun
+    std::string key;                ///< objects: the key being read
     std::vector<std::string> keys;  ///< objects: the keys seen (the first few)
     std::size_t n_keys = 0;
     std::unordered_set<std::string> many;  ///< all of them, once there are many
@@ -270,7 +288,8 @@ class IndexReader {
   /// A value begins (a scalar, or a container about to open): its key is checked, and the slot
   /// that keeps it, if any, is returned (`next_role_` says what a container will be).
   Slot* value(json::value_t type) {
-    if ((++events_ & 0xFFFF) == 0) throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", printable(file_, 200)); });
+    if ((++events_ & 0xFFFF) == 0)
+      throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", printable(file_, 200)); });
     next_role_ = Role::other;
     if (depth_ == 0) {
       top_.type = type;
@@ -278,13 +297,15 @@ class IndexReader {
       return nullptr;
     }
     Level& p = levels_[depth_ - 1];
-    if (p.array) ++p.count;
+    if (p.array)
+      ++p.count;
     else if (Slot* s = known(p)) {
       if (s->present()) twice(p.key);  // a field kept is its own record of the key
       s->type = type;
       if (p.role == Role::run && type == json::value_t::object && p.key == "metrics") next_role_ = Role::metrics;
       return s;
-    } else take_key(p);
+    } else
+      take_key(p);
     return in(p.role, p.key, type);
   }
   /// The slot that keeps the value of key `p.key` in object `p`, if it is kept.
@@ -304,8 +325,10 @@ class IndexReader {
       case Role::runs:
         run_.reset(type);
         n_metrics_ = 0;
-        if (object) next_role_ = Role::run;
-        else end_run();
+        if (object)
+          next_role_ = Role::run;
+        else
+          end_run();
         return nullptr;
       case Role::run:  // a field not kept (known() has the kept ones)
         return nullptr;
@@ -317,7 +340,8 @@ class IndexReader {
         return nullptr;
       case Role::metric:
         return nullptr;
-      case Role::other: break;
+      case Role::other:
+        break;
     }
     return nullptr;
   }
@@ -335,12 +359,15 @@ class IndexReader {
       p.use_many = true;
       return;
     }
-    if (p.n_keys == p.keys.size()) p.keys.push_back(p.key);
-    else p.keys[p.n_keys].assign(p.key);
+    if (p.n_keys == p.keys.size())
+      p.keys.push_back(p.key);
+    else
+      p.keys[p.n_keys].assign(p.key);
     ++p.n_keys;
   }
   [[noreturn]] void twice(const std::string& key) const {
-    throw InputError(fmt::format("{}: {}: the key '{}' appears twice in one object (which one is meant?)", file_, where(), printable(key)));
+    throw InputError(fmt::format("{}: {}: the key '{}' appears twice in one object (which one is meant?)", file_,
+                                 where(), printable(key)));
   }
   /// "runs[3].metrics" for the innermost open object (as parse_json_text says it).
   std::string where() const {
@@ -361,7 +388,8 @@ class IndexReader {
     const std::size_t i = levels_[depth_ - 1].count - 1;
     order_.resize(n_metrics_);
     std::iota(order_.begin(), order_.end(), std::size_t{0});
-    std::sort(order_.begin(), order_.end(), [&](std::size_t a, std::size_t b) { return metrics_[a].first < metrics_[b].first; });
+    std::sort(order_.begin(), order_.end(),
+              [&](std::size_t a, std::size_t b) { return metrics_[a].first < metrics_[b].first; });
     try {
       if (check_run(run_, file_, i))
         for (const std::size_t k : order_) check_metric(metrics_[k].second, file_, i, metrics_[k].first);
@@ -374,7 +402,8 @@ class IndexReader {
   RunFigures figures() const {
     RunFigures f;
     const Slot& status = *run_.field("status");
-    const Slot *verdict = run_.field("verdict"), *message = run_.field("message"), *as_expected = run_.field("as_expected");
+    const Slot *verdict = run_.field("verdict"), *message = run_.field("message"),
+               *as_expected = run_.field("as_expected");
     f.scenario = run_.field("scenario")->text;
     f.engine = run_.field("engine")->text;
     f.verdict = verdict ? verdict->text : status.text;
@@ -387,7 +416,8 @@ class IndexReader {
       const Slot *floor = m.field("floor"), *informational = m.field("informational");
       const bool rel = m.field("tolerance_kind")->text == "rel";
       f.metrics.push_back({metrics_[k].first,
-                           metric_ratio(compared_error_of(rel, number_in(m, "rel_error"), number_in(m, "abs_error")), number_in(m, "tolerance"), number_in(m, "abs_error"),
+                           metric_ratio(compared_error_of(rel, number_in(m, "rel_error"), number_in(m, "abs_error")),
+                                        number_in(m, "tolerance"), number_in(m, "abs_error"),
                                         floor ? floor->scalar.get<double>() : 0.0),
                            informational && informational->scalar.get<bool>(), m.field("measured")->scalar});
     }

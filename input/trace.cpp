@@ -33,10 +33,12 @@ double number_at(const std::string& text, const std::string& file, int line, con
   double v = NAN;
   const auto [ptr, ec] = std::from_chars(first, last, v);
   if (!t.empty() && ptr == last && ec == std::errc::result_out_of_range)
-    throw InputError(fmt::format("{}:{}: column '{}' is out of the range of a double: '{}'", file, line, column, printable(text)));
+    throw InputError(
+        fmt::format("{}:{}: column '{}' is out of the range of a double: '{}'", file, line, column, printable(text)));
   if (t.empty() || ec != std::errc() || ptr != last)
     throw InputError(fmt::format("{}:{}: column '{}' is not a number: '{}'", file, line, column, printable(text)));
-  if (!std::isfinite(v)) throw InputError(fmt::format("{}:{}: column '{}' is not finite: '{}'", file, line, column, printable(text)));
+  if (!std::isfinite(v))
+    throw InputError(fmt::format("{}:{}: column '{}' is not finite: '{}'", file, line, column, printable(text)));
   return v;
 }
 
@@ -99,7 +101,8 @@ class CheckedDom {
   };
   /// Places `v` in the innermost open container (or as the document) and returns where it went.
   json* place(json&& v) {
-    if ((++events_ & 0xFFFF) == 0) throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", printable(file_, 200)); });
+    if ((++events_ & 0xFFFF) == 0)
+      throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", printable(file_, 200)); });
     if (open_.empty()) {
       root_ = std::move(v);
       return &root_;
@@ -112,12 +115,14 @@ class CheckedDom {
     // One look-up finds a repeated key and places the value (the key stays for where()).
     auto [at, inserted] = c.get_ref<json::object_t&>().try_emplace(open_.back().key, std::move(v));
     if (!inserted)
-      throw InputError(fmt::format("{}: {}: the key '{}' appears twice in one object (which one is meant?)", file_, where(), printable(at->first)));
+      throw InputError(fmt::format("{}: {}: the key '{}' appears twice in one object (which one is meant?)", file_,
+                                   where(), printable(at->first)));
     return &at->second;
   }
   bool put(json&& v) { return place(std::move(v)), true; }
   bool open(json&& container) {
-    if (static_cast<int>(open_.size()) >= max_depth_) throw InputError(fmt::format("{}: JSON nested deeper than {} levels", file_, max_depth_));
+    if (static_cast<int>(open_.size()) >= max_depth_)
+      throw InputError(fmt::format("{}: JSON nested deeper than {} levels", file_, max_depth_));
     json* at = place(std::move(container));
     open_.push_back({at, {}});
     return true;
@@ -158,12 +163,14 @@ json parse_json_text(std::string_view text, const std::string& file, int max_dep
 
 InputError not_json_error(const json::exception& e, const std::string& file) {
   std::string what = e.what();
-  if (const auto k = what.find("] "); what.rfind("[json.exception", 0) == 0 && k != std::string::npos) what = what.substr(k + 2);
+  if (const auto k = what.find("] "); what.rfind("[json.exception", 0) == 0 && k != std::string::npos)
+    what = what.substr(k + 2);
   return InputError(fmt::format("{}: is not JSON ({})", file, printable(what, 200)));
 }
 
 const std::vector<std::string>& trace_columns(Vehicle vehicle) {
-  static const std::vector<std::string> car{"t", "alpha", "beta", "x", "y", "phi"}, disks{"t", "cMx", "cMy", "cNx", "cNy"};
+  static const std::vector<std::string> car{"t", "alpha", "beta", "x", "y", "phi"},
+      disks{"t", "cMx", "cMy", "cNx", "cNy"};
   return vehicle == Vehicle::kCar ? car : disks;
 }
 
@@ -180,17 +187,140 @@ std::string_view utf8_text(const std::string& text, const std::string& file) {
   std::string_view v(text);
   if (v.substr(0, 3) == "\xEF\xBB\xBF") v.remove_prefix(3);
   if (v.substr(0, 2) == "\xFF\xFE" || v.substr(0, 2) == "\xFE\xFF")
-    throw InputError(fmt::format("{}: is UTF-16 or UTF-32 (it starts with that byte-order mark): save it as UTF-8", file));
+    throw InputError(
+        fmt::format("{}: is UTF-16 or UTF-32 (it starts with that byte-order mark): save it as UTF-8", file));
   if (const auto nul = v.find('\0'); nul != std::string_view::npos)
-    throw InputError(fmt::format("{}: holds a NUL byte (at byte {}): not UTF-8 text (UTF-16 without a byte-order mark?); save it as UTF-8", file,
-                                 nul + static_cast<std::size_t>(v.data() - text.data())));
+    throw InputError(fmt::format(
+        "{}: holds a NUL byte (at byte {}): not UTF-8 text (UTF-16 without a byte-order mark?); save it as UTF-8", file,
+        nul + static_cast<std::size_t>(v.data() - text.data())));
   return v;
 }
 
 std::string header_precision(const std::string& p, const std::string& where) {
-  if (p != "float32" && p != "float64") throw InputError(fmt::format("{}: precision '{}' must be float32 or float64", where, printable(p)));
+  if (p != "float32" && p != "float64")
+    throw InputError(fmt::format("{}: precision '{}' must be float32 or float64", where, printable(p)));
   return p;
 }
+}  // namespace
+
+namespace {
+
+/// The header's 'precision' and 'settings' of a JSON trace, into `tr`.
+void read_json_header(const json& j, Trace& tr) {
+  if (!j.is_object()) return;
+  if (j.contains("precision")) {
+    if (!j["precision"].is_string())
+      throw InputError(fmt::format("{}: 'precision' must be \"float32\" or \"float64\"", tr.file));
+    tr.precision = header_precision(j["precision"].get<std::string>(), tr.file);
+  }
+  if (j.contains("settings")) {
+    if (!j["settings"].is_object())
+      throw InputError(fmt::format("{}: 'settings' must be an object of strings", tr.file));
+    for (const auto& [k, v] : j["settings"].items()) {
+      if (!v.is_string()) throw InputError(fmt::format("{}: setting '{}' must be a string", tr.file, printable(k)));
+      tr.settings.emplace_back(printable(k), printable(v.get<std::string>()));
+    }
+  }
+}
+
+/// Appends `row` (its time first) to `tr`; InputError (at `where`) when time does not increase.
+void append_row(Trace& tr, std::vector<double> row, const std::string& where) {
+  if (!tr.rows.empty() && !(row[0] > tr.rows.back()[0]))
+    throw InputError(
+        fmt::format("{}: time goes from {:g} to {:g} s: it must increase", where, tr.rows.back()[0], row[0]));
+  tr.rows.push_back(std::move(row));
+}
+
+/// A JSON trace: an array of rows, or {"rows": [...]} with an optional header.
+void read_json_trace(std::string_view text, const std::vector<std::string>& want, Trace& tr) {
+  const json j = parse_json_text(text, tr.file);
+  static const json kNone;
+  const auto it = j.is_object() ? j.find("rows") : j.end();
+  const json& rows = !j.is_object() ? j : it != j.end() ? *it : kNone;  // a reference: no copy of the document
+  if (!rows.is_array())
+    throw InputError(fmt::format("{}: JSON trace needs an array of rows (or {{\"rows\": [...]}})", tr.file));
+  read_json_header(j, tr);
+  int i = 0;
+  for (const auto& r : rows) {
+    ++i;
+    if (!r.is_object())
+      throw InputError(
+          fmt::format("{}: row {} is not an object with the columns {}", tr.file, i, fmt::join(want, ", ")));
+    std::vector<double> row;
+    for (const auto& c : want) {
+      const auto col = r.find(c);
+      if (col == r.end()) throw InputError(fmt::format("{}: row {} has no column '{}'", tr.file, i, c));
+      if (!col->is_number() || !std::isfinite(col->get<double>()))
+        throw InputError(fmt::format("{}: row {}: column '{}' is not a finite number", tr.file, i, c));
+      row.push_back(col->get<double>());
+    }
+    append_row(tr, std::move(row), fmt::format("{}: row {}", tr.file, i));
+  }
+}
+
+/// A CSV comment line (after '#'): a '# precision:' or '# setting: KEY=VALUE' header, else nothing.
+void read_csv_comment(const std::string& c, int n, Trace& tr) {
+  if (c.rfind("precision:", 0) == 0)
+    tr.precision = header_precision(trim(c.substr(10)), fmt::format("{}:{}", tr.file, n));
+  if (c.rfind("setting:", 0) == 0) {
+    const std::string kv = trim(c.substr(8));
+    const std::size_t eq = kv.find('=');
+    if (eq == std::string::npos || eq == 0)
+      throw InputError(fmt::format("{}:{}: '# setting:' needs KEY=VALUE", tr.file, n));
+    tr.settings.emplace_back(printable(trim(kv.substr(0, eq))), printable(trim(kv.substr(eq + 1))));
+  }
+}
+
+std::vector<std::string> csv_cells(const std::string& t) {
+  std::vector<std::string> cells;
+  std::size_t from = 0;
+  for (std::size_t comma; (comma = t.find(',', from)) != std::string::npos; from = comma + 1)
+    cells.push_back(trim(t.substr(from, comma - from)));
+  cells.push_back(trim(t.substr(from)));
+  return cells;
+}
+
+/// For each wanted column, its position in the CSV header `cells`.
+std::vector<std::size_t> csv_header(const std::vector<std::string>& cells, const std::vector<std::string>& want, int n,
+                                    const Trace& tr) {
+  std::vector<std::size_t> index;
+  for (const auto& c : want) {
+    const auto it = std::find(cells.begin(), cells.end(), c);
+    if (it == cells.end())
+      throw InputError(
+          fmt::format("{}:{}: the header has no column '{}' (needs {})", tr.file, n, c, fmt::join(want, ",")));
+    index.push_back(static_cast<std::size_t>(it - cells.begin()));
+  }
+  return index;
+}
+
+/// A CSV trace: '#' comments (the header's precision and settings), a header line naming the columns, rows.
+void read_csv_trace(std::string_view text, const std::vector<std::string>& want, Trace& tr) {
+  std::istringstream lines{std::string(text)};
+  std::string line;
+  int n = 0;
+  std::vector<std::size_t> index;  // for each wanted column, its position in the header
+  std::size_t width = 0;
+  while (std::getline(lines, line)) {
+    if ((++n & 0xFFFF) == 0) throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", tr.file); });
+    const std::string t = trim(line);
+    if (!t.empty() && t[0] == '#') read_csv_comment(trim(t.substr(1)), n, tr);
+    if (t.empty() || t[0] == '#') continue;
+    const std::vector<std::string> cells = csv_cells(t);
+    if (index.empty()) {
+      index = csv_header(cells, want, n, tr);
+      width = cells.size();
+      continue;
+    }
+    if (cells.size() != width)
+      throw InputError(fmt::format("{}:{}: {} columns, the header has {}", tr.file, n, cells.size(), width));
+    std::vector<double> row;
+    for (std::size_t k = 0; k < want.size(); ++k) row.push_back(number_at(cells[index[k]], tr.file, n, want[k]));
+    append_row(tr, std::move(row), fmt::format("{}:{}", tr.file, n));
+  }
+  if (index.empty()) throw InputError(fmt::format("{}: no header line (needs {})", tr.file, fmt::join(want, ",")));
+}
+
 }  // namespace
 
 Trace parse_trace(const std::string& whole, const std::string& file, Vehicle vehicle) {
@@ -199,85 +329,12 @@ Trace parse_trace(const std::string& whole, const std::string& file, Vehicle veh
   const std::string_view text = utf8_text(whole, tr.file);
   const std::vector<std::string>& want = trace_columns(vehicle);
   const std::size_t first = text.find_first_not_of(" \t\r\n");
-  if (first != std::string::npos && (text[first] == '[' || text[first] == '{')) {
-    const json j = parse_json_text(text, tr.file);
-    static const json kNone;
-    const auto it = j.is_object() ? j.find("rows") : j.end();
-    const json& rows = !j.is_object() ? j : it != j.end() ? *it : kNone;  // a reference: no copy of the document
-    if (!rows.is_array()) throw InputError(fmt::format("{}: JSON trace needs an array of rows (or {{\"rows\": [...]}})", tr.file));
-    if (j.is_object() && j.contains("precision")) {
-      if (!j["precision"].is_string()) throw InputError(fmt::format("{}: 'precision' must be \"float32\" or \"float64\"", tr.file));
-      tr.precision = header_precision(j["precision"].get<std::string>(), tr.file);
-    }
-    if (j.is_object() && j.contains("settings")) {
-      if (!j["settings"].is_object()) throw InputError(fmt::format("{}: 'settings' must be an object of strings", tr.file));
-      for (const auto& [k, v] : j["settings"].items()) {
-        if (!v.is_string()) throw InputError(fmt::format("{}: setting '{}' must be a string", tr.file, printable(k)));
-        tr.settings.emplace_back(printable(k), printable(v.get<std::string>()));
-      }
-    }
-    int i = 0;
-    for (const auto& r : rows) {
-      ++i;
-      if (!r.is_object()) throw InputError(fmt::format("{}: row {} is not an object with the columns {}", tr.file, i, fmt::join(want, ", ")));
-      std::vector<double> row;
-      for (const auto& c : want) {
-        const auto it = r.find(c);
-        if (it == r.end()) throw InputError(fmt::format("{}: row {} has no column '{}'", tr.file, i, c));
-        if (!it->is_number() || !std::isfinite(it->get<double>()))
-          throw InputError(fmt::format("{}: row {}: column '{}' is not a finite number", tr.file, i, c));
-        row.push_back(it->get<double>());
-      }
-      if (!tr.rows.empty() && !(row[0] > tr.rows.back()[0]))
-        throw InputError(fmt::format("{}: row {}: time goes from {:g} to {:g} s: it must increase", tr.file, i, tr.rows.back()[0], row[0]));
-      tr.rows.push_back(std::move(row));
-    }
-  } else {
-    std::istringstream lines{std::string(text)};
-    std::string line;
-    int n = 0;
-    std::vector<std::size_t> index;  // for each wanted column, its position in the header
-    std::size_t width = 0;
-    while (std::getline(lines, line)) {
-      if ((++n & 0xFFFF) == 0) throw_if_interrupted_by([&] { return fmt::format("while reading '{}'", tr.file); });
-      const std::string t = trim(line);
-      if (!t.empty() && t[0] == '#') {
-        const std::string c = trim(t.substr(1));
-        if (c.rfind("precision:", 0) == 0) tr.precision = header_precision(trim(c.substr(10)), fmt::format("{}:{}", tr.file, n));
-        if (c.rfind("setting:", 0) == 0) {
-          const std::string kv = trim(c.substr(8));
-          const std::size_t eq = kv.find('=');
-          if (eq == std::string::npos || eq == 0) throw InputError(fmt::format("{}:{}: '# setting:' needs KEY=VALUE", tr.file, n));
-          tr.settings.emplace_back(printable(trim(kv.substr(0, eq))), printable(trim(kv.substr(eq + 1))));
-        }
-        continue;
-      }
-      if (t.empty()) continue;
-      std::vector<std::string> cells;
-      std::size_t from = 0;
-      for (std::size_t comma; (comma = t.find(',', from)) != std::string::npos; from = comma + 1) cells.push_back(trim(t.substr(from, comma - from)));
-      cells.push_back(trim(t.substr(from)));
-      if (index.empty()) {
-        for (const auto& c : want) {
-          const auto it = std::find(cells.begin(), cells.end(), c);
-          if (it == cells.end())
-            throw InputError(fmt::format("{}:{}: the header has no column '{}' (needs {})", tr.file, n, c, fmt::join(want, ",")));
-          index.push_back(static_cast<std::size_t>(it - cells.begin()));
-        }
-        width = cells.size();
-        continue;
-      }
-      if (cells.size() != width)
-        throw InputError(fmt::format("{}:{}: {} columns, the header has {}", tr.file, n, cells.size(), width));
-      std::vector<double> row;
-      for (std::size_t k = 0; k < want.size(); ++k) row.push_back(number_at(cells[index[k]], tr.file, n, want[k]));
-      if (!tr.rows.empty() && !(row[0] > tr.rows.back()[0]))
-        throw InputError(fmt::format("{}:{}: time goes from {:g} to {:g} s: it must increase", tr.file, n, tr.rows.back()[0], row[0]));
-      tr.rows.push_back(std::move(row));
-    }
-    if (index.empty()) throw InputError(fmt::format("{}: no header line (needs {})", tr.file, fmt::join(want, ",")));
-  }
-  if (tr.rows.size() < 2) throw InputError(fmt::format("{}: {} rows; a trace needs at least 2", tr.file, tr.rows.size()));
+  if (first != std::string::npos && (text[first] == '[' || text[first] == '{'))
+    read_json_trace(text, want, tr);
+  else
+    read_csv_trace(text, want, tr);
+  if (tr.rows.size() < 2)
+    throw InputError(fmt::format("{}: {} rows; a trace needs at least 2", tr.file, tr.rows.size()));
   return tr;
 }
 

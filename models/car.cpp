@@ -21,8 +21,7 @@ Vec5 H_alpha(const CarDef& car, const Config& q) {
   // (4.3): H_alpha = d_alpha + R cos(beta+phi) d_x + R sin(beta+phi) d_y + (R/l) sin(beta) d_phi
   const double s = q.beta_rad + q.phi_rad;
   Vec5 v;
-  v << 1.0, 0.0, car.R_m * std::cos(s), car.R_m * std::sin(s),
-      car.R_m / car.l_m * std::sin(q.beta_rad);
+  v << 1.0, 0.0, car.R_m * std::cos(s), car.R_m * std::sin(s), car.R_m / car.l_m * std::sin(q.beta_rad);
   return v;
 }
 
@@ -55,9 +54,7 @@ Mat3 gauge_potential(const CarDef& car, double beta_rad) {
   // (3.4): A = -(R/l) [[0, sin b, 0], [-sin b, 0, 0], [l cos b, l sin b, 0]] dalpha
   const double sb = std::sin(beta_rad), cb = std::cos(beta_rad);
   Mat3 m;
-  m << 0.0, sb, 0.0,
-      -sb, 0.0, 0.0,
-      car.l_m * cb, car.l_m * sb, 0.0;
+  m << 0.0, sb, 0.0, -sb, 0.0, 0.0, car.l_m * cb, car.l_m * sb, 0.0;
   return -car.R_m / car.l_m * m;
 }
 
@@ -65,8 +62,7 @@ Vec5 bracket_alpha_beta(const CarDef& car, const Config& q) {
   // (5.5): [H_alpha, H_beta] = R { sin(phi+beta) d_x - cos(phi+beta) d_y - (1/l) cos(beta) d_phi }
   const double s = q.beta_rad + q.phi_rad;
   Vec5 v;
-  v << 0.0, 0.0, car.R_m * std::sin(s), -car.R_m * std::cos(s),
-      -car.R_m / car.l_m * std::cos(q.beta_rad);
+  v << 0.0, 0.0, car.R_m * std::sin(s), -car.R_m * std::cos(s), -car.R_m / car.l_m * std::cos(q.beta_rad);
   return v;
 }
 
@@ -102,10 +98,19 @@ Vec5 fundamental_field(int a, const Config& q) {
   // (E.5): xi_0 = -y d_x + x d_y + d_phi, xi_1 = d_x, xi_2 = d_y
   Vec5 v = Vec5::Zero();
   switch (a) {
-    case 0: v[kX] = -q.y_m; v[kY] = q.x_m; v[kPhi] = 1.0; break;
-    case 1: v[kX] = 1.0; break;
-    case 2: v[kY] = 1.0; break;
-    default: throw std::out_of_range("e(2) has basis indices 0, 1, 2");
+    case 0:
+      v[kX] = -q.y_m;
+      v[kY] = q.x_m;
+      v[kPhi] = 1.0;
+      break;
+    case 1:
+      v[kX] = 1.0;
+      break;
+    case 2:
+      v[kY] = 1.0;
+      break;
+    default:
+      throw std::out_of_range("e(2) has basis indices 0, 1, 2");
   }
   return v;
 }
@@ -121,8 +126,7 @@ Eigen::Matrix2d rho(double theta_rad) {
 
 Eigen::Vector2d particle_field_rate(const CarDef& car, const Config& q) {
   // (6.8): H_alpha psi = (R/l) sin(beta) (-sin phi, cos phi)
-  return car.R_m / car.l_m * std::sin(q.beta_rad) *
-         Eigen::Vector2d(-std::sin(q.phi_rad), std::cos(q.phi_rad));
+  return car.R_m / car.l_m * std::sin(q.beta_rad) * Eigen::Vector2d(-std::sin(q.phi_rad), std::cos(q.phi_rad));
 }
 
 Config act(const Mat3& g, const Config& q) {

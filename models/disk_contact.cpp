@@ -36,15 +36,16 @@ struct Sampler {
   long next;
   std::vector<Sample>& out;
   void upto(double hi, const std::function<Vec2(double)>& cM) {
-    for (; next * dt <= hi + 1e-12 && next * dt < T - 1e-12; ++next) out.push_back({next * dt, cM(next * dt), path.position(next * dt)});
+    for (; next * dt <= hi + 1e-12 && next * dt < T - 1e-12; ++next)
+      out.push_back({next * dt, cM(next * dt), path.position(next * dt)});
   }
 };
 
 /// Integrates one phase from (t0, x0) with a fresh dense-output stepper until its event or T;
 /// returns the end time and state.
 template <class Stepper>
-std::pair<double, State> run_phase(Stepper st, const Phase& ph, double t0, const State& x0, double T, Sampler& smp, long& steps,
-                                   long max_steps) {
+std::pair<double, State> run_phase(Stepper st, const Phase& ph, double t0, const State& x0, double T, Sampler& smp,
+                                   long& steps, long max_steps) {
   st.initialize(x0, t0, std::min(1e-3, (T - t0) / 16.0));
   const auto value = [&](double t) {
     State x;
@@ -79,7 +80,8 @@ std::pair<double, State> run_phase(Stepper st, const Phase& ph, double t0, const
         double root = tb;
         if (ea > 0.0) {
           boost::uintmax_t iters = 100;
-          const auto [lo, up] = boost::math::tools::toms748_solve(value, ta, tb, ea, eb, boost::math::tools::eps_tolerance<double>(52), iters);
+          const auto [lo, up] = boost::math::tools::toms748_solve(value, ta, tb, ea, eb,
+                                                                  boost::math::tools::eps_tolerance<double>(52), iters);
           root = up;  // the first point at or past the crossing
         } else if (ea == 0.0) {
           root = ta;
@@ -101,35 +103,39 @@ std::pair<double, State> run_phase(Stepper st, const Phase& ph, double t0, const
 }
 
 template <class Stepper>
-ResponseResult respond_with(const std::function<Stepper()>& make, const Rule& rule, const NPath& path, const Vec2& cM0, double t0,
-                            double T, const LiftDef& def) {
+ResponseResult respond_with(const std::function<Stepper()>& make, const Rule& rule, const NPath& path, const Vec2& cM0,
+                            double t0, double T, const LiftDef& def) {
   ResponseResult r;
   Sampler smp{path, def.sample_dt_s, T, static_cast<long>(std::floor(t0 / def.sample_dt_s + 1e-9)) + 1, r.trace};
   r.trace.push_back({t0, cM0, path.position(t0)});
-  const Phase free{[&](const State& x, State& dx, double t) {
-                     const Vec2 v = rule(t, Vec2(x[0], x[1]), path.position(t), path.velocity(t));
-                     dx = {v.x(), v.y()};
-                   },
-                   [&](double t, const State& x) { return (Vec2(x[0], x[1]) - path.position(t)).norm() - kContactDistance; },
-                   [](double, const State& x) { return Vec2(x[0], x[1]); }, false};
-  const auto on_circle = [&](double t, double theta) { return Vec2(path.position(t) + kContactDistance * Vec2(std::cos(theta), std::sin(theta))); };
+  const Phase free{
+      [&](const State& x, State& dx, double t) {
+        const Vec2 v = rule(t, Vec2(x[0], x[1]), path.position(t), path.velocity(t));
+        dx = {v.x(), v.y()};
+      },
+      [&](double t, const State& x) { return (Vec2(x[0], x[1]) - path.position(t)).norm() - kContactDistance; },
+      [](double, const State& x) { return Vec2(x[0], x[1]); }, false};
+  const auto on_circle = [&](double t, double theta) {
+    return Vec2(path.position(t) + kContactDistance * Vec2(std::cos(theta), std::sin(theta)));
+  };
   const auto pushing = [&](double t, double theta) {  // n.(v_cmd - v_N) <= 0: the command presses M into N
     const Vec2 n(std::cos(theta), std::sin(theta)), vN = path.velocity(t);
     return -n.dot(rule(t, on_circle(t, theta), path.position(t), vN) - vN);
   };
   Phase contact{[&](const State& x, State& dx, double t) {
-                        const Vec2 n(std::cos(x[0]), std::sin(x[0])), vN = path.velocity(t);
-                        const Vec2 v = rule(t, on_circle(t, x[0]), path.position(t), vN);
-                        dx = {perp(n).dot(v - vN) / kContactDistance, 0.0};
-                      },
-                      [&](double t, const State& x) { return pushing(t, x[0]); },
-                      [&](double t, const State& x) { return on_circle(t, x[0]); }, true};
+                  const Vec2 n(std::cos(x[0]), std::sin(x[0])), vN = path.velocity(t);
+                  const Vec2 v = rule(t, on_circle(t, x[0]), path.position(t), vN);
+                  dx = {perp(n).dot(v - vN) / kContactDistance, 0.0};
+                },
+                [&](double t, const State& x) { return pushing(t, x[0]); },
+                [&](double t, const State& x) { return on_circle(t, x[0]); }, true};
   double t = t0;
   Vec2 cM = cM0;
   bool touching = (cM0 - path.position(t0)).norm() <= kContactDistance;
   long steps = 0;
   while (t < T) {
-    if (++steps > def.max_steps) throw LiftStalled("the lift (21) with contact stalled at t = " + std::to_string(t) + " s");
+    if (++steps > def.max_steps)
+      throw LiftStalled("the lift (21) with contact stalled at t = " + std::to_string(t) + " s");
     if (!touching) {
       const auto [t1, x] = run_phase(make(), free, t, State{cM.x(), cM.y()}, T, smp, steps, def.max_steps);
       t = t1;
@@ -165,13 +171,17 @@ ResponseResult respond_with(const std::function<Stepper()>& make, const Rule& ru
 
 }  // namespace
 
-ResponseResult lift_with_response(const Rule& rule, const NPath& path, const Vec2& cM0, double t0_s, double T_s, const LiftDef& def) {
+ResponseResult lift_with_response(const Rule& rule, const NPath& path, const Vec2& cM0, double t0_s, double T_s,
+                                  const LiftDef& def) {
   namespace odeint = boost::numeric::odeint;
   if (def.method == LiftMethod::kBulirschStoer) {
     using S = odeint::bulirsch_stoer_dense_out<State>;
-    return respond_with<S>([&] { return S(def.abs_tol, def.rel_tol, 1.0, 1.0, def.max_step_s); }, rule, path, cM0, t0_s, T_s, def);
+    return respond_with<S>([&] { return S(def.abs_tol, def.rel_tol, 1.0, 1.0, def.max_step_s); }, rule, path, cM0, t0_s,
+                           T_s, def);
   }
-  const auto make = [&] { return odeint::make_dense_output(def.abs_tol, def.rel_tol, def.max_step_s, odeint::runge_kutta_dopri5<State>()); };
+  const auto make = [&] {
+    return odeint::make_dense_output(def.abs_tol, def.rel_tol, def.max_step_s, odeint::runge_kutta_dopri5<State>());
+  };
   return respond_with<decltype(make())>(make, rule, path, cM0, t0_s, T_s, def);
 }
 
@@ -179,7 +189,8 @@ Vec2 ConstantRelativeContact::relative_at(double s) const {
   const double psi = std::atan2(u.y(), u.x());
   const double phi0 = std::remainder(psi - theta0_rad, 2.0 * std::numbers::pi);
   double phi = phi0;
-  if (std::abs(phi0) < std::numbers::pi && std::cos(phi0) < 0.0) phi = 2.0 * std::atan(std::tan(0.5 * phi0) * std::exp(-0.5 * u.norm() * s));
+  if (std::abs(phi0) < std::numbers::pi && std::cos(phi0) < 0.0)
+    phi = 2.0 * std::atan(std::tan(0.5 * phi0) * std::exp(-0.5 * u.norm() * s));
   const double theta = psi - phi;
   return kContactDistance * Vec2(std::cos(theta), std::sin(theta));
 }

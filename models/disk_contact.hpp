@@ -25,7 +25,8 @@ constexpr double kSeparationSteps = 0.1;
 Vec2 contact_velocity(const Vec2& v_cmd, const Vec2& vN, const Vec2& n);
 
 struct ResponseResult {
-  std::optional<double> t_contact_s;  ///< first contact at or after t0 (t0 if M starts on or inside the circle, pushing)
+  std::optional<double>
+      t_contact_s;  ///< first contact at or after t0 (t0 if M starts on or inside the circle, pushing)
   std::optional<double> t_release_s;  ///< end of that first contact; none if it lasts to T (or there is none)
   /// When the command stopped pressing M into N in that contact (n.(v_cmd - v_N) >= 0: at the
   /// release, or earlier where the command comes to rest against N); none if it presses to T.

@@ -28,11 +28,21 @@ Vec2 Mechanism::velocity(const Vec2& cM, const Vec2& cN, const Vec2& vN) const {
   const Vec2 c = cM - cN;
   Vec2 v;
   switch (kind) {
-    case MechanismKind::kCopy: v = vN; break;                                      // (36)
-    case MechanismKind::kActuated: v = actuation(c.norm()) * vN; break;            // (37)
-    case MechanismKind::kRepel: v = vN + lambda * c; break;                        // (38)
-    case MechanismKind::kRotation: v = vN + omega * perp(c); break;                // (40)
-    case MechanismKind::kLinear: v = a * vN + b * perp(vN); break;                 // (41)
+    case MechanismKind::kCopy:
+      v = vN;
+      break;  // (36)
+    case MechanismKind::kActuated:
+      v = actuation(c.norm()) * vN;
+      break;  // (37)
+    case MechanismKind::kRepel:
+      v = vN + lambda * c;
+      break;  // (38)
+    case MechanismKind::kRotation:
+      v = vN + omega * perp(c);
+      break;  // (40)
+    case MechanismKind::kLinear:
+      v = a * vN + b * perp(vN);
+      break;  // (41)
   }
   if (moving_away) {  // (31) with N(e) the unit vector from c_N to c_M, pointing into E
     const double d = c.norm();
@@ -43,7 +53,8 @@ Vec2 Mechanism::velocity(const Vec2& cM, const Vec2& cN, const Vec2& vN) const {
 
 Vec2 NPath::position(double t) const {
   switch (kind) {
-    case Kind::kLine: return c0 + v * t;
+    case Kind::kLine:
+      return c0 + v * t;
     case Kind::kCircle:
       return c0 + radius_m * Vec2(std::cos(omega_radps * t) - 1.0, std::sin(omega_radps * t));
     case Kind::kFigure8:
@@ -60,7 +71,8 @@ Vec2 NPath::position(double t) const {
 
 Vec2 NPath::velocity(double t) const {
   switch (kind) {
-    case Kind::kLine: return v;
+    case Kind::kLine:
+      return v;
     case Kind::kCircle:
       return radius_m * omega_radps * Vec2(-std::sin(omega_radps * t), std::cos(omega_radps * t));
     case Kind::kFigure8:
@@ -91,7 +103,8 @@ namespace {
 
 /// The lift (21) on any Odeint dense-output stepper `stepper` (already holding the tolerances).
 template <class Stepper>
-LiftResult lift_with(Stepper stepper, const Rule& rule, const NPath& path, const Vec2& cM0, double T_s, const LiftDef& def) {
+LiftResult lift_with(Stepper stepper, const Rule& rule, const NPath& path, const Vec2& cM0, double T_s,
+                     const LiftDef& def) {
   namespace odeint = boost::numeric::odeint;
   using State = std::array<double, 2>;
   const auto rhs = [&](const State& x, State& dx, double t) {
@@ -113,7 +126,8 @@ LiftResult lift_with(Stepper stepper, const Rule& rule, const NPath& path, const
     r.trace.push_back({t, Vec2(x[0], x[1]), path.position(t)});
   };
   r.min_distance = (cM0 - path.position(0.0)).norm();
-  if (r.min_distance <= kContactDistance) r.t_contact_s = 0.0, r.cM_contact = cM0;  // touching (or overlapping) from the start
+  if (r.min_distance <= kContactDistance)
+    r.t_contact_s = 0.0, r.cM_contact = cM0;  // touching (or overlapping) from the start
   r.trace.push_back({0.0, cM0, path.position(0.0)});
   long next_sample = 1, steps = 0;
   while (stepper.current_time() < T_s) {
@@ -142,11 +156,13 @@ LiftResult lift_with(Stepper stepper, const Rule& rule, const NPath& path, const
     }
     // The step's minimum: Brent's method on the dense output around the lowest probe.
     const int kmin = static_cast<int>(std::min_element(probes, probes + kProbe + 1) - probes);
-    const double a = t0 + (hi - t0) * std::max(kmin - 1, 0) / kProbe, b = t0 + (hi - t0) * std::min(kmin + 1, kProbe) / kProbe;
+    const double a = t0 + (hi - t0) * std::max(kmin - 1, 0) / kProbe,
+                 b = t0 + (hi - t0) * std::min(kmin + 1, kProbe) / kProbe;
     boost::uintmax_t iters = 200;
     const auto m = boost::math::tools::brent_find_minima(dist_at, a, b, 52, iters);
     r.min_distance = std::min({r.min_distance, probes[kmin], m.second});
-    for (; next_sample * def.sample_dt_s <= hi + 1e-12; ++next_sample) sample(std::min(next_sample * def.sample_dt_s, T_s));
+    for (; next_sample * def.sample_dt_s <= hi + 1e-12; ++next_sample)
+      sample(std::min(next_sample * def.sample_dt_s, T_s));
   }
   if (r.trace.back().t_s < T_s) sample(T_s);
   r.cM_end = r.trace.back().cM;
@@ -160,10 +176,11 @@ LiftResult lift(const Rule& rule, const NPath& path, const Vec2& cM0, double T_s
   namespace odeint = boost::numeric::odeint;
   using State = std::array<double, 2>;
   if (def.method == LiftMethod::kBulirschStoer)
-    return lift_with(odeint::bulirsch_stoer_dense_out<State>(def.abs_tol, def.rel_tol, 1.0, 1.0, def.max_step_s), rule, path, cM0,
-                     T_s, def);
-  return lift_with(odeint::make_dense_output(def.abs_tol, def.rel_tol, def.max_step_s, odeint::runge_kutta_dopri5<State>()), rule,
-                   path, cM0, T_s, def);
+    return lift_with(odeint::bulirsch_stoer_dense_out<State>(def.abs_tol, def.rel_tol, 1.0, 1.0, def.max_step_s), rule,
+                     path, cM0, T_s, def);
+  return lift_with(
+      odeint::make_dense_output(def.abs_tol, def.rel_tol, def.max_step_s, odeint::runge_kutta_dopri5<State>()), rule,
+      path, cM0, T_s, def);
 }
 
 bool satisfies_linearity(const Mechanism& m, int trials) {
@@ -212,7 +229,8 @@ Vec2 linear_cM(double a, double b, const Vec2& cM0, const Vec2& cN0, const Vec2&
 
 Vec2 collision_centre(double a, double b, const Vec2& cM0, const Vec2& cN0) {
   const Mat2 B = matrix_B(a, b);
-  if (std::abs(B.determinant()) < 1e-300) throw std::invalid_argument("(a, b) = (1, 0): B is singular, no collision domain");
+  if (std::abs(B.determinant()) < 1e-300)
+    throw std::invalid_argument("(a, b) = (1, 0): B is singular, no collision domain");
   const Mat2 Binv = B.inverse();
   return (Mat2::Identity() + Binv) * cN0 - Binv * cM0;
 }
@@ -242,7 +260,10 @@ Vec2 plan(const Vec2& a, const Vec2& b, const Vec2& cN, double clearance, double
   // Tangent - arc - tangent, the shorter way round.
   const double pa = std::atan2(a.y() - cN.y(), a.x() - cN.x()), pb = std::atan2(b.y() - cN.y(), b.x() - cN.x());
   const double ta = std::acos(clearance / da), tb = std::acos(clearance / db);
-  const auto wrap2pi = [](double x) { x = std::fmod(x, 2.0 * kPi); return x < 0 ? x + 2.0 * kPi : x; };
+  const auto wrap2pi = [](double x) {
+    x = std::fmod(x, 2.0 * kPi);
+    return x < 0 ? x + 2.0 * kPi : x;
+  };
   const double arc_ccw = wrap2pi((pb - tb) - (pa + ta)), arc_cw = wrap2pi((pa - ta) - (pb + tb));
   const bool ccw = arc_ccw <= arc_cw;
   const double la = std::sqrt(da * da - clearance * clearance), lb = std::sqrt(db * db - clearance * clearance);
@@ -266,8 +287,8 @@ Vec2 extended(const Lifting& L, const Vec2& cM0, const Vec2& cM1, const NPath& p
   return L(plan(cM0, cM1, path.position(0.0), clearance, t / T), t);
 }
 
-Vec2 navigate(const Lifting& L, const Vec2& cM0, const std::function<Vec2(double)>& target, const NPath& path,
-              double T, double t, double clearance) {
+Vec2 navigate(const Lifting& L, const Vec2& cM0, const std::function<Vec2(double)>& target, const NPath& path, double T,
+              double t, double clearance) {
   // (17): s^(e, v)(t) = s(L(e, p o v)(t), v(t))(t), a plan over c_N(t) evaluated at parameter t.
   return plan(L(cM0, t), target(t), path.position(t), clearance, t / T);
 }

@@ -44,10 +44,10 @@ struct Mechanism {
 struct NPath {
   enum class Kind { kLine, kCircle, kFigure8, kToward } kind = Kind::kLine;
   Vec2 c0 = Vec2::Zero();
-  Vec2 v = Vec2(1.0, 0.0);       ///< line: velocity; toward: speed |v| towards `goal`
-  double radius_m = 3.0;         ///< circle, figure eight
-  double omega_radps = 0.5;      ///< circle, figure eight
-  Vec2 goal = Vec2::Zero();      ///< toward: N drives in a straight line towards it and stops there
+  Vec2 v = Vec2(1.0, 0.0);   ///< line: velocity; toward: speed |v| towards `goal`
+  double radius_m = 3.0;     ///< circle, figure eight
+  double omega_radps = 0.5;  ///< circle, figure eight
+  Vec2 goal = Vec2::Zero();  ///< toward: N drives in a straight line towards it and stops there
 
   Vec2 position(double t) const;
   Vec2 velocity(double t) const;
@@ -147,7 +147,7 @@ Vec2 extended(const Lifting& L, const Vec2& cM0, const Vec2& cM1, const NPath& p
               double clearance);
 
 /// (17): navigation to a moving target v(t) (with p(v(t)) = c_N(t)): M's position at time t.
-Vec2 navigate(const Lifting& L, const Vec2& cM0, const std::function<Vec2(double)>& target, const NPath& path,
-              double T, double t, double clearance);
+Vec2 navigate(const Lifting& L, const Vec2& cM0, const std::function<Vec2(double)>& target, const NPath& path, double T,
+              double t, double clearance);
 
 }  // namespace liftcheck::disks

@@ -9,17 +9,23 @@ namespace liftcheck::e2 {
 Mat3 basis(int a) {
   Mat3 m = Mat3::Zero();
   switch (a) {
-    case 0: m(0, 1) = 1.0; m(1, 0) = -1.0; break;
-    case 1: m(2, 0) = 1.0; break;
-    case 2: m(2, 1) = 1.0; break;
-    default: throw std::out_of_range("e(2) has basis indices 0, 1, 2");
+    case 0:
+      m(0, 1) = 1.0;
+      m(1, 0) = -1.0;
+      break;
+    case 1:
+      m(2, 0) = 1.0;
+      break;
+    case 2:
+      m(2, 1) = 1.0;
+      break;
+    default:
+      throw std::out_of_range("e(2) has basis indices 0, 1, 2");
   }
   return m;
 }
 
-Mat3 hat(const Vec3& lambda) {
-  return lambda[0] * basis(0) + lambda[1] * basis(1) + lambda[2] * basis(2);
-}
+Mat3 hat(const Vec3& lambda) { return lambda[0] * basis(0) + lambda[1] * basis(1) + lambda[2] * basis(2); }
 
 Vec3 vee(const Mat3& m) { return {m(0, 1), m(2, 0), m(2, 1)}; }
 
@@ -56,9 +62,7 @@ Mat3 exp(const Vec3& lambda) {
 Mat3 element(double theta_rad, double b1_m, double b2_m) {
   const double c = std::cos(theta_rad), s = std::sin(theta_rad);
   Mat3 m;
-  m << c, s, 0.0,
-      -s, c, 0.0,
-      b1_m, b2_m, 1.0;
+  m << c, s, 0.0, -s, c, 0.0, b1_m, b2_m, 1.0;
   return m;
 }
 
@@ -70,8 +74,7 @@ Pose act(const Mat3& g, const Pose& pose) {
   // (A.4): both ends of the rod move by chi -> chi B + b; the heading turns by theta.
   const double theta = std::atan2(g(0, 1), g(0, 0));
   const double c = std::cos(theta), s = std::sin(theta);
-  return {pose.x_m * c - pose.y_m * s + g(2, 0), pose.x_m * s + pose.y_m * c + g(2, 1),
-          pose.phi_rad + theta};
+  return {pose.x_m * c - pose.y_m * s + g(2, 0), pose.x_m * s + pose.y_m * c + g(2, 1), pose.phi_rad + theta};
 }
 
 double wrap_angle(double a_rad) {

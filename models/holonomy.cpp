@@ -14,8 +14,7 @@ std::vector<Step> simple_cycle(double eps_alpha_rad, double eps_beta_rad) {
 std::vector<Step> iterated_cycle(Field U, Field W, Field Z, double eps) {
   const double e = eps, e2 = eps * eps;
   // (E.3) as printed, leftmost factor first; the rightmost factor acts first.
-  std::vector<Step> printed{{Z, -e}, {W, -e}, {Z, e}, {W, e}, {U, -e2},
-                            {W, -e}, {Z, -e}, {W, e}, {Z, e}, {U, e2}};
+  std::vector<Step> printed{{Z, -e}, {W, -e}, {Z, e}, {W, e}, {U, -e2}, {W, -e}, {Z, -e}, {W, e}, {Z, e}, {U, e2}};
   std::reverse(printed.begin(), printed.end());
   return printed;
 }

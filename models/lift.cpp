@@ -8,8 +8,7 @@ namespace liftcheck::car {
 
 namespace odeint = boost::numeric::odeint;
 
-std::vector<TimedConfig> lift(const CarDef& car, const BasePath& path, const Config& q0,
-                              const LiftDef& def) {
+std::vector<TimedConfig> lift(const CarDef& car, const BasePath& path, const Config& q0, const LiftDef& def) {
   using State = std::array<double, 3>;  // x, y, phi
   const auto rhs = [&](const State& s, State& ds, double t) {
     const BaseSample b = path.at(t);
@@ -45,8 +44,8 @@ std::vector<TimedConfig> lift(const CarDef& car, const BasePath& path, const Con
       odeint::integrate_times(odeint::bulirsch_stoer_dense_out<State>(def.abs_tol, def.rel_tol), rhs, s, times.begin(),
                               times.end(), dt0, observe);
     else
-      odeint::integrate_times(odeint::make_dense_output(def.abs_tol, def.rel_tol, odeint::runge_kutta_dopri5<State>()), rhs, s,
-                              times.begin(), times.end(), dt0, observe);
+      odeint::integrate_times(odeint::make_dense_output(def.abs_tol, def.rel_tol, odeint::runge_kutta_dopri5<State>()),
+                              rhs, s, times.begin(), times.end(), dt0, observe);
   }
   return trace;
 }

@@ -16,9 +16,9 @@ enum class LiftMethod { kDopri5, kBulirschStoer };
 
 struct LiftDef {
   LiftMethod method = LiftMethod::kDopri5;
-  double abs_tol = 1e-13;   ///< odeint absolute error tolerance per step [m, rad]
-  double rel_tol = 1e-13;   ///< odeint relative error tolerance per step
-  double sample_dt_s = 0.0; ///< spacing of the returned trace (0: only the segment corners)
+  double abs_tol = 1e-13;    ///< odeint absolute error tolerance per step [m, rad]
+  double rel_tol = 1e-13;    ///< odeint relative error tolerance per step
+  double sample_dt_s = 0.0;  ///< spacing of the returned trace (0: only the segment corners)
 };
 
 struct TimedConfig {
@@ -28,8 +28,7 @@ struct TimedConfig {
 
 /// Lifts `path` from the rod position of `q0` (its alpha, beta are taken from the path's start).
 /// Returns the trace: start, every sample_dt_s, and each segment end.
-std::vector<TimedConfig> lift(const CarDef& car, const BasePath& path, const Config& q0,
-                              const LiftDef& def = {});
+std::vector<TimedConfig> lift(const CarDef& car, const BasePath& path, const Config& q0, const LiftDef& def = {});
 
 /// Lift of a sampled base path (alpha_i, beta_i), e.g. the one an engine realized, from the rod
 /// position of samples.front(): between samples, steer half-way, drive the exact arc, steer the

@@ -11,9 +11,9 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 }
 
-Profile::Profile(double distance, double cruise_rate, double peak_accel)
-    : D_(std::abs(distance)), V_(cruise_rate) {
-  if (!(cruise_rate > 0.0) || !(peak_accel > 0.0)) throw std::invalid_argument("profile rate and acceleration must be positive");
+Profile::Profile(double distance, double cruise_rate, double peak_accel) : D_(std::abs(distance)), V_(cruise_rate) {
+  if (!(cruise_rate > 0.0) || !(peak_accel > 0.0))
+    throw std::invalid_argument("profile rate and acceleration must be positive");
   if (D_ == 0.0) return;
   // A ramp v = V (1 - cos(pi t / ramp)) / 2 has peak acceleration pi V / (2 ramp).
   ramp_ = kPi * V_ / (2.0 * peak_accel);
@@ -59,11 +59,10 @@ double Profile::rate(double t) const {
   return 0.5 * V_ * (1.0 - std::cos(kPi * (T_ - t) / ramp_));
 }
 
-BasePath::BasePath(std::vector<Segment> segments, double alpha0_rad, double beta0_rad,
-                   const DriveDef& drive)
+BasePath::BasePath(std::vector<Segment> segments, double alpha0_rad, double beta0_rad, const DriveDef& drive)
     : segments_(std::move(segments)) {
-  if (!(drive.R_m > 0.0) || !(drive.speed_mps > 0.0) || !(drive.steer_rate_radps > 0.0) ||
-      !(drive.accel_mps2 > 0.0) || !(drive.steer_accel_radps2 > 0.0))
+  if (!(drive.R_m > 0.0) || !(drive.speed_mps > 0.0) || !(drive.steer_rate_radps > 0.0) || !(drive.accel_mps2 > 0.0) ||
+      !(drive.steer_accel_radps2 > 0.0))
     throw std::invalid_argument("drive needs R, speed, steer_rate, accel, steer_accel > 0");
   double t = 0.0, a = alpha0_rad, b = beta0_rad;
   for (const Segment& s : segments_) {
@@ -102,8 +101,7 @@ BaseSample BasePath::at(double t_s) const {
   const double u = p.duration() > 0.0 ? p.position(tau) : (tau > 0.0 ? 1.0 : 0.0);
   const double du = p.rate(tau);
   const Segment& s = segments_[i];
-  return {alpha0_[i] + u * s.d_alpha_rad, beta0_[i] + u * s.d_beta_rad, du * s.d_alpha_rad,
-          du * s.d_beta_rad};
+  return {alpha0_[i] + u * s.d_alpha_rad, beta0_[i] + u * s.d_beta_rad, du * s.d_alpha_rad, du * s.d_beta_rad};
 }
 
 }  // namespace liftcheck::car

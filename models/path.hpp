@@ -18,11 +18,11 @@ struct Segment {
 /// How fast the driver moves through the base. The accelerations bound every segment, long or
 /// short, so that a rigid-body car can follow without exceeding its traction.
 struct DriveDef {
-  double R_m = 0.3;                  ///< front wheel radius: converts alpha to front-wheel travel
-  double speed_mps = 0.5;            ///< cruise speed of the front wheel's contact point
-  double steer_rate_radps = 0.5;     ///< cruise rate of the steering angle
-  double accel_mps2 = 1.0;           ///< peak acceleration of the front wheel's contact point
-  double steer_accel_radps2 = 4.0;   ///< peak angular acceleration of the steering
+  double R_m = 0.3;                 ///< front wheel radius: converts alpha to front-wheel travel
+  double speed_mps = 0.5;           ///< cruise speed of the front wheel's contact point
+  double steer_rate_radps = 0.5;    ///< cruise rate of the steering angle
+  double accel_mps2 = 1.0;          ///< peak acceleration of the front wheel's contact point
+  double steer_accel_radps2 = 4.0;  ///< peak angular acceleration of the steering
 };
 
 /// Smooth rest-to-rest motion over a distance D with cruise rate V and peak acceleration A:
@@ -68,7 +68,7 @@ class BasePath {
 
  private:
   std::vector<Segment> segments_;
-  std::vector<Profile> profile_;   // progress along each segment, normalised to [0, 1]
+  std::vector<Profile> profile_;  // progress along each segment, normalised to [0, 1]
   std::vector<double> start_s_;
   std::vector<double> alpha0_, beta0_;  // base point at each segment start, plus the end
 };

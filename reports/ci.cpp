@@ -19,15 +19,17 @@ std::string xml(const std::string& s) { return escape_markup(s); }
 
 /// "expected E, measured M, error X (rel|abs), tolerance T": one metric of a record, as CI shows it.
 std::string metric_text(const MetricView& m) {
-  return fmt::format("expected {:.9g}, measured {:.9g}, {} error {:.3g}, tolerance {:.3g}{}", m.expected(), m.measured(),
-                     m.relative() ? "relative" : "absolute", m.compared_error(), m.tolerance(), m.counted() ? "" : " (shown, not counted)");
+  return fmt::format("expected {:.9g}, measured {:.9g}, {} error {:.3g}, tolerance {:.3g}{}", m.expected(),
+                     m.measured(), m.relative() ? "relative" : "absolute", m.compared_error(), m.tolerance(),
+                     m.counted() ? "" : " (shown, not counted)");
 }
 
 /// "known failure: reason; ..." for the known-failure points of a sweep entry, one reason each.
 std::string known_points_text(const json& entry) {
   std::vector<std::string> reasons;
   for (const auto& pt : entry.value("points", json::array()))
-    if (pt.contains("known_failure") && std::find(reasons.begin(), reasons.end(), pt["known_failure"].get<std::string>()) == reasons.end())
+    if (pt.contains("known_failure") &&
+        std::find(reasons.begin(), reasons.end(), pt["known_failure"].get<std::string>()) == reasons.end())
       reasons.push_back(pt["known_failure"]);
   std::string out;
   for (const auto& r : reasons) out += (out.empty() ? "known failure: " : "; ") + r;
@@ -63,7 +65,8 @@ std::string junit_xml(const json& results) {
     std::string props;
     for (const json* r : by[sc]) {
       RecordView(*r).each_metric([&](const std::string& name, const MetricView& m) {
-        props += fmt::format("    <property name=\"{} {}\" value=\"{}\"/>\n", xml((*r)["engine"]), xml(name), xml(metric_text(m)));
+        props += fmt::format("    <property name=\"{} {}\" value=\"{}\"/>\n", xml((*r)["engine"]), xml(name),
+                             xml(metric_text(m)));
       });
     }
     if (!props.empty()) props = "    <properties>\n" + props + "    </properties>\n";
@@ -78,7 +81,8 @@ std::string junit_xml(const json& results) {
         cases += fmt::format("<error message=\"{}\"/>", xml((*r)["message"]));
         ++e;
       } else if (!record_as_expected(*r)) {
-        cases += fmt::format("<failure type=\"{}\" message=\"{}\"/>", xml(r->value("verdict", "fail")), xml(failure_text(*r)));
+        cases += fmt::format("<failure type=\"{}\" message=\"{}\"/>", xml(r->value("verdict", "fail")),
+                             xml(failure_text(*r)));
         ++f;
       } else if (st == "fail" && r->contains("expectation") && (*r)["expectation"].is_object()) {
         // An expected failure is the skip convention's: a CI page shows it apart from the passes.
@@ -88,8 +92,9 @@ std::string junit_xml(const json& results) {
       cases += "</testcase>\n";
     }
     tests += static_cast<int>(by[sc].size()), failures += f, errors += e;
-    suites += fmt::format("  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\">\n{}{}  </testsuite>\n",
-                          xml(sc), by[sc].size(), f, e, s, props, cases);
+    suites += fmt::format(
+        "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\">\n{}{}  </testsuite>\n",
+        xml(sc), by[sc].size(), f, e, s, props, cases);
   }
   // The sweeps' gates: a suite per sweep, a case per engine.
   for (const auto& sw : results.value("sweeps", json::array())) {
@@ -97,7 +102,8 @@ std::string junit_xml(const json& results) {
     std::string cases;
     for (const auto& entry : sw["engines"]) {
       const json& gate = entry["gate"];
-      cases += fmt::format("    <testcase classname=\"sweep.{}\" name=\"{}\" time=\"0\">", xml(sw["name"]), xml(entry["engine"]));
+      cases += fmt::format("    <testcase classname=\"sweep.{}\" name=\"{}\" time=\"0\">", xml(sw["name"]),
+                           xml(entry["engine"]));
       if (!gate["pass"].get<bool>()) {
         std::string msg;
         for (const auto& p : gate["problems"]) msg += (msg.empty() ? "" : "; ") + p.get<std::string>();
@@ -110,13 +116,15 @@ std::string junit_xml(const json& results) {
       cases += "</testcase>\n";
     }
     tests += static_cast<int>(sw["engines"].size()), failures += f;
-    suites += fmt::format("  <testsuite name=\"sweep.{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"{}\">\n{}  </testsuite>\n",
-                          xml(sw["name"]), sw["engines"].size(), f, sk, cases);
+    suites += fmt::format(
+        "  <testsuite name=\"sweep.{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"{}\">\n{}  </testsuite>\n",
+        xml(sw["name"]), sw["engines"].size(), f, sk, cases);
   }
   // junit-10.xsd (Jenkins' xunit plugin) allows no "skipped" on <testsuites>: it is per suite.
-  return fmt::format("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"liftcheck\" tests=\"{}\" failures=\"{}\" "
-                     "errors=\"{}\">\n{}</testsuites>\n",
-                     tests, failures, errors, suites);
+  return fmt::format(
+      "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"liftcheck\" tests=\"{}\" failures=\"{}\" "
+      "errors=\"{}\">\n{}</testsuites>\n",
+      tests, failures, errors, suites);
 }
 
 std::string summary_markdown(const json& results, const std::string& report_link) {
@@ -124,38 +132,47 @@ std::string summary_markdown(const json& results, const std::string& report_link
   // The marker lets CI find and update its own comment on a pull request instead of adding one.
   std::string md = "<!-- liftcheck-summary -->\n## liftcheck validation\n\n";
   const int unexpected = sum.value("unexpected", 0);
-  md += fmt::format("**{}** — {} runs: {} pass, {} known failures, {} unexpected passes, {} fail, {} error, {} skip; {} sweep gates, {} failed.{}\n\n",
-                    unexpected == 0 ? "all as expected" : fmt::format("{} unexpected", unexpected), sum.value("total", 0), sum.value("pass", 0),
-                    sum.value("known failure", 0), sum.value("unexpected pass", 0), sum.value("fail", 0), sum.value("error", 0),
-                    sum.value("skip", 0), sum.value("sweep_gates", 0), sum.value("sweep_gates_failed", 0),
-                    report_link.empty() ? "" : fmt::format(" [Report]({}){}", report_link,
-                                                           report_link.find("/actions/runs/") != std::string::npos ? " (the run's artifact `report`)" : ""));
+  md += fmt::format(
+      "**{}** — {} runs: {} pass, {} known failures, {} unexpected passes, {} fail, {} error, {} skip; {} sweep gates, "
+      "{} failed.{}\n\n",
+      unexpected == 0 ? "all as expected" : fmt::format("{} unexpected", unexpected), sum.value("total", 0),
+      sum.value("pass", 0), sum.value("known failure", 0), sum.value("unexpected pass", 0), sum.value("fail", 0),
+      sum.value("error", 0), sum.value("skip", 0), sum.value("sweep_gates", 0), sum.value("sweep_gates_failed", 0),
+      report_link.empty()
+          ? ""
+          : fmt::format(
+                " [Report]({}){}", report_link,
+                report_link.find("/actions/runs/") != std::string::npos ? " (the run's artifact `report`)" : ""));
   // Against the baseline, regressions and worsened metrics first.
   if (results.contains("baseline") && results["baseline"].is_object()) {
     const json& d = results["baseline"]["diff"];
     std::string b;
     for (const auto& r : d["regressions"])
-      b += fmt::format("- REGRESSION **{}** on {}: {} → {} ({})\n", r["scenario"].get<std::string>(), markdown_code(r["engine"].get<std::string>()),
-                       r["from"].get<std::string>(), r["to"].get<std::string>(), escape_markdown(r["message"].get<std::string>()));
+      b += fmt::format("- REGRESSION **{}** on {}: {} → {} ({})\n", r["scenario"].get<std::string>(),
+                       markdown_code(r["engine"].get<std::string>()), r["from"].get<std::string>(),
+                       r["to"].get<std::string>(), escape_markdown(r["message"].get<std::string>()));
     for (const auto& r : d["worse"])
-      b += fmt::format("- worse **{}** on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", r["scenario"].get<std::string>(),
-                       markdown_code(r["engine"].get<std::string>()), r["metric"].get<std::string>(), r["head_measured"].dump(), r["base_measured"].dump(),
+      b += fmt::format("- worse **{}** on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n",
+                       r["scenario"].get<std::string>(), markdown_code(r["engine"].get<std::string>()),
+                       r["metric"].get<std::string>(), r["head_measured"].dump(), r["base_measured"].dump(),
                        r["head_ratio"].get<double>(), r["base_ratio"].get<double>());
     md += fmt::format("### Against the baseline ({})\n\n{}{} regressions, {} metrics worse, {} fixed, {} better\n\n",
-                      escape_markdown(results["baseline"]["file"].get<std::string>()), b, d["regressions"].size(), d["worse"].size(), d["fixed"].size(),
-                      d["better"].size());
+                      escape_markdown(results["baseline"]["file"].get<std::string>()), b, d["regressions"].size(),
+                      d["worse"].size(), d["fixed"].size(), d["better"].size());
   }
   // What is not as expected comes first.
   std::string bad;
   for (const auto& r : results["runs"])
     if (!record_as_expected(r))
-      bad += fmt::format("- **{}** on {}: {}\n", r["scenario"].get<std::string>(), markdown_code(r["engine"].get<std::string>()), escape_markdown(failure_text(r)));
+      bad += fmt::format("- **{}** on {}: {}\n", r["scenario"].get<std::string>(),
+                         markdown_code(r["engine"].get<std::string>()), escape_markdown(failure_text(r)));
   for (const auto& sw : results.value("sweeps", json::array()))
     for (const auto& e : sw["engines"])
       if (!e["gate"]["pass"].get<bool>()) {
         std::string problems;
         for (const auto& p : e["gate"]["problems"]) problems += (problems.empty() ? "" : "; ") + p.get<std::string>();
-        bad += fmt::format("- sweep **{}** on {}: {}\n", sw["name"].get<std::string>(), markdown_code(e["engine"].get<std::string>()), escape_markdown(problems));
+        bad += fmt::format("- sweep **{}** on {}: {}\n", sw["name"].get<std::string>(),
+                           markdown_code(e["engine"].get<std::string>()), escape_markdown(problems));
       }
   if (!bad.empty()) md += "### Not as expected\n\n" + bad + "\n";
   // The matrix.
@@ -163,7 +180,8 @@ std::string summary_markdown(const json& results, const std::string& report_link
   for (const auto& e : results["context"]["engines"]) engines.push_back(e["name"]);
   std::map<std::pair<std::string, std::string>, const json*> runs;
   for (const auto& r : results["runs"]) {
-    if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end()) scenarios.push_back(r["scenario"]);
+    if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end())
+      scenarios.push_back(r["scenario"]);
     runs[{r["scenario"].get<std::string>(), r["engine"].get<std::string>()}] = &r;
   }
   md += "| scenario |";
@@ -184,7 +202,8 @@ std::string summary_markdown(const json& results, const std::string& report_link
     }
     md += "\n";
   }
-  md += "\n✅ pass · 🟦 known failure (listed with its reason in harness/expectations.json) · ❌ fail or unexpected pass · 💥 error · – skip\n";
+  md += "\n✅ pass · 🟦 known failure (listed with its reason in harness/expectations.json)";
+  md += " · ❌ fail or unexpected pass · 💥 error · – skip\n";
   return md;
 }
 

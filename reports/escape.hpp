@@ -11,12 +11,23 @@ inline std::string escape_markup(const std::string& s) {
   o.reserve(s.size());
   for (char c : s) {
     switch (c) {
-      case '&': o += "&amp;"; break;
-      case '<': o += "&lt;"; break;
-      case '>': o += "&gt;"; break;
-      case '"': o += "&quot;"; break;
-      case '\'': o += "&apos;"; break;
-      default: o += (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7f ? '?' : c;
+      case '&':
+        o += "&amp;";
+        break;
+      case '<':
+        o += "&lt;";
+        break;
+      case '>':
+        o += "&gt;";
+        break;
+      case '"':
+        o += "&quot;";
+        break;
+      case '\'':
+        o += "&apos;";
+        break;
+      default:
+        o += (static_cast<unsigned char>(c) < 0x20 && c != '\t' && c != '\n' && c != '\r') || c == 0x7f ? '?' : c;
     }
   }
   return o;
@@ -28,9 +39,12 @@ inline std::string escape_markdown(const std::string& s) {
   std::string o;
   o.reserve(s.size());
   for (char c : s) {
-    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) o += '?';
-    else if (std::string_view("\\`*_[]<>|~").find(c) != std::string_view::npos) o += '\\', o += c;
-    else o += c;
+    if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      o += '?';
+    else if (std::string_view("\\`*_[]<>|~").find(c) != std::string_view::npos)
+      o += '\\', o += c;
+    else
+      o += c;
   }
   return o;
 }

@@ -100,7 +100,8 @@ void draw_puck(const Puck& p) {
   glBegin(GL_TRIANGLE_FAN);
   glVertex3d(p.centre.x(), p.centre.y(), p.height_m);
   for (int k = 0; k <= kSeg; ++k)
-    glVertex3d(p.centre.x() + p.radius_m * std::cos(2 * kPi * k / kSeg), p.centre.y() + p.radius_m * std::sin(2 * kPi * k / kSeg), p.height_m);
+    glVertex3d(p.centre.x() + p.radius_m * std::cos(2 * kPi * k / kSeg),
+               p.centre.y() + p.radius_m * std::sin(2 * kPi * k / kSeg), p.height_m);
   glEnd();
 }
 
@@ -121,7 +122,8 @@ void draw_circle(const Circle& c, double z) {
     glBegin(GL_TRIANGLE_FAN);
     glVertex3d(c.centre.x(), c.centre.y(), z);
     for (int k = 0; k <= kSeg; ++k)
-      glVertex3d(c.centre.x() + c.radius_m * std::cos(2 * kPi * k / kSeg), c.centre.y() + c.radius_m * std::sin(2 * kPi * k / kSeg), z);
+      glVertex3d(c.centre.x() + c.radius_m * std::cos(2 * kPi * k / kSeg),
+                 c.centre.y() + c.radius_m * std::sin(2 * kPi * k / kSeg), z);
     glEnd();
   }
   if (c.edge.a > 0) {
@@ -129,7 +131,8 @@ void draw_circle(const Circle& c, double z) {
     color(c.edge);
     glBegin(GL_LINE_LOOP);
     for (int k = 0; k < kSeg; ++k)
-      glVertex3d(c.centre.x() + c.radius_m * std::cos(2 * kPi * k / kSeg), c.centre.y() + c.radius_m * std::sin(2 * kPi * k / kSeg), z);
+      glVertex3d(c.centre.x() + c.radius_m * std::cos(2 * kPi * k / kSeg),
+                 c.centre.y() + c.radius_m * std::sin(2 * kPi * k / kSeg), z);
     glEnd();
   }
 }
@@ -189,7 +192,8 @@ struct Font {
   }
   std::vector<unsigned char> data;
   stbtt_fontinfo info{};
-  std::map<std::pair<int, int>, std::tuple<std::vector<unsigned char>, int, int, int, int, int>> cache;  // bitmap, w, h, xoff, yoff, advance
+  std::map<std::pair<int, int>, std::tuple<std::vector<unsigned char>, int, int, int, int, int>>
+      cache;  // bitmap, w, h, xoff, yoff, advance
   std::mutex mutex;
 };
 
@@ -203,9 +207,12 @@ std::vector<int> decode_utf8(const std::string& s) {
   for (std::size_t i = 0; i < s.size();) {
     const unsigned char c = static_cast<unsigned char>(s[i]);
     int cp = c, extra = 0;
-    if (c >= 0xF0) cp = c & 0x07, extra = 3;
-    else if (c >= 0xE0) cp = c & 0x0F, extra = 2;
-    else if (c >= 0xC0) cp = c & 0x1F, extra = 1;
+    if (c >= 0xF0)
+      cp = c & 0x07, extra = 3;
+    else if (c >= 0xE0)
+      cp = c & 0x0F, extra = 2;
+    else if (c >= 0xC0)
+      cp = c & 0x1F, extra = 1;
     for (int k = 1; k <= extra && i + k < s.size(); ++k) cp = (cp << 6) | (static_cast<unsigned char>(s[i + k]) & 0x3F);
     cps.push_back(cp);
     i += 1 + extra;
@@ -220,7 +227,8 @@ Color color_from_hex(const std::string& hex) {
   float rgb[3];
   for (int i = 0; i < 3; ++i) {
     const std::string part = hex.substr(1 + 2 * i, 2);
-    if (!std::isxdigit(static_cast<unsigned char>(part[0])) || !std::isxdigit(static_cast<unsigned char>(part[1]))) return colors::kUnknown;
+    if (!std::isxdigit(static_cast<unsigned char>(part[0])) || !std::isxdigit(static_cast<unsigned char>(part[1])))
+      return colors::kUnknown;
     rgb[i] = static_cast<float>(std::stoi(part, nullptr, 16)) / 255.0f;
   }
   return {rgb[0], rgb[1], rgb[2], 1.0f};
@@ -255,7 +263,9 @@ void draw_text(Image& img, const std::string& text, int x, int y, float size_px,
       stbtt_GetCodepointHMetrics(&f.info, cp, &adv, &lsb);
       std::vector<unsigned char> copy(bm, bm + static_cast<std::size_t>(w) * h);
       stbtt_FreeBitmap(bm, nullptr);
-      it = f.cache.emplace(key, std::make_tuple(std::move(copy), w, h, xo, yo, static_cast<int>(std::lround(adv * scale)))).first;
+      it = f.cache
+               .emplace(key, std::make_tuple(std::move(copy), w, h, xo, yo, static_cast<int>(std::lround(adv * scale))))
+               .first;
     }
     const auto& [bm, w, h, xo, yo, adv] = it->second;
     for (int j = 0; j < h; ++j)
@@ -356,8 +366,10 @@ void draw_arrows_and_markers(const Scene& s) {
     line_style(3.0f, false);
     color(m.color);
     glBegin(GL_LINES);
-    glVertex3d(m.at.x() - m.size_m, m.at.y() - m.size_m, 1.0), glVertex3d(m.at.x() + m.size_m, m.at.y() + m.size_m, 1.0);
-    glVertex3d(m.at.x() - m.size_m, m.at.y() + m.size_m, 1.0), glVertex3d(m.at.x() + m.size_m, m.at.y() - m.size_m, 1.0);
+    glVertex3d(m.at.x() - m.size_m, m.at.y() - m.size_m, 1.0),
+        glVertex3d(m.at.x() + m.size_m, m.at.y() + m.size_m, 1.0);
+    glVertex3d(m.at.x() - m.size_m, m.at.y() + m.size_m, 1.0),
+        glVertex3d(m.at.x() + m.size_m, m.at.y() - m.size_m, 1.0);
     glEnd();
   }
 }
@@ -402,7 +414,10 @@ void draw_scale_bar(Image& img, const Scene& s) {
       const bool light = ((x - x0) * 2 / std::max(1, len)) % 2 == 1 && y > y0 && y < y0 + 5;
       p[0] = p[1] = p[2] = light ? 255 : 20;
     }
-  const std::string text = L >= 1 ? fmt::format("{:g} m", L) : L >= 0.01 ? fmt::format("{:g} cm", L * 100) : L >= 1e-3 ? fmt::format("{:g} mm", L * 1e3) : fmt::format("{:g} µm", L * 1e6);
+  const std::string text = L >= 1      ? fmt::format("{:g} m", L)
+                           : L >= 0.01 ? fmt::format("{:g} cm", L * 100)
+                           : L >= 1e-3 ? fmt::format("{:g} mm", L * 1e3)
+                                       : fmt::format("{:g} µm", L * 1e6);
   draw_text(img, text, x0 + len + 8, y0 - 7, 15.0f, Color{0.1f, 0.1f, 0.1f, 1.0f});
 }
 
@@ -452,15 +467,18 @@ Image Renderer::render(const Scene& s) {
   }
   const int W = s.width_px * kSuper, H = s.height_px * kSuper;
   // glClear below sets every pixel: the buffer only grows (no fill of 7.7 MB per picture).
-  if (impl_->buffer.size() < static_cast<std::size_t>(W) * H * 4) impl_->buffer.resize(static_cast<std::size_t>(W) * H * 4);
+  if (impl_->buffer.size() < static_cast<std::size_t>(W) * H * 4)
+    impl_->buffer.resize(static_cast<std::size_t>(W) * H * 4);
   if (!OSMesaMakeCurrent(impl_->ctx, impl_->buffer.data(), GL_UNSIGNED_BYTE, W, H))
     throw std::runtime_error("OSMesa: cannot make the context current");
   OSMesaPixelStore(OSMESA_Y_UP, 0);  // rows from the top
 
   const bool top = s.camera.kind == Camera::Kind::kTopDown;
   glViewport(0, 0, W, H);
-  if (top) glClearColor(colors::kGround.r, colors::kGround.g, colors::kGround.b, 1);
-  else glClearColor(0.86f, 0.90f, 0.95f, 1);
+  if (top)
+    glClearColor(colors::kGround.r, colors::kGround.g, colors::kGround.b, 1);
+  else
+    glClearColor(0.86f, 0.90f, 0.95f, 1);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glMatrixMode(GL_PROJECTION);
   const Eigen::Matrix4d vp = view_projection(s);
@@ -509,8 +527,7 @@ Image tile(const std::vector<Image>& frames, int per_row) {
   out.rgba.assign(static_cast<std::size_t>(out.width) * out.height * 4, 255);
   for (std::size_t k = 0; k < frames.size(); ++k) {
     const int ox = static_cast<int>(k % per_row) * (w + gap), oy = static_cast<int>(k / per_row) * (h + gap);
-    for (int y = 0; y < h; ++y)
-      std::copy_n(frames[k].pixel(0, y), w * 4, out.pixel(ox, oy + y));
+    for (int y = 0; y < h; ++y) std::copy_n(frames[k].pixel(0, y), w * 4, out.pixel(ox, oy + y));
   }
   return out;
 }

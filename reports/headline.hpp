@@ -9,10 +9,10 @@
 namespace liftcheck {
 
 struct Figure {
-  std::string metric;  ///< the metric the figure comes from
-  double value = 0;    ///< the shown value, in `unit`
-  std::string unit;    ///< "" (a ratio), "mm", "µm/s", "steps", or the metric's own
-  double ratio = 0;    ///< its compared error over its tolerance (below 1 passes)
+  std::string metric;        ///< the metric the figure comes from
+  double value = 0;          ///< the shown value, in `unit`
+  std::string unit;          ///< "" (a ratio), "mm", "µm/s", "steps", or the metric's own
+  double ratio = 0;          ///< its compared error over its tolerance (below 1 passes)
   std::string text() const;  ///< "1.1e-7", "257 µm/s"
 };
 

@@ -19,7 +19,9 @@ std::string scenario_page(const std::string& scenario) {
 
 std::string markdown_html(const std::string& md) {
   std::string out;
-  const auto sink = [](const MD_CHAR* text, MD_SIZE size, void* user) { static_cast<std::string*>(user)->append(text, size); };
+  const auto sink = [](const MD_CHAR* text, MD_SIZE size, void* user) {
+    static_cast<std::string*>(user)->append(text, size);
+  };
   if (md_html(md.data(), static_cast<MD_SIZE>(md.size()), sink, &out, MD_DIALECT_GITHUB, 0) != 0)
     return "<pre>" + esc(md) + "</pre>\n";
   return out;
@@ -31,31 +33,39 @@ namespace {
 std::string baseline_section(const json& results) {
   if (!results.contains("baseline") || !results["baseline"].is_object()) return "";
   const json& d = results["baseline"]["diff"];
-  std::string h = fmt::format("<h2 id=\"baseline\">Against the baseline <code>{}</code></h2>\n<p>{} regressions, {} metrics worse, {} fixed, {} better, "
-                              "{} runs added, {} removed.</p>\n",
-                              esc(results["baseline"]["file"]), d["regressions"].size(), d["worse"].size(), d["fixed"].size(), d["better"].size(),
-                              d["added"].size(), d["removed"].size());
+  std::string h = fmt::format(
+      "<h2 id=\"baseline\">Against the baseline <code>{}</code></h2>\n<p>{} regressions, {} metrics worse, {} fixed, "
+      "{} better, "
+      "{} runs added, {} removed.</p>\n",
+      esc(results["baseline"]["file"]), d["regressions"].size(), d["worse"].size(), d["fixed"].size(),
+      d["better"].size(), d["added"].size(), d["removed"].size());
   std::string rows;
   for (const auto& r : d["regressions"])
-    rows += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">verdict</td><td>{}</td><td class=\"st fail\">{}</td><td class=\"l\">{}</td></tr>\n",
-                        esc(r["scenario"]), esc(r["engine"]), esc(r["from"]), esc(r["to"]), esc(r["message"]));
+    rows += fmt::format(
+        "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">verdict</td><td>{}</td><td class=\"st "
+        "fail\">{}</td><td class=\"l\">{}</td></tr>\n",
+        esc(r["scenario"]), esc(r["engine"]), esc(r["from"]), esc(r["to"]), esc(r["message"]));
   for (const char* kind : {"worse", "better"})
     for (const auto& r : d[kind])
-      rows += fmt::format("<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{} ({:.3g} of tol.)</td>"
-                          "<td class=\"st {}\">{} ({:.3g} of tol.)</td><td class=\"l\">{}</td></tr>\n",
-                          esc(r["scenario"]), esc(r["engine"]), esc(r["metric"]), esc(r["base_measured"].dump()), r["base_ratio"].get<double>(),
-                          std::string(kind) == "worse" ? "fail" : "pass", esc(r["head_measured"].dump()), r["head_ratio"].get<double>(), kind);
+      rows += fmt::format(
+          "<tr><td class=\"l\">{}</td><td class=\"l\">{}</td><td class=\"l\">{}</td><td>{} ({:.3g} of tol.)</td>"
+          "<td class=\"st {}\">{} ({:.3g} of tol.)</td><td class=\"l\">{}</td></tr>\n",
+          esc(r["scenario"]), esc(r["engine"]), esc(r["metric"]), esc(r["base_measured"].dump()),
+          r["base_ratio"].get<double>(), std::string(kind) == "worse" ? "fail" : "pass", esc(r["head_measured"].dump()),
+          r["head_ratio"].get<double>(), kind);
   if (!rows.empty())
-    h += "<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th class=\"l\">what</th><th>before</th><th>after</th>"
-         "<th class=\"l\"></th></tr>\n" + rows + "</table>\n";
+    h += "<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th "
+         "class=\"l\">what</th><th>before</th><th>after</th>"
+         "<th class=\"l\"></th></tr>\n" +
+         rows + "</table>\n";
   return h;
 }
 
 /// The short mark of a verdict in the matrix: quiet symbols for what was expected, loud words for
 /// what was not.
 std::string mark_of(const std::string& cls, const std::string& word) {
-  if (cls == "pass") return "&#10003;";     // ✓
-  if (cls == "xfail") return "&#10007;";    // ✗ (reviewed known failure)
+  if (cls == "pass") return "&#10003;";   // ✓
+  if (cls == "xfail") return "&#10007;";  // ✗ (reviewed known failure)
   if (cls == "skip") return "&ndash;";
   if (word == "UNEXPECTED PASS") return "UNEXP. PASS";
   return word;
@@ -68,7 +78,9 @@ std::string matrix_cell(const json& r, const json& def) {
   const std::string sc = r["scenario"], eng = r["engine"];
   const auto fig = cls == "skip" || cls == "error" ? std::nullopt : headline_figure(r, def);
   std::string tip = word;
-  if (fig) tip += fmt::format(": {} {} ({}, {:.2g} of tolerance)", def.value("label", ""), fig->text(), fig->metric, fig->ratio);
+  if (fig)
+    tip +=
+        fmt::format(": {} {} ({}, {:.2g} of tolerance)", def.value("label", ""), fig->text(), fig->metric, fig->ratio);
   if (has_expectation(r)) tip += "\nknown failure: " + r["expectation"].value("reason", "");
   if (!r.value("message", "").empty()) tip += "\n" + r["message"].get<std::string>();
   std::string body = mark_of(cls, word);
@@ -78,8 +90,10 @@ std::string matrix_cell(const json& r, const json& def) {
     attrs = fmt::format(" data-metric=\"{}\" data-value=\"{:.17g}\"", esc(fig->metric), fig->value);
   }
   if (!r.value("as_expected", true))
-    if (const auto w = worst_failing(r)) body += fmt::format("<br><small>{} {:.2g}&times;tol</small>", esc(w->metric), w->ratio);
-  return fmt::format("<td class=\"c {}\"{}><a href=\"{}#{}\" title=\"{}\">{}</a></td>", cls, attrs, scenario_page(sc), esc(eng), esc(tip), body);
+    if (const auto w = worst_failing(r))
+      body += fmt::format("<br><small>{} {:.2g}&times;tol</small>", esc(w->metric), w->ratio);
+  return fmt::format("<td class=\"c {}\"{}><a href=\"{}#{}\" title=\"{}\">{}</a></td>", cls, attrs, scenario_page(sc),
+                     esc(eng), esc(tip), body);
 }
 
 /// The break points of a configuration's name in a narrow header: after each hyphen.
@@ -92,27 +106,34 @@ std::string header_name(const std::string& e) {
 /// The summary matrix: a row per scenario, a column per configuration.
 std::string matrix_section(const json& results) {
   const auto engines = engine_order(results);
-  std::string h = "<table id=\"matrix\" class=\"matrix\"><tr><th class=\"l\">scenario</th><th class=\"l\">headline</th>";
+  std::string h =
+      "<table id=\"matrix\" class=\"matrix\"><tr><th class=\"l\">scenario</th><th class=\"l\">headline</th>";
   for (const auto& e : engines) h += "<th class=\"eng\">" + header_name(e) + "</th>";
   h += "</tr>\n";
   for (const auto& sc : scenario_order(results)) {
     const json* info = scenario_info(results, sc);
     const json def = headline_def(results, sc);
     std::string label = def.is_object() ? def.value("label", "") : "";
-    if (def.is_object() && !def.value("unit", "").empty()) label += ", " + def["unit"].get<std::string>();
-    else if (def.is_object()) label += " (rel.)";
-    h += fmt::format("<tr><th class=\"l\"><a href=\"{}\" title=\"{}\">{}</a></th><td class=\"l hl\">{}</td>", scenario_page(sc),
-                     info ? esc((*info).value("equations", "")) : "", esc(sc), esc(label));
+    if (def.is_object() && !def.value("unit", "").empty())
+      label += ", " + def["unit"].get<std::string>();
+    else if (def.is_object())
+      label += " (rel.)";
+    h += fmt::format("<tr><th class=\"l\"><a href=\"{}\" title=\"{}\">{}</a></th><td class=\"l hl\">{}</td>",
+                     scenario_page(sc), info ? esc((*info).value("equations", "")) : "", esc(sc), esc(label));
     for (const auto& e : engines) {
       const json* r = find_run(results, sc, e);
       h += r ? matrix_cell(*r, def) : "<td class=\"c\"></td>";
     }
     h += "</tr>\n";
   }
-  h += "</table>\n<p class=\"legend\">&#10003; pass &middot; <span class=\"xfail\">&#10007;</span> known failure (reviewed; its reason in the "
-       "tooltip and on the scenario page) &middot; <span class=\"fail\">FAIL</span>, <span class=\"error\">ERROR</span>, "
-       "<span class=\"fail\">UNEXP. PASS</span>: not as expected (below) &middot; &ndash; not run. The number is the scenario's headline: the "
-       "engine's own error on what the scenario is about. Each cell links to the engine's section of the scenario page.</p>\n";
+  h += "</table>\n<p class=\"legend\">&#10003; pass &middot; <span class=\"xfail\">&#10007;</span> known failure "
+       "(reviewed; its reason in the "
+       "tooltip and on the scenario page) &middot; <span class=\"fail\">FAIL</span>, <span "
+       "class=\"error\">ERROR</span>, "
+       "<span class=\"fail\">UNEXP. PASS</span>: not as expected (below) &middot; &ndash; not run. The number is the "
+       "scenario's headline: the "
+       "engine's own error on what the scenario is about. Each cell links to the engine's section of the scenario "
+       "page.</p>\n";
   return h;
 }
 
@@ -121,13 +142,17 @@ std::string counts_line(const json& results) {
   const auto& sum = results["summary"];
   const int unexpected = sum.value("unexpected", 0);
   std::string set = settings_text(results["context"].value("set", json::object()));
-  return fmt::format("<p id=\"counts\" class=\"counts\">{} <b>{} runs</b>: {} pass, <span class=\"xfail\">&nbsp;{} known failures&nbsp;</span>, "
-                     "{} fail, {} unexpected passes, {} error, {} skip &middot; <b>{} sweep gates</b>, {} failed{}</p>\n",
-                     unexpected == 0 ? "<span class=\"st pass\">&nbsp;ALL AS EXPECTED&nbsp;</span>"
-                                     : fmt::format("<a class=\"st fail\" href=\"#unexpected\">&nbsp;{} NOT AS EXPECTED&nbsp;</a>", unexpected),
-                     sum.value("total", 0), sum.value("pass", 0), sum.value("known failure", 0), sum.value("fail", 0),
-                     sum.value("unexpected pass", 0), sum.value("error", 0), sum.value("skip", 0), sum.value("sweep_gates", 0),
-                     sum.value("sweep_gates_failed", 0), set.empty() ? "" : " &middot; settings of this run: <code>" + esc(set) + "</code>");
+  return fmt::format(
+      "<p id=\"counts\" class=\"counts\">{} <b>{} runs</b>: {} pass, <span class=\"xfail\">&nbsp;{} known "
+      "failures&nbsp;</span>, "
+      "{} fail, {} unexpected passes, {} error, {} skip &middot; <b>{} sweep gates</b>, {} failed{}</p>\n",
+      unexpected == 0
+          ? "<span class=\"st pass\">&nbsp;ALL AS EXPECTED&nbsp;</span>"
+          : fmt::format("<a class=\"st fail\" href=\"#unexpected\">&nbsp;{} NOT AS EXPECTED&nbsp;</a>", unexpected),
+      sum.value("total", 0), sum.value("pass", 0), sum.value("known failure", 0), sum.value("fail", 0),
+      sum.value("unexpected pass", 0), sum.value("error", 0), sum.value("skip", 0), sum.value("sweep_gates", 0),
+      sum.value("sweep_gates_failed", 0),
+      set.empty() ? "" : " &middot; settings of this run: <code>" + esc(set) + "</code>");
 }
 
 /// What is not as expected, each with its failing metrics and their figures.
@@ -148,26 +173,35 @@ std::string unexpected_section(const json& results) {
     for (const auto& f : failing) why += f.second;
     if (!r.value("message", "").empty()) why += "<li>" + esc(r["message"]) + "</li>";
     const std::string applied = settings_text(r.value("settings", json::object()));
-    rows += fmt::format("<tr><td class=\"l\"><a href=\"{}#{}\">{}</a></td><td class=\"l\">{}</td><td class=\"st {}\">{}</td><td class=\"l\"><ul>{}</ul></td>"
-                        "<td class=\"l\">{}</td></tr>\n",
-                        scenario_page(r["scenario"]), esc(r["engine"]), esc(r["scenario"]), esc(r["engine"]), cls, word, why,
-                        applied.empty() ? "defaults" : "<code>" + esc(applied) + "</code>");
+    rows += fmt::format(
+        "<tr><td class=\"l\"><a href=\"{}#{}\">{}</a></td><td class=\"l\">{}</td><td class=\"st {}\">{}</td><td "
+        "class=\"l\"><ul>{}</ul></td>"
+        "<td class=\"l\">{}</td></tr>\n",
+        scenario_page(r["scenario"]), esc(r["engine"]), esc(r["scenario"]), esc(r["engine"]), cls, word, why,
+        applied.empty() ? "defaults" : "<code>" + esc(applied) + "</code>");
   }
   for (const auto& sw : results.value("sweeps", json::array()))
     for (const auto& e : sw["engines"])
       if (!e["gate"]["pass"].get<bool>()) {
         std::string why;
         for (const auto& p : e["gate"]["problems"]) why += "<li>" + esc(p) + "</li>";
-        rows += fmt::format("<tr><td class=\"l\"><a href=\"#sweep-{}\">sweep {}</a></td><td class=\"l\">{}</td><td class=\"st fail\">FAIL</td>"
-                            "<td class=\"l\"><ul>{}</ul></td><td class=\"l\"></td></tr>\n",
-                            esc(sw["name"]), esc(sw["name"]), esc(e["engine"]), why);
+        rows += fmt::format(
+            "<tr><td class=\"l\"><a href=\"#sweep-{}\">sweep {}</a></td><td class=\"l\">{}</td><td class=\"st "
+            "fail\">FAIL</td>"
+            "<td class=\"l\"><ul>{}</ul></td><td class=\"l\"></td></tr>\n",
+            esc(sw["name"]), esc(sw["name"]), esc(e["engine"]), why);
       }
   std::string h = "<h2 id=\"unexpected\">Not as expected</h2>\n";
   if (rows.empty()) return h + "<p>Nothing: every run and every sweep gate is as expected.</p>\n";
-  return h + (set.empty() ? "" : "<p>Settings of this run: <code>" + esc(set) + "</code> (a run with a changed setting is judged on its own, "
-                                "without the known failures listed for the defaults).</p>\n") +
-         "<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th>verdict</th><th class=\"l\">failing metrics, worst first</th>"
-         "<th class=\"l\">settings applied</th></tr>\n" + rows + "</table>\n";
+  return h +
+         (set.empty() ? ""
+                      : "<p>Settings of this run: <code>" + esc(set) +
+                            "</code> (a run with a changed setting is judged on its own, "
+                            "without the known failures listed for the defaults).</p>\n") +
+         "<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th>verdict</th><th "
+         "class=\"l\">failing metrics, worst first</th>"
+         "<th class=\"l\">settings applied</th></tr>\n" +
+         rows + "</table>\n";
 }
 
 /// The speed-accuracy map, the one picture worth seeing first.
@@ -175,17 +209,21 @@ std::string map_section(const json& results) {
   std::string h;
   for (const auto& p : results.value("report", json::object()).value("plots", json::array()))
     if (p["file"].get<std::string>().rfind("plots/map-", 0) == 0)
-      h += fmt::format("<figure class=\"wide\"><img class=\"plot\" src=\"{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>\n",
-                       esc(p["file"]), esc(p["caption"]), esc(p["caption"]));
+      h += fmt::format(
+          "<figure class=\"wide\"><img class=\"plot\" src=\"{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>\n",
+          esc(p["file"]), esc(p["caption"]), esc(p["caption"]));
   return h.empty() ? "" : "<h2 id=\"map\">Speed and accuracy</h2>\n" + h;
 }
 
 std::string contents_section(const json& results) {
   std::string h = "<h2 id=\"contents\">Contents</h2>\n<ul class=\"toc\">";
-  if (results.contains("baseline") && results["baseline"].is_object()) h += "<li><a href=\"#baseline\">Against the baseline</a></li>";
+  if (results.contains("baseline") && results["baseline"].is_object())
+    h += "<li><a href=\"#baseline\">Against the baseline</a></li>";
   h += "<li><a href=\"#known\">Known failures</a></li><li><a href=\"#sweeps\">Sweeps and their gates</a></li>"
-       "<li><a href=\"#engines\">Engines and settings</a></li><li><a href=\"#errata\">Errata found in the papers</a></li>";
-  for (const auto& sc : scenario_order(results)) h += fmt::format("<li><a href=\"{}\">{}</a></li>", scenario_page(sc), esc(sc));
+       "<li><a href=\"#engines\">Engines and settings</a></li><li><a href=\"#errata\">Errata found in the "
+       "papers</a></li>";
+  for (const auto& sc : scenario_order(results))
+    h += fmt::format("<li><a href=\"{}\">{}</a></li>", scenario_page(sc), esc(sc));
   return h + "</ul>\n";
 }
 
@@ -196,19 +234,26 @@ std::string known_section(const json& results) {
     if (!has_expectation(r)) continue;
     const auto [cls, word] = status_of(r);
     std::string metrics;
-    for (const auto& [name, c] : r["expectation"]["metrics"].items()) metrics += fmt::format("{}{} &le; {:.2g}", metrics.empty() ? "" : ", ", esc(name), c.get<double>());
+    for (const auto& [name, c] : r["expectation"]["metrics"].items())
+      metrics += fmt::format("{}{} &le; {:.2g}", metrics.empty() ? "" : ", ", esc(name), c.get<double>());
     const std::string reason = r["expectation"].value("reason", "");
     const bool fold = reason.size() > 90;
-    rows += fmt::format("<tr><td class=\"l\"><a href=\"{}#{}\">{}</a></td><td class=\"l\">{}</td><td class=\"st {}\">{}</td><td class=\"l\">{}</td>"
-                        "<td class=\"l\"><details><summary>{}</summary>{}<br><i>measured when reviewed:</i> {}</details></td></tr>\n",
-                        scenario_page(r["scenario"]), esc(r["engine"]), esc(r["scenario"]), esc(r["engine"]), cls, word, metrics,
-                        fold ? esc(reason.substr(0, reason.rfind(' ', 90))) + " &hellip;" : esc(reason), fold ? esc(reason) : "",
-                        esc(r["expectation"].value("measured", "")));
+    rows += fmt::format(
+        "<tr><td class=\"l\"><a href=\"{}#{}\">{}</a></td><td class=\"l\">{}</td><td class=\"st {}\">{}</td><td "
+        "class=\"l\">{}</td>"
+        "<td class=\"l\"><details><summary>{}</summary>{}<br><i>measured when reviewed:</i> {}</details></td></tr>\n",
+        scenario_page(r["scenario"]), esc(r["engine"]), esc(r["scenario"]), esc(r["engine"]), cls, word, metrics,
+        fold ? esc(reason.substr(0, reason.rfind(' ', 90))) + " &hellip;" : esc(reason), fold ? esc(reason) : "",
+        esc(r["expectation"].value("measured", "")));
   }
   if (rows.empty()) return "<h2 id=\"known\">Known failures</h2>\n<p>None in this run.</p>\n";
-  return "<h2 id=\"known\">Known failures</h2>\n<p class=\"note\">Reviewed in harness/expectations.json: each must fail, only in its listed "
-         "metrics and below their ceilings. Click a reason for the whole of it.</p>\n<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th>"
-         "<th>verdict</th><th class=\"l\">metrics that may fail, error ceilings</th><th class=\"l\">reason</th></tr>\n" + rows + "</table>\n";
+  return "<h2 id=\"known\">Known failures</h2>\n<p class=\"note\">Reviewed in harness/expectations.json: each must "
+         "fail, only in its listed "
+         "metrics and below their ceilings. Click a reason for the whole of it.</p>\n<table><tr><th "
+         "class=\"l\">scenario</th><th class=\"l\">configuration</th>"
+         "<th>verdict</th><th class=\"l\">metrics that may fail, error ceilings</th><th "
+         "class=\"l\">reason</th></tr>\n" +
+         rows + "</table>\n";
 }
 
 }  // namespace
@@ -222,11 +267,14 @@ std::string index_html(const json& results) {
   h += "<h1>liftcheck: is each engine right, and where not?</h1>\n";
   h += counts_line(results);
   h += matrix_section(results);
-  h += fmt::format("<p class=\"meta\">liftcheck {} (commit <code>{}</code>) &middot; {} &middot; {} &middot; {} CPUs &middot; {} &middot; "
-                   "{:.1f} s wall on {} threads (engine time: runs {:.1f} s, sweep and map points {:.1f} s), report {:.1f} s</p>\n",
-                   esc(ctx["liftcheck"]["version"]), esc(ctx["liftcheck"]["commit"]), esc(ctx["date"]), esc(ctx["machine"]["os"]),
-                   ctx["machine"]["cpus"].get<int>(), esc(ctx["machine"]["compiler"]), ctx.value("wall_s", 0.0), ctx.value("jobs", 1), ctx.value("runs_s", 0.0),
-                   ctx.value("points_s", 0.0), results.value("report", json::object()).value("report_s", 0.0));
+  h += fmt::format(
+      "<p class=\"meta\">liftcheck {} (commit <code>{}</code>) &middot; {} &middot; {} &middot; {} CPUs &middot; {} "
+      "&middot; "
+      "{:.1f} s wall on {} threads (engine time: runs {:.1f} s, sweep and map points {:.1f} s), report {:.1f} s</p>\n",
+      esc(ctx["liftcheck"]["version"]), esc(ctx["liftcheck"]["commit"]), esc(ctx["date"]), esc(ctx["machine"]["os"]),
+      ctx["machine"]["cpus"].get<int>(), esc(ctx["machine"]["compiler"]), ctx.value("wall_s", 0.0),
+      ctx.value("jobs", 1), ctx.value("runs_s", 0.0), ctx.value("points_s", 0.0),
+      results.value("report", json::object()).value("report_s", 0.0));
   h += unexpected_section(results);
   h += map_section(results);
   h += contents_section(results);

@@ -23,32 +23,41 @@ inline std::string num(const json& v) { return v.is_number() ? fmt::format("{:.6
 inline std::string num(double v) { return std::isnan(v) ? "&ndash;" : fmt::format("{:.6g}", v); }
 
 inline constexpr const char* kCss =
-    "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:0 auto;padding:.5em 1.2em;max-width:96em;color:#222;line-height:1.35}"
+    "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:0 auto;padding:.5em "
+    "1.2em;max-width:96em;color:#222;line-height:1.35}"
     "h1{font-size:1.35em;margin:.2em 0}h2{margin-top:1.4em;border-bottom:1px solid #ccc;font-size:1.25em}"
-    "table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:.2em .5em;text-align:right;vertical-align:top}"
+    "table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:.2em "
+    ".5em;text-align:right;vertical-align:top}"
     "th{background:#eee}td.l,th.l{text-align:left}"
-    ".pass{background:#c6efce;color:#0b5a17}.fail{background:#ffc7ce;color:#8a0010}.error{background:#ffe09a;color:#6b4300}"
+    ".pass{background:#c6efce;color:#0b5a17}.fail{background:#ffc7ce;color:#8a0010}.error{background:#ffe09a;color:#"
+    "6b4300}"
     ".skip{background:#e4e4e4;color:#555}.xfail{background:#d6e8f7;color:#104a7a}"
     "td.st,span.st{font-weight:bold;text-align:center;white-space:nowrap}"
     "p.counts{margin:.2em 0 .4em 0}"
     // 20 configurations and 21 scenarios on the first screen of a 1366 x 768 window.
-    "table.matrix{font-size:10px;margin:.2em 0}table.matrix td,table.matrix th{padding:1px 2px;vertical-align:middle;white-space:nowrap}"
-    "table.matrix th.eng{white-space:normal;max-width:5em;font-size:9px;line-height:1.1;vertical-align:bottom;text-align:center}"
-    "table.matrix td.c{text-align:left;padding:0}table.matrix td.c a{display:block;padding:1px 2px;color:inherit;text-decoration:none}"
-    "table.matrix td.c a:hover{outline:2px solid #333}table.matrix td.hl{color:#555;font-size:9px;white-space:normal;max-width:8em;line-height:1.05}"
+    "table.matrix{font-size:10px;margin:.2em 0}table.matrix td,table.matrix th{padding:1px "
+    "2px;vertical-align:middle;white-space:nowrap}"
+    "table.matrix "
+    "th.eng{white-space:normal;max-width:5em;font-size:9px;line-height:1.1;vertical-align:bottom;text-align:center}"
+    "table.matrix td.c{text-align:left;padding:0}table.matrix td.c a{display:block;padding:1px "
+    "2px;color:inherit;text-decoration:none}"
+    "table.matrix td.c a:hover{outline:2px solid #333}table.matrix "
+    "td.hl{color:#555;font-size:9px;white-space:normal;max-width:8em;line-height:1.05}"
     "table.matrix small{font-weight:normal}"
     ".legend{font-size:.8em;color:#444;margin:.1em 0}"
-    ".shots{display:flex;flex-wrap:wrap;gap:10px}.shots figure{margin:0;width:380px}.shots img{width:380px;border:1px solid #ccc}"
+    ".shots{display:flex;flex-wrap:wrap;gap:10px}.shots figure{margin:0;width:380px}.shots img{width:380px;border:1px "
+    "solid #ccc}"
     "figure.wide img{max-width:100%;border:1px solid #ccc}figcaption{font-size:.85em;color:#555}"
     "img.plot{max-width:100%;border:1px solid #ddd}code{background:#f3f3f3;padding:0 .2em}"
     ".meta{color:#555;font-size:.85em}.note{font-size:.9em;color:#444}details summary{cursor:pointer}"
     "ul.toc{columns:2;font-size:.95em}td ul{margin:0;padding-left:1.1em}";
 
 inline std::string head(const std::string& title) {
-  return fmt::format("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
-                     "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n"
-                     "<style>{}</style>\n</head>\n<body>\n",
-                     esc(title), kCss);
+  return fmt::format(
+      "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n"
+      "<meta name=\"viewport\" content=\"width=device-width, initial-scale=1\">\n<title>{}</title>\n"
+      "<style>{}</style>\n</head>\n<body>\n",
+      esc(title), kCss);
 }
 
 /// CSS class and word for a run's verdict (a reviewed known failure has its own colour; a listed
@@ -94,15 +103,17 @@ inline const json* scenario_info(const json& results, const std::string& sc) {
 inline std::string metric_figures(const std::string& name, const json& metric) {
   const MetricView m(metric);
   const double tol = m.tolerance(), e = m.compared_error();
-  return fmt::format("{}: measured {} {}, expected {}, {} error {:.3g}, tolerance {:.3g} ({:.3g}&times; tolerance)", esc(name), num(m.measured()),
-                     esc(m.unit()), num(m.expected()), m.relative() ? "relative" : "absolute", e, tol, tol > 0 ? e / tol : INFINITY);
+  return fmt::format("{}: measured {} {}, expected {}, {} error {:.3g}, tolerance {:.3g} ({:.3g}&times; tolerance)",
+                     esc(name), num(m.measured()), esc(m.unit()), num(m.expected()),
+                     m.relative() ? "relative" : "absolute", e, tol, tol > 0 ? e / tol : INFINITY);
 }
 
 /// The suite's --set assignments and a run's settings, as text ("" when there are none).
 inline std::string settings_text(const json& settings) {
   std::string s;
   if (!settings.is_object()) return s;
-  for (const auto& [k, v] : settings.items()) s += fmt::format("{}{}={}", s.empty() ? "" : ", ", k, v.is_string() ? v.get<std::string>() : v.dump());
+  for (const auto& [k, v] : settings.items())
+    s += fmt::format("{}{}={}", s.empty() ? "" : ", ", k, v.is_string() ? v.get<std::string>() : v.dump());
   return s;
 }
 

@@ -30,7 +30,8 @@ using json = nlohmann::json;
 std::map<std::string, std::string> colors_of(const json& results) {
   std::map<std::string, std::string> out;
   for (const auto& e : results["context"].value("engines", json::array()))
-    if (e.contains("color") && e["color"].is_string()) out[e["name"].get<std::string>()] = e["color"].get<std::string>();
+    if (e.contains("color") && e["color"].is_string())
+      out[e["name"].get<std::string>()] = e["color"].get<std::string>();
   return out;
 }
 
@@ -47,9 +48,12 @@ std::string safe(const std::string& s) {
 std::string gnuplot_quote(const std::string& s) {
   std::string o = "'";
   for (char c : s) {
-    if (c == '\'') o += "''";
-    else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) o += ' ';
-    else o += c;
+    if (c == '\'')
+      o += "''";
+    else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+      o += ' ';
+    else
+      o += c;
   }
   return o + "'";
 }
@@ -63,7 +67,8 @@ struct Script {
     const std::string name = fmt::format("$D{}", blocks++);
     gp << name << " << EOD\n";
     for (const auto& r : rows) {
-      for (std::size_t i = 0; i < r.size(); ++i) gp << (i ? " " : "") << (std::isfinite(r[i]) ? fmt::format("{:.10g}", r[i]) : "NaN");
+      for (std::size_t i = 0; i < r.size(); ++i)
+        gp << (i ? " " : "") << (std::isfinite(r[i]) ? fmt::format("{:.10g}", r[i]) : "NaN");
       gp << "\n";
     }
     gp << "EOD\n";
@@ -72,8 +77,10 @@ struct Script {
   /// `svg` is a file name inside the plots folder, where gnuplot runs.
   void begin(const std::string& svg, const std::string& title, int w = 760, int h = 440) {
     gp << fmt::format("reset\nset terminal svg size {},{} dynamic font 'DejaVu Sans,12' background '#ffffff'\n", w, h)
-       << fmt::format("set output {}\nset title {} font ',11'\nset grid lc rgb '#dddddd'\nset key outside right top noenhanced\n",
-                      gnuplot_quote(svg), gnuplot_quote(title));
+       << fmt::format(
+              "set output {}\nset title {} font ',11'\nset grid lc rgb '#dddddd'\nset key outside right top "
+              "noenhanced\n",
+              gnuplot_quote(svg), gnuplot_quote(title));
   }
 };
 
@@ -104,7 +111,8 @@ void run_gnuplot(const std::filesystem::path& dir) {
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0)
     if (errno != EINTR) throw std::runtime_error(fmt::format("waiting for gnuplot: {}", std::strerror(errno)));
-  if (WIFSIGNALED(status)) throw std::runtime_error(fmt::format("gnuplot killed by signal {}; see {}", WTERMSIG(status), log));
+  if (WIFSIGNALED(status))
+    throw std::runtime_error(fmt::format("gnuplot killed by signal {}; see {}", WTERMSIG(status), log));
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
     throw std::runtime_error(fmt::format("gnuplot exited with status {}; see {}", WEXITSTATUS(status), log));
 }
@@ -119,11 +127,13 @@ std::vector<std::vector<double>> error_rows(const json& trace, const json& ref) 
   std::size_t j = 0;
   for (const auto& row : trace) {
     const double t = row[0].get<double>();
-    while (j + 1 < ref.size() && std::abs(ref[j + 1][0].get<double>() - t) <= std::abs(ref[j][0].get<double>() - t)) ++j;
+    while (j + 1 < ref.size() && std::abs(ref[j + 1][0].get<double>() - t) <= std::abs(ref[j][0].get<double>() - t))
+      ++j;
     if (ref.empty()) break;
     const bool car = row.size() >= 6;
     const int ix = car ? 3 : 1, iy = car ? 4 : 2;
-    const double d = std::hypot(row[ix].get<double>() - ref[j][ix].get<double>(), row[iy].get<double>() - ref[j][iy].get<double>());
+    const double d =
+        std::hypot(row[ix].get<double>() - ref[j][ix].get<double>(), row[iy].get<double>() - ref[j][iy].get<double>());
     rows.push_back({t, std::max(d, 1e-16)});
   }
   return rows;
@@ -145,17 +155,23 @@ void plot_runs(Script& S, std::vector<PlotFile>& files, const json& results, con
     std::string cmd;
     for (const json* r : by_scenario[sc]) {
       const auto& d = (*r)["details"];
-      if (!d.is_object() || !d.contains(detail_key::kTrace) || !d.contains(detail_key::kReference) || d[detail_key::kTrace].empty()) continue;
+      if (!d.is_object() || !d.contains(detail_key::kTrace) || !d.contains(detail_key::kReference) ||
+          d[detail_key::kTrace].empty())
+        continue;
       const std::string eng = (*r)["engine"];
-      cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb {} t {} noenhanced, ", S.block(error_rows(d[detail_key::kTrace], d[detail_key::kReference])),
+      cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb {} t {} noenhanced, ",
+                         S.block(error_rows(d[detail_key::kTrace], d[detail_key::kReference])),
                          gnuplot_quote(color_of(eng)), gnuplot_quote(eng));
     }
     if (cmd.empty()) continue;
-    S.begin(file_name(file), sc + (disks ? ": c_M against the exact lift (21)" : ": front-axle centre against the exact lift (4.1)"));
+    S.begin(file_name(file),
+            sc + (disks ? ": c_M against the exact lift (21)" : ": front-axle centre against the exact lift (4.1)"));
     S.gp << "set xlabel 'time [s]'\nset ylabel 'distance [m]'\nset logscale y\nset format y '10^{%T}'\n";
     S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
-    files.push_back({sc, file, disks ? "each engine's c_M against the exact lift at the same time (log scale)"
-                                     : "each engine's front-axle centre against the exact lift of the commanded path at the same time (log scale)"});
+    files.push_back({sc, file,
+                     disks ? "each engine's c_M against the exact lift at the same time (log scale)"
+                           : "each engine's front-axle centre against the exact lift of the commanded path at the same "
+                             "time (log scale)"});
   }
 }
 
@@ -165,8 +181,10 @@ void plot_outcomes(Script& S, const json& sw, const std::string& file) {
   const auto& grid = sw["grid"];
   const auto& paths = grid["path"];
   S.begin(file_name(file), "", 1100, 420);
-  S.gp << fmt::format("set multiplot layout 1,{} title {}\nset xlabel 'a'\nset ylabel 'b'\nset xrange [-1.5:3.5]\nset yrange [-1.5:1.5]\nset key bottom right font ',9'\n",
-                      paths.size(), gnuplot_quote(sw["title"].get<std::string>()));
+  S.gp << fmt::format(
+      "set multiplot layout 1,{} title {}\nset xlabel 'a'\nset ylabel 'b'\nset xrange [-1.5:3.5]\nset yrange "
+      "[-1.5:1.5]\nset key bottom right font ',9'\n",
+      paths.size(), gnuplot_quote(sw["title"].get<std::string>()));
   const json* first = sw["engines"].empty() ? nullptr : &sw["engines"][0];
   for (const auto& path : paths) {
     std::vector<std::vector<double>> hit, miss, nearb, dis;
@@ -178,14 +196,16 @@ void plot_outcomes(Script& S, const json& sw, const std::string& file) {
       }
     for (const auto& e : sw["engines"])
       for (const auto& c : e["cases"])
-        if (c["path"] == path && c["reference"] != c["engine"]) dis.push_back({c["a"].get<double>(), c["b"].get<double>()});
+        if (c["path"] == path && c["reference"] != c["engine"])
+          dis.push_back({c["a"].get<double>(), c["b"].get<double>()});
     hit.push_back({NAN, NAN}), miss.push_back({NAN, NAN}), nearb.push_back({NAN, NAN}), dis.push_back({NAN, NAN});
     const std::string bh = S.block(hit), bm = S.block(miss), bn = S.block(nearb), bd = S.block(dis);
-    S.gp << fmt::format("set title {}\nplot {} u 1:2 w p pt 7 ps 1.3 lc rgb '#d62728' t 'collision', "
-                        "{} u 1:2 w p pt 7 ps 1.3 lc rgb '#2ca02c' t 'no collision', "
-                        "{} u 1:2 w p pt 6 ps 2.6 lc rgb '#000000' t 'near boundary', "
-                        "{} u 1:2 w p pt 2 ps 2.2 lw 2 lc rgb '#9467bd' t 'an engine disagrees'\n",
-                        gnuplot_quote("N on a " + path.get<std::string>()), bh, bm, bn, bd);
+    S.gp << fmt::format(
+        "set title {}\nplot {} u 1:2 w p pt 7 ps 1.3 lc rgb '#d62728' t 'collision', "
+        "{} u 1:2 w p pt 7 ps 1.3 lc rgb '#2ca02c' t 'no collision', "
+        "{} u 1:2 w p pt 6 ps 2.6 lc rgb '#000000' t 'near boundary', "
+        "{} u 1:2 w p pt 2 ps 2.2 lw 2 lc rgb '#9467bd' t 'an engine disagrees'\n",
+        gnuplot_quote("N on a " + path.get<std::string>()), bh, bm, bn, bd);
   }
   S.gp << "unset multiplot\n";
 }
@@ -203,17 +223,22 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
   const bool values = kind == "values", holonomy = kind == "sizes";
   S.gp << fmt::format("set xlabel {}\nset ylabel {}\n", gnuplot_quote(plot.value("x_label", param)),
                       gnuplot_quote(plot.value("y_label", "")));
-  if (values) S.gp << "set logscale y\nset format y '10^{%T}'\n";
-  else if (holonomy) S.gp << "set logscale xy\nset format y '10^{%T}'\n";
-  else S.gp << "set logscale y\nset format y '10^{%T}'\n";
+  if (values)
+    S.gp << "set logscale y\nset format y '10^{%T}'\n";
+  else if (holonomy)
+    S.gp << "set logscale xy\nset format y '10^{%T}'\n";
+  else
+    S.gp << "set logscale y\nset format y '10^{%T}'\n";
   if (plot.value("log_x", false)) S.gp << "set logscale x\n";
   int shade = 0;
   for (const auto& c : values ? json::array() : plot.value("curves", json::array()))
-    cmd += fmt::format("{} w l lw 6 lc rgb '{}' t {}, ", c["expr"].get<std::string>(), shade++ == 0 ? "#c8c8c8" : "#e0e0e0",
-                       gnuplot_quote(c["title"].get<std::string>()));
+    cmd += fmt::format("{} w l lw 6 lc rgb '{}' t {}, ", c["expr"].get<std::string>(),
+                       shade++ == 0 ? "#c8c8c8" : "#e0e0e0", gnuplot_quote(c["title"].get<std::string>()));
   if (sw.contains("marker")) {
-    S.gp << fmt::format("set arrow from {0}, graph 0 to {0}, graph 1 nohead lc rgb '#cc0000' dt 2\nset label {1} at {0}, graph 0.95 offset 0.5,0 tc rgb '#cc0000'\n",
-                        sw["marker"]["x"].get<double>(), gnuplot_quote(sw["marker"]["label"].get<std::string>()));
+    S.gp << fmt::format(
+        "set arrow from {0}, graph 0 to {0}, graph 1 nohead lc rgb '#cc0000' dt 2\nset label {1} at {0}, graph 0.95 "
+        "offset 0.5,0 tc rgb '#cc0000'\n",
+        sw["marker"]["x"].get<double>(), gnuplot_quote(sw["marker"]["label"].get<std::string>()));
   }
   bool exact_done = false;
   for (const auto& e : sw["engines"]) {
@@ -222,7 +247,8 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
     for (const auto& pt : e["points"]) {
       const double x = pt["x"].get<double>();
       if (values) {  // the error of each value, not the value: every engine's radius would overlap
-        const double f = MetricView(pt[rec[0].get<std::string>()]).rel_error(), r = MetricView(pt[rec[1].get<std::string>()]).rel_error();
+        const double f = MetricView(pt[rec[0].get<std::string>()]).rel_error(),
+                     r = MetricView(pt[rec[1].get<std::string>()]).rel_error();
         if (!std::isnan(f)) a.push_back({x, std::max(f, 1e-16)});
         if (!std::isnan(r)) b2.push_back({x, std::max(r, 1e-16)});
       } else if (holonomy) {
@@ -244,10 +270,11 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
     std::string title = eng;
     if (holonomy && e.contains("fit") && e["fit"]["slope"].is_number())
       title += fmt::format(" (slope {:.2f})", e["fit"]["slope"].get<double>());
-    cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb {} t {} noenhanced, ", S.block(a), gnuplot_quote(color_of(eng)),
-                       gnuplot_quote(title + (values ? " front" : "")));
+    cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb {} t {} noenhanced, ", S.block(a),
+                       gnuplot_quote(color_of(eng)), gnuplot_quote(title + (values ? " front" : "")));
     if (!b2.empty())
-      cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb {} t {} noenhanced, ", S.block(b2), gnuplot_quote(color_of(eng)), gnuplot_quote(eng + " rear"));
+      cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb {} t {} noenhanced, ", S.block(b2),
+                         gnuplot_quote(color_of(eng)), gnuplot_quote(eng + " rear"));
   }
   if (cmd.empty()) return false;
   S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
@@ -260,9 +287,11 @@ void plot_map(Script& S, std::vector<PlotFile>& files, const json& map, const Co
   const std::string file = fmt::format("plots/map-{}.svg", safe(map["name"]));
   const auto& panels = map["panels"];
   S.begin(file_name(file), "", 1200, 520);
-  S.gp << fmt::format("set multiplot layout 1,{} title {} font ',11'\nset logscale xy\nset format x '10^{{%T}}'\nset format y '10^{{%T}}'\n"
-                      "set xlabel 'wall-clock cost [s per simulated s]'\nset key below font ',8' maxrows 4\n",
-                      panels.size(), gnuplot_quote(map["title"].get<std::string>()));
+  S.gp << fmt::format(
+      "set multiplot layout 1,{} title {} font ',11'\nset logscale xy\nset format x '10^{{%T}}'\nset format y "
+      "'10^{{%T}}'\n"
+      "set xlabel 'wall-clock cost [s per simulated s]'\nset key below font ',8' maxrows 4\n",
+      panels.size(), gnuplot_quote(map["title"].get<std::string>()));
   for (const auto& panel : panels) {
     std::string cmd;
     std::vector<std::vector<double>> front;
@@ -276,13 +305,17 @@ void plot_map(Script& S, std::vector<PlotFile>& files, const json& map, const Co
             if (p["pareto"].get<bool>()) front.push_back(rows.back());
           }
         if (rows.empty()) continue;
-        const std::string style = std::string(knob) == kMapIterations ? "w lp pt 6 dt 2" : std::string(knob) == kMapDt ? "w lp pt 7" : "w p pt 9 ps 1.6";
-        cmd += fmt::format("{} u 1:2 {} lw 1.5 lc rgb {} t {} noenhanced, ", S.block(rows), style, gnuplot_quote(color_of(eng)),
+        const std::string style = std::string(knob) == kMapIterations ? "w lp pt 6 dt 2"
+                                  : std::string(knob) == kMapDt       ? "w lp pt 7"
+                                                                      : "w p pt 9 ps 1.6";
+        cmd += fmt::format("{} u 1:2 {} lw 1.5 lc rgb {} t {} noenhanced, ", S.block(rows), style,
+                           gnuplot_quote(color_of(eng)),
                            gnuplot_quote(eng + (std::string(knob) == kMapDefault ? "" : fmt::format(" ({})", knob))));
       }
     }
     std::sort(front.begin(), front.end());
-    if (!front.empty()) cmd += fmt::format("{} u 1:2 w lp pt 6 ps 2.4 lw 1 dt 3 lc rgb '#000000' t 'Pareto front', ", S.block(front));
+    if (!front.empty())
+      cmd += fmt::format("{} u 1:2 w lp pt 6 ps 2.4 lw 1 dt 3 lc rgb '#000000' t 'Pareto front', ", S.block(front));
     if (cmd.empty()) continue;
     S.gp << fmt::format("set title {}\nset ylabel {}\nplot {}\n", gnuplot_quote(panel["scenario"].get<std::string>()),
                         gnuplot_quote(panel["error_label"].get<std::string>()), cmd.substr(0, cmd.size() - 2));
@@ -305,8 +338,10 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
   plot_runs(S, files, results, color_of);
   for (const auto& sw : results.value("sweeps", json::array())) {
     const std::string file = fmt::format("plots/sweep-{}.svg", safe(sw["name"].get<std::string>()));
-    if (sw.value("kind", "") == "outcomes") plot_outcomes(S, sw, file);
-    else if (!plot_sweep(S, sw, file, color_of)) continue;
+    if (sw.value("kind", "") == "outcomes")
+      plot_outcomes(S, sw, file);
+    else if (!plot_sweep(S, sw, file, color_of))
+      continue;
     files.push_back({"sweeps", file, sw["title"]});
   }
   for (const auto& map : results.value("maps", json::array())) plot_map(S, files, map, color_of);

@@ -9,8 +9,8 @@
 namespace liftcheck {
 
 struct PlotFile {
-  std::string group;    ///< a scenario name, or "sweeps"
-  std::string file;     ///< relative to the report folder
+  std::string group;  ///< a scenario name, or "sweeps"
+  std::string file;   ///< relative to the report folder
   std::string caption;
 };
 

@@ -55,7 +55,11 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
           render::Image img = renderer.render(s.scene);
           for (const auto& in : s.insets) render::paste(img, renderer.render(in.scene), in.x_px, in.y_px);
           render::write_png(out / file, img);
-          shots[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"tag", s.tag}, {"file", file}, {"caption", s.caption}});
+          shots[i].push_back({{"scenario", r["scenario"]},
+                              {"engine", r["engine"]},
+                              {"tag", s.tag},
+                              {"file", file},
+                              {"caption", s.caption}});
         }
         const render::Strip st = render::strip_for(r, ink_of(r));
         if (!st.frames.empty()) {
@@ -63,13 +67,15 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
           for (const auto& f : st.frames) frames.push_back(renderer.render(f));
           const std::string file = base + "__strip.png";
           render::write_png(out / file, render::tile(frames, st.per_row));
-          strips[i].push_back({{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"file", file}, {"caption", st.caption}});
+          strips[i].push_back(
+              {{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"file", file}, {"caption", st.caption}});
         }
       } catch (const std::bad_alloc&) {
         throw;  // the renderer's limit: the report stops (below)
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(mu);
-        errors.push_back(fmt::format("snapshots of {} on {}: {}", r["scenario"].get<std::string>(), r["engine"].get<std::string>(), e.what()));
+        errors.push_back(fmt::format("snapshots of {} on {}: {}", r["scenario"].get<std::string>(),
+                                     r["engine"].get<std::string>(), e.what()));
       }
     }
     std::lock_guard<std::mutex> lock(mu);
@@ -101,7 +107,8 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
 
 void write_report(json& results, const std::filesystem::path& out, const ReportDef& def) {
   const auto t0 = std::chrono::steady_clock::now();
-  json report{{"snapshots", json::array()}, {"strips", json::array()}, {"plots", json::array()}, {"errors", json::array()}};
+  json report{
+      {"snapshots", json::array()}, {"strips", json::array()}, {"plots", json::array()}, {"errors", json::array()}};
   std::filesystem::create_directories(out / "snapshots");
 
   if (def.snapshots) write_snapshots(results, out, def, report);
@@ -110,7 +117,8 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
   const auto tp = std::chrono::steady_clock::now();
   if (def.plots) {
     try {
-      for (const auto& p : write_plots(results, out)) report["plots"].push_back({{"group", p.group}, {"file", p.file}, {"caption", p.caption}});
+      for (const auto& p : write_plots(results, out))
+        report["plots"].push_back({{"group", p.group}, {"file", p.file}, {"caption", p.caption}});
     } catch (const std::bad_alloc&) {
       throw;  // past the renderer's memory limit: the whole report stops
     } catch (const std::exception& e) {
@@ -123,7 +131,8 @@ void write_report(json& results, const std::filesystem::path& out, const ReportD
 
   std::vector<std::string> scenarios;
   for (const auto& r : results["runs"])
-    if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end()) scenarios.push_back(r["scenario"]);
+    if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end())
+      scenarios.push_back(r["scenario"]);
   for (const auto& sc : scenarios) write_file_atomic(out / scenario_page(sc), scenario_html(results, sc));
   results["report"]["report_s"] = seconds_since(t0);
   write_file_atomic(out / "index.html", index_html(results));

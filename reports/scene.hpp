@@ -16,7 +16,7 @@ struct Color {
 };
 
 namespace colors {
-inline constexpr Color kUnknown{0.50f, 0.50f, 0.50f, 1.0f};   ///< a configuration without a colour
+inline constexpr Color kUnknown{0.50f, 0.50f, 0.50f, 1.0f};  ///< a configuration without a colour
 inline constexpr Color kGround{0.97f, 0.97f, 0.95f, 1.0f};
 inline constexpr Color kGrid{0.82f, 0.82f, 0.80f, 1.0f};
 inline constexpr Color kGridMajor{0.65f, 0.65f, 0.63f, 1.0f};
@@ -53,10 +53,10 @@ struct Puck {
 /// A wheel of radius R rolling on the ground: axle horizontal, centre at height R. Its tread has
 /// alternating coloured segments and its sides carry spokes, so the rolling angle shows.
 struct Wheel {
-  Vec2 centre;           ///< below the axle centre, on the ground
+  Vec2 centre;  ///< below the axle centre, on the ground
   double radius_m, width_m;
-  double heading_rad;    ///< rolling direction
-  double spin_rad;       ///< rolling angle alpha
+  double heading_rad;  ///< rolling direction
+  double spin_rad;     ///< rolling angle alpha
   Color tyre, spokes;
 };
 
@@ -91,8 +91,8 @@ struct Label {
 
 struct Camera {
   enum class Kind { kTopDown, kPerspective } kind = Kind::kTopDown;
-  Vec2 centre = Vec2::Zero();  ///< top-down: centre of the view
-  double half_height_m = 5.0;  ///< top-down: half the visible height
+  Vec2 centre = Vec2::Zero();                        ///< top-down: centre of the view
+  double half_height_m = 5.0;                        ///< top-down: half the visible height
   Vec3 eye = Vec3(0, -8, 6), target = Vec3::Zero();  ///< perspective
   double fov_y_deg = 40.0;
 };

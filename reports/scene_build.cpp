@@ -54,7 +54,8 @@ std::size_t row_at(const json& trace, double t) {
   return best;
 }
 
-void add_legend(Scene& s, const std::string& title, const std::string& engine, const Color& ink, const std::string& ref_name) {
+void add_legend(Scene& s, const std::string& title, const std::string& engine, const Color& ink,
+                const std::string& ref_name) {
   s.labels.push_back({title, Vec2(12, 10), true, 17.0f});
   s.labels.push_back({"━ " + engine, Vec2(12, 32), true, 14.0f, ink});
   s.labels.push_back({"▬ " + ref_name, Vec2(12, 50), true, 14.0f, Color{0.45f, 0.45f, 0.45f, 1.0f}});
@@ -97,8 +98,8 @@ void add_car(Scene& s, const json& row, double rear_spin_rad, const CarGeom& g, 
   const double a = row[1].get<double>(), beta = row[2].get<double>(), phi = row[5].get<double>();
   const Vec2 front = front_of(row), rear = rear_of(row, g.l), side(-std::sin(phi), std::cos(phi)), side_dir = side;
   const Color tyre{0.18f, 0.18f, 0.2f, alpha}, spokes{0.1f, 0.1f, 0.1f, alpha}, frame_c{0.35f, 0.37f, 0.42f, alpha};
-  s.boxes.push_back({0.5 * (front + rear), phi, g.l, 0.05 * g.l, g.R * 0.9, 0.05 * g.l, frame_c});            // tie rod
-  s.boxes.push_back({rear, phi + kPi / 2, g.track, 0.04 * g.l, g.R * 0.95, 0.04 * g.l, frame_c});             // rear axle
+  s.boxes.push_back({0.5 * (front + rear), phi, g.l, 0.05 * g.l, g.R * 0.9, 0.05 * g.l, frame_c});  // tie rod
+  s.boxes.push_back({rear, phi + kPi / 2, g.track, 0.04 * g.l, g.R * 0.95, 0.04 * g.l, frame_c});   // rear axle
   if (g.four) {
     // Two front wheels at +-track/2, each at its Ackermann angle for the virtual beta (or at beta,
     // steered in parallel), on a front axle across the car.
@@ -109,10 +110,12 @@ void add_car(Scene& s, const json& row, double rear_spin_rad, const CarGeom& g, 
       s.wheels.push_back({front + k * g.track * side_dir, g.R, g.width, phi + b, a, tyre, spokes});
     }
   } else {
-    s.boxes.push_back({front, phi + beta + kPi / 2, 1.6 * g.width, 0.04 * g.l, g.R * 0.95, 0.04 * g.l, frame_c});  // front axle stub
+    s.boxes.push_back(
+        {front, phi + beta + kPi / 2, 1.6 * g.width, 0.04 * g.l, g.R * 0.95, 0.04 * g.l, frame_c});  // front axle stub
     s.wheels.push_back({front, g.R, g.width, phi + beta, a, tyre, spokes});
   }
-  for (double k : {-0.5, 0.5}) s.wheels.push_back({rear + k * g.track * side, g.R, g.width, phi, rear_spin_rad, tyre, spokes});
+  for (double k : {-0.5, 0.5})
+    s.wheels.push_back({rear + k * g.track * side, g.R, g.width, phi, rear_spin_rad, tyre, spokes});
   // Steering angle: an arc at the front axle from the tie rod's heading to the wheel's.
   if (std::abs(beta) > 1e-3) {
     Polyline arc{{}, Color{0.75f, 0.1f, 0.1f, alpha}, 2.0f};
@@ -128,7 +131,8 @@ void add_car(Scene& s, const json& row, double rear_spin_rad, const CarGeom& g, 
 }
 
 /// Front- and rear-axle paths of a trace up to row `upto`.
-void add_paths(Scene& s, const json& trace, std::size_t upto, const CarGeom& g, const Color& c, float width, Bounds* b) {
+void add_paths(Scene& s, const json& trace, std::size_t upto, const CarGeom& g, const Color& c, float width,
+               Bounds* b) {
   Polyline f{{}, c, width}, r{{}, c, std::max(1.0f, width * 0.6f)};
   for (std::size_t i = 0; i <= upto && i < trace.size(); ++i) {
     f.points.push_back(front_of(trace[i]));
@@ -154,8 +158,9 @@ Scene car_scene(const json& run, const Color& ink, double t, bool full_paths) {
   b.add(front_of(tr[k]), g.l * 0.6);
   b.add(rear_of(tr[k], g.l), g.l * 0.6);
   frame(s, b);
-  add_legend(s, fmt::format("{} · {} · t = {:.2f} s", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
-                            tr[k][0].get<double>()),
+  add_legend(s,
+             fmt::format("{} · {} · t = {:.2f} s", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
+                         tr[k][0].get<double>()),
              run["engine"], ink, "exact lift of the commanded path");
   return s;
 }
@@ -202,8 +207,9 @@ Scene disk_scene(const json& run, const Color& ink, double t, const std::string&
     s.markers.push_back({0.5 * (cM(tr[kc]) + cN(tr[kc])), 0.25, colors::kContact});
   }
   frame(s, b, 0.08);
-  add_legend(s, fmt::format("{} · {} · {} t = {:.2f} s", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
-                            moment, tr[k][0].get<double>()),
+  add_legend(s,
+             fmt::format("{} · {} · {} t = {:.2f} s", run["scenario"].get<std::string>(),
+                         run["engine"].get<std::string>(), moment, tr[k][0].get<double>()),
              run["engine"], ink, "exact lift (21)");
   return s;
 }
@@ -222,8 +228,9 @@ Scene covariance_scene(const json& run, const Color& ink) {
     add_car(s, tr.back(), rear_spin(tr, tr.size() - 1, g), g);
   }
   frame(s, b, 0.05);
-  add_legend(s, fmt::format("{} · {} · {} starts", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
-                            run["details"][detail_key::kRuns].size()),
+  add_legend(s,
+             fmt::format("{} · {} · {} starts", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
+                         run["details"][detail_key::kRuns].size()),
              run["engine"], ink, "(faint: start poses)");
   return s;
 }
@@ -235,8 +242,11 @@ void add_pose_marks(Scene& s, const json& row, double half_m, const Color& c, fl
   const double phi = row[5].get<double>(), beta = row[2].get<double>();
   const double L = 4.0 * half_m;
   s.lines.push_back({{f - L * Vec2(std::cos(phi), std::sin(phi)), f}, c, width});
-  s.lines.push_back({{f - 0.5 * L * Vec2(std::cos(phi + beta), std::sin(phi + beta)), f + 0.5 * L * Vec2(std::cos(phi + beta), std::sin(phi + beta))},
-                     c, std::max(1.0f, width * 0.5f), true});
+  s.lines.push_back({{f - 0.5 * L * Vec2(std::cos(phi + beta), std::sin(phi + beta)),
+                      f + 0.5 * L * Vec2(std::cos(phi + beta), std::sin(phi + beta))},
+                     c,
+                     std::max(1.0f, width * 0.5f),
+                     true});
   s.markers.push_back({f, 0.12 * half_m, c});
 }
 
@@ -266,7 +276,8 @@ Inset end_pose_inset(const json& run, const Color& ink, const Scene& main) {
   tail(tr, ink, 2.0f);
   add_pose_marks(s, ref.back(), half, Color{0.45f, 0.45f, 0.45f, 0.9f}, 6.0f);
   add_pose_marks(s, tr.back(), half, ink, 2.5f);
-  s.labels.push_back({fmt::format("end pose, offset {}", offset >= 1e-3 ? fmt::format("{:.3g} mm", offset * 1e3) : fmt::format("{:.3g} µm", offset * 1e6)),
+  s.labels.push_back({fmt::format("end pose, offset {}", offset >= 1e-3 ? fmt::format("{:.3g} mm", offset * 1e3)
+                                                                        : fmt::format("{:.3g} µm", offset * 1e6)),
                       Vec2(8, 6), true, 13.0f});
   s.labels.push_back({"grey: exact, colour: engine", Vec2(8, 24), true, 11.0f});
   return in;
@@ -275,8 +286,10 @@ Inset end_pose_inset(const json& run, const Color& ink, const Scene& main) {
 std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
   std::vector<Snapshot> out;
   if (!run.contains("details") || !run["details"].is_object()) return out;
-  if (run["details"].value(detail_key::kDrawing, "") == detail_key::kDrawingStarts && run["details"].contains(detail_key::kRuns)) {
-    out.push_back({"end", "all starts (turned over the full circle, every other one shifted) and their paths", covariance_scene(run, ink)});
+  if (run["details"].value(detail_key::kDrawing, "") == detail_key::kDrawingStarts &&
+      run["details"].contains(detail_key::kRuns)) {
+    out.push_back({"end", "all starts (turned over the full circle, every other one shifted) and their paths",
+                   covariance_scene(run, ink)});
     return out;
   }
   if (!run["details"].contains(detail_key::kTrace)) return out;
@@ -293,7 +306,8 @@ std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
     return out;
   }
   out.push_back({"start", "start", car_scene(run, ink, t0, false)});
-  Snapshot end{"end", "end, with the whole paths; inset: the end pose magnified, the engine's over the exact one", car_scene(run, ink, t1, true)};
+  Snapshot end{"end", "end, with the whole paths; inset: the end pose magnified, the engine's over the exact one",
+               car_scene(run, ink, t1, true)};
   end.insets.push_back(end_pose_inset(run, ink, end.scene));
   out.push_back(end);
   return out;
@@ -302,7 +316,9 @@ std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
 Strip strip_for(const json& run, const Color& ink) {
   Strip st;
   // A parking cycle records its number of steps: a frame at the start and after each step.
-  if (!run.contains("details") || !run["details"].is_object() || !run["details"].contains(detail_key::kSteps) || !run["details"].contains(detail_key::kTrace)) return st;
+  if (!run.contains("details") || !run["details"].is_object() || !run["details"].contains(detail_key::kSteps) ||
+      !run["details"].contains(detail_key::kTrace))
+    return st;
   const json& tr = run["details"][detail_key::kTrace];
   const CarGeom g = geom_of(run);
   const int n = run["details"][detail_key::kSteps].get<int>() + 1;
@@ -339,9 +355,10 @@ Strip strip_for(const json& run, const Color& ink) {
   frame(s, b, 0.05);
   s.labels.push_back({fmt::format("shift {:.3g} mm, arrows ×{:g}", shift * 1e3, mag), Vec2(8, 6), true, 13.0f});
   st.frames.push_back(std::move(s));
-  st.caption = fmt::format("{} steps of the cycle; last frame: the start pose (faint) and the net shift of the front axle, "
-                           "magnified ×{:g} (grey: exact holonomy, colour: {})",
-                           n - 1, mag, run["engine"].get<std::string>());
+  st.caption = fmt::format(
+      "{} steps of the cycle; last frame: the start pose (faint) and the net shift of the front axle, "
+      "magnified ×{:g} (grey: exact holonomy, colour: {})",
+      n - 1, mag, run["engine"].get<std::string>());
   st.per_row = 6;
   return st;
 }

@@ -17,7 +17,7 @@ struct Inset {
 };
 
 struct Snapshot {
-  std::string tag;      ///< start | contact | end
+  std::string tag;  ///< start | contact | end
   std::string caption;
   Scene scene;
   std::vector<Inset> insets = {};

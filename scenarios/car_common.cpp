@@ -26,18 +26,26 @@ std::vector<ParamSpec> car_params(const std::string& beta_default) {
       number("sample_dt", "0.01", "s", "spacing of the recorded trace", 0.0, true, 10.0),
       number("mu", "1.0", "1", "Coulomb friction coefficient, wheel against ground", 0.0, true, 10.0),
       number("gravity", "9.81", "m/s^2", "gravity magnitude (down)", 0.0, true, 100.0),
-      choice("wheels", "3", "3: the paper's tricycle; 4: two Ackermann-steered front wheels driven by an electronic differential (the reference is the same tricycle: average wheel angle, virtual steering angle)", {"3", "4"}),
-      number("track", "0.8", "m", "distance between the rear wheels (and between the front wheels of a four-wheel car)", 0.0, true, 100.0),
-      choice("steering", "ackermann", "four wheels: each front wheel at its Ackermann angle, or both at beta (parallel: they fight and scrub)", {"ackermann", "parallel"}),
+      choice("wheels", "3",
+             "3: the paper's tricycle; 4: two Ackermann-steered front wheels driven by an electronic differential (the "
+             "reference is the same tricycle: average wheel angle, virtual steering angle)",
+             {"3", "4"}),
+      number("track", "0.8", "m", "distance between the rear wheels (and between the front wheels of a four-wheel car)",
+             0.0, true, 100.0),
+      choice("steering", "ackermann",
+             "four wheels: each front wheel at its Ackermann angle, or both at beta (parallel: they fight and scrub)",
+             {"ackermann", "parallel"}),
       // The masses in a real car's proportions: a passenger car's wheel with its tyre weighs 15 to
       // 25 kg and its steering knuckle with hub and brake about as much, against 1200 to 1600 kg
       // of body. The tricycle keeps a 40 kg chassis and 2 kg wheels (chassis/wheel 20, gentler on
       // a solver than a real car's 60 to 80) and a knuckle as heavy as a wheel (ratio 1); the
       // 0.05 kg knuckle it had before (ratios 40 and 800 along chassis-knuckle-wheel) is the
       // extreme of the knuckle_mass sweep. The analytic lift does not depend on any mass.
-      number("chassis_mass", "40", "kg", "chassis mass (a box from the rear to the front axle, no collision)", 0.0, true, 1e5),
+      number("chassis_mass", "40", "kg", "chassis mass (a box from the rear to the front axle, no collision)", 0.0,
+             true, 1e5),
       number("wheel_mass", "2", "kg", "mass of each wheel", 0.0, true, 1e4),
-      number("knuckle_mass", "2", "kg", "mass of each steering knuckle (the body between the chassis and a steered wheel)", 0.0, true, 1e4),
+      number("knuckle_mass", "2", "kg",
+             "mass of each steering knuckle (the body between the chassis and a steered wheel)", 0.0, true, 1e4),
   };
 }
 
@@ -81,8 +89,8 @@ std::vector<car::TimedConfig> drive_checked(CarEngine& engine, const CarSetup& s
 /// (up to the path's end, as a trace written back covers it), so that its verdict does not depend
 /// on the road its results took. A model that reports the commanded shape and its exact lift (the
 /// analytic engine) compares them with themselves: informational.
-void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup, const car::BasePath& path, const Config& q0,
-                     const std::vector<car::TimedConfig>& trace) {
+void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup, const car::BasePath& path,
+                     const Config& q0, const std::vector<car::TimedConfig>& trace) {
   double pos = 0.0, shape = 0.0;
   car::LiftDef def;
   def.sample_dt_s = setup.sample_dt_s;
@@ -139,7 +147,8 @@ nlohmann::json reference_json(const CarSetup& setup, const car::BasePath& path, 
 /// Actuation error against contact error: the lift of the (alpha, beta) path the engine realized
 /// tells how far the commanded path was missed (actuation) and how far the car strayed from the
 /// lift of what its wheels did (contact: slip, compliance, friction model).
-nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedConfig>& trace, const Config& commanded_end) {
+nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedConfig>& trace,
+                           const Config& commanded_end) {
   const Config realized = car::lift_of_samples(c, trace);
   const Config& eng = trace.back().q;
   return {{detail_key::kCommandedLiftEnd, {commanded_end.x_m, commanded_end.y_m, commanded_end.phi_rad}},
@@ -163,7 +172,10 @@ void add_slip(Outcome& o, const CarEngine& engine) {
     along = std::max(along, w.along_max_mps);
     across = std::max(across, w.across_max_mps);
     rms = std::max(rms, w.rms_mps);
-    wheels.push_back({{"wheel", w.wheel}, {"along_max_mps", w.along_max_mps}, {"across_max_mps", w.across_max_mps}, {"rms_mps", w.rms_mps}});
+    wheels.push_back({{"wheel", w.wheel},
+                      {"along_max_mps", w.along_max_mps},
+                      {"across_max_mps", w.across_max_mps},
+                      {"rms_mps", w.rms_mps}});
   }
   // A wheel without a spin state of its own turns as the chassis moves: its along-slip is zero by
   // construction, shown but not counted.
@@ -215,9 +227,13 @@ void add_realized_lift(Outcome& o, const CarEngine& engine, const CarSetup& setu
   // command's, never the engine's own: a tolerance is not widened by the error it judges).
   double v_peak_mps = 0.0;
   for (const auto& smp : trace)
-    v_peak_mps = std::max(v_peak_mps, setup.car.R_m * std::abs(path.at(std::min(smp.t_s, path.duration_s())).alpha_rate_radps));
+    v_peak_mps =
+        std::max(v_peak_mps, setup.car.R_m * std::abs(path.at(std::min(smp.t_s, path.duration_s())).alpha_rate_radps));
   const double step_travel_factor = v_peak_mps * setup.dt_s / (0.5 * 1e-3);
-  o.values["realized_lift_error"] = {.expected = 0.0, .measured = worst, .tolerance_factor = step_travel_factor, .informational = engine.exact_by_construction()};
+  o.values["realized_lift_error"] = {.expected = 0.0,
+                                     .measured = worst,
+                                     .tolerance_factor = step_travel_factor,
+                                     .informational = engine.exact_by_construction()};
 }
 
 /// The car's centre of mass in the chassis frame (x forward from the front-axle centre, y left):
@@ -247,7 +263,8 @@ double com_accel_excess(const CarSetup& s, const std::vector<car::TimedConfig>& 
   for (std::size_t i = 1; i + 1 < trace.size(); ++i) {
     const double h0 = trace[i].t_s - trace[i - 1].t_s, h1 = trace[i + 1].t_s - trace[i].t_s;
     if (!(h0 > 0.0 && h1 > 0.0)) continue;
-    const Eigen::Vector2d a = 2.0 * ((com(trace[i + 1].q) - com(trace[i].q)) / h1 - (com(trace[i].q) - com(trace[i - 1].q)) / h0) / (h0 + h1);
+    const Eigen::Vector2d a =
+        2.0 * ((com(trace[i + 1].q) - com(trace[i].q)) / h1 - (com(trace[i].q) - com(trace[i - 1].q)) / h0) / (h0 + h1);
     worst = std::max(worst, a.norm());
   }
   return std::max(0.0, worst / (s.mu * s.gravity_mps2) - 1.0);
@@ -269,9 +286,6 @@ MetricDef reference_only(MetricDef m) {
   return m;
 }
 
-
-
-
 std::vector<MetricDef> cycle_metrics() {
   const std::string size = ", relative to the size of the holonomy (rms shift of the rod's ends)";
   // The analytic engine integrates (4.1) at 1e-13 per step while the exact holonomy composes
@@ -282,15 +296,27 @@ std::vector<MetricDef> cycle_metrics() {
     m.floor = {{TolRole::kReference, 5e-11}};
     return m;
   };
-  return {SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE, REALIZED_LIFT,
+  return {
+      SLIP_ALONG,
+      SLIP_ACROSS,
+      SLIP_RMS,
+      TRACE_PATH,
+      TRACE_SHAPE,
+      REALIZED_LIFT,
       floored(rel("dx", "m", 1e-9, 0.02, "net x change against the exact holonomy" + size)),
       floored(rel("dy", "m", 1e-9, 0.02, "net y change against the exact holonomy" + size)),
       floored(rel("dphi", "rad", 1e-9, 0.02, "net heading change against the exact holonomy" + size + " / l")),
       abs_("base_closure", "rad", 1e-12, 1e-3, "the realized (alpha, beta) path closes"),
       // Leading-order predictions are off by O(eps) relative: tolerance 1.0 x eps for every engine.
-      reference_only(rel("lo_dx", "m", 1.0, 1.0, "net x change against the bracket prediction (tolerance x eps): the leading order's check, counted for the reference only")),
-      reference_only(rel("lo_dy", "m", 1.0, 1.0, "net y change against the bracket prediction (tolerance x eps): the leading order's check, counted for the reference only")),
-      reference_only(rel("lo_dphi", "rad", 1.0, 1.0, "net heading change against the bracket prediction (tolerance x eps): the leading order's check, counted for the reference only")),
+      reference_only(rel("lo_dx", "m", 1.0, 1.0,
+                         "net x change against the bracket prediction (tolerance x eps): the leading order's check, "
+                         "counted for the reference only")),
+      reference_only(rel("lo_dy", "m", 1.0, 1.0,
+                         "net y change against the bracket prediction (tolerance x eps): the leading order's check, "
+                         "counted for the reference only")),
+      reference_only(rel("lo_dphi", "rad", 1.0, 1.0,
+                         "net heading change against the bracket prediction (tolerance x eps): the leading order's "
+                         "check, counted for the reference only")),
   };
 }
 

@@ -37,8 +37,8 @@ std::vector<car::TimedConfig> drive_checked(CarEngine& engine, const CarSetup& s
 /// (up to the path's end, as a trace written back covers it), so that its verdict does not depend
 /// on the road its results took. A model that reports the commanded shape and its exact lift (the
 /// analytic engine) compares them with themselves: informational.
-void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup, const car::BasePath& path, const Config& q0,
-                     const std::vector<car::TimedConfig>& trace);
+void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup, const car::BasePath& path,
+                     const Config& q0, const std::vector<car::TimedConfig>& trace);
 /// At most ~400 rows [t, alpha, beta, x, y, phi] for plots and snapshots.
 nlohmann::json trace_json(const std::vector<car::TimedConfig>& trace);
 /// The exact lift (4.1) of the commanded path from q0, sampled like the engines' traces: what the
@@ -47,7 +47,8 @@ nlohmann::json reference_json(const CarSetup& setup, const car::BasePath& path, 
 /// Actuation error against contact error: the lift of the (alpha, beta) path the engine realized
 /// tells how far the commanded path was missed (actuation) and how far the car strayed from the
 /// lift of what its wheels did (contact: slip, compliance, friction model).
-nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedConfig>& trace, const Config& commanded_end);
+nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedConfig>& trace,
+                           const Config& commanded_end);
 /// Contact-point slip measured by the engine every step (engines with wheels): the worst wheel's
 /// largest speed along and across its rolling direction and its RMS slip speed. The analytic lift
 /// rolls without slipping by construction and reports none.
@@ -95,21 +96,36 @@ std::vector<MetricDef> cycle_metrics();
 
 // Contact-point slip, measured by the engine every step (not produced by the analytic lift). A
 // gripping wheel's contact point is at rest: 0.1 mm/s is 2e-4 of the default speed.
-inline const MetricDef SLIP_ALONG = abs_("slip_along_max", "m/s", 0.0, 1e-4, "largest contact-point speed along a wheel's rolling direction (worst wheel)");
-inline const MetricDef SLIP_ACROSS = abs_("slip_across_max", "m/s", 0.0, 1e-4, "largest contact-point speed along a wheel's axle (worst wheel)");
-inline const MetricDef SLIP_RMS = abs_("slip_rms", "m/s", 0.0, 1e-4, "RMS contact-point speed over the drive (worst wheel)");
+inline const MetricDef SLIP_ALONG = abs_("slip_along_max", "m/s", 0.0, 1e-4,
+                                         "largest contact-point speed along a wheel's rolling direction (worst wheel)");
+inline const MetricDef SLIP_ACROSS =
+    abs_("slip_across_max", "m/s", 0.0, 1e-4, "largest contact-point speed along a wheel's axle (worst wheel)");
+inline const MetricDef SLIP_RMS =
+    abs_("slip_rms", "m/s", 0.0, 1e-4, "RMS contact-point speed over the drive (worst wheel)");
 // Every sample of the trace (an engine's, or an outside simulator's from liftcheck score) against
 // the exact lift and the command.
-inline const MetricDef TRACE_PATH = abs_("trace_path_error", "m", 0.0, 1e-3, "the trace up to the path's end: largest distance of the front-axle centre from the exact lift at any sample");
-inline const MetricDef TRACE_SHAPE = abs_("trace_shape_error", "rad", 0.0, 1e-3, "the trace up to the path's end: largest difference of its (alpha, beta) from the commanded path, or of its heading from the exact lift's, at any sample");
+inline const MetricDef TRACE_PATH =
+    abs_("trace_path_error", "m", 0.0, 1e-3,
+         "the trace up to the path's end: largest distance of the front-axle centre from the exact lift at any sample");
+inline const MetricDef TRACE_SHAPE =
+    abs_("trace_shape_error", "rad", 0.0, 1e-3,
+         "the trace up to the path's end: largest difference of its (alpha, beta) from the commanded path, or of its "
+         "heading from the exact lift's, at any sample");
 // The connection (3.3) at every sample: the pose against the lift of the engine's own realized
 // (alpha, beta), less what the slip tolerance lets accumulate (add_realized_lift). 0.1 mm is a
 // fifth of one engine step's travel at the default 0.5 m/s and 1 ms; the tolerance scales with
 // v dt (a pose one step late is off by one step's travel).
-inline const MetricDef REALIZED_LIFT = abs_("realized_lift_error", "m", 1e-9, 1e-4, "largest excess, at any sample t, of the front-axle centre's distance from the lift of the wheel and steering angles the engine realized up to t over what the contact-slip tolerance lets accumulate (sqrt(2) x 1e-4 m/s x t): a pose reported late or early; tolerance at 0.5 m/s and dt = 1 ms, x v dt / 0.5 mm with v the command's fastest front-wheel speed");
+inline const MetricDef REALIZED_LIFT =
+    abs_("realized_lift_error", "m", 1e-9, 1e-4,
+         "largest excess, at any sample t, of the front-axle centre's distance from the lift of the wheel and steering "
+         "angles the engine realized up to t over what the contact-slip tolerance lets accumulate (sqrt(2) x 1e-4 m/s "
+         "x t): a pose reported late or early; tolerance at 0.5 m/s and dt = 1 ms, x v dt / 0.5 mm with v the "
+         "command's fastest front-wheel speed");
 // Coulomb: the ground pushes the car by at most mu times its weight. 5% for the normal load's
 // fluctuation over two sample intervals and the second differences.
-inline const MetricDef COM_ACCEL = abs_("com_accel_excess", "1", 1e-9, 0.05, "largest horizontal acceleration of the car's centre of mass beyond mu g, as a fraction of mu g (0: within Coulomb's bound)");
+inline const MetricDef COM_ACCEL = abs_("com_accel_excess", "1", 1e-9, 0.05,
+                                        "largest horizontal acceleration of the car's centre of mass beyond mu g, as a "
+                                        "fraction of mu g (0: within Coulomb's bound)");
 
 }  // namespace liftcheck::car_common
 

@@ -49,8 +49,10 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
     nlohmann::json tr = trace_json(trace), thin = nlohmann::json::array();
     for (std::size_t i = 0; i < tr.size(); i += 4) thin.push_back(tr[i]);
     thin.push_back(tr.back());
-    rows.push_back({{"theta_rad", theta}, {"start", {start.x_m, start.y_m, start.phi_rad}},
-                    {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}}, {detail_key::kTrace, thin}});
+    rows.push_back({{"theta_rad", theta},
+                    {"start", {start.x_m, start.y_m, start.phi_rad}},
+                    {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}},
+                    {detail_key::kTrace, thin}});
   }
   const auto [spread_xy, spread_phi] = pose_spread(seen);
   Outcome o;
@@ -59,7 +61,9 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
   // In the default regime the wheels slide a little, identically at every heading: the distance
   // from the no-slip lift is information here, the no-slip check is car.circle's.
   // "drawing": the report draws every start and its path in one picture.
-  o.details = {{detail_key::kRuns, rows}, {detail_key::kDrawing, detail_key::kDrawingStarts}, {"exact_end_in_start_frame", {exact.x_m, exact.y_m, exact.phi_rad}},
+  o.details = {{detail_key::kRuns, rows},
+               {detail_key::kDrawing, detail_key::kDrawingStarts},
+               {"exact_end_in_start_frame", {exact.x_m, exact.y_m, exact.phi_rad}},
                {"largest_distance_from_no_slip_lift_m", worst}};
   return o;
 }
@@ -77,8 +81,8 @@ double rod_shift(const car::CarDef& c, const Config& from, const Config& to) {
 
 /// Drives `steps`, compares the net pose change with the exact holonomy and with the bracket
 /// prediction (a tangent vector: its rod shift is taken to first order).
-Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Step>& steps,
-                  const Vec5& predicted, double lo_factor) {
+Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Step>& steps, const Vec5& predicted,
+                  double lo_factor) {
   const CarSetup setup = setup_from(p);
   const Config q0 = start_from(p);
   const car::BasePath path(car::to_segments(steps), 0.0, q0.beta_rad, setup.drive);
@@ -101,15 +105,23 @@ Outcome run_cycle(const Params& p, CarEngine& engine, const std::vector<car::Ste
   o.values["dx"] = {.expected = exact[car::kX], .measured = d[car::kX], .scale = size};
   o.values["dy"] = {.expected = exact[car::kY], .measured = d[car::kY], .scale = size};
   o.values["dphi"] = {.expected = exact[car::kPhi], .measured = d[car::kPhi], .scale = size / l};
-  o.values["base_closure"] = {.expected = 0.0, .measured = std::hypot(d[car::kAlpha], d[car::kBeta]), .informational = engine.exact_by_construction()};
-  o.values["lo_dx"] = {.expected = predicted[car::kX], .measured = d[car::kX], .scale = lo_size, .tolerance_factor = lo_factor};
-  o.values["lo_dy"] = {.expected = predicted[car::kY], .measured = d[car::kY], .scale = lo_size, .tolerance_factor = lo_factor};
-  o.values["lo_dphi"] = {.expected = predicted[car::kPhi], .measured = d[car::kPhi], .scale = lo_size / l, .tolerance_factor = lo_factor};
+  o.values["base_closure"] = {.expected = 0.0,
+                              .measured = std::hypot(d[car::kAlpha], d[car::kBeta]),
+                              .informational = engine.exact_by_construction()};
+  o.values["lo_dx"] = {
+      .expected = predicted[car::kX], .measured = d[car::kX], .scale = lo_size, .tolerance_factor = lo_factor};
+  o.values["lo_dy"] = {
+      .expected = predicted[car::kY], .measured = d[car::kY], .scale = lo_size, .tolerance_factor = lo_factor};
+  o.values["lo_dphi"] = {
+      .expected = predicted[car::kPhi], .measured = d[car::kPhi], .scale = lo_size / l, .tolerance_factor = lo_factor};
   add_realized_lift(o, engine, setup, path, trace);
-  o.details = {{detail_key::kTrace, trace_json(trace)}, {detail_key::kReference, reference_json(setup, path, q0)},
-               {detail_key::kSteps, steps.size()}, {detail_key::kHolonomySize, size},
+  o.details = {{detail_key::kTrace, trace_json(trace)},
+               {detail_key::kReference, reference_json(setup, path, q0)},
+               {detail_key::kSteps, steps.size()},
+               {detail_key::kHolonomySize, size},
                {detail_key::kMeasuredSize, rod_shift(setup.car, trace.front().q, trace.back().q)},
-               {detail_key::kHolonomyError, rod_shift(setup.car, end_exact, Config::from(trace.back().q.vec() - trace.front().q.vec() + q0.vec()))},
+               {detail_key::kHolonomyError,
+                rod_shift(setup.car, end_exact, Config::from(trace.back().q.vec() - trace.front().q.vec() + q0.vec()))},
                {detail_key::kErrors, error_split(setup.car, trace, end_exact)}};
   add_slip(o, engine);
   return o;
@@ -154,8 +166,10 @@ Outcome run_steer_in_place(const Params& p, CarEngine& engine) {
   Outcome o = traced;
   o.values["front_shift"] = {0.0, max_shift};
   o.values["dphi"] = {0.0, std::abs(e2::wrap_angle(end.phi_rad - q0.phi_rad))};
-  o.values["beta_reached"] = {.expected = q0.beta_rad + d_beta, .measured = end.beta_rad, .informational = engine.exact_by_construction()};
-  o.details = {{detail_key::kTrace, trace_json(trace)}, {detail_key::kReference, reference_json(setup, path, q0)},
+  o.values["beta_reached"] = {
+      .expected = q0.beta_rad + d_beta, .measured = end.beta_rad, .informational = engine.exact_by_construction()};
+  o.details = {{detail_key::kTrace, trace_json(trace)},
+               {detail_key::kReference, reference_json(setup, path, q0)},
                {detail_key::kErrors, error_split(setup.car, trace, car::flow_beta(q0, d_beta))}};
   add_slip(o, engine);
   return o;
@@ -165,9 +179,7 @@ Outcome run_steer_in_place(const Params& p, CarEngine& engine) {
 
 /// A path with segments that steer while driving (forwards and backwards): no closed form,
 /// so the reference is the lift (4.1) integrated at tolerance 1e-13.
-std::vector<car::Segment> reparam_segments() {
-  return {{2.0, 0.3}, {3.0, -0.5}, {-2.0, 0.2}, {1.5, 0.0}};
-}
+std::vector<car::Segment> reparam_segments() { return {{2.0, 0.3}, {3.0, -0.5}, {-2.0, 0.2}, {1.5, 0.0}}; }
 
 Outcome run_reparam(const Params& p, CarEngine& engine) {
   const CarSetup base = setup_from(p);
@@ -186,7 +198,8 @@ Outcome run_reparam(const Params& p, CarEngine& engine) {
     const car::BasePath path(reparam_segments(), 0.0, q0.beta_rad, s.drive);
     const auto trace = drive_checked(engine, s, q0, path);
     ends.push_back(trace.back().q);
-    traces.push_back({{"speed_mps", s.drive.speed_mps}, {"duration_s", path.duration_s()}, {detail_key::kTrace, trace_json(trace)}});
+    traces.push_back(
+        {{"speed_mps", s.drive.speed_mps}, {"duration_s", path.duration_s()}, {detail_key::kTrace, trace_json(trace)}});
   }
   const car::BasePath ref_path(reparam_segments(), 0.0, q0.beta_rad, base.drive);
   car::LiftDef independent;  // not the analytic engine's integrator
@@ -203,105 +216,110 @@ Outcome run_reparam(const Params& p, CarEngine& engine) {
   // default path length. Every engine's is the distance's.
   double travel_m = 0.0;
   for (const car::Segment& seg : reparam_segments()) travel_m += std::abs(seg.d_alpha_rad) * base.car.R_m;
-  o.values["end_error"] = {.expected = 0.0, .measured = std::hypot(ends[0].x_m - ref.x_m, ends[0].y_m - ref.y_m),
+  o.values["end_error"] = {.expected = 0.0,
+                           .measured = std::hypot(ends[0].x_m - ref.x_m, ends[0].y_m - ref.y_m),
                            .tolerance_factor = engine.exact_by_construction() ? std::max(1.0, travel_m / 2.55) : 1.0};
-  o.details = {{detail_key::kRuns, traces}, {"reference_end", {ref.x_m, ref.y_m, ref.phi_rad}},
-               {detail_key::kTrace, traces[0][detail_key::kTrace]}, {detail_key::kReference, reference_json(base, ref_path, q0)}};
+  o.details = {{detail_key::kRuns, traces},
+               {"reference_end", {ref.x_m, ref.y_m, ref.phi_rad}},
+               {detail_key::kTrace, traces[0][detail_key::kTrace]},
+               {detail_key::kReference, reference_json(base, ref_path, q0)}};
   return o;
 }
 
 /// The parking cycles and their holonomies.
 std::vector<Scenario> parking_cycle_scenarios() {
   return {
-    {
-        .name = "car.cycle",
-        .vehicle = Vehicle::kCar,
-        .summary = "Simple parking cycle (section 5, steps i-iv): the net pose change is the holonomy of the loop, "
-          "to leading order eps_alpha eps_beta [H_alpha, H_beta].",
-        .equations = "(5.3), (5.5), (E.1)",
-        .params = with(car_params("0.2"), {number("eps_alpha", "0.1", "rad", "drive step in alpha", 0.0, true, 100.0),
-          number("eps_beta", "0.1", "rad", "steering step in beta", 0.0, true, 1.0)}),
-        .metrics = cycle_metrics(),
-        .run_car = run_simple_cycle,
-        .headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"}},
-    {
-        .name = "car.iterated",
-        .vehicle = Vehicle::kCar,
-        .summary = "Iterated cycle (5.8), ten steps: a sideways shift of the tie rod, -eps^4 [H_alpha, [H_alpha, H_beta]] "
-          "= eps^4 R^2/l (sin phi, -cos phi) to leading order, heading unchanged.",
-        .equations = "(5.6), (5.8), (5.9), (E.3)",
-        .params = with(car_params("0.2"), {number("eps", "0.3", "rad", "step size eps (alpha and beta)", 0.0, true, 1.0)}),
-        .metrics = cycle_metrics(),
-        .run_car = run_iterated_alpha,
-        .headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"}},
-    {
-        .name = "car.iterated-beta",
-        .vehicle = Vehicle::kCar,
-        .summary = "Iterated cycle (5.10), ten steps: the car slides as if alpha changed without the wheel turning, "
-          "-eps^4 [H_beta, [H_alpha, H_beta]] = -eps^4 (H_alpha - d_alpha) to leading order.",
-        .equations = "(5.7), (5.10), (E.3)",
-        .params = with(car_params("0.2"), {number("eps", "0.3", "rad", "step size eps (alpha and beta)", 0.0, true, 1.0)}),
-        .metrics = cycle_metrics(),
-        .run_car = run_iterated_beta,
-        .headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"}}
-  };
+      {.name = "car.cycle",
+       .vehicle = Vehicle::kCar,
+       .summary = "Simple parking cycle (section 5, steps i-iv): the net pose change is the holonomy of the loop, "
+                  "to leading order eps_alpha eps_beta [H_alpha, H_beta].",
+       .equations = "(5.3), (5.5), (E.1)",
+       .params = with(car_params("0.2"), {number("eps_alpha", "0.1", "rad", "drive step in alpha", 0.0, true, 100.0),
+                                          number("eps_beta", "0.1", "rad", "steering step in beta", 0.0, true, 1.0)}),
+       .metrics = cycle_metrics(),
+       .run_car = run_simple_cycle,
+       .headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"}},
+      {.name = "car.iterated",
+       .vehicle = Vehicle::kCar,
+       .summary =
+           "Iterated cycle (5.8), ten steps: a sideways shift of the tie rod, -eps^4 [H_alpha, [H_alpha, H_beta]] "
+           "= eps^4 R^2/l (sin phi, -cos phi) to leading order, heading unchanged.",
+       .equations = "(5.6), (5.8), (5.9), (E.3)",
+       .params =
+           with(car_params("0.2"), {number("eps", "0.3", "rad", "step size eps (alpha and beta)", 0.0, true, 1.0)}),
+       .metrics = cycle_metrics(),
+       .run_car = run_iterated_alpha,
+       .headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"}},
+      {.name = "car.iterated-beta",
+       .vehicle = Vehicle::kCar,
+       .summary = "Iterated cycle (5.10), ten steps: the car slides as if alpha changed without the wheel turning, "
+                  "-eps^4 [H_beta, [H_alpha, H_beta]] = -eps^4 (H_alpha - d_alpha) to leading order.",
+       .equations = "(5.7), (5.10), (E.3)",
+       .params =
+           with(car_params("0.2"), {number("eps", "0.3", "rad", "step size eps (alpha and beta)", 0.0, true, 1.0)}),
+       .metrics = cycle_metrics(),
+       .run_car = run_iterated_beta,
+       .headline = {.metrics = {"dx", "dy", "dphi"}, .label = "holonomy"}}};
 }
 
 /// Steering in place, the lift's reparametrisation invariance and its E(2) covariance.
 std::vector<Scenario> lift_property_scenarios() {
   return {
-    {
-        .name = "car.steer-in-place",
-        .vehicle = Vehicle::kCar,
-        .summary = "Turning the steering wheel alone moves no tie rod: H_beta = d/dbeta.",
-        .equations = "(4.4), (C.10)",
-        .params = with(car_params("0.0"), {number("d_beta", "0.35", "rad", "steering change", -2.8, false, 2.8)}),
-        .metrics = {abs_("front_shift", "m", 1e-12, 1e-4, "largest displacement of the front-axle centre"),
-          abs_("dphi", "rad", 1e-12, 1e-3, "heading change"),
-          abs_("beta_reached", "rad", 1e-12, 1e-3, "realized steering angle at the end"),
-          SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
-        .run_car = run_steer_in_place,
-        .headline = {.metrics = {"front_shift"}, .label = "front-axle shift", .unit = "mm", .scale = 1e3}},
-    {
-        .name = "car.reparam",
-        .vehicle = Vehicle::kCar,
-        .summary = "The same path in (alpha, beta), steering while driving, at its pace and at f times it (every rate "
-          "multiplied by f, every acceleration by f^2): the lift (4.1) is reparametrisation invariant, so both "
-          "runs end in the same pose, that of the lift.",
-        .equations = "(4.1), section 4",
-        // The path's four short segments (2.55 m of wheel travel, mostly ramps) at 0.25 m/s^2 and
-        // 1 rad/s^2 take 15.9 s; at f = 3 (1.5 m/s, 2.25 m/s^2, 0.75 rad/s, 9 rad/s^2) 5.3 s: three
-        // times the pace, nine times the accelerations (the fast run's 104 N of drive within the
-        // 235 N the front wheel grips with at mu = 1). Three speeds with the accelerations fixed
-        // (0.125, 0.5 and 2 m/s) took 21.2, 8.2 and 7.9 s: a time ratio of 2.7.
-        .params = with(with_defaults(car_params("0.1"), {{"speed", "0.5"}, {"steer_rate", "0.25"}, {"accel", "0.25"}, {"steer_accel", "1.0"}}),
-          {number("factor", "3", "1", "pace factor f", 1.0, true, 100.0)}),
-        .metrics = {abs_("end_spread", "m", 1e-9, 1e-3, "largest distance between the end positions of the runs"),
-          abs_("heading_spread", "rad", 1e-9, 1e-3, "largest difference between the end headings"),
-          abs_("end_error", "m", 1e-7, 1e-3, "end position of the run at the path's own pace against the reference lift (Bulirsch-Stoer; the analytic engine runs dopri5, both at 1e-13 per step; they differ by up to 1.2e-8 m across the steering kinks)")},
-        .run_car = run_reparam,
-        .headline = {.metrics = {"end_spread"}, .label = "end spread", .unit = "mm", .scale = 1e3}},
-    // Three headings, 0, 120 and 240 degrees (0, 30 and 60 modulo a right angle): a friction box fixed
-    // to the world axes grips differently at each, while headings a right angle apart would all
-    // see the same box. Each start drives 3.5 s (with the car's settle and hold 4.2 s).
-    {
-        .name = "car.covariance",
-        .vehicle = Vehicle::kCar,
-        .summary = "E(2) covariance (A.6): the same manoeuvre (an arc, then a parking cycle) started from 3 headings "
-          "over the full turn, every other one translated, must end in the same pose relative to its start. "
-          "On mu = 0.1 the 2 m arc (cruise speed 2 m/s, ramps of 1 m/s^2: it peaks at 1.13 m/s, grip use "
-          "v^2/(r g mu) = 0.38) loads the friction in a direction that turns with the start: isotropic friction "
-          "acts the same at every heading, a friction pyramid fixed to the world axes does not.",
-        .equations = "(A.6), equivariance of the lift",
-        .params = with(with_defaults(car_params("0.3"), {{"mu", "0.1"}, {"speed", "2.0"}}),
-          {number("drive", "2", "m", "arc length before the cycle", 0.0, true, 1e3),
-          integer("headings", "3", "1", "start headings over the full turn", 2.0, 64.0),
-          vec2("shift", "3,-2", "m", "translation of every other start", 1e4)}),
-        .metrics = {abs_("spread_xy", "m", 1e-9, 1e-3, "largest distance between end positions in the start frames"),
-          abs_("spread_phi", "rad", 1e-9, 1e-3, "largest difference between end headings in the start frames")},
-        .run_car = run_covariance,
-        .headline = {.metrics = {"spread_xy"}, .label = "end spread", .unit = "mm", .scale = 1e3}}
-  };
+      {.name = "car.steer-in-place",
+       .vehicle = Vehicle::kCar,
+       .summary = "Turning the steering wheel alone moves no tie rod: H_beta = d/dbeta.",
+       .equations = "(4.4), (C.10)",
+       .params = with(car_params("0.0"), {number("d_beta", "0.35", "rad", "steering change", -2.8, false, 2.8)}),
+       .metrics = {abs_("front_shift", "m", 1e-12, 1e-4, "largest displacement of the front-axle centre"),
+                   abs_("dphi", "rad", 1e-12, 1e-3, "heading change"),
+                   abs_("beta_reached", "rad", 1e-12, 1e-3, "realized steering angle at the end"), SLIP_ALONG,
+                   SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
+       .run_car = run_steer_in_place,
+       .headline = {.metrics = {"front_shift"}, .label = "front-axle shift", .unit = "mm", .scale = 1e3}},
+      {.name = "car.reparam",
+       .vehicle = Vehicle::kCar,
+       .summary = "The same path in (alpha, beta), steering while driving, at its pace and at f times it (every rate "
+                  "multiplied by f, every acceleration by f^2): the lift (4.1) is reparametrisation invariant, so both "
+                  "runs end in the same pose, that of the lift.",
+       .equations = "(4.1), section 4",
+       // The path's four short segments (2.55 m of wheel travel, mostly ramps) at 0.25 m/s^2 and
+       // 1 rad/s^2 take 15.9 s; at f = 3 (1.5 m/s, 2.25 m/s^2, 0.75 rad/s, 9 rad/s^2) 5.3 s: three
+       // times the pace, nine times the accelerations (the fast run's 104 N of drive within the
+       // 235 N the front wheel grips with at mu = 1). Three speeds with the accelerations fixed
+       // (0.125, 0.5 and 2 m/s) took 21.2, 8.2 and 7.9 s: a time ratio of 2.7.
+       .params =
+           with(with_defaults(car_params("0.1"),
+                              {{"speed", "0.5"}, {"steer_rate", "0.25"}, {"accel", "0.25"}, {"steer_accel", "1.0"}}),
+                {number("factor", "3", "1", "pace factor f", 1.0, true, 100.0)}),
+       .metrics = {abs_("end_spread", "m", 1e-9, 1e-3, "largest distance between the end positions of the runs"),
+                   abs_("heading_spread", "rad", 1e-9, 1e-3, "largest difference between the end headings"),
+                   abs_("end_error", "m", 1e-7, 1e-3,
+                        "end position of the run at the path's own pace against the reference lift (Bulirsch-Stoer; "
+                        "the analytic engine runs dopri5, both at 1e-13 per step; they differ by up to 1.2e-8 m across "
+                        "the steering kinks)")},
+       .run_car = run_reparam,
+       .headline = {.metrics = {"end_spread"}, .label = "end spread", .unit = "mm", .scale = 1e3}},
+      // Three headings, 0, 120 and 240 degrees (0, 30 and 60 modulo a right angle): a friction box fixed
+      // to the world axes grips differently at each, while headings a right angle apart would all
+      // see the same box. Each start drives 3.5 s (with the car's settle and hold 4.2 s).
+      {.name = "car.covariance",
+       .vehicle = Vehicle::kCar,
+       .summary =
+           "E(2) covariance (A.6): the same manoeuvre (an arc, then a parking cycle) started from 3 headings "
+           "over the full turn, every other one translated, must end in the same pose relative to its start. "
+           "On mu = 0.1 the 2 m arc (cruise speed 2 m/s, ramps of 1 m/s^2: it peaks at 1.13 m/s, grip use "
+           "v^2/(r g mu) = 0.38) loads the friction in a direction that turns with the start: isotropic friction "
+           "acts the same at every heading, a friction pyramid fixed to the world axes does not.",
+       .equations = "(A.6), equivariance of the lift",
+       .params = with(with_defaults(car_params("0.3"), {{"mu", "0.1"}, {"speed", "2.0"}}),
+                      {number("drive", "2", "m", "arc length before the cycle", 0.0, true, 1e3),
+                       integer("headings", "3", "1", "start headings over the full turn", 2.0, 64.0),
+                       vec2("shift", "3,-2", "m", "translation of every other start", 1e4)}),
+       .metrics = {abs_("spread_xy", "m", 1e-9, 1e-3, "largest distance between end positions in the start frames"),
+                   abs_("spread_phi", "rad", 1e-9, 1e-3,
+                        "largest difference between end headings in the start frames")},
+       .run_car = run_covariance,
+       .headline = {.metrics = {"spread_xy"}, .label = "end spread", .unit = "mm", .scale = 1e3}}};
 }
 
 }  // namespace

@@ -20,12 +20,14 @@ namespace {
 /// (the ground stays z = 0): Rodrigues' rotation of (0, 0, -1) about a = (cos d, sin d, 0),
 /// g_dir = (-sin d sin s, cos d sin s, -cos s). Its horizontal part points downhill.
 Eigen::Vector3d tilted_gravity_dir(double slope_rad, double slope_dir_rad) {
-  return {-std::sin(slope_dir_rad) * std::sin(slope_rad), std::cos(slope_dir_rad) * std::sin(slope_rad), -std::cos(slope_rad)};
+  return {-std::sin(slope_dir_rad) * std::sin(slope_rad), std::cos(slope_dir_rad) * std::sin(slope_rad),
+          -std::cos(slope_rad)};
 }
 
 /// The trace's sample nearest to time t.
 const car::TimedConfig& sample_at(const std::vector<car::TimedConfig>& trace, double t_s) {
-  auto it = std::lower_bound(trace.begin(), trace.end(), t_s - 1e-9, [](const car::TimedConfig& a, double t) { return a.t_s < t; });
+  auto it = std::lower_bound(trace.begin(), trace.end(), t_s - 1e-9,
+                             [](const car::TimedConfig& a, double t) { return a.t_s < t; });
   if (it == trace.end()) return trace.back();
   if (it != trace.begin() && std::abs(std::prev(it)->t_s - t_s) < std::abs(it->t_s - t_s)) return *std::prev(it);
   return *it;
@@ -36,8 +38,10 @@ Outcome run_slope(const Params& p, CarEngine& engine) {
   const Config q0 = start_from(p);
   const double slope = p.num("slope"), slope_dir = p.num("slope_dir"), park = p.num("park"), laps = p.num("laps");
   if (!(std::tan(slope) < setup.mu))
-    throw InputError(fmt::format("car.slope needs tan(slope) < mu for the car to hold: tan({:g}) = {:.3g} >= mu = {:g}", slope, std::tan(slope), setup.mu));
-  if (std::abs(q0.beta_rad) < 1e-3) throw InputError("car.slope needs |beta| >= 0.001 rad: beta = 0 drives a straight line");
+    throw InputError(fmt::format("car.slope needs tan(slope) < mu for the car to hold: tan({:g}) = {:.3g} >= mu = {:g}",
+                                 slope, std::tan(slope), setup.mu));
+  if (std::abs(q0.beta_rad) < 1e-3)
+    throw InputError("car.slope needs |beta| >= 0.001 rad: beta = 0 drives a straight line");
   setup.gravity_dir_W = tilted_gravity_dir(slope, slope_dir);
   const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
   // Phase 1: parked for `park` seconds, wheels held by their servos (alpha and beta fixed); phase
@@ -59,7 +63,8 @@ Outcome run_slope(const Params& p, CarEngine& engine) {
   const Eigen::Vector2d front0(c0.q.x_m, c0.q.y_m), rear0 = car::rear_axle_W(setup.car, c0.q);
   for (const auto& smp : trace)
     if (smp.t_s >= c0.t_s && smp.t_s <= c1.t_s)
-      creep_m = std::max({creep_m, (Eigen::Vector2d(smp.q.x_m, smp.q.y_m) - front0).norm(), (car::rear_axle_W(setup.car, smp.q) - rear0).norm()});
+      creep_m = std::max({creep_m, (Eigen::Vector2d(smp.q.x_m, smp.q.y_m) - front0).norm(),
+                          (car::rear_axle_W(setup.car, smp.q) - rear0).norm()});
   const double creep_mps = c1.t_s > c0.t_s ? creep_m / (c1.t_s - c0.t_s) : 0.0;
   // Circle: fitted to the drive after the park, against the exact radii; drift: the downhill
   // part of the front-axle centre's displacement from the start of the laps to their end, less
@@ -71,11 +76,14 @@ Outcome run_slope(const Params& p, CarEngine& engine) {
       rear.push_back(car::rear_axle_W(setup.car, s.q));
     }
   if (front.size() < 8)
-    throw InputError(fmt::format("car.slope needs at least 8 samples of the laps to fit their circle: sample_dt = {:g} s is too coarse", setup.sample_dt_s));
+    throw InputError(fmt::format(
+        "car.slope needs at least 8 samples of the laps to fit their circle: sample_dt = {:g} s is too coarse",
+        setup.sample_dt_s));
   const CircleFit ff = fit_circle(front), rf = fit_circle(rear);
   const Config& end = trace.back().q;
   const Config end_exact = car::flow_alpha(setup.car, q0, d_alpha);
-  const Eigen::Vector2d lap_shift(end.x_m - c1.q.x_m, end.y_m - c1.q.y_m), exact_shift(end_exact.x_m - q0.x_m, end_exact.y_m - q0.y_m);
+  const Eigen::Vector2d lap_shift(end.x_m - c1.q.x_m, end.y_m - c1.q.y_m),
+      exact_shift(end_exact.x_m - q0.x_m, end_exact.y_m - q0.y_m);
 
   Outcome o = traced;
   o.values["creep_speed"] = {0.0, creep_mps};
@@ -92,8 +100,9 @@ Outcome run_slope(const Params& p, CarEngine& engine) {
                {"creep_um_per_s", creep_mps * 1e6},
                {"lap_shift_m", {lap_shift.x(), lap_shift.y()}},
                {"front_fit_rms_m", ff.rms_residual_m},
-               {detail_key::kGripUse, (setup.drive.speed_mps * setup.drive.speed_mps / fe.radius_m + setup.gravity_mps2 * std::sin(slope)) /
-                                (setup.gravity_mps2 * std::cos(slope)) / setup.mu},
+               {detail_key::kGripUse,
+                (setup.drive.speed_mps * setup.drive.speed_mps / fe.radius_m + setup.gravity_mps2 * std::sin(slope)) /
+                    (setup.gravity_mps2 * std::cos(slope)) / setup.mu},
                {detail_key::kErrors, error_split(setup.car, trace, end_exact)}};
   add_slip(o, engine);
   return o;
@@ -115,9 +124,9 @@ double fit_accel(const std::vector<double>& t, const std::vector<double>& s) {
 /// Coulomb's law on a slope steeper than the friction angle (tan(slope) > mu): the car, its front
 /// wheel held by its servos (zero commanded rates; the rear wheels roll freely about their axles)
 /// and its axles along the fall line, slides downhill like a block (the fall line lies along
-/// every wheel's axle, where its friction acts whether it rolls or not), s(t) = s0 + v0 t + g (sin(slope) - mu cos(slope)) t^2 / 2 (the friction of
-/// every sliding contact is mu times its normal load, which sum to the weight's normal part). The
-/// acceleration measures the engine's clock (a step of the wrong length scales it by the square of
+/// every wheel's axle, where its friction acts whether it rolls or not), s(t) = s0 + v0 t + g (sin(slope) - mu
+/// cos(slope)) t^2 / 2 (the friction of every sliding contact is mu times its normal load, which sum to the weight's
+/// normal part). The acceleration measures the engine's clock (a step of the wrong length scales it by the square of
 /// the ratio), its gravity (tilted) and its effective friction coefficient at once. It slides
 /// from the start of the settle (the exact acceleration is constant from the first contact), so
 /// the fit takes s0 and v0 free, over the samples from `fit_from` on.
@@ -126,8 +135,11 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
   const Config q0 = start_from(p);
   const double slope = p.num("slope"), slope_dir = p.num("slope_dir"), T = p.num("slide"), fit_from = p.num("fit_from");
   if (!(std::tan(slope) > setup.mu * 1.05))
-    throw InputError(fmt::format("car.coulomb needs tan(slope) > 1.05 mu for the car to slide: tan({:g}) = {:.3g}, mu = {:g}", slope, std::tan(slope), setup.mu));
-  if (!(fit_from + 0.2 < T)) throw InputError(fmt::format("car.coulomb needs fit_from + 0.2 s < slide: {:g} and {:g} s", fit_from, T));
+    throw InputError(
+        fmt::format("car.coulomb needs tan(slope) > 1.05 mu for the car to slide: tan({:g}) = {:.3g}, mu = {:g}", slope,
+                    std::tan(slope), setup.mu));
+  if (!(fit_from + 0.2 < T))
+    throw InputError(fmt::format("car.coulomb needs fit_from + 0.2 s < slide: {:g} and {:g} s", fit_from, T));
   setup.gravity_dir_W = tilted_gravity_dir(slope, slope_dir);
   const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
   const car::BasePath path({{0.0, 0.0, T}}, 0.0, q0.beta_rad, setup.drive);
@@ -143,7 +155,8 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
     s_across.push_back(com.x() * downhill.y() - com.y() * downhill.x());
   }
   if (ts.size() < 8)
-    throw InputError(fmt::format("car.coulomb needs at least 8 samples to fit the slide: sample_dt = {:g} s is too coarse", setup.sample_dt_s));
+    throw InputError(fmt::format(
+        "car.coulomb needs at least 8 samples to fit the slide: sample_dt = {:g} s is too coarse", setup.sample_dt_s));
   const double g = setup.gravity_mps2, a_exact = g * (std::sin(slope) - setup.mu * std::cos(slope));
   const double a = fit_accel(ts, s_down), a_across = fit_accel(ts, s_across);
   Outcome o;
@@ -166,50 +179,73 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
 
 std::vector<Scenario> slope_scenarios() {
   return {
-    // Default geometry: the slope falls towards +y (slope_dir 0), the car heads along +x (phi 0),
-    // across the slope. One lap at car.circle's 2 m/s on the 2.09 m circle of beta0 = 0.5 is 6.6 s
-    // (the lateral 1.9 m/s^2 and gravity's downhill 2.9 m/s^2 well inside mu g cos(slope) = 9.4
-    // m/s^2): with the 3 s park and the ramps the run steps 11.8 s.
-    {
-        .name = "car.slope",
-        .vehicle = Vehicle::kCar,
-        .summary = "On ground inclined by `slope` (gravity tilted; tan(slope) < mu) the no-slip constraint (3.3) does not see "
-          "gravity: the car parked across the slope with its wheels held must not move (creep), then its fixed-steering "
-          "circle must keep the radius l/sin(beta0) and close every lap without drifting downhill.",
-        .equations = "(3.3), (4.1), appendix D",
-        .params = with_defaults(with(car_params("0.5"), {number("slope", "0.3", "rad", "tilt of gravity against the ground's normal (tan(slope) < mu)", 0.0, false, 1.4),
-          number("slope_dir", "0", "rad", "direction of the tilt axis in the ground plane (downhill is this turned by +90 degrees)"),
-          number("park", "3", "s", "parked with the wheels held before driving (creep measured over its last two thirds)", 0.5, false, 1e3),
-          number("laps", "1", "1", "laps of the circle after the park", 0.5, false, 100.0)}), {{"speed", "2.0"}, {"accel", "2.0"}}),
-        .metrics = {abs_("creep_speed", "m/s", 1e-12, 1e-6, "parked across the slope, wheels held: the farthest either axle centre gets from where it stood, over the last two thirds of the park, per second (regularised friction creeps)"),
-          rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path on the slope"),
-          rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path on the slope"),
-          abs_("drift_per_lap", "m", 1e-9, 1e-3, "downhill displacement of the front-axle centre from the start of the laps to their end, less the exact lift's (none over whole laps), per lap"),
-          abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact lift (no creep, whole laps)"),
-          SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
-        .run_car = run_slope,
-        .headline = {.metrics = {"creep_speed"}, .label = "creep", .unit = "µm/s", .scale = 1e6}},
-    // Default: a 0.5 rad slope (tan 0.546) with mu = 0.3 (friction angle 0.29 rad): a = 2.12 m/s^2;
-    // the car heads along +x, across the slope falling towards +y, so it slides along its axles.
-    {
-        .name = "car.coulomb",
-        .vehicle = Vehicle::kCar,
-        .summary = "Coulomb's law: on a slope steeper than the friction angle the car, wheels locked, slides down like a block "
-          "with s(t) = g (sin(slope) - mu cos(slope)) t^2 / 2, which measures the engine's clock, its tilted gravity and its "
-          "effective friction coefficient at once (the no-slip lift does not apply: the analytic engine is skipped).",
-        .equations = "Coulomb friction; (3.3) does not hold",
-        .params = with_defaults(with(car_params("0.0"), {number("slope", "0.5", "rad", "tilt of gravity against the ground's normal (tan(slope) > mu)", 0.0, false, 1.4),
-          number("slope_dir", "0", "rad", "direction of the tilt axis in the ground plane (downhill is this turned by +90 degrees)"),
-          number("slide", "2", "s", "time held with the wheels locked after the settle", 0.5, false, 100.0),
-          number("fit_from", "0.2", "s", "first sample of the fit (the settle's landing transient before it)", 0.0, false, 100.0)}), {{"mu", "0.3"}}),
-        .metrics = {rel("slide_accel", "m/s^2", 1e-9, 2e-3, "downhill acceleration of the centre of mass, fitted over the slide, against g (sin(slope) - mu cos(slope))"),
-          rel("slide_accel_across", "m/s^2", 1e-9, 5e-3, "acceleration across the slope, relative to the exact downhill one (0: the slide goes straight down)"),
-          abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
-          SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
-        .run_car = run_coulomb,
-        .needs_contact_dynamics = true,
-        .headline = {.metrics = {"slide_accel"}, .label = "slide acceleration"}}
-  };
+      // Default geometry: the slope falls towards +y (slope_dir 0), the car heads along +x (phi 0),
+      // across the slope. One lap at car.circle's 2 m/s on the 2.09 m circle of beta0 = 0.5 is 6.6 s
+      // (the lateral 1.9 m/s^2 and gravity's downhill 2.9 m/s^2 well inside mu g cos(slope) = 9.4
+      // m/s^2): with the 3 s park and the ramps the run steps 11.8 s.
+      {.name = "car.slope",
+       .vehicle = Vehicle::kCar,
+       .summary =
+           "On ground inclined by `slope` (gravity tilted; tan(slope) < mu) the no-slip constraint (3.3) does not see "
+           "gravity: the car parked across the slope with its wheels held must not move (creep), then its "
+           "fixed-steering "
+           "circle must keep the radius l/sin(beta0) and close every lap without drifting downhill.",
+       .equations = "(3.3), (4.1), appendix D",
+       .params = with_defaults(
+           with(car_params("0.5"),
+                {number("slope", "0.3", "rad", "tilt of gravity against the ground's normal (tan(slope) < mu)", 0.0,
+                        false, 1.4),
+                 number("slope_dir", "0", "rad",
+                        "direction of the tilt axis in the ground plane (downhill is this turned by +90 degrees)"),
+                 number("park", "3", "s",
+                        "parked with the wheels held before driving (creep measured over its last two thirds)", 0.5,
+                        false, 1e3),
+                 number("laps", "1", "1", "laps of the circle after the park", 0.5, false, 100.0)}),
+           {{"speed", "2.0"}, {"accel", "2.0"}}),
+       .metrics = {abs_("creep_speed", "m/s", 1e-12, 1e-6,
+                        "parked across the slope, wheels held: the farthest either axle centre gets from where it "
+                        "stood, over the last two thirds of the park, per second (regularised friction creeps)"),
+                   rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path on the slope"),
+                   rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path on the slope"),
+                   abs_("drift_per_lap", "m", 1e-9, 1e-3,
+                        "downhill displacement of the front-axle centre from the start of the laps to their end, less "
+                        "the exact lift's (none over whole laps), per lap"),
+                   abs_("final_offset", "m", 1e-9, 1e-3,
+                        "front-axle centre at the end against the exact lift (no creep, whole laps)"),
+                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE},
+       .run_car = run_slope,
+       .headline = {.metrics = {"creep_speed"}, .label = "creep", .unit = "µm/s", .scale = 1e6}},
+      // Default: a 0.5 rad slope (tan 0.546) with mu = 0.3 (friction angle 0.29 rad): a = 2.12 m/s^2;
+      // the car heads along +x, across the slope falling towards +y, so it slides along its axles.
+      {.name = "car.coulomb",
+       .vehicle = Vehicle::kCar,
+       .summary =
+           "Coulomb's law: on a slope steeper than the friction angle the car, wheels locked, slides down like a block "
+           "with s(t) = g (sin(slope) - mu cos(slope)) t^2 / 2, which measures the engine's clock, its tilted gravity "
+           "and its "
+           "effective friction coefficient at once (the no-slip lift does not apply: the analytic engine is skipped).",
+       .equations = "Coulomb friction; (3.3) does not hold",
+       .params = with_defaults(
+           with(car_params("0.0"),
+                {number("slope", "0.5", "rad", "tilt of gravity against the ground's normal (tan(slope) > mu)", 0.0,
+                        false, 1.4),
+                 number("slope_dir", "0", "rad",
+                        "direction of the tilt axis in the ground plane (downhill is this turned by +90 degrees)"),
+                 number("slide", "2", "s", "time held with the wheels locked after the settle", 0.5, false, 100.0),
+                 number("fit_from", "0.2", "s", "first sample of the fit (the settle's landing transient before it)",
+                        0.0, false, 100.0)}),
+           {{"mu", "0.3"}}),
+       .metrics =
+           {rel("slide_accel", "m/s^2", 1e-9, 2e-3,
+                "downhill acceleration of the centre of mass, fitted over the slide, against g (sin(slope) - mu "
+                "cos(slope))"),
+            rel("slide_accel_across", "m/s^2", 1e-9, 5e-3,
+                "acceleration across the slope, relative to the exact downhill one (0: the slide goes straight down)"),
+            abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
+            SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
+       .run_car = run_coulomb,
+       .needs_contact_dynamics = true,
+       .headline = {.metrics = {"slide_accel"}, .label = "slide acceleration"}}};
 }
 
 }  // namespace liftcheck

@@ -16,16 +16,15 @@ std::vector<ParamSpec> disk_params(const std::string& cM, const std::string& cN,
       vec2("cN", cN, "m", "initial centre of the other disk N"),
       vec2("vN", vN, "m/s", "N's velocity (line path) or speed as |vN| (toward path)", 1e3),
   };
-  if (with_path)
-    v.push_back(choice("path", path, "N's path", {"line", "circle", "figure8"}));
+  if (with_path) v.push_back(choice("path", path, "N's path", {"line", "circle", "figure8"}));
   v.push_back(number("path_r", "3", "m", "radius of the circle and figure-eight paths", 0.0, true, 100.0));
-  v.push_back(number("path_omega", "0.5", "rad/s", "angular rate of the circle and figure-eight paths", -10.0, false, 10.0));
+  v.push_back(
+      number("path_omega", "0.5", "rad/s", "angular rate of the circle and figure-eight paths", -10.0, false, 10.0));
   v.push_back(number("T", T, "s", "duration", 0.0, true, T_max));
   v.push_back(number("dt", "0.001", "s", "engine time step", 0.0, true, 0.1));
   v.push_back(number("sample_dt", "0.02", "s", "spacing of the recorded trace", 0.0, true, 10.0));
   return v;
 }
-
 
 disks::NPath path_from(const Params& p) {
   disks::NPath path;
@@ -34,8 +33,9 @@ disks::NPath path_from(const Params& p) {
   path.radius_m = p.num("path_r");
   path.omega_radps = p.num("path_omega");
   const std::string& k = p.str("path");
-  path.kind = k == "circle" ? disks::NPath::Kind::kCircle
-            : k == "figure8" ? disks::NPath::Kind::kFigure8 : disks::NPath::Kind::kLine;
+  path.kind = k == "circle"    ? disks::NPath::Kind::kCircle
+              : k == "figure8" ? disks::NPath::Kind::kFigure8
+                               : disks::NPath::Kind::kLine;
   return path;
 }
 
@@ -45,14 +45,16 @@ DiskSetup setup_from(const Params& p) {
   if (!(dt < p.num("T")))
     throw InputError(fmt::format("parameter 'dt' must be < T = {:g} s (the duration), got '{:g}'", p.num("T"), dt));
   if (!(p.num("sample_dt") <= p.num("T")))
-    throw InputError(fmt::format("parameter 'sample_dt' must be <= T = {:g} s (the duration), got '{:g}'", p.num("T"), p.num("sample_dt")));
+    throw InputError(fmt::format("parameter 'sample_dt' must be <= T = {:g} s (the duration), got '{:g}'", p.num("T"),
+                                 p.num("sample_dt")));
   check_run_budget(p.num("T"), dt, p.num("sample_dt"));
   return {1.0, dt, dt * std::max(1L, std::lround(p.num("sample_dt") / dt))};
 }
 
 void check_start(const Vec2& cM, const Vec2& cN) {
   if ((cM - cN).norm() < disks::kContactDistance)
-    throw InputError(fmt::format("the initial centres cM and cN overlap: |cM - cN| = {:.6g}, must be >= 2 (unit disks)", (cM - cN).norm()));
+    throw InputError(fmt::format("the initial centres cM and cN overlap: |cM - cN| = {:.6g}, must be >= 2 (unit disks)",
+                                 (cM - cN).norm()));
 }
 
 /// The plans (14), (17) must be continuous in t for M to follow them; where two paths around N
@@ -66,8 +68,9 @@ void check_continuous(const std::function<Vec2(double)>& q, double T) {
     const double t = T * k / n;
     const Vec2 cur = q(t);
     if ((cur - prev).norm() > 0.1)
-      throw InputError(fmt::format("the plan switches sides around N at t = {:.4f} s (it jumps {:.3g} m): choose another T, target or path",
-                                   t, (cur - prev).norm()));
+      throw InputError(fmt::format(
+          "the plan switches sides around N at t = {:.4f} s (it jumps {:.3g} m): choose another T, target or path", t,
+          (cur - prev).norm()));
     prev = cur;
   }
 }
@@ -76,8 +79,9 @@ void check_continuous(const std::function<Vec2(double)>& q, double T) {
 void check_clearance(const Vec2& a, const Vec2& b, const Vec2& cN, double clearance) {
   for (const Vec2& q : {a, b})
     if ((q - cN).norm() < clearance)
-      throw InputError(fmt::format("the planner keeps clearance {} m from c_N, but a start or target lies {:.6g} m from it", clearance,
-                                   (q - cN).norm()));
+      throw InputError(
+          fmt::format("the planner keeps clearance {} m from c_N, but a start or target lies {:.6g} m from it",
+                      clearance, (q - cN).norm()));
 }
 
 DiskRun run_checked(DiskEngine& engine, const DiskSetup& setup, const DiskProblem& pb) {
@@ -103,7 +107,8 @@ std::optional<double> first_contact(const std::function<Vec2(double)>& rel, doub
     const double tb = T * k / n, fb = f(tb);
     if (fb <= 0.0) {
       boost::uintmax_t it = 200;
-      const auto [lo, hi] = boost::math::tools::toms748_solve(f, ta, tb, fa, fb, boost::math::tools::eps_tolerance<double>(52), it);
+      const auto [lo, hi] =
+          boost::math::tools::toms748_solve(f, ta, tb, fa, fb, boost::math::tools::eps_tolerance<double>(52), it);
       return 0.5 * (lo + hi);
     }
     ta = tb;
@@ -158,8 +163,10 @@ constexpr double kPenetrationSteps = 5.0;
 
 /// The trace sample of `trace` at time t (the traces compared share the grid i * sample spacing).
 const disks::Sample& sample_at(const std::vector<disks::Sample>& trace, double t) {
-  const auto it = std::lower_bound(trace.begin(), trace.end(), t - 1e-9, [](const disks::Sample& s, double x) { return s.t_s < x; });
-  if (it == trace.end() || std::abs(it->t_s - t) > 1e-9) throw std::logic_error(fmt::format("the reference has no sample at t = {} s", t));
+  const auto it = std::lower_bound(trace.begin(), trace.end(), t - 1e-9,
+                                   [](const disks::Sample& s, double x) { return s.t_s < x; });
+  if (it == trace.end() || std::abs(it->t_s - t) > 1e-9)
+    throw std::logic_error(fmt::format("the reference has no sample at t = {} s", t));
   return *it;
 }
 
@@ -195,7 +202,8 @@ void after_contact(Outcome& o, const DiskProblem& pb, const DiskRun& run, const 
   try {
     ref = disks::lift_with_response(pb.rule, pb.path, c.cM, c.t_s, pb.T_s, def);
   } catch (const disks::LiftStalled& e) {
-    throw InputError(std::string(e.what()) + " (the reference after contact has no exact solution here; choose another T)");
+    throw InputError(std::string(e.what()) +
+                     " (the reference after contact has no exact solution here; choose another T)");
   }
   double err = 0.0;
   for (const auto& s : run.trace)
@@ -204,7 +212,10 @@ void after_contact(Outcome& o, const DiskProblem& pb, const DiskRun& run, const 
   const Vec2 vN = pb.path.velocity(c.t_s);
   const double rel_speed = (pb.rule(c.t_s, c.cM, c.cN, vN) - vN).norm();
   // A step of relative travel, at least the round-off of a touching distance (a command equal to N's velocity).
-  o.values["contact_path_error"] = {.expected = 0.0, .measured = err, .tolerance_factor = stepping ? std::max(rel_speed * setup.dt_s, kTouchRoundoff_m) : 1.0};
+  o.values["contact_path_error"] = {
+      .expected = 0.0,
+      .measured = err,
+      .tolerance_factor = stepping ? std::max(rel_speed * setup.dt_s, kTouchRoundoff_m) : 1.0};
   // The contact must last while the command presses M into N and end when it points away; where
   // the command comes to rest against N (n.(v_cmd - v_N) = 0) it may end anywhere in between (at
   // rest, touching and a push-out's gap of a micrometre are both the inelastic answer).
@@ -214,15 +225,19 @@ void after_contact(Outcome& o, const DiskProblem& pb, const DiskRun& run, const 
   // An engine's release is seen up to a step late, and an engine holding the disks delta deep
   // (penetration_max allows kPenetrationSteps steps of closing travel) separates only once M has
   // gone on along the tangent far enough to clear it, 2 sqrt(delta) / |v_rel| later.
-  const double bound_s = 2.0 * setup.dt_s + 2.0 * std::sqrt(kPenetrationSteps * closing * setup.dt_s) / std::max(rel_speed, 1e-9);
-  o.values["contact_duration"] = {.expected = std::clamp(end_run, press_end, release) - c.t_s, .measured = end_run - c.t_s, .tolerance_factor = stepping ? bound_s : 1.0};
-  o.details["after_contact"] = {{"from_t_s", c.t_s},
-                                {"relative_speed_mps", rel_speed},
-                                {"reference_release_s", ref.t_release_s ? nlohmann::json(*ref.t_release_s) : nlohmann::json()},
-                                {"reference_press_end_s", ref.t_press_end_s ? nlohmann::json(*ref.t_press_end_s) : nlohmann::json()},
-                                {"duration_bound_s", stepping ? bound_s : 1.0},
-                                {"release_s", run.t_release_s ? nlohmann::json(*run.t_release_s) : nlohmann::json()},
-                                {"reference", trace_json(ref.trace)}};
+  const double bound_s =
+      2.0 * setup.dt_s + 2.0 * std::sqrt(kPenetrationSteps * closing * setup.dt_s) / std::max(rel_speed, 1e-9);
+  o.values["contact_duration"] = {.expected = std::clamp(end_run, press_end, release) - c.t_s,
+                                  .measured = end_run - c.t_s,
+                                  .tolerance_factor = stepping ? bound_s : 1.0};
+  o.details["after_contact"] = {
+      {"from_t_s", c.t_s},
+      {"relative_speed_mps", rel_speed},
+      {"reference_release_s", ref.t_release_s ? nlohmann::json(*ref.t_release_s) : nlohmann::json()},
+      {"reference_press_end_s", ref.t_press_end_s ? nlohmann::json(*ref.t_press_end_s) : nlohmann::json()},
+      {"duration_bound_s", stepping ? bound_s : 1.0},
+      {"release_s", run.t_release_s ? nlohmann::json(*run.t_release_s) : nlohmann::json()},
+      {"reference", trace_json(ref.trace)}};
 }
 
 /// What every disk scenario measures. Before contact the engine must follow the lift: its path
@@ -263,7 +278,8 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
   }
   if (!expected_t && !run.t_contact_s) {
     o.values["min_distance"] = {.expected = ref.min_distance, .measured = run.min_distance, .tolerance_factor = f};
-    o.values["final_distance"] = {.expected = ref.final_distance, .measured = final_distance(run), .tolerance_factor = f};
+    o.values["final_distance"] = {
+        .expected = ref.final_distance, .measured = final_distance(run), .tolerance_factor = f};
   }
   after_contact(o, pb, run, setup_from(p));
   if (const auto& log = run.contact_log) {
@@ -274,27 +290,34 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
       o.values["step_displacement"] = {.expected = 0.0, .measured = log->step_displacement_error_max_m};
       o.details["step_displacement_at_s"] = log->step_displacement_error_at_s;
     }
-    if (log->reported_by_engine) o.values["contact_missed"] = {.expected = 0.0, .measured = std::max(0.0, log->overlap_unreported_m)};
+    if (log->reported_by_engine)
+      o.values["contact_missed"] = {.expected = 0.0, .measured = std::max(0.0, log->overlap_unreported_m)};
     if (run.t_contact_s) {
       if (log->reported_by_engine) {
         o.values["contact_report_gap"] = {.expected = 0.0, .measured = std::max(0.0, log->gap_reported_max_m)};
         o.values["contact_depth_error"] = {.expected = 0.0, .measured = log->depth_error_max_m};
       }
       // A response acting on the first contact stops the approach within that step.
-      if (closing > 0.0) o.values["overlap_growth"] = {.expected = 0.0, .measured = std::max(0.0, log->overlap_growth_first_m), .tolerance_factor = closing * dt};
+      if (closing > 0.0)
+        o.values["overlap_growth"] = {
+            .expected = 0.0, .measured = std::max(0.0, log->overlap_growth_first_m), .tolerance_factor = closing * dt};
       // The response must bound the overlap (tolerance in steps of closing travel).
-      if (closing > 0.0) o.values["penetration_max"] = {.expected = 0.0, .measured = std::max(0.0, log->penetration_max_m), .tolerance_factor = closing * dt};
+      if (closing > 0.0)
+        o.values["penetration_max"] = {
+            .expected = 0.0, .measured = std::max(0.0, log->penetration_max_m), .tolerance_factor = closing * dt};
     }
-    o.details[detail_key::kContactLog] = {{"distance_at_first_m", std::isfinite(log->distance_at_first_m) ? nlohmann::json(log->distance_at_first_m) : nlohmann::json()},
-                                {"overlap_unreported_m", log->overlap_unreported_m},
-                                {"gap_reported_max_m", log->gap_reported_max_m},
-                                {"depth_error_max_m", log->depth_error_max_m},
-                                {"overlap_growth_first_m", log->overlap_growth_first_m},
-                                {"n_path_error_max_m", log->n_path_error_max_m},
-                                {"penetration_max_m", log->penetration_max_m},
-                                {"depth_reported_max_m", log->depth_reported_max_m},
-                                {"steps_in_contact", log->steps_in_contact},
-                                {"apart_at_end", log->apart_at_end}};
+    o.details[detail_key::kContactLog] = {
+        {"distance_at_first_m",
+         std::isfinite(log->distance_at_first_m) ? nlohmann::json(log->distance_at_first_m) : nlohmann::json()},
+        {"overlap_unreported_m", log->overlap_unreported_m},
+        {"gap_reported_max_m", log->gap_reported_max_m},
+        {"depth_error_max_m", log->depth_error_max_m},
+        {"overlap_growth_first_m", log->overlap_growth_first_m},
+        {"n_path_error_max_m", log->n_path_error_max_m},
+        {"penetration_max_m", log->penetration_max_m},
+        {"depth_reported_max_m", log->depth_reported_max_m},
+        {"steps_in_contact", log->steps_in_contact},
+        {"apart_at_end", log->apart_at_end}};
   }
   return o;
 }
@@ -321,10 +344,15 @@ DiskProblem problem(const Params& p, const disks::Mechanism& m) {
   return {disks::rule_of(m), path_from(p), p.vec("cM"), p.num("T")};
 }
 
-const MetricDef kCollision{"collision", "1", TolKind::kAbsolute, {{TolRole::kDefault, 0.0}}, "1 if the disks touch within T, else 0"};
+const MetricDef kCollision{
+    "collision", "1", TolKind::kAbsolute, {{TolRole::kDefault, 0.0}}, "1 if the disks touch within T, else 0"};
 // The contact time is compared in engine steps: the tolerance is this many steps of dt.
-const MetricDef kTContact{"t_contact", "s", TolKind::kAbsolute, {{TolRole::kReference, 1e-6}, {TolRole::kDefault, 1.0}},
-                          "first contact time (engines: the midpoint of the step in which contact came); tolerance in steps of dt"};
+const MetricDef kTContact{
+    "t_contact",
+    "s",
+    TolKind::kAbsolute,
+    {{TolRole::kReference, 1e-6}, {TolRole::kDefault, 1.0}},
+    "first contact time (engines: the midpoint of the step in which contact came); tolerance in steps of dt"};
 
 disks::Mechanism linear_from(const Params& p) {
   disks::Mechanism m;
@@ -341,35 +369,70 @@ const MetricDef min_d = abs_("min_distance", "m", 1e-8, 1e-2, "closest approach 
 
 std::vector<MetricDef> disk_metrics(std::vector<MetricDef> extra, double analytic_path_tol) {
   std::vector<MetricDef> all{
-      kCollision, kTContact,
+      kCollision,
+      kTContact,
       abs_("path_error", "m", 1e-8, 1e-2, "largest distance of c_M from the reference up to the first contact"),
       // The engine's own contact log against its own reported positions: exact for any engine.
-      {"n_path_error", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}}, "largest distance of N, as the engine moved it, from its path", {}, true},
-      {"contact_missed", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}},
-       "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact", {}, true},
-      {"contact_report_gap", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}},
-       "largest gap |c_M - c_N| - 2 on a state the engine's collision pass reported in contact", {}, true},
-      {"contact_depth_error", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}},
-       "largest difference between the depth the engine's contacts report and the overlap of its bodies", {}, true},
-      abs_("overlap_growth", "m", 0.0, 0.1, "growth of the overlap over the step after the first contact; tolerance in steps of closing travel"),
-      abs_("penetration_max", "m", 0.0, kPenetrationSteps, "largest overlap 2 - |c_M - c_N| after the first contact; tolerance in steps of closing travel at the lift's closing speed"),
-      min_d, final_d,
+      {"n_path_error",
+       "m",
+       TolKind::kAbsolute,
+       {{TolRole::kDefault, 1e-9}},
+       "largest distance of N, as the engine moved it, from its path",
+       {},
+       true},
+      {"contact_missed",
+       "m",
+       TolKind::kAbsolute,
+       {{TolRole::kDefault, 1e-9}},
+       "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact",
+       {},
+       true},
+      {"contact_report_gap",
+       "m",
+       TolKind::kAbsolute,
+       {{TolRole::kDefault, 1e-9}},
+       "largest gap |c_M - c_N| - 2 on a state the engine's collision pass reported in contact",
+       {},
+       true},
+      {"contact_depth_error",
+       "m",
+       TolKind::kAbsolute,
+       {{TolRole::kDefault, 1e-9}},
+       "largest difference between the depth the engine's contacts report and the overlap of its bodies",
+       {},
+       true},
+      abs_("overlap_growth", "m", 0.0, 0.1,
+           "growth of the overlap over the step after the first contact; tolerance in steps of closing travel"),
+      abs_("penetration_max", "m", 0.0, kPenetrationSteps,
+           "largest overlap 2 - |c_M - c_N| after the first contact; tolerance in steps of closing travel at the "
+           "lift's closing speed"),
+      min_d,
+      final_d,
       // Round-off: float64 positions of at most 100 m carry 1.4e-14 m of it per step (float32: a few
       // 1e-7 m at 10 m, so the floor scales with the declared precision); a motor one step late is
       // off by the change of its command times dt (2 mm on the first step from rest at 2 m/s).
-      {"step_displacement", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}},
-       "largest |step displacement of M - v_cmd dt| over the free steps before the first contact (not the step in which the engine's contact stops M at touching)", {}, true},
+      {"step_displacement",
+       "m",
+       TolKind::kAbsolute,
+       {{TolRole::kDefault, 1e-9}},
+       "largest |step displacement of M - v_cmd dt| over the free steps before the first contact (not the step in "
+       "which the engine's contact stops M at touching)",
+       {},
+       true},
       // Engines: the penetration penetration_max allows (kPenetrationSteps steps of closing travel, along n)
       // plus one step of travel along the tangent (contact is seen up to a step late, M went straight on).
       abs_("contact_path_error", "m", 1e-8, kPenetrationSteps + 1.0,
-           "largest distance of M after the first contact from the exact frictionless, inelastic response started at that contact; "
+           "largest distance of M after the first contact from the exact frictionless, inelastic response started at "
+           "that contact; "
            "tolerance in steps of M's travel relative to N"),
       // Engines: 1 x the bound of after_contact (two steps, and the time to clear an allowed penetration).
       abs_("contact_duration", "s", 1e-6, 1.0,
-           "how long the first contact lasts (to a separation of 1 um, or T) against the exact response's; tolerance a multiple "
+           "how long the first contact lasts (to a separation of 1 um, or T) against the exact response's; tolerance a "
+           "multiple "
            "of two steps plus the time M takes to clear an allowed penetration after release")};
   for (auto& m : all)
-    if (m.name == "path_error" || m.name == "min_distance" || m.name == "final_distance") m.tolerance[TolRole::kReference] = analytic_path_tol;
+    if (m.name == "path_error" || m.name == "min_distance" || m.name == "final_distance")
+      m.tolerance[TolRole::kReference] = analytic_path_tol;
   all.insert(all.end(), extra.begin(), extra.end());
   return all;
 }

@@ -22,7 +22,8 @@ using disks::Vec2;
 
 /// Parameters every disk scenario shares; `path` is left out where the scenario fixes N's motion.
 std::vector<ParamSpec> disk_params(const std::string& cM, const std::string& cN, const std::string& vN,
-                                   const std::string& path, const std::string& T, bool with_path = true, double T_max = 1e4);
+                                   const std::string& path, const std::string& T, bool with_path = true,
+                                   double T_max = 1e4);
 disks::NPath path_from(const Params& p);
 /// The trace is sampled every whole number of engine steps closest to sample_dt (at least one).
 DiskSetup setup_from(const Params& p);
@@ -78,8 +79,10 @@ DiskProblem problem(const Params& p, const disks::Mechanism& m);
 disks::Mechanism linear_from(const Params& p);
 
 // Engines: data at dt = 1 ms, scaled by dt / 1 ms (first-order integration of M's command).
-inline const MetricDef kDistanceSpread = abs_("distance_spread", "m", 1e-8, 1e-2, "largest change of |c_M - c_N| from its start");
-inline const MetricDef kDirectionChange = abs_("direction_change", "rad", 1e-8, 5e-3, "largest turn of c_M - c_N from its start (before contact)");
+inline const MetricDef kDistanceSpread =
+    abs_("distance_spread", "m", 1e-8, 1e-2, "largest change of |c_M - c_N| from its start");
+inline const MetricDef kDirectionChange =
+    abs_("direction_change", "rad", 1e-8, 5e-3, "largest turn of c_M - c_N from its start (before contact)");
 // The plans (14) and (17) turn at the tangent points (velocity kinks) and are followed through
 // central differences: two integrators at 1e-12 agree on them to 2e-7 m at the defaults and
 // 2.3e-6 m over the parameter ranges.

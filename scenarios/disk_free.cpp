@@ -20,7 +20,8 @@ Outcome run_copy(const Params& p, DiskEngine& e) {
   const double d0 = (p.vec("cM") - p.vec("cN")).norm();
   const disks::LiftResult ref = analytic(pb, setup_from(p));
   // c_M - c_N is constant: no contact from a disjoint start, and c_M(t) = c_M(0) + c_N(t) - c_N(0).
-  Outcome o = disk_outcome(p, pb, r, ref, std::nullopt, [&](double t) { return Vec2(pb.cM0 + pb.path.position(t) - pb.path.position(0.0)); });
+  Outcome o = disk_outcome(p, pb, r, ref, std::nullopt,
+                           [&](double t) { return Vec2(pb.cM0 + pb.path.position(t) - pb.path.position(0.0)); });
   o.values["min_distance"] = {.expected = d0, .measured = r.min_distance, .tolerance_factor = first_order(p)};
   o.values["final_distance"] = {.expected = d0, .measured = final_distance(r), .tolerance_factor = first_order(p)};
   o.values["distance_spread"] = {.expected = 0.0, .measured = spreads(r).first, .tolerance_factor = first_order(p)};
@@ -42,7 +43,8 @@ Outcome run_orbit(const Params& p, DiskEngine& e) {
   m.kind = disks::MechanismKind::kRotation;  // (40)
   m.omega = p.num("omega");
   if (std::abs(m.omega) * setup_from(p).sample_dt_s > 1.0)
-    throw InputError("disks.orbit needs |omega| sample_dt <= 1 rad: the turned angle is followed from sample to sample");
+    throw InputError(
+        "disks.orbit needs |omega| sample_dt <= 1 rad: the turned angle is followed from sample to sample");
   const DiskProblem pb = problem(p, m);
   const DiskRun r = run_checked(e, setup_from(p), pb);
   const double T = p.num("T");
@@ -75,7 +77,10 @@ Outcome run_extended(const Params& p, DiskEngine& e) {
   const disks::LiftResult ref = analytic(pb, setup_from(p));  // first: a plan without a lift is bad input
   const DiskRun r = run_checked(e, setup_from(p), pb);
   Outcome o = disk_outcome(p, pb, r, ref, std::nullopt);  // the plan keeps the clearance in N's frame
-  o.values["end_error"] = {.expected = 0.0, .measured = (r.trace.back().cM - L(cM1, T)).norm(), .tolerance_factor = first_order(p)};  // (11): ends at L(e', gamma)(1)  // (11): ends at L(e', gamma)(1)
+  o.values["end_error"] = {
+      .expected = 0.0,
+      .measured = (r.trace.back().cM - L(cM1, T)).norm(),
+      .tolerance_factor = first_order(p)};  // (11): ends at L(e', gamma)(1)  // (11): ends at L(e', gamma)(1)
   return o;
 }
 
@@ -98,7 +103,8 @@ Outcome run_target(const Params& p, DiskEngine& e) {
   const disks::LiftResult ref = analytic(pb, setup_from(p));  // first: a plan without a lift is bad input
   const DiskRun r = run_checked(e, setup_from(p), pb);
   Outcome o = disk_outcome(p, pb, r, ref, std::nullopt);
-  o.values["end_error"] = {.expected = 0.0, .measured = (r.trace.back().cM - target(T)).norm(), .tolerance_factor = first_order(p)};
+  o.values["end_error"] = {
+      .expected = 0.0, .measured = (r.trace.back().cM - target(T)).norm(), .tolerance_factor = first_order(p)};
   return o;
 }
 
@@ -106,58 +112,53 @@ Outcome run_target(const Params& p, DiskEngine& e) {
 
 std::vector<Scenario> contact_free_disk_scenarios() {
   return {
-    {
-        .name = "disks.copy",
-        .vehicle = Vehicle::kDisks,
-        .summary = "M copies N's velocity: c_M - c_N stays constant, the disks never touch.",
-        .equations = "(36), section 5.3",
-        .params = disk_params("0,0", "3,0", "1,0", "figure8", "6"),
-        .metrics = disk_metrics({kDistanceSpread, kDirectionChange}),
-        .run_disks = run_copy,
-        .headline = {.metrics = {"step_displacement"}, .label = "step against command", .unit = "µm", .scale = 1e6}},
-    {
-        .name = "disks.actuated",
-        .vehicle = Vehicle::kDisks,
-        .summary = "Actuated no-reaction: M stays put until N comes within 3, then follows it more and more.",
-        .equations = "(37), Figure 6",
-        .params = disk_params("0,0", "6,0.5", "-1,0", "line", "8"),
-        .metrics = disk_metrics({}),
-        .run_disks = run_actuated,
-        .headline = {.metrics = {"step_displacement"}, .label = "step against command", .unit = "µm", .scale = 1e6}},
-    {
-        .name = "disks.orbit",
-        .vehicle = Vehicle::kDisks,
-        .summary = "Rotation: M circles N at constant distance with angular velocity omega (the paper's mu).",
-        .equations = "(40), section 5.6",
-        .params = with(disk_params("0,0", "3,0", "1,0", "circle", "6"), {number("omega", "0.8", "rad/s", "angular velocity of (40)", -100.0, false, 100.0)}),
-        .metrics = disk_metrics({kDistanceSpread, abs_("turned_angle", "rad", 1e-8, 5e-3, "angle turned by c_M - c_N")}),
-        .run_disks = run_orbit,
-        .headline = {.metrics = {"step_displacement"}, .label = "step against command", .unit = "µm", .scale = 1e6}},
-    {
-        .name = "disks.extended",
-        .vehicle = Vehicle::kDisks,
-        .summary = "Extended algorithm for a known motion of N: a plan in the fibre around N, lifted by the copy "
-          "mechanism, ends at the lift of the target.",
-        .equations = "(11), (14)",
-        .params = with(disk_params("-4,0.1", "0,0", "0.6,0.2", "line", "8", true, kPlannerTmax),
-          {vec2("target", "4,-0.3", "m", "target position of M over N's start"),
-          number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, true, 100.0)}),
-        .metrics = disk_metrics({abs_("end_error", "m", 1e-6, 1e-2, "c_M(T) against L(e', gamma)(T)")}, kPlanTol),
-        .run_disks = run_extended,
-        .headline = {.metrics = {"step_displacement"}, .label = "step against command", .unit = "µm", .scale = 1e6}},
-    {
-        .name = "disks.target",
-        .vehicle = Vehicle::kDisks,
-        .summary = "Navigation to a moving target that circles N with its own mechanism: M ends on the target.",
-        .equations = "(16), (17)",
-        .params = with(disk_params("-4,0", "1,0", "1,0", "figure8", "8", true, kPlannerTmax),
-          {vec2("target", "5,0", "m", "initial target position"),
-          number("target_omega", "0.4", "rad/s", "the target's rotation about N (40)", -10.0, false, 10.0),
-          number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, true, 100.0)}),
-        .metrics = disk_metrics({abs_("end_error", "m", 1e-6, 1e-2, "c_M(T) against the target v(T)")}, kPlanTol),
-        .run_disks = run_target,
-        .headline = {.metrics = {"step_displacement"}, .label = "step against command", .unit = "µm", .scale = 1e6}}
-  };
+      {.name = "disks.copy",
+       .vehicle = Vehicle::kDisks,
+       .summary = "M copies N's velocity: c_M - c_N stays constant, the disks never touch.",
+       .equations = "(36), section 5.3",
+       .params = disk_params("0,0", "3,0", "1,0", "figure8", "6"),
+       .metrics = disk_metrics({kDistanceSpread, kDirectionChange}),
+       .run_disks = run_copy,
+       .headline = {.metrics = {"step_displacement"}, .label = "step against command", .unit = "µm", .scale = 1e6}},
+      {.name = "disks.actuated",
+       .vehicle = Vehicle::kDisks,
+       .summary = "Actuated no-reaction: M stays put until N comes within 3, then follows it more and more.",
+       .equations = "(37), Figure 6",
+       .params = disk_params("0,0", "6,0.5", "-1,0", "line", "8"),
+       .metrics = disk_metrics({}),
+       .run_disks = run_actuated,
+       .headline = {.metrics = {"step_displacement"}, .label = "step against command", .unit = "µm", .scale = 1e6}},
+      {.name = "disks.orbit",
+       .vehicle = Vehicle::kDisks,
+       .summary = "Rotation: M circles N at constant distance with angular velocity omega (the paper's mu).",
+       .equations = "(40), section 5.6",
+       .params = with(disk_params("0,0", "3,0", "1,0", "circle", "6"),
+                      {number("omega", "0.8", "rad/s", "angular velocity of (40)", -100.0, false, 100.0)}),
+       .metrics = disk_metrics({kDistanceSpread, abs_("turned_angle", "rad", 1e-8, 5e-3, "angle turned by c_M - c_N")}),
+       .run_disks = run_orbit,
+       .headline = {.metrics = {"step_displacement"}, .label = "step against command", .unit = "µm", .scale = 1e6}},
+      {.name = "disks.extended",
+       .vehicle = Vehicle::kDisks,
+       .summary = "Extended algorithm for a known motion of N: a plan in the fibre around N, lifted by the copy "
+                  "mechanism, ends at the lift of the target.",
+       .equations = "(11), (14)",
+       .params = with(disk_params("-4,0.1", "0,0", "0.6,0.2", "line", "8", true, kPlannerTmax),
+                      {vec2("target", "4,-0.3", "m", "target position of M over N's start"),
+                       number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, true, 100.0)}),
+       .metrics = disk_metrics({abs_("end_error", "m", 1e-6, 1e-2, "c_M(T) against L(e', gamma)(T)")}, kPlanTol),
+       .run_disks = run_extended,
+       .headline = {.metrics = {"step_displacement"}, .label = "step against command", .unit = "µm", .scale = 1e6}},
+      {.name = "disks.target",
+       .vehicle = Vehicle::kDisks,
+       .summary = "Navigation to a moving target that circles N with its own mechanism: M ends on the target.",
+       .equations = "(16), (17)",
+       .params = with(disk_params("-4,0", "1,0", "1,0", "figure8", "8", true, kPlannerTmax),
+                      {vec2("target", "5,0", "m", "initial target position"),
+                       number("target_omega", "0.4", "rad/s", "the target's rotation about N (40)", -10.0, false, 10.0),
+                       number("clearance", "2.2", "m", "planner's distance kept from c_N", 2.0, true, 100.0)}),
+       .metrics = disk_metrics({abs_("end_error", "m", 1e-6, 1e-2, "c_M(T) against the target v(T)")}, kPlanTol),
+       .run_disks = run_target,
+       .headline = {.metrics = {"step_displacement"}, .label = "step against command", .unit = "µm", .scale = 1e6}}};
 }
 
 }  // namespace liftcheck

@@ -11,11 +11,14 @@ namespace liftcheck {
 
 std::vector<Scenario> disk_scenarios() {
   // The catalogue's order, the families interleaved.
-  static const char* const kOrder[] = {"disks.copy",   "disks.actuated", "disks.repel",       "disks.orbit",    "disks.linear",
-                                       "disks.oblique", "disks.forced",  "disks.moving-away", "disks.extended", "disks.target"};
+  static const char* const kOrder[] = {"disks.copy",     "disks.actuated", "disks.repel",  "disks.orbit",
+                                       "disks.linear",   "disks.oblique",  "disks.forced", "disks.moving-away",
+                                       "disks.extended", "disks.target"};
   std::vector<Scenario> all = contact_free_disk_scenarios(), contact = contact_disk_scenarios();
   for (Scenario& s : contact) all.push_back(std::move(s));
-  const auto rank = [&](const Scenario& s) { return std::find(std::begin(kOrder), std::end(kOrder), s.name) - std::begin(kOrder); };
+  const auto rank = [&](const Scenario& s) {
+    return std::find(std::begin(kOrder), std::end(kOrder), s.name) - std::begin(kOrder);
+  };
   std::stable_sort(all.begin(), all.end(), [&](const Scenario& a, const Scenario& b) { return rank(a) < rank(b); });
   return all;
 }

@@ -7,8 +7,9 @@ namespace liftcheck {
 void check_run_budget(double duration_s, double dt_s, double sample_dt_s) {
   const auto check = [&](const char* key, double step, double limit, const char* what) {
     if (!(duration_s / step <= limit))
-      throw InputError(fmt::format("parameter '{}' = {:g} s asks for {:.3g} {} over the run's {:g} s: at most {:g} ({} >= {:.3g} s here)", key,
-                                   step, duration_s / step, what, duration_s, limit, key, duration_s / limit));
+      throw InputError(fmt::format(
+          "parameter '{}' = {:g} s asks for {:.3g} {} over the run's {:g} s: at most {:g} ({} >= {:.3g} s here)", key,
+          step, duration_s / step, what, duration_s, limit, key, duration_s / limit));
   };
   check("dt", dt_s, kMaxRunSteps, "engine steps");
   check("sample_dt", sample_dt_s, kMaxRunSamples, "recorded samples");
@@ -40,9 +41,9 @@ nlohmann::json by_role(const std::map<TolRole, double>& values) {
 
 nlohmann::json Metric::to_json() const {
   nlohmann::json j = {{"expected", expected},   {"measured", measured},
-          {"abs_error", abs_error}, {"rel_error", rel_error},
-          {"tolerance", tolerance}, {"tolerance_kind", kind == TolKind::kRelative ? "rel" : "abs"},
-          {"unit", unit},           {"pass", pass}};
+                      {"abs_error", abs_error}, {"rel_error", rel_error},
+                      {"tolerance", tolerance}, {"tolerance_kind", kind == TolKind::kRelative ? "rel" : "abs"},
+                      {"unit", unit},           {"pass", pass}};
   if (floor > 0.0) j["floor"] = floor;
   if (informational) j["informational"] = true;
   return j;
@@ -63,12 +64,21 @@ nlohmann::json Scenario::to_json() const {
   for (const auto& p : params) ps.push_back(p.to_json());
   nlohmann::json ms = nlohmann::json::array();
   for (const auto& m : metrics)
-    ms.push_back({{"name", m.name}, {"unit", m.unit},
+    ms.push_back({{"name", m.name},
+                  {"unit", m.unit},
                   {"tolerance_kind", m.kind == TolKind::kRelative ? "rel" : "abs"},
-                  {"tolerance", by_role(m.tolerance)}, {"floor", by_role(m.floor)}, {"help", m.help}, {"reference_only", m.reference_only}});
-  return {{"name", name}, {"vehicle", vehicle}, {"summary", summary},
-          {"equations", equations}, {"params", ps}, {"metrics", ms},
-          {"needs_contact_dynamics", needs_contact_dynamics}, {"negative_control", negative_control},
+                  {"tolerance", by_role(m.tolerance)},
+                  {"floor", by_role(m.floor)},
+                  {"help", m.help},
+                  {"reference_only", m.reference_only}});
+  return {{"name", name},
+          {"vehicle", vehicle},
+          {"summary", summary},
+          {"equations", equations},
+          {"params", ps},
+          {"metrics", ms},
+          {"needs_contact_dynamics", needs_contact_dynamics},
+          {"negative_control", negative_control},
           {"headline", headline.to_json()}};
 }
 

@@ -77,7 +77,7 @@ struct Metric {
   double expected, measured, abs_error, rel_error, tolerance;
   TolKind kind;
   bool pass;
-  double floor = 0.0;  ///< absolute floor of a relative metric (0: none)
+  double floor = 0.0;          ///< absolute floor of a relative metric (0: none)
   bool informational = false;  ///< shown only: not a pass, not a fail
   /// The error its tolerance is compared with: relative or absolute, by kind.
   double compared_error() const { return kind == TolKind::kRelative ? rel_error : abs_error; }
@@ -91,8 +91,8 @@ struct Metric {
 /// `scale`, or, with `per_step`, the absolute error over the run's dt.
 struct Headline {
   std::vector<std::string> metrics;
-  std::string label;      ///< "radius error", "holonomy error", "creep", ...
-  std::string unit;       ///< unit of the shown figure: "" (a ratio), "mm", "µm/s", "steps"
+  std::string label;  ///< "radius error", "holonomy error", "creep", ...
+  std::string unit;   ///< unit of the shown figure: "" (a ratio), "mm", "µm/s", "steps"
   double scale = 1.0;
   bool per_step = false;
   nlohmann::json to_json() const;
@@ -112,8 +112,8 @@ struct SharedDrive {
 struct Scenario {
   std::string name;
   Vehicle vehicle = Vehicle::kCar;  ///< the engine must offer make_car or make_disks
-  std::string summary;   ///< what it checks
-  std::string equations; ///< the paper's equations it exercises
+  std::string summary;              ///< what it checks
+  std::string equations;            ///< the paper's equations it exercises
   std::vector<ParamSpec> params;
   std::vector<MetricDef> metrics;
   std::function<Outcome(const Params&, CarEngine&)> run_car;

@@ -31,15 +31,15 @@ struct SweepDef {
   std::string name;
   std::string title;
   std::string scenario;
-  std::string param;             ///< the swept parameter
+  std::string param;  ///< the swept parameter
   std::vector<double> values;
-  Overrides fixed;               ///< other parameters held for the whole sweep
+  Overrides fixed;  ///< other parameters held for the whole sweep
   /// What each point records: metric_field(NAME) or detail_field(KEY) (RecordedField).
   std::vector<std::string> record;
-  bool loglog_fit = false;       ///< fit log y against log x above the engine's noise floor
-  std::string fit_y;             ///< the recorded quantity that is fitted ("detail:measured_size_m")
-  std::string fit_noise;         ///< its error against the exact value, which defines the noise floor
-  double marker = 0.0;           ///< an x value to mark on the plot (0: none)
+  bool loglog_fit = false;  ///< fit log y against log x above the engine's noise floor
+  std::string fit_y;        ///< the recorded quantity that is fitted ("detail:measured_size_m")
+  std::string fit_noise;    ///< its error against the exact value, which defines the noise floor
+  double marker = 0.0;      ///< an x value to mark on the plot (0: none)
   std::string marker_label;
   /// The gate on the fit: the fitted slope must lie within slope_band of slope_expected.
   double slope_expected = 0.0;
@@ -85,8 +85,8 @@ struct MapDef {
     std::string error_label;
   };
   std::vector<Panel> panels;
-  std::vector<double> dt_s;         ///< at each configuration's default settings
-  std::vector<int> iterations;      ///< at the scenario's default dt
+  std::vector<double> dt_s;     ///< at each configuration's default settings
+  std::vector<int> iterations;  ///< at the scenario's default dt
 };
 const MapDef& speed_accuracy_map();
 

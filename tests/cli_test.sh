@@ -285,7 +285,7 @@ bad_input validate-set-unknown "--set bogus: no scenario run here has a paramete
 
 # Against a baseline: the committed one passes for the runs made (a filtered share); a worsened
 # setting exits 1 naming the scenario, configuration, metric, old and new values.
-check baseline-committed 0 "$bin" validate --filter car.cycle --engines ode,bullet --no-sweeps --no-report --baseline "$(dirname "$0")/../reports/baselines/default.json" --out "$tmp/bl0"
+check baseline-committed 0 "$bin" validate --filter car.cycle --engines ode,bullet --no-sweeps --no-report --baseline "$(dirname "$0")/../data/baselines/default.json" --out "$tmp/bl0"
 check baseline-write 0 "$bin" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/base.json" --update-baseline --out "$tmp/bl1"
 check baseline-worse 1 "$bin" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/base.json" --set iterations=3 --out "$tmp/bl2"
 grep -q "^REGRESSION car.circle on bullet: pass -> fail" "$tmp/out" && grep -q "^worse      car.circle on bullet: heading_residual measured .* (was .*), 12.5 of tolerance (was 0.122)" "$tmp/out" \

@@ -53,7 +53,8 @@ TEST_P(Conformance, DefaultRunIsAsExpected) {
   const Scenario* s = find_scenario(scenario);
   ASSERT_NE(e, nullptr);
   const Needs needs{.vehicle = s->vehicle, .contact_dynamics = s->needs_contact_dynamics};
-  if (const Lack lack = lacks(*e, needs); lack != Lack::kNothing) GTEST_SKIP() << engine << " " << lack_text(lack, needs);
+  if (const Lack lack = lacks(*e, needs); lack != Lack::kNothing)
+    GTEST_SKIP() << engine << " " << lack_text(lack, needs);
   const RunRecord r = run_scenario(*s, *e);
   for (const auto& m : r.metrics)
     std::cout << "  " << m.name << ": expected " << m.expected << " measured " << m.measured << " err "
@@ -109,7 +110,7 @@ TEST_P(AnyConfiguration, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
     EXPECT_NEAR(end.alpha_rad, 2.0, 5e-3);
     EXPECT_NEAR(end.beta_rad, beta, 1e-3);
     EXPECT_GT((end.x_m - q0.x_m) * std::cos(0.5) + (end.y_m - q0.y_m) * std::sin(0.5), 0.3);  // went forward
-    EXPECT_GT((end.phi_rad - q0.phi_rad) * beta, 0.0);                                          // turned to the steered side
+    EXPECT_GT((end.phi_rad - q0.phi_rad) * beta, 0.0);  // turned to the steered side
   }
   // Steering alone: the realized beta follows the command with its sign.
   const car::Config q0{0.0, 0.0, 0.0, 0.0, 0.0};
@@ -131,11 +132,13 @@ TEST_P(AnyConfiguration, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
 TEST_P(AnyConfiguration, TiltedGravityIsFelt) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
-  if (lacks(*e, {.vehicle = Vehicle::kCar, .contact_dynamics = true}) != Lack::kNothing) GTEST_SKIP() << GetParam() << " has no car with contact forces";
+  if (lacks(*e, {.vehicle = Vehicle::kCar, .contact_dynamics = true}) != Lack::kNothing)
+    GTEST_SKIP() << GetParam() << " has no car with contact forces";
   const double slope = 0.3, slope_dir = 0.4, hold_s = 2.0;
   CarSetup setup;
   setup.mu = 1e-4;  // a block's a = g (sin - mu cos) is 0.03% short of g sin; mu = 0 is outside every scenario's range
-  setup.gravity_dir_W = {-std::sin(slope_dir) * std::sin(slope), std::cos(slope_dir) * std::sin(slope), -std::cos(slope)};
+  setup.gravity_dir_W = {-std::sin(slope_dir) * std::sin(slope), std::cos(slope_dir) * std::sin(slope),
+                         -std::cos(slope)};
   const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
   Settings settings = e->defaults(Vehicle::kCar);
   for (const SettingSpec& k : e->knobs)
@@ -148,15 +151,20 @@ TEST_P(AnyConfiguration, TiltedGravityIsFelt) {
   // a = 4 (s(T) - 2 s(T/2) + s(0)) / T^2 from three samples of the downhill distance s(t), exact for
   // a constant acceleration whatever speed the car had at t = 0 (it may slide while it settles).
   const auto s_at = [&](double t_s) {  // downhill distance of the sample nearest t_s
-    const auto it = std::min_element(trace.begin(), trace.end(), [&](const auto& a, const auto& b) { return std::abs(a.t_s - t_s) < std::abs(b.t_s - t_s); });
+    const auto it = std::min_element(trace.begin(), trace.end(), [&](const auto& a, const auto& b) {
+      return std::abs(a.t_s - t_s) < std::abs(b.t_s - t_s);
+    });
     return Eigen::Vector2d(it->q.x_m - q0.x_m, it->q.y_m - q0.y_m).dot(downhill);
   };
   const double T_s = trace.back().t_s - trace.front().t_s;
   ASSERT_GT(T_s, 1.9);
   const Eigen::Vector2d moved(trace.back().q.x_m - trace.front().q.x_m, trace.back().q.y_m - trace.front().q.y_m);
-  const double a_mps2 = 4.0 * (s_at(trace.back().t_s) - 2.0 * s_at(trace.front().t_s + 0.5 * T_s) + s_at(trace.front().t_s)) / (T_s * T_s);
+  const double a_mps2 = 4.0 *
+                        (s_at(trace.back().t_s) - 2.0 * s_at(trace.front().t_s + 0.5 * T_s) + s_at(trace.front().t_s)) /
+                        (T_s * T_s);
   const double block_mps2 = setup.gravity_mps2 * (std::sin(slope) - setup.mu * std::cos(slope));
-  EXPECT_NEAR(a_mps2, block_mps2, 0.05 * block_mps2) << GetParam() << " did not slide down an all but frictionless slope as gravity pulls";
+  EXPECT_NEAR(a_mps2, block_mps2, 0.05 * block_mps2)
+      << GetParam() << " did not slide down an all but frictionless slope as gravity pulls";
   EXPECT_GT(moved.dot(downhill), 0.99 * moved.norm()) << GetParam() << " moved, but not downhill";
 }
 
@@ -203,9 +211,12 @@ TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
     double T_s = 0.0;
     int drives = 0;
     EngineInfo keep = *e;
-    keep.make_car = [&, e](const Settings& st) { return std::make_unique<KeepTrace>(e->make_car(st), &full, &T_s, &drives); };
+    keep.make_car = [&, e](const Settings& st) {
+      return std::make_unique<KeepTrace>(e->make_car(st), &full, &T_s, &drives);
+    };
     const RunRecord run = run_scenario(s, keep);
-    if (run.status == Status::kSkip) continue;  // the configuration cannot run it (the analytic lift has no Coulomb friction)
+    if (run.status == Status::kSkip)
+      continue;                 // the configuration cannot run it (the analytic lift has no Coulomb friction)
     if (drives != 1) continue;  // several runs: no single path to score (liftcheck score refuses it)
     ASSERT_NE(run.status, Status::kError) << s.name << ": " << run.message;
     Trace tr{"own-" + GetParam() + ".csv", {}};
@@ -225,9 +236,12 @@ TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
     ASSERT_NE(score.status, Status::kError) << s.name << ": " << score.message;
     ASSERT_NE(score.status, Status::kSkip) << s.name << ": " << score.message;
     std::vector<std::string> run_failed, slip_failed;
-    for (const std::string& m : run.failed_metrics()) (m.rfind("slip_", 0) == 0 ? slip_failed : run_failed).push_back(m);
-    const std::string what = s.name + " on " + GetParam() + ": the run " + (run.status == Status::kPass ? "passes" : "fails: " + run.message) +
-                             "; its trace scored " + (score.status == Status::kPass ? "passes" : "fails: " + score.message);
+    for (const std::string& m : run.failed_metrics())
+      (m.rfind("slip_", 0) == 0 ? slip_failed : run_failed).push_back(m);
+    const std::string what = s.name + " on " + GetParam() + ": the run " +
+                             (run.status == Status::kPass ? "passes" : "fails: " + run.message) +
+                             "; its trace scored " +
+                             (score.status == Status::kPass ? "passes" : "fails: " + score.message);
     EXPECT_EQ(score.failed_metrics(), run_failed) << what;
     // The verdict itself: the same status, unless all the run fails is the slip the trace cannot carry.
     if (run_failed.empty() && !slip_failed.empty()) {
@@ -238,7 +252,8 @@ TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
     ++scored;
     with_contact_dynamics += s.needs_contact_dynamics;
   }
-  EXPECT_GE(scored, 6) << "fewer car scenarios with a single path than car.circle, the three cycles, steer-in-place and slope";
+  EXPECT_GE(scored, 6)
+      << "fewer car scenarios with a single path than car.circle, the three cycles, steer-in-place and slope";
   if (e->contact_dynamics) {
     EXPECT_EQ(with_contact_dynamics, 3) << "car.coulomb, car.beyond-grip and car.slip";
   }
@@ -329,7 +344,8 @@ TEST_P(FourWheels, AsExpectedAndNoWorseThanTheTricycleUnlessListed) {
   const Overrides four{{"wheels", "4"}};
   const RunRecord r4 = run_scenario(*s, *e, four);
   for (const auto& m : r4.metrics)
-    std::cout << "  " << m.name << ": expected " << m.expected << " measured " << m.measured << " err " << m.compared_error() << " tol " << m.tolerance << "\n";
+    std::cout << "  " << m.name << ": expected " << m.expected << " measured " << m.measured << " err "
+              << m.compared_error() << " tol " << m.tolerance << "\n";
   EXPECT_EQ(r4.params["wheels"], "4");
   EXPECT_TRUE(r4.as_expected()) << r4.verdict() << ": " << r4.message;
   const RunRecord r3 = run_scenario(*s, *e);
@@ -344,7 +360,8 @@ TEST_P(FourWheels, AsExpectedAndNoWorseThanTheTricycleUnlessListed) {
 TEST_P(AnyConfiguration, FourWheelsRefusedWhereNotBuilt) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
-  if (lacks(*e, {.vehicle = Vehicle::kCar, .four_wheels = true}) != Lack::kFourWheels) GTEST_SKIP() << GetParam() << " builds four-wheel cars or none";
+  if (lacks(*e, {.vehicle = Vehicle::kCar, .four_wheels = true}) != Lack::kFourWheels)
+    GTEST_SKIP() << GetParam() << " builds four-wheel cars or none";
   EXPECT_THROW(run_scenario(*find_scenario("car.circle"), *e, {{"wheels", "4"}}), InputError);
 }
 
@@ -360,17 +377,24 @@ TEST_P(PerEngine, ParallelSteeringScrubs) {
   ASSERT_EQ(r.status, Status::kFail) << r.message;
   ASSERT_NE(r.known, nullptr) << "parallel steering on " << GetParam() << " is not listed in the expectations";
   EXPECT_TRUE(r.as_expected()) << r.message;
-  const auto scrub = std::find_if(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return m.name == "slip_across_max"; });
+  const auto scrub =
+      std::find_if(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return m.name == "slip_across_max"; });
   ASSERT_NE(scrub, r.metrics.end());
   EXPECT_FALSE(scrub->pass);
   EXPECT_GT(scrub->measured, 1e-3) << "scrub below 1 mm/s";
 }
 
 INSTANTIATE_TEST_SUITE_P(Registry, FourWheels,
-                         ::testing::Combine(::testing::ValuesIn(engine_names()), ::testing::Values("car.circle", "car.cycle", "car.iterated")),
-                         [](const auto& info) { return test_name(std::get<0>(info.param) + "__" + std::get<1>(info.param)); });
-INSTANTIATE_TEST_SUITE_P(Registry, Conformance, ::testing::Combine(::testing::ValuesIn(engine_names()), ::testing::ValuesIn(scenario_names())),
-                         [](const auto& info) { return test_name(std::get<0>(info.param) + "__" + std::get<1>(info.param)); });
+                         ::testing::Combine(::testing::ValuesIn(engine_names()),
+                                            ::testing::Values("car.circle", "car.cycle", "car.iterated")),
+                         [](const auto& info) {
+                           return test_name(std::get<0>(info.param) + "__" + std::get<1>(info.param));
+                         });
+INSTANTIATE_TEST_SUITE_P(Registry, Conformance,
+                         ::testing::Combine(::testing::ValuesIn(engine_names()), ::testing::ValuesIn(scenario_names())),
+                         [](const auto& info) {
+                           return test_name(std::get<0>(info.param) + "__" + std::get<1>(info.param));
+                         });
 INSTANTIATE_TEST_SUITE_P(Registry, PerEngine, ::testing::ValuesIn(engine_names()),
                          [](const auto& info) { return test_name(info.param); });
 INSTANTIATE_TEST_SUITE_P(Registry, AnyConfiguration, ::testing::ValuesIn(engine_names(true)),

@@ -31,7 +31,8 @@ class AckermannGeometry : public ::testing::TestWithParam<std::tuple<double, dou
 
 TEST_P(AckermannGeometry, WheelAxlesMeetAtTheIcrOfTheVirtualAngle) {
   const auto [beta, l, w] = GetParam();
-  const double bl = ackermann_wheel_angle(beta, l, w, Side::kLeft), br = ackermann_wheel_angle(beta, l, w, Side::kRight);
+  const double bl = ackermann_wheel_angle(beta, l, w, Side::kLeft),
+               br = ackermann_wheel_angle(beta, l, w, Side::kRight);
   const Eigen::Vector2d pl(0.0, 0.5 * w), pr(0.0, -0.5 * w), centre(0.0, 0.0);
   const Eigen::Vector2d icr_l = axle_meets_rear_axle(pl, bl, l), icr_r = axle_meets_rear_axle(pr, br, l);
   // Both front axles meet the rear axle line in the same point...
@@ -39,7 +40,8 @@ TEST_P(AckermannGeometry, WheelAxlesMeetAtTheIcrOfTheVirtualAngle) {
   // ...about which the front-axle centre moves at the virtual angle beta to the rod (the paper's
   // beta): its velocity is perpendicular to the radius, turned towards the ICR's side.
   const Eigen::Vector2d radius = centre - icr_l;
-  const Eigen::Vector2d v = beta > 0 ? Eigen::Vector2d(-radius.y(), radius.x()) : Eigen::Vector2d(radius.y(), -radius.x());
+  const Eigen::Vector2d v =
+      beta > 0 ? Eigen::Vector2d(-radius.y(), radius.x()) : Eigen::Vector2d(radius.y(), -radius.x());
   EXPECT_NEAR(std::atan2(v.y(), v.x()), beta, 1e-12);
   // Turning radii: each wheel rolls at its distance from the ICR over the centre's.
   EXPECT_NEAR(ackermann_drive_ratio(beta, l, w, Side::kLeft), (pl - icr_l).norm() / radius.norm(), 1e-12);
@@ -58,8 +60,9 @@ TEST_P(AckermannGeometry, WheelAxlesMeetAtTheIcrOfTheVirtualAngle) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Angles, AckermannGeometry,
-                         ::testing::Values(std::tuple{0.3, 1.0, 0.8}, std::tuple{-0.3, 1.0, 0.8}, std::tuple{0.05, 1.0, 0.8},
-                                           std::tuple{1.2, 1.0, 0.8}, std::tuple{-1.2, 1.0, 0.8}, std::tuple{0.5, 2.5, 1.6},
+                         ::testing::Values(std::tuple{0.3, 1.0, 0.8}, std::tuple{-0.3, 1.0, 0.8},
+                                           std::tuple{0.05, 1.0, 0.8}, std::tuple{1.2, 1.0, 0.8},
+                                           std::tuple{-1.2, 1.0, 0.8}, std::tuple{0.5, 2.5, 1.6},
                                            std::tuple{-0.7, 0.6, 1.0}));
 
 TEST(Ackermann, StraightAheadBothWheelsStraightAndEqualRates) {
@@ -81,7 +84,8 @@ TEST(Ackermann, KnownNumbers) {
   EXPECT_NEAR(ackermann_wheel_angle(0.3, 1.0, 0.8, Side::kRight), 0.268622, 1e-6);
   // Fecko's "average" front wheel (introduction) is the tricycle's only to first order in w/l:
   // the mean of the two rolling rates exceeds the centre's by 6.2e-4 at beta = 0.3.
-  const double mean = 0.5 * (ackermann_drive_ratio(0.3, 1.0, 0.8, Side::kLeft) + ackermann_drive_ratio(0.3, 1.0, 0.8, Side::kRight));
+  const double mean =
+      0.5 * (ackermann_drive_ratio(0.3, 1.0, 0.8, Side::kLeft) + ackermann_drive_ratio(0.3, 1.0, 0.8, Side::kRight));
   EXPECT_NEAR(mean - 1.0, 6.2e-4, 0.3e-4);
   // Parallel wheels give back their common angle.
   EXPECT_NEAR(virtual_steering_angle(-0.4, -0.4), -0.4, 1e-15);

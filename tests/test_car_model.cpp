@@ -112,7 +112,8 @@ TEST(Brackets, Bracket55MatchesFourStepCycleOfExactFlows) {
   for (const Config& q : sample_points()) {
     const Vec5 numeric = bracket_from_flows(Field::kAlpha, Field::kBeta, q);
     EXPECT_TRUE((numeric - bracket_alpha_beta(kCar, q)).norm() < 1e-6 * bracket_alpha_beta(kCar, q).norm())
-        << numeric.transpose() << "\n" << bracket_alpha_beta(kCar, q).transpose();
+        << numeric.transpose() << "\n"
+        << bracket_alpha_beta(kCar, q).transpose();
   }
 }
 
@@ -139,7 +140,8 @@ TEST(Curvature, Curvature512IsTheStructureEquationE8) {
       const double h = 1e-6;
       Vec5 dp = Vec5::Zero();
       dp[i] = h;
-      dw[i] = (connection_form(kCar, Config::from(q.vec() + dp)) - connection_form(kCar, Config::from(q.vec() - dp))) / (2 * h);
+      dw[i] = (connection_form(kCar, Config::from(q.vec() + dp)) - connection_form(kCar, Config::from(q.vec() - dp))) /
+              (2 * h);
     }
     const auto Omega = [&](const Vec5& U, const Vec5& V) {
       const Eigen::Matrix<double, 3, 5> w = connection_form(kCar, q);
@@ -151,7 +153,8 @@ TEST(Curvature, Curvature512IsTheStructureEquationE8) {
         double quad = 0.0;
         for (int b = 0; b < 3; ++b)
           for (int c = 0; c < 3; ++c)
-            quad += 0.5 * e2::structure_constant(a, b, c) * (w.row(b).dot(U) * w.row(c).dot(V) - w.row(b).dot(V) * w.row(c).dot(U));
+            quad += 0.5 * e2::structure_constant(a, b, c) *
+                    (w.row(b).dot(U) * w.row(c).dot(V) - w.row(b).dot(V) * w.row(c).dot(U));
         out[a] = d + quad;
       }
       return out;
@@ -203,7 +206,8 @@ TEST(ParticleField, TransformsWithRho62And67) {
 TEST(ParticleField, RateAlongHAlpha68IsTheDerivativeAlongTheFlow) {
   for (const Config& q : sample_points()) {
     const double h = 1e-5;
-    const Eigen::Vector2d fd = (particle_field(flow_alpha(kCar, q, h)) - particle_field(flow_alpha(kCar, q, -h))) / (2 * h);
+    const Eigen::Vector2d fd =
+        (particle_field(flow_alpha(kCar, q, h)) - particle_field(flow_alpha(kCar, q, -h))) / (2 * h);
     EXPECT_TRUE((fd - particle_field_rate(kCar, q)).norm() < 1e-9);
   }
 }

@@ -89,8 +89,8 @@ TEST(DiskContact, ObliqueContactMatchesTheClosedForm) {
 TEST(DiskContact, HeadOnContactNeverReleases) {
   const ConstantRelativeContact closed{Vec2(1.0, 0.0), std::numbers::pi};
   EXPECT_FALSE(closed.release_after_s().has_value());
-  const ResponseResult r = lift_with_response(rule_of(linear(2.0, 0.0)), line({3.0, 0.0}, {1.0, 0.0}), Vec2::Zero(), 0.0, 4.0,
-                                              sampled(LiftMethod::kDopri5));
+  const ResponseResult r = lift_with_response(rule_of(linear(2.0, 0.0)), line({3.0, 0.0}, {1.0, 0.0}), Vec2::Zero(),
+                                              0.0, 4.0, sampled(LiftMethod::kDopri5));
   ASSERT_TRUE(r.t_contact_s);
   EXPECT_NEAR(*r.t_contact_s, 1.0, 1e-10);
   EXPECT_FALSE(r.t_release_s);
@@ -130,7 +130,8 @@ TEST(DiskContact, AttractGluesMToNForAnyPathOfN) {
   NPath path;
   path.kind = NPath::Kind::kFigure8;
   path.c0 = Vec2(5.0, 1.0);
-  const ResponseResult r = lift_with_response(rule_of(m), path, Vec2::Zero(), 0.0, 6.0, sampled(LiftMethod::kBulirschStoer));
+  const ResponseResult r =
+      lift_with_response(rule_of(m), path, Vec2::Zero(), 0.0, 6.0, sampled(LiftMethod::kBulirschStoer));
   ASSERT_TRUE(r.t_contact_s);
   EXPECT_FALSE(r.t_release_s);
   const Vec2 rel = r.cM_contact - path.position(*r.t_contact_s);
@@ -154,11 +155,13 @@ TEST(DiskContact, MethodsAgreeAndProjectedEulerConverges) {
   const Rule rule = rule_of(linear(2.0, 0.5));  // meets N at t = 1.9 s
   const double T = 6.0;
   const ResponseResult a = lift_with_response(rule, path, Vec2::Zero(), 0.0, T, sampled(LiftMethod::kDopri5, 0.05));
-  const ResponseResult b = lift_with_response(rule, path, Vec2::Zero(), 0.0, T, sampled(LiftMethod::kBulirschStoer, 0.05));
+  const ResponseResult b =
+      lift_with_response(rule, path, Vec2::Zero(), 0.0, T, sampled(LiftMethod::kBulirschStoer, 0.05));
   ASSERT_TRUE(a.t_contact_s && b.t_contact_s);
   EXPECT_GT(a.contact_s, 0.1);
   ASSERT_EQ(a.trace.size(), b.trace.size());
-  for (std::size_t i = 0; i < a.trace.size(); ++i) EXPECT_LT((a.trace[i].cM - b.trace[i].cM).norm(), 1e-8) << a.trace[i].t_s;
+  for (std::size_t i = 0; i < a.trace.size(); ++i)
+    EXPECT_LT((a.trace[i].cM - b.trace[i].cM).norm(), 1e-8) << a.trace[i].t_s;
   const double e1 = (projected_euler(rule, path, Vec2::Zero(), T, 1e-4) - a.trace.back().cM).norm();
   const double e2 = (projected_euler(rule, path, Vec2::Zero(), T, 5e-5) - a.trace.back().cM).norm();
   EXPECT_LT(e1, 1e-2);
@@ -171,7 +174,8 @@ TEST(DiskContact, StartsOnTheCircleFromAStateInsideIt) {
   const NPath path = line({4.0, 0.0}, {1.0, 0.0});
   const double t0 = 2.3;
   const Vec2 inside = path.position(t0) + 1.999 * Vec2(std::cos(2.6), std::sin(2.6));
-  const ResponseResult r = lift_with_response(rule_of(linear(2.0, 0.0)), path, inside, t0, 5.0, sampled(LiftMethod::kDopri5));
+  const ResponseResult r =
+      lift_with_response(rule_of(linear(2.0, 0.0)), path, inside, t0, 5.0, sampled(LiftMethod::kDopri5));
   ASSERT_TRUE(r.t_contact_s && r.t_release_s);
   EXPECT_EQ(*r.t_contact_s, t0);
   const ConstantRelativeContact closed{Vec2(1.0, 0.0), 2.6};

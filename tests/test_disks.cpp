@@ -137,9 +137,9 @@ TEST(Disks, Example64BothReachTheCentreTogether) {
   for (double a : {2.0, 0.5}) {
     const Vec2 cM0(0.0, 0.0), cN0(3.0, 0.0);
     const Vec2 chat = collision_centre(a, 0.0, cM0, cN0);
-    EXPECT_LT((chat - (a * cN0 - cM0) / (a - 1.0)).norm(), 1e-12);                      // (49)
-    EXPECT_NEAR((chat - cM0).norm(), a * (chat - cN0).norm(), 1e-12);                   // (50)
-    EXPECT_NEAR(collision_radius(a, 0.0), 2.0 / std::abs(a - 1.0), 1e-15);            // |B^-1| = |a - 1|^-1
+    EXPECT_LT((chat - (a * cN0 - cM0) / (a - 1.0)).norm(), 1e-12);          // (49)
+    EXPECT_NEAR((chat - cM0).norm(), a * (chat - cN0).norm(), 1e-12);       // (50)
+    EXPECT_NEAR(collision_radius(a, 0.0), 2.0 / std::abs(a - 1.0), 1e-15);  // |B^-1| = |a - 1|^-1
     NPath p;
     p.kind = NPath::Kind::kLine;
     p.c0 = cN0;
@@ -181,7 +181,7 @@ TEST(Disks, Corollary48OnlyTheNonlinearFormPushesAwayAtTheBoundary) {
     const Vec2 X(std::cos(ang), std::sin(ang));
     for (const auto kind : {MechanismKind::kCopy, MechanismKind::kActuated})
       EXPECT_NEAR((make(kind).velocity(cM, cN, X) - X).dot(n), 0.0, 1e-15);  // tangent to the boundary
-    EXPECT_GT((away.velocity(cM, cN, X) - X).dot(n), 0.0);                     // strictly inwards
+    EXPECT_GT((away.velocity(cM, cN, X) - X).dot(n), 0.0);                   // strictly inwards
   }
 }
 
@@ -226,7 +226,8 @@ TEST(Algorithms, Extended14EndsAtTheLiftOfTheTarget) {
   EXPECT_LT((extended(L, cM0, cM1, p, T, T, 2.2) - L(cM1, T)).norm(), 1e-12);
   // With the copy lifting the relative motion is the plan itself: clear of N throughout.
   const Lifting copy = [&](const Vec2& c, double t) { return Vec2(c + p.position(t) - p.position(0.0)); };
-  for (double t = 0.0; t <= T; t += 0.01) EXPECT_GE((extended(copy, cM0, cM1, p, T, t, 2.2) - p.position(t)).norm(), 2.2 - 1e-9);
+  for (double t = 0.0; t <= T; t += 0.01)
+    EXPECT_GE((extended(copy, cM0, cM1, p, T, t, 2.2) - p.position(t)).norm(), 2.2 - 1e-9);
 }
 
 TEST(Algorithms, Navigation17ReachesTheMovingTarget) {

@@ -30,9 +30,7 @@ TEST(CircleFit, GeometricFitIsUnbiasedUnderSymmetricNoise) {
   EXPECT_NEAR(f.rms_residual_m, 1e-3, 1e-4);
 }
 
-TEST(CircleFit, RejectsTooFewPoints) {
-  EXPECT_THROW(fit_circle({{0, 0}, {1, 0}}), std::invalid_argument);
-}
+TEST(CircleFit, RejectsTooFewPoints) { EXPECT_THROW(fit_circle({{0, 0}, {1, 0}}), std::invalid_argument); }
 
 TEST(LogLogSlope, RecoversAPowerLaw) {
   std::vector<double> x, y;

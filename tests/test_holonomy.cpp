@@ -57,12 +57,12 @@ TEST(Cycles, LeadingOrderPredictionsConvergeLinearlyInEps) {
   for (int kind = 0; kind < 3; ++kind) {
     std::vector<double> err;
     for (double e : kEps) {
-      const Vec5 ex = kind == 0 ? holonomy(simple_cycle(e, e))
-                    : kind == 1 ? holonomy(iterated_cycle_alpha(e))
-                                : holonomy(iterated_cycle_beta(e));
-      const Vec5 pr = kind == 0 ? predicted_simple(kCar, kStart, e, e)
-                    : kind == 1 ? predicted_iterated_alpha(kCar, kStart, e)
-                                : predicted_iterated_beta(kCar, kStart, e);
+      const Vec5 ex = kind == 0   ? holonomy(simple_cycle(e, e))
+                      : kind == 1 ? holonomy(iterated_cycle_alpha(e))
+                                  : holonomy(iterated_cycle_beta(e));
+      const Vec5 pr = kind == 0   ? predicted_simple(kCar, kStart, e, e)
+                      : kind == 1 ? predicted_iterated_alpha(kCar, kStart, e)
+                                  : predicted_iterated_beta(kCar, kStart, e);
       err.push_back(rel(ex, pr));
       EXPECT_LT(err.back(), e) << "kind " << kind << " eps " << e;
     }
@@ -95,7 +95,8 @@ TEST(Cycles, IteratedCycle510SlidesBackwardsNotForth) {
   // -eps^4 (H_alpha - d_alpha): the rod moves against its rolling direction for eps > 0.
   for (double e : {0.01, 0.05}) {
     const Vec5 d = holonomy(iterated_cycle_beta(e));
-    const double along = d[kX] * std::cos(kStart.beta_rad + kStart.phi_rad) + d[kY] * std::sin(kStart.beta_rad + kStart.phi_rad);
+    const double along =
+        d[kX] * std::cos(kStart.beta_rad + kStart.phi_rad) + d[kY] * std::sin(kStart.beta_rad + kStart.phi_rad);
     EXPECT_LT(along, 0.0);
     EXPECT_NEAR(along / (-std::pow(e, 4) * kCar.R_m), 1.0, 0.1);
   }

@@ -28,18 +28,21 @@ std::string error_of(F&& f) {
 /// The full reader's error on `text`; the index reader of `diff` (no document) must give the same.
 std::string results_error(const std::string& text) {
   const std::string full = error_of([&] { parse_results(text, "base.json"); });
-  EXPECT_EQ(error_of([&] { parse_results_index(text, "base.json"); }), full) << "the readers disagree on: " << text.substr(0, 300);
+  EXPECT_EQ(error_of([&] { parse_results_index(text, "base.json"); }), full)
+      << "the readers disagree on: " << text.substr(0, 300);
   return full;
 }
 std::string trace_error(const std::string& text, Vehicle vehicle = Vehicle::kCar) {
   return error_of([&] { parse_trace(text, "trace.csv", vehicle); });
 }
 
-const char* kMetric = R"({"expected": 1, "measured": 1.1, "abs_error": 0.1, "rel_error": 0.1, "tolerance": 0.01, "tolerance_kind": "rel", "pass": false})";
+const char* kMetric =
+    R"({"expected": 1, "measured": 1.1, "abs_error": 0.1, "rel_error": 0.1, "tolerance": 0.01, "tolerance_kind": "rel", "pass": false})";
 
 std::string results_with(const std::string& metric, const std::string& run_extra = "") {
-  return fmt::format(R"({{"runs": [{{"scenario": "car.circle", "engine": "ode", "status": "fail", "message": "m"{}, "metrics": {{"front_radius": {}}}}}]}})",
-                     run_extra, metric);
+  return fmt::format(
+      R"({{"runs": [{{"scenario": "car.circle", "engine": "ode", "status": "fail", "message": "m"{}, "metrics": {{"front_radius": {}}}}}]}})",
+      run_extra, metric);
 }
 
 }  // namespace
@@ -69,7 +72,10 @@ TEST(ResultsFile, AcceptsWhatDiffReads) {
   const nlohmann::json j = parse_results(results_with(kMetric), "base.json");
   EXPECT_EQ(j["runs"].size(), 1u);
   // liftcheck writes a non-finite error as null: read, and compared as an infinite error.
-  const nlohmann::json head = parse_results(results_with(R"({"measured": null, "abs_error": null, "rel_error": null, "tolerance": 0.01, "tolerance_kind": "rel"})"), "head.json");
+  const nlohmann::json head = parse_results(
+      results_with(
+          R"({"measured": null, "abs_error": null, "rel_error": null, "tolerance": 0.01, "tolerance_kind": "rel"})"),
+      "head.json");
   const nlohmann::json d = diff_results(j, head);
   ASSERT_EQ(d["worse"].size(), 1u) << d.dump();
   EXPECT_EQ(d["worse"][0]["metric"], "front_radius");
@@ -79,17 +85,23 @@ TEST(ResultsFile, AcceptsWhatDiffReads) {
 
 TEST(ResultsFile, NamesFileFieldAndProblem) {
   EXPECT_EQ(results_error("{").find('\n'), std::string::npos);  // one line
-  EXPECT_EQ(results_error("{").rfind("base.json: is not JSON (parse error at line 1, column 2", 0), 0u) << results_error("{");
-  EXPECT_EQ(results_error("[]"), "base.json: is not a liftcheck results file (the top level is an array, not an object)");
+  EXPECT_EQ(results_error("{").rfind("base.json: is not JSON (parse error at line 1, column 2", 0), 0u)
+      << results_error("{");
+  EXPECT_EQ(results_error("[]"),
+            "base.json: is not a liftcheck results file (the top level is an array, not an object)");
   EXPECT_EQ(results_error("{}"), "base.json: is not a liftcheck results file (no \"runs\")");
   EXPECT_EQ(results_error(R"({"runs": 3})"), "base.json: 'runs' is a number, not an array");
   EXPECT_EQ(results_error(R"({"runs": [null]})"), "base.json: runs[0]: is null, not an object");
-  EXPECT_EQ(results_error(R"({"runs": [{"engine": "ode", "status": "pass"}]})"), "base.json: runs[0]: missing 'scenario'");
-  EXPECT_EQ(results_error(R"({"runs": [{"scenario": 1, "engine": "ode", "status": "pass"}]})"), "base.json: runs[0]: 'scenario' is a number, not a string");
+  EXPECT_EQ(results_error(R"({"runs": [{"engine": "ode", "status": "pass"}]})"),
+            "base.json: runs[0]: missing 'scenario'");
+  EXPECT_EQ(results_error(R"({"runs": [{"scenario": 1, "engine": "ode", "status": "pass"}]})"),
+            "base.json: runs[0]: 'scenario' is a number, not a string");
   EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "ode", "status": "ok"}]})"),
             "base.json: runs[0]: 'status' is 'ok', not one of pass|fail|error|skip");
-  EXPECT_EQ(results_error(results_with(kMetric, R"(, "as_expected": "yes")")), "base.json: runs[0]: 'as_expected' is a string, not a boolean");
-  EXPECT_EQ(results_error(results_with(kMetric, R"(, "verdict": 0)")), "base.json: runs[0]: 'verdict' is a number, not a string");
+  EXPECT_EQ(results_error(results_with(kMetric, R"(, "as_expected": "yes")")),
+            "base.json: runs[0]: 'as_expected' is a string, not a boolean");
+  EXPECT_EQ(results_error(results_with(kMetric, R"(, "verdict": 0)")),
+            "base.json: runs[0]: 'verdict' is a number, not a string");
   std::string m = kMetric;
   const auto without = [&](const std::string& key) {
     nlohmann::json j = nlohmann::json::parse(m);
@@ -101,13 +113,18 @@ TEST(ResultsFile, NamesFileFieldAndProblem) {
     j[key] = v;
     return j.dump();
   };
-  EXPECT_EQ(results_error(results_with(without("rel_error"))), "base.json: runs[0].metrics.front_radius: missing 'rel_error'");
-  EXPECT_EQ(results_error(results_with(without("tolerance_kind"))), "base.json: runs[0].metrics.front_radius: missing 'tolerance_kind'");
+  EXPECT_EQ(results_error(results_with(without("rel_error"))),
+            "base.json: runs[0].metrics.front_radius: missing 'rel_error'");
+  EXPECT_EQ(results_error(results_with(without("tolerance_kind"))),
+            "base.json: runs[0].metrics.front_radius: missing 'tolerance_kind'");
   EXPECT_EQ(results_error(results_with(with("tolerance_kind", "relative"))),
             "base.json: runs[0].metrics.front_radius: 'tolerance_kind' is 'relative', not one of rel|abs");
-  EXPECT_EQ(results_error(results_with(with("tolerance", "0.1"))), "base.json: runs[0].metrics.front_radius: 'tolerance' is a string, not a number or null");
-  EXPECT_EQ(results_error(results_with(with("floor", nullptr))), "base.json: runs[0].metrics.front_radius: 'floor' is null, not a number");
-  EXPECT_EQ(results_error(results_with(with("informational", 1))), "base.json: runs[0].metrics.front_radius: 'informational' is a number, not a boolean");
+  EXPECT_EQ(results_error(results_with(with("tolerance", "0.1"))),
+            "base.json: runs[0].metrics.front_radius: 'tolerance' is a string, not a number or null");
+  EXPECT_EQ(results_error(results_with(with("floor", nullptr))),
+            "base.json: runs[0].metrics.front_radius: 'floor' is null, not a number");
+  EXPECT_EQ(results_error(results_with(with("informational", 1))),
+            "base.json: runs[0].metrics.front_radius: 'informational' is a number, not a boolean");
   EXPECT_EQ(results_error(results_with("[]")), "base.json: runs[0].metrics.front_radius: is an array, not an object");
   // An absolute metric needs no relative error.
   m = with("tolerance_kind", "abs");
@@ -120,12 +137,14 @@ TEST(ResultsFile, NamesFileFieldAndProblem) {
 TEST(Trace, CsvNamesLineColumnAndProblem) {
   const std::string head = "# a comment\nt,alpha,beta,x,y,phi\n";
   EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,abc,0,0\n"), "trace.csv:4: column 'x' is not a number: 'abc'");
-  EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,1e400,0,0\n"), "trace.csv:4: column 'x' is out of the range of a double: '1e400'");
+  EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,1e400,0,0\n"),
+            "trace.csv:4: column 'x' is out of the range of a double: '1e400'");
   EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,inf,0,0\n"), "trace.csv:4: column 'x' is not finite: 'inf'");
   EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,0,0\n"), "trace.csv:4: 5 columns, the header has 6");
   EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0,0,0,0,0,0\n"), "trace.csv:4: time goes from 0 to 0 s: it must increase");
   EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n"), "trace.csv: 1 rows; a trace needs at least 2");
-  EXPECT_EQ(trace_error("t,alpha,beta,x,y\n"), "trace.csv:1: the header has no column 'phi' (needs t,alpha,beta,x,y,phi)");
+  EXPECT_EQ(trace_error("t,alpha,beta,x,y\n"),
+            "trace.csv:1: the header has no column 'phi' (needs t,alpha,beta,x,y,phi)");
   EXPECT_EQ(trace_error(""), "trace.csv: no header line (needs t,alpha,beta,x,y,phi)");
   EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,\x01\n"), "trace.csv:4: 4 columns, the header has 6");
   EXPECT_EQ(trace_error(head + "0,0,0,0,0,0\n0.01,0,0,a\x01,0,0\n"), "trace.csv:4: column 'x' is not a number: 'a?'");
@@ -154,12 +173,18 @@ TEST(Trace, HeaderCarriesPrecisionAndSettings) {
 }
 
 TEST(Trace, JsonNamesRowColumnAndProblem) {
-  EXPECT_EQ(trace_error(R"([{"t": 0, "cMx": 0, "cMy": 0, "cNx": 3, "cNy": 0}, {"t": 1, "cMx": "0", "cMy": 0, "cNx": 3, "cNy": 0}])", Vehicle::kDisks),
-            "trace.csv: row 2: column 'cMx' is not a finite number");
+  EXPECT_EQ(
+      trace_error(
+          R"([{"t": 0, "cMx": 0, "cMy": 0, "cNx": 3, "cNy": 0}, {"t": 1, "cMx": "0", "cMy": 0, "cNx": 3, "cNy": 0}])",
+          Vehicle::kDisks),
+      "trace.csv: row 2: column 'cMx' is not a finite number");
   EXPECT_EQ(trace_error(R"({"rows": [{"t": 0}]})", Vehicle::kDisks), "trace.csv: row 1 has no column 'cMx'");
-  EXPECT_EQ(trace_error(R"({"rows": 5})", Vehicle::kDisks), "trace.csv: JSON trace needs an array of rows (or {\"rows\": [...]})");
-  EXPECT_EQ(trace_error(R"([1, 2])", Vehicle::kDisks), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
-  EXPECT_EQ(trace_error("[", Vehicle::kDisks).rfind("trace.csv: is not JSON (parse error at line 1, column 2", 0), 0u) << trace_error("[", Vehicle::kDisks);
+  EXPECT_EQ(trace_error(R"({"rows": 5})", Vehicle::kDisks),
+            "trace.csv: JSON trace needs an array of rows (or {\"rows\": [...]})");
+  EXPECT_EQ(trace_error(R"([1, 2])", Vehicle::kDisks),
+            "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
+  EXPECT_EQ(trace_error("[", Vehicle::kDisks).rfind("trace.csv: is not JSON (parse error at line 1, column 2", 0), 0u)
+      << trace_error("[", Vehicle::kDisks);
 }
 
 // Found by hand beyond the fuzzers' 4 kB inputs: a JSON trace nested 300000 deep overflowed the
@@ -170,7 +195,8 @@ TEST(Trace, DeepJsonIsRefusedNotACrash) {
   EXPECT_EQ(trace_error(deep, Vehicle::kDisks), "trace.csv: JSON nested deeper than 64 levels");
   EXPECT_EQ(results_error("{\"runs\": " + deep + "}"), "base.json: JSON nested deeper than 64 levels");
   const std::string ok = std::string(60, '[') + std::string(60, ']');
-  EXPECT_EQ(trace_error(ok, Vehicle::kDisks), "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
+  EXPECT_EQ(trace_error(ok, Vehicle::kDisks),
+            "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
 }
 
 // Reliability (issue 23). The JSON reader is linear (one pass of nlohmann's own DOM builder) and
@@ -180,10 +206,14 @@ TEST(JsonReader, DuplicateKeysAreRefusedWithTheirPlace) {
   EXPECT_EQ(results_error(results_with(kMetric) + "x").rfind("base.json: is not JSON", 0), 0u);
   const std::string text = results_with(kMetric);
   const std::string twice = text.substr(0, text.size() - 1) + R"(, "runs": []})";
-  EXPECT_EQ(results_error(twice), "base.json: the top level: the key 'runs' appears twice in one object (which one is meant?)");
-  EXPECT_EQ(results_error(R"({"runs": [{}, {"scenario": "a", "engine": "e", "status": "pass", "metrics": {"m": {"unit": "m", "unit": "s"}}}]})"),
-            "base.json: runs[1].metrics.m: the key 'unit' appears twice in one object (which one is meant?)");
-  EXPECT_EQ(trace_error(R"([{"t": 0, "t": 1}])", Vehicle::kDisks), "trace.csv: [0]: the key 't' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(results_error(twice),
+            "base.json: the top level: the key 'runs' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(
+      results_error(
+          R"({"runs": [{}, {"scenario": "a", "engine": "e", "status": "pass", "metrics": {"m": {"unit": "m", "unit": "s"}}}]})"),
+      "base.json: runs[1].metrics.m: the key 'unit' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(trace_error(R"([{"t": 0, "t": 1}])", Vehicle::kDisks),
+            "trace.csv: [0]: the key 't' appears twice in one object (which one is meant?)");
   // The same key in two objects is no repetition.
   EXPECT_EQ(results_error(R"({"runs": [], "context": {"runs": 1}})"), "");
   const std::string ok = std::string(64, '[') + std::string(64, ']');
@@ -196,11 +226,18 @@ TEST(JsonReader, DuplicateKeysAreRefusedWithTheirPlace) {
 TEST(Trace, ByteOrderMarksAndUtf16) {
   const std::string csv = "t,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.01,0,0,1,0,0\n";
   EXPECT_EQ(parse_trace("\xEF\xBB\xBF" + csv, "trace.csv", Vehicle::kCar).rows.size(), 2u);
-  EXPECT_EQ(parse_trace("\xEF\xBB\xBF[{\"t\": 0, \"cMx\": 0, \"cMy\": 0, \"cNx\": 3, \"cNy\": 0}, {\"t\": 1, \"cMx\": 0, \"cMy\": 0, \"cNx\": 3, \"cNy\": 0}]", "trace.json", Vehicle::kDisks).rows.size(), 2u);
+  EXPECT_EQ(parse_trace("\xEF\xBB\xBF[{\"t\": 0, \"cMx\": 0, \"cMy\": 0, \"cNx\": 3, \"cNy\": 0}, {\"t\": 1, \"cMx\": "
+                        "0, \"cMy\": 0, \"cNx\": 3, \"cNy\": 0}]",
+                        "trace.json", Vehicle::kDisks)
+                .rows.size(),
+            2u);
   std::string utf16 = "\xFF\xFE";
   for (char c : csv) utf16 += std::string{c, '\0'};
-  EXPECT_EQ(trace_error(utf16), "trace.csv: is UTF-16 or UTF-32 (it starts with that byte-order mark): save it as UTF-8");
-  EXPECT_EQ(trace_error(utf16.substr(2)), "trace.csv: holds a NUL byte (at byte 1): not UTF-8 text (UTF-16 without a byte-order mark?); save it as UTF-8");
+  EXPECT_EQ(trace_error(utf16),
+            "trace.csv: is UTF-16 or UTF-32 (it starts with that byte-order mark): save it as UTF-8");
+  EXPECT_EQ(
+      trace_error(utf16.substr(2)),
+      "trace.csv: holds a NUL byte (at byte 1): not UTF-8 text (UTF-16 without a byte-order mark?); save it as UTF-8");
 }
 
 // Every file is read with a limit, a folder is named as one, an OS error with its reason.
@@ -209,7 +246,8 @@ TEST(ReadFile, BoundedAndWithReasons) {
             "trace '/dev/zero' is larger than the limit of 1 MiB for a trace (stopped reading there)");
   // (the CLI test reads /dev/zero as a trace and as a baseline at the real limits)
   EXPECT_EQ(error_of([] { read_trace("/tmp", Vehicle::kCar); }), "trace '/tmp' is a folder, not a file");
-  EXPECT_EQ(error_of([] { read_results("/nonexistent/r.json"); }), "cannot read results file '/nonexistent/r.json': No such file or directory");
+  EXPECT_EQ(error_of([] { read_results("/nonexistent/r.json"); }),
+            "cannot read results file '/nonexistent/r.json': No such file or directory");
   EXPECT_EQ(read_text_file("/dev/null", 10, "trace"), "");
 }
 
@@ -218,13 +256,16 @@ TEST(ReadFile, BoundedAndWithReasons) {
 TEST(Names, Utf8) {
   EXPECT_TRUE(is_utf8("caf\xC3\xA9 \xE2\x9C\x85"));
   EXPECT_FALSE(is_utf8("caf\xE9"));
-  EXPECT_FALSE(is_utf8("\xC0\xAF"));       // overlong '/'
-  EXPECT_FALSE(is_utf8("\xED\xA0\x80"));   // a surrogate
-  EXPECT_EQ(printable("a\xE9" "b\n\xC3\xA9"), "a?b?\xC3\xA9");
+  EXPECT_FALSE(is_utf8("\xC0\xAF"));      // overlong '/'
+  EXPECT_FALSE(is_utf8("\xED\xA0\x80"));  // a surrogate
+  EXPECT_EQ(printable("a\xE9"
+                      "b\n\xC3\xA9"),
+            "a?b?\xC3\xA9");
   EXPECT_EQ(error_of([] { require_utf8("x\xFFy", "--name"); }),
             "--name 'x?y' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only (rename it)");
   EXPECT_EQ(error_of([] { read_trace("/tmp/\xFF.csv", Vehicle::kCar); }),
-            "trace file name '/tmp/?.csv' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only (rename it)");
+            "trace file name '/tmp/?.csv' is not valid UTF-8: liftcheck records names in JSON, which holds UTF-8 only "
+            "(rename it)");
 }
 
 // `diff` reads a file into an index of what it compares (no document): every check of the full
@@ -233,42 +274,56 @@ TEST(Names, Utf8) {
 // before any run, a run's own fields before its metrics, its metrics in name order).
 TEST(ResultsIndex, RefusesWhatTheFullReaderRefusesWithItsMessage) {
   const std::string bad_run = R"({"scenario": 1, "engine": "e", "status": "pass"})";
-  EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, {"x": 1, "x": 2}]})"), "base.json: runs[1]: the key 'x' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, {"x": 1, "x": 2}]})"),
+            "base.json: runs[1]: the key 'x' appears twice in one object (which one is meant?)");
   EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, 1]} x)").rfind("base.json: is not JSON", 0), 0u);
-  EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, 1]})"), "base.json: runs[0]: 'scenario' is a number, not a string");
+  EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, 1]})"),
+            "base.json: runs[0]: 'scenario' is a number, not a string");
   EXPECT_EQ(results_error(R"({"runs": [1, )" + bad_run + "]}"), "base.json: runs[0]: is a number, not an object");
   EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "scenario": "t"}]})"),
             "base.json: runs[0]: the key 'scenario' appears twice in one object (which one is meant?)");
-  EXPECT_EQ(results_error(results_with(R"({"pass": true, "pass": false})")),
-            "base.json: runs[0].metrics.front_radius: the key 'pass' appears twice in one object (which one is meant?)");
-  EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "metrics": {"z": 1, "a": []}}]})"),
-            "base.json: runs[0].metrics.a: is an array, not an object");
-  EXPECT_EQ(results_error(R"({"runs": [{"metrics": [], "scenario": "s", "status": "pass"}]})"), "base.json: runs[0]: missing 'engine'");
-  EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "metrics": {"m": {"tolerance_kind": "abs", "tolerance": 1, "abs_error": 0}}}]})"),
-            "base.json: runs[0].metrics.m: missing 'measured'");
+  EXPECT_EQ(
+      results_error(results_with(R"({"pass": true, "pass": false})")),
+      "base.json: runs[0].metrics.front_radius: the key 'pass' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(
+      results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "metrics": {"z": 1, "a": []}}]})"),
+      "base.json: runs[0].metrics.a: is an array, not an object");
+  EXPECT_EQ(results_error(R"({"runs": [{"metrics": [], "scenario": "s", "status": "pass"}]})"),
+            "base.json: runs[0]: missing 'engine'");
+  EXPECT_EQ(
+      results_error(
+          R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "metrics": {"m": {"tolerance_kind": "abs", "tolerance": 1, "abs_error": 0}}}]})"),
+      "base.json: runs[0].metrics.m: missing 'measured'");
   EXPECT_EQ(results_error(R"({"runs": 1, "x": {"runs": [1]}})"), "base.json: 'runs' is a number, not an array");
   EXPECT_EQ(results_error(R"({"context": {"runs": [1]}})"), "base.json: is not a liftcheck results file (no \"runs\")");
-  EXPECT_EQ(results_error(R"("runs")"), "base.json: is not a liftcheck results file (the top level is a string, not an object)");
+  EXPECT_EQ(results_error(R"("runs")"),
+            "base.json: is not a liftcheck results file (the top level is a string, not an object)");
   EXPECT_EQ(results_error(""), error_of([] { parse_json_text("", "base.json"); }));
   std::string many = R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "params": {)";
   for (int i = 0; i < 40; ++i) many += fmt::format(R"("k{}": {}, )", i, i);
-  EXPECT_EQ(results_error(many + R"("k7": 0}}]})"), "base.json: runs[0].params: the key 'k7' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(results_error(many + R"("k7": 0}}]})"),
+            "base.json: runs[0].params: the key 'k7' appears twice in one object (which one is meant?)");
   EXPECT_EQ(results_error(many + R"("k40": 0}}]})"), "");
 }
 
 // The index gives the diff the full reader's document gives, finding for finding.
 TEST(ResultsIndex, DiffsAsTheDocumentDoes) {
-  const auto run = [](const std::string& scenario, const std::string& engine, const std::string& status, const std::string& rest) {
+  const auto run = [](const std::string& scenario, const std::string& engine, const std::string& status,
+                      const std::string& rest) {
     return fmt::format(R"({{"scenario": "{}", "engine": "{}", "status": "{}"{}}})", scenario, engine, status, rest);
   };
-  const std::string m1 = R"(, "metrics": {"b": {"measured": 2, "abs_error": 0.5, "tolerance": 0.01, "tolerance_kind": "abs"}, )"
-                         R"("a": {"measured": 1.5e300, "abs_error": 1, "rel_error": null, "tolerance": 1, "tolerance_kind": "rel", "floor": 2}})";
-  const std::string m2 = R"(, "message": "boom", "verdict": "known failure", "as_expected": true, "metrics": {"a": {"measured": null, "abs_error": 1e-9, )"
-                         R"("rel_error": 1e-9, "tolerance": 1, "tolerance_kind": "rel"}, "b": {"measured": 3, "abs_error": 1e-6, "tolerance": 0.01, "tolerance_kind": "abs", "informational": false}})";
-  const std::string base = "{\"runs\": [" + run("s2", "ode", "pass", m2) + "," + run("s1", "ode", "fail", m1) + "," + run("s1", "ode", "pass", m2) + "," +
-                           run("s3", "x", "skip", "") + "," + run("s0", "e", "error", R"(, "metrics": {})") + "]}";
-  const std::string head = "{\"runs\": [" + run("s1", "ode", "fail", m1 + R"(, "message": "worse")") + "," + run("s2", "ode", "pass", m1) + "," +
-                           run("s4", "y", "pass", m2) + "," + run("s0", "e", "pass", m2) + "," + run("s0", "e", "error", R"(, "metrics": {})") + "]}";
+  const std::string m1 =
+      R"(, "metrics": {"b": {"measured": 2, "abs_error": 0.5, "tolerance": 0.01, "tolerance_kind": "abs"}, )"
+      R"("a": {"measured": 1.5e300, "abs_error": 1, "rel_error": null, "tolerance": 1, "tolerance_kind": "rel", "floor": 2}})";
+  const std::string m2 =
+      R"(, "message": "boom", "verdict": "known failure", "as_expected": true, "metrics": {"a": {"measured": null, "abs_error": 1e-9, )"
+      R"("rel_error": 1e-9, "tolerance": 1, "tolerance_kind": "rel"}, "b": {"measured": 3, "abs_error": 1e-6, "tolerance": 0.01, "tolerance_kind": "abs", "informational": false}})";
+  const std::string base = "{\"runs\": [" + run("s2", "ode", "pass", m2) + "," + run("s1", "ode", "fail", m1) + "," +
+                           run("s1", "ode", "pass", m2) + "," + run("s3", "x", "skip", "") + "," +
+                           run("s0", "e", "error", R"(, "metrics": {})") + "]}";
+  const std::string head = "{\"runs\": [" + run("s1", "ode", "fail", m1 + R"(, "message": "worse")") + "," +
+                           run("s2", "ode", "pass", m1) + "," + run("s4", "y", "pass", m2) + "," +
+                           run("s0", "e", "pass", m2) + "," + run("s0", "e", "error", R"(, "metrics": {})") + "]}";
   for (const auto& [b, h] : {std::pair{base, head}, std::pair{head, base}, std::pair{base, base}}) {
     const nlohmann::json from_documents = diff_results(parse_results(b, "b"), parse_results(h, "h"));
     const nlohmann::json from_indexes = diff_results(parse_results_index(b, "b"), parse_results_index(h, "h"));
@@ -301,7 +356,7 @@ TEST(RecordView, ComparedErrorRatioAndCounting) {
   EXPECT_DOUBLE_EQ(radius.ratio(), 2.5);
   EXPECT_FALSE(drift.relative());
   EXPECT_DOUBLE_EQ(drift.compared_error(), 3e-4);
-  EXPECT_DOUBLE_EQ(drift.ratio(), 0.3);  // abs 3e-4 over the floor 1e-3 is 0.3 too
+  EXPECT_DOUBLE_EQ(drift.ratio(), 0.3);   // abs 3e-4 over the floor 1e-3 is 0.3 too
   EXPECT_DOUBLE_EQ(creep.ratio(), 0.25);  // 5 against the tolerance, 0.25 against the floor 2.0
   EXPECT_TRUE(std::isnan(r.metric("lost").compared_error()));
   EXPECT_TRUE(std::isinf(r.metric("lost").ratio()));  // a lost figure fails, never passes

@@ -30,7 +30,8 @@ TEST(Params, BadInputNamesTheProblem) {
   EXPECT_EQ(error_of({{"bogus", "1"}}), "unknown parameter 'bogus' for scenario 'car.circle'");
   EXPECT_EQ(error_of({{"sped", "1"}}), "unknown parameter 'sped' for scenario 'car.circle'; did you mean 'speed'?");
   EXPECT_EQ(error_of({{"MU", "1"}}), "unknown parameter 'MU' for scenario 'car.circle'; did you mean 'mu'?");
-  EXPECT_EQ(error_of({{"mu", "1e400"}}), "parameter 'mu' needs a finite number, got '1e400': too large or too small in magnitude for a double");
+  EXPECT_EQ(error_of({{"mu", "1e400"}}),
+            "parameter 'mu' needs a finite number, got '1e400': too large or too small in magnitude for a double");
   EXPECT_EQ(error_of({{"mu", "-inf"}}), "parameter 'mu' needs a finite number, got '-inf' (not finite)");
   EXPECT_EQ(error_of({{"mu", "0"}}), "parameter 'mu' must be > 0 and <= 10, got '0'");
   EXPECT_EQ(error_of({{"beta", "1.5"}}), "parameter 'beta' must be >= -1.4 and <= 1.4 rad, got '1.5'");
@@ -63,9 +64,13 @@ TEST(Params, EngineSettings) {
   EXPECT_EQ(settings.at("iterations"), "100");
   EXPECT_EQ(settings.at("friction_dirs"), "wheel");
   EXPECT_EQ(setting_error(bullet, {{"iterations", "2.5"}}), "parameter 'iterations' needs a whole number, got '2.5'");
-  EXPECT_EQ(setting_error(bullet, {{"wheel", "square"}}), "parameter 'wheel' must be one of sphere|cylinder, got 'square'");
+  EXPECT_EQ(setting_error(bullet, {{"wheel", "square"}}),
+            "parameter 'wheel' must be one of sphere|cylinder, got 'square'");
   const std::string no_iterations = setting_error(*find_engine("ode"), {{"iterations", "5"}});
-  EXPECT_EQ(no_iterations.rfind("engine 'ode' has no setting 'iterations' for cars (its settings there: wheel, friction_dirs, contact_erp, contact_cfm; 'iterations' is a setting of ", 0), 0u)
+  EXPECT_EQ(no_iterations.rfind("engine 'ode' has no setting 'iterations' for cars (its settings there: wheel, "
+                                "friction_dirs, contact_erp, contact_cfm; 'iterations' is a setting of ",
+                                0),
+            0u)
       << no_iterations;
   EXPECT_NE(no_iterations.find("ode-quick"), std::string::npos) << no_iterations;
   EXPECT_NE(no_iterations.find("bullet"), std::string::npos) << no_iterations;
@@ -77,7 +82,8 @@ TEST(Params, EngineSettings) {
   EXPECT_EQ(setting_error(quick, {{"w", "0"}}), "parameter 'w' must be > 0 and <= 2, got '0'");
   EXPECT_NE(setting_error(quick, {{"w", "2.5"}}), "");
   EXPECT_NE(setting_error(quick, {{"w", "fast"}}), "");
-  EXPECT_EQ(setting_error(*find_engine("ode"), {{"w", "1.0"}}).rfind("engine 'ode' has no setting 'w' for cars", 0), 0u);
+  EXPECT_EQ(setting_error(*find_engine("ode"), {{"w", "1.0"}}).rfind("engine 'ode' has no setting 'w' for cars", 0),
+            0u);
 }
 
 // MuJoCo's refsafe raises a solref time constant below 2 dt to 2 dt without a word: such a value
@@ -132,7 +138,8 @@ TEST(Params, PointsAndChoices) {
   EXPECT_EQ(error({{"cM", "1,nan"}}), "parameter 'cM' (y) needs a finite number, got 'nan' (not finite)");
   EXPECT_EQ(error({{"vN", "2000,0"}}), "parameter 'vN' needs coordinates >= -1000 and <= 1000 m/s, got '2000,0'");
   EXPECT_EQ(error({{"cM", " -1 , 2.5 "}}), "");
-  EXPECT_EQ(error({{"path", "figure-8"}}), "parameter 'path' must be one of line|circle|figure8, got 'figure-8'; did you mean 'figure8'?");
+  EXPECT_EQ(error({{"path", "figure-8"}}),
+            "parameter 'path' must be one of line|circle|figure8, got 'figure-8'; did you mean 'figure8'?");
   EXPECT_EQ(error({{"path", "spiral"}}), "parameter 'path' must be one of line|circle|figure8, got 'spiral'");
 }
 

@@ -29,9 +29,9 @@ Scene known_scene() {
   s.camera.half_height_m = 1.0;
   s.grid_step_m = 0.0;
   s.scale_bar = false;
-  s.circles.push_back({Vec2(0.5, 0.0), 0.3, Color{0, 0, 0, 0}, Color{1, 0, 0, 1}});   // red disk
-  s.lines.push_back({{Vec2(-1.0, 0.5), Vec2(0.0, 0.5)}, Color{0, 0, 1, 1}, 4.0f});     // blue line
-  s.pucks.push_back({Vec2(-0.6, -0.5), 0.2, 0.3, Color{0, 0.8f, 0, 1}});                // green puck
+  s.circles.push_back({Vec2(0.5, 0.0), 0.3, Color{0, 0, 0, 0}, Color{1, 0, 0, 1}});  // red disk
+  s.lines.push_back({{Vec2(-1.0, 0.5), Vec2(0.0, 0.5)}, Color{0, 0, 1, 1}, 4.0f});   // blue line
+  s.pucks.push_back({Vec2(-0.6, -0.5), 0.2, 0.3, Color{0, 0.8f, 0, 1}});             // green puck
   return s;
 }
 
@@ -101,9 +101,12 @@ TEST(Render, WritesAPng) {
 // tricycle draws three.
 TEST(Render, FourWheelRunDrawsFourWheels) {
   const double beta = 0.3, l = 1.0, track = 0.8;
-  nlohmann::json run = {{"scenario", "car.circle"}, {"engine", "ode"}, {"vehicle", "car"},
-                        {"params", {{"R", 0.3}, {"l", l}, {"track", track}, {"wheels", "4"}, {"steering", "ackermann"}}},
-                        {"details", {{"trace", {{0.0, 0.0, beta, 0.0, 0.0, 0.0}, {1.0, 1.0, beta, 0.3, 0.05, 0.1}}}}}};
+  nlohmann::json run = {
+      {"scenario", "car.circle"},
+      {"engine", "ode"},
+      {"vehicle", "car"},
+      {"params", {{"R", 0.3}, {"l", l}, {"track", track}, {"wheels", "4"}, {"steering", "ackermann"}}},
+      {"details", {{"trace", {{0.0, 0.0, beta, 0.0, 0.0, 0.0}, {1.0, 1.0, beta, 0.3, 0.05, 0.1}}}}}};
   const auto four = snapshots_for(run, Color{0, 0, 1, 1});
   ASSERT_FALSE(four.empty());
   const auto& wheels = four.front().scene.wheels;
@@ -124,8 +127,11 @@ TEST(Render, EndInsetShowsAMillimetreOffset) {
   for (const double offset_m : {1e-3, 4e-3, 0.05}) {
     const nlohmann::json reference = {{0.0, 0.0, 0.3, 0.0, 0.0, 0.0}, {1.0, 1.0, 0.3, 0.3, 0.0, 0.0}};
     const nlohmann::json trace = {{0.0, 0.0, 0.3, 0.0, 0.0, 0.0}, {1.0, 1.0, 0.3, 0.3, offset_m, 0.0}};
-    const nlohmann::json run = {{"scenario", "car.circle"}, {"engine", "ode"}, {"vehicle", "car"},
-                                {"params", {{"R", 0.3}, {"l", 1.0}}}, {"details", {{"trace", trace}, {"reference", reference}}}};
+    const nlohmann::json run = {{"scenario", "car.circle"},
+                                {"engine", "ode"},
+                                {"vehicle", "car"},
+                                {"params", {{"R", 0.3}, {"l", 1.0}}},
+                                {"details", {{"trace", trace}, {"reference", reference}}}};
     const auto shots = snapshots_for(run, Color{0, 0, 1, 1});
     const auto end = std::find_if(shots.begin(), shots.end(), [](const Snapshot& s) { return s.tag == "end"; });
     ASSERT_NE(end, shots.end());
@@ -171,8 +177,13 @@ namespace {
 /// A configuration named with a '|' and an error message with a line break and an ANSI escape:
 /// summary.md keeps its lines and its table's columns, junit.xml holds no character XML forbids.
 nlohmann::json odd_results() {
-  nlohmann::json run = {{"scenario", "car.circle"}, {"engine", "a|b"},      {"status", "error"},       {"verdict", "error"},
-                        {"as_expected", false},     {"wall_s", 0.1},        {"metrics", nlohmann::json::object()},
+  nlohmann::json run = {{"scenario", "car.circle"},
+                        {"engine", "a|b"},
+                        {"status", "error"},
+                        {"verdict", "error"},
+                        {"as_expected", false},
+                        {"wall_s", 0.1},
+                        {"metrics", nlohmann::json::object()},
                         {"message", "boom\nFAIL forged | \x1b[2J"}};
   return {{"summary", {{"total", 1}, {"error", 1}, {"unexpected", 1}}},
           {"context", {{"engines", {{{"name", "a|b"}}}}}},
@@ -200,7 +211,8 @@ TEST(Escape, SummaryMarkdownKeepsItsLinesAndColumns) {
 TEST(Escape, JunitHoldsNoControlCharacter) {
   const std::string xml = liftcheck::junit_xml(odd_results());
   for (char c : xml) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 && c != '\n') << static_cast<int>(c);
-  EXPECT_NE(xml.find("<error message=\"boom\nFAIL forged | ?[2J\"/>"), std::string::npos) << xml;  // a line break is allowed in XML
+  EXPECT_NE(xml.find("<error message=\"boom\nFAIL forged | ?[2J\"/>"), std::string::npos)
+      << xml;  // a line break is allowed in XML
 }
 
 }  // namespace

@@ -106,7 +106,7 @@ TEST(Runner, BookkeepingTolerancesScaleWithDeclaredPrecision) {
   s.metrics = {{"n_path", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}}, "", {}, true},
                {"penetration", "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}}, ""}};
   Outcome o;
-  o.values["n_path"] = {0.0, 3e-7};       // float32 storage of N's position at a few metres
+  o.values["n_path"] = {0.0, 3e-7};  // float32 storage of N's position at a few metres
   o.values["penetration"] = {0.0, 3e-7};
   const auto f64 = score(s, TolRole::kDefault, o, bookkeeping_factor("float64"));
   const auto f32 = score(s, TolRole::kDefault, o, bookkeeping_factor("float32"));
@@ -122,12 +122,14 @@ TEST(Runner, BookkeepingTolerancesScaleWithDeclaredPrecision) {
   std::set<std::string> marked;
   for (const MetricDef& m : find_scenario("disks.linear")->metrics)
     if (m.bookkeeping) marked.insert(m.name);
-  EXPECT_EQ(marked, (std::set<std::string>{"n_path_error", "contact_missed", "contact_report_gap", "contact_depth_error", "step_displacement"}));
+  EXPECT_EQ(marked, (std::set<std::string>{"n_path_error", "contact_missed", "contact_report_gap",
+                                           "contact_depth_error", "step_displacement"}));
 }
 
 TEST(Runner, CycleRecordMatchesExactHolonomy) {
   // The run of the README: measured and expected against a direct composition of the exact flows.
-  const Overrides ov{{"R", "0.3"}, {"l", "1.2"}, {"beta", "0.4"}, {"phi", "0.7"}, {"eps_alpha", "0.01"}, {"eps_beta", "0.01"}};
+  const Overrides ov{{"R", "0.3"},   {"l", "1.2"},          {"beta", "0.4"},
+                     {"phi", "0.7"}, {"eps_alpha", "0.01"}, {"eps_beta", "0.01"}};
   const RunRecord r = run_scenario(*find_scenario("car.cycle"), *find_engine("analytic"), ov);
   ASSERT_EQ(r.status, Status::kPass) << r.message;
   const car::CarDef c{0.3, 1.2};
@@ -183,8 +185,11 @@ TEST(Runner, AnalyticPassesAcrossParameterRanges) {
       if (p.kind != ParamKind::kNumber && p.kind != ParamKind::kInteger) continue;
       const double def = std::stod(p.default_text);
       std::vector<double> values;
-      values.push_back(std::isfinite(p.min) ? (p.min_exclusive ? p.min + (p.min == 0.0 ? 1e-3 : std::abs(p.min) * 1e-3) : p.min) : def - 3.0);
-      values.push_back(std::isfinite(p.max) ? (p.key == "drive" || p.key == "T" ? std::min(p.max, 15.0) : p.max) : def + 3.0);
+      values.push_back(std::isfinite(p.min)
+                           ? (p.min_exclusive ? p.min + (p.min == 0.0 ? 1e-3 : std::abs(p.min) * 1e-3) : p.min)
+                           : def - 3.0);
+      values.push_back(std::isfinite(p.max) ? (p.key == "drive" || p.key == "T" ? std::min(p.max, 15.0) : p.max)
+                                            : def + 3.0);
       for (double v : values) {
         if (p.kind == ParamKind::kInteger) v = std::round(v);
         const std::string text = fmt::format("{}", v);
@@ -199,19 +204,21 @@ TEST(Runner, AnalyticPassesAcrossParameterRanges) {
           // not obey (at mu = 0.001 or accel = 100 m/s^2 the lift needs far more than mu g; the
           // same reason car.coulomb and car.beyond-grip skip the analytic engine).
           std::vector<std::string> per_sample;
-          if (s.name == "car.circle") per_sample = {"realized_lift_error", "com_accel_excess", "trace_path_error", "trace_shape_error"};
+          if (s.name == "car.circle")
+            per_sample = {"realized_lift_error", "com_accel_excess", "trace_path_error", "trace_shape_error"};
           if (s.name == "car.cycle") per_sample = {"realized_lift_error", "trace_path_error", "trace_shape_error"};
           for (const std::string& name : per_sample) {
-            const auto m = std::find_if(r.metrics.begin(), r.metrics.end(), [&](const Metric& x) { return x.name == name; });
+            const auto m =
+                std::find_if(r.metrics.begin(), r.metrics.end(), [&](const Metric& x) { return x.name == name; });
             ASSERT_NE(m, r.metrics.end()) << s.name << " " << p.key << "=" << text << ": no " << name;
             EXPECT_TRUE(m->informational) << name;
           }
           for (const Metric& m : r.metrics) {
             if (m.name == "com_accel_excess") continue;
-            EXPECT_TRUE(m.pass) << s.name << " " << p.key << "=" << text << ": " << m.name << " error " << m.compared_error() << " tolerance " << m.tolerance;
+            EXPECT_TRUE(m.pass) << s.name << " " << p.key << "=" << text << ": " << m.name << " error "
+                                << m.compared_error() << " tolerance " << m.tolerance;
           }
-        } catch (const InputError&) {
-        }
+        } catch (const InputError&) {}
       }
     }
   }
@@ -230,9 +237,13 @@ TEST(Sweeps, GateNamesEveryProblem) {
     if (k.sweep == "error_vs_speed" && k.engine == "ode" && k.x == 3.5) ceiling = k.metrics.at("front_radius");
   ASSERT_GT(ceiling, 0.01);  // 3.5 m/s on ode is a listed failure: past the grip limit the circle opens
   nlohmann::json entry{{"engine", "ode"},
-                       {"points", {{{"x", 1.0}, {"status", "pass"}, {"message", ""}, {"failed", nlohmann::json::array()}},
-                                   {{"x", 3.5}, {"status", "fail"}, {"message", "out of tolerance: front_radius"}, {"failed", {"front_radius"}},
-                                    {"errors", {{"front_radius", 0.5 * ceiling}}}}}}};
+                       {"points",
+                        {{{"x", 1.0}, {"status", "pass"}, {"message", ""}, {"failed", nlohmann::json::array()}},
+                         {{"x", 3.5},
+                          {"status", "fail"},
+                          {"message", "out of tolerance: front_radius"},
+                          {"failed", {"front_radius"}},
+                          {"errors", {{"front_radius", 0.5 * ceiling}}}}}}};
   EXPECT_TRUE(gate_sweep_entry(sw, entry)) << entry["gate"].dump();
   EXPECT_EQ(entry["gate"]["points_known_failure"], 1);
   entry["points"][1]["errors"]["front_radius"] = 10.0 * ceiling;
@@ -294,7 +305,8 @@ TEST(Expectations, AKnownFailureThatWorsensIsAFailure) {
     if (name == "front_radius") m.kind = TolKind::kRelative;
     r.metrics.push_back(m);
   }
-  const auto front = std::find_if(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return m.name == "front_radius"; });
+  const auto front =
+      std::find_if(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return m.name == "front_radius"; });
   EXPECT_TRUE(r.as_expected());
   EXPECT_EQ(r.verdict(), "known failure");
   front->rel_error = 2.0 * ceiling;  // twice worse than its ceiling
@@ -303,7 +315,8 @@ TEST(Expectations, AKnownFailureThatWorsensIsAFailure) {
   ASSERT_EQ(r.beyond_known().size(), 1u);
   EXPECT_NE(r.beyond_known()[0].find("above its known ceiling"), std::string::npos) << r.beyond_known()[0];
   front->rel_error = 0.5 * ceiling;
-  r.metrics.push_back({"slip_along_max", "m/s", 0.0, 1.0, 1.0, INFINITY, 1e-4, TolKind::kAbsolute, false});  // not listed
+  r.metrics.push_back(
+      {"slip_along_max", "m/s", 0.0, 1.0, 1.0, INFINITY, 1e-4, TolKind::kAbsolute, false});  // not listed
   EXPECT_FALSE(r.as_expected());
   r.metrics.pop_back();
   const Metric dropped = *front;  // a listed metric no longer measured hides its failure
@@ -330,17 +343,21 @@ TEST(Expectations, EveryEntryNamesWhatExists) {
     const EngineInfo* e = find_engine(k.engine);
     ASSERT_NE(e, nullptr) << k.engine;
     // The configuration runs the scenario (an entry for a skipped run could never be checked).
-    EXPECT_TRUE(s->vehicle == Vehicle::kCar ? bool(e->make_car) : bool(e->make_disks)) << k.engine << " does not run " << k.scenario;
+    EXPECT_TRUE(s->vehicle == Vehicle::kCar ? bool(e->make_car) : bool(e->make_disks))
+        << k.engine << " does not run " << k.scenario;
     EXPECT_TRUE(!s->needs_contact_dynamics || e->contact_dynamics) << k.engine << " does not run " << k.scenario;
     // "params": each names a parameter of the scenario with a valid value, and the run they make is
     // one the configuration can run (a four-wheel car only where one is built).
     std::string with;
     for (const auto& [key, value] : k.params) with += fmt::format(" {}={}", key, value);
     nlohmann::json resolved;
-    EXPECT_NO_THROW(resolved = Params::resolve(s->params, k.params, s->name).to_json()) << k.scenario << " on " << k.engine << with;
-    if (s->vehicle == Vehicle::kCar && resolved.is_object())
+    EXPECT_NO_THROW(resolved = Params::resolve(s->params, k.params, s->name).to_json())
+        << k.scenario << " on " << k.engine << with;
+    if (s->vehicle == Vehicle::kCar && resolved.is_object()) {
       EXPECT_TRUE(resolved.value("wheels", "3") != "4" || e->four_wheels) << k.engine << " has no four-wheel car";
-    EXPECT_TRUE(seen.insert({k.scenario, k.engine + with}).second) << k.scenario << " on " << k.engine << with << " listed twice";
+    }
+    EXPECT_TRUE(seen.insert({k.scenario, k.engine + with}).second)
+        << k.scenario << " on " << k.engine << with << " listed twice";
     for (const auto& [metric, ceiling] : k.metrics) {
       EXPECT_NE(s->metric(metric), nullptr) << k.scenario << " has no metric " << metric;
       EXPECT_GT(ceiling, 0.0);
@@ -352,18 +369,30 @@ TEST(Expectations, EveryEntryNamesWhatExists) {
     ASSERT_NE(e, nullptr) << k.engine;
     EXPECT_TRUE(sweep_keys.insert(fmt::format("{}|{}|{}|{}", k.sweep, k.engine, static_cast<int>(k.kind), k.x)).second)
         << k.sweep << " on " << k.engine << " at " << k.x << " listed twice";
-    if (k.kind == KnownSweepFailure::kError || k.kind == KnownSweepFailure::kFit) EXPECT_FALSE(k.pattern.empty()) << k.sweep;
+    if (k.kind == KnownSweepFailure::kError || k.kind == KnownSweepFailure::kFit) {
+      EXPECT_FALSE(k.pattern.empty()) << k.sweep;
+    }
     const SweepDef* sw = nullptr;
     for (const SweepDef& d : sweep_catalogue())
       if (d.name == k.sweep) sw = &d;
     const Scenario* s = find_scenario(sw ? sw->scenario : outcome_sweep_scenario());
-    if (!sw) EXPECT_EQ(k.sweep, "disk_outcomes");  // the outcome sweep
-    EXPECT_TRUE(s->vehicle == Vehicle::kCar ? bool(e->make_car) : bool(e->make_disks)) << k.engine << " does not run sweep " << k.sweep;
-    for (const auto& [metric, ceiling] : k.metrics) EXPECT_NE(s->metric(metric), nullptr) << k.sweep << " has no metric " << metric;
-    if (sw && (k.kind == KnownSweepFailure::kPoint || k.kind == KnownSweepFailure::kError))
-      EXPECT_NE(std::find(sw->values.begin(), sw->values.end(), k.x), sw->values.end()) << k.sweep << " has no point " << k.x;
-    if (k.kind == KnownSweepFailure::kFit) EXPECT_TRUE(sw && sw->loglog_fit) << k.sweep << " fits no slope";
-    if (k.kind == KnownSweepFailure::kAnywhere) EXPECT_GT(k.points_max, 0);
+    if (!sw) {
+      EXPECT_EQ(k.sweep, "disk_outcomes");
+    }  // the outcome sweep
+    EXPECT_TRUE(s->vehicle == Vehicle::kCar ? bool(e->make_car) : bool(e->make_disks))
+        << k.engine << " does not run sweep " << k.sweep;
+    for (const auto& [metric, ceiling] : k.metrics)
+      EXPECT_NE(s->metric(metric), nullptr) << k.sweep << " has no metric " << metric;
+    if (sw && (k.kind == KnownSweepFailure::kPoint || k.kind == KnownSweepFailure::kError)) {
+      EXPECT_NE(std::find(sw->values.begin(), sw->values.end(), k.x), sw->values.end())
+          << k.sweep << " has no point " << k.x;
+    }
+    if (k.kind == KnownSweepFailure::kFit) {
+      EXPECT_TRUE(sw && sw->loglog_fit) << k.sweep << " fits no slope";
+    }
+    if (k.kind == KnownSweepFailure::kAnywhere) {
+      EXPECT_GT(k.points_max, 0);
+    }
   }
 }
 
@@ -374,24 +403,25 @@ TEST(Evidence, HoldsOnlyWhenReproducedAndMoved) {
   down.from = 2.5e-3, down.to = 3.6e-4;
   const double tol = 1e-4;
   EXPECT_TRUE(down.holds(2.5e-3, 3.6e-4, tol, tol));
-  EXPECT_TRUE(down.holds(4.9e-3, 2.0e-4, tol, tol));   // both within a factor 2
-  EXPECT_FALSE(down.holds(5.1e-3, 3.6e-4, tol, tol));  // the failure is no longer the one listed
-  EXPECT_FALSE(down.holds(2.5e-3, 7.3e-4, tol, tol));  // the change no longer moves it as recorded
-  EXPECT_FALSE(down.holds(2.5e-3, 1.5e-3, 1e-3, 1e-3)); // recorded within its tolerance, now outside it
-  EXPECT_FALSE(down.holds(NAN, 3.6e-4, tol, tol));      // an error run shows nothing
-  EXPECT_FALSE(down.holds(2.5e-3, 3.6e-4, 3e-3, 3e-3)); // the listed run passes now: nothing to explain
-  EXPECT_TRUE(down.holds(2.5e-3, 3.6e-4, tol, 5e-4));  // the changed run's own tolerance judges the figure it changed
+  EXPECT_TRUE(down.holds(4.9e-3, 2.0e-4, tol, tol));     // both within a factor 2
+  EXPECT_FALSE(down.holds(5.1e-3, 3.6e-4, tol, tol));    // the failure is no longer the one listed
+  EXPECT_FALSE(down.holds(2.5e-3, 7.3e-4, tol, tol));    // the change no longer moves it as recorded
+  EXPECT_FALSE(down.holds(2.5e-3, 1.5e-3, 1e-3, 1e-3));  // recorded within its tolerance, now outside it
+  EXPECT_FALSE(down.holds(NAN, 3.6e-4, tol, tol));       // an error run shows nothing
+  EXPECT_FALSE(down.holds(2.5e-3, 3.6e-4, 3e-3, 3e-3));  // the listed run passes now: nothing to explain
+  EXPECT_TRUE(down.holds(2.5e-3, 3.6e-4, tol, 5e-4));    // the changed run's own tolerance judges the figure it changed
   Evidence to_pass;  // a change that makes it pass: within the tolerance again is enough
   to_pass.from = 4.85e-3, to_pass.to = 2e-9;
   EXPECT_TRUE(to_pass.holds(4.85e-3, 5e-7, 1e-6, 1e-6));
   EXPECT_FALSE(to_pass.holds(4.85e-3, 2e-6, 1e-6, 1e-6));
-  EXPECT_FALSE(to_pass.holds(4.85e-3, 5e-7, 1e-6, 1e-7));  // within the listed run's tolerance, not within the changed run's
-  Evidence up;  // a change that strengthens the cause raises the figure
+  EXPECT_FALSE(
+      to_pass.holds(4.85e-3, 5e-7, 1e-6, 1e-7));  // within the listed run's tolerance, not within the changed run's
+  Evidence up;                                    // a change that strengthens the cause raises the figure
   up.from = 1e-3, up.to = 2e-2;
   EXPECT_TRUE(up.holds(1e-3, 2.1e-2, 1e-4, 1e-4));
   EXPECT_FALSE(up.holds(1e-3, 1.5e-3, 1e-4, 1e-4));
   EXPECT_FALSE(up.holds(1e-2, 2e-2, 1e-4, 1e-4));  // from not reproduced (10x)
-  Evidence finishes;  // an error listing: the change lets the run finish
+  Evidence finishes;                               // an error listing: the change lets the run finish
   finishes.from_error = true, finishes.to = 3e-3;
   EXPECT_TRUE(finishes.holds_from_error(true, 2.5e-3, 1e-4));
   EXPECT_FALSE(finishes.holds_from_error(false, 2.5e-3, 1e-4));  // the listed run no longer ends in an error
@@ -405,13 +435,18 @@ TEST(Expectations, EveryNamedCauseHasAnExperiment) {
   ASSERT_FALSE(listed_reasons().empty());
   for (const ListedReason& l : listed_reasons()) {
     const std::string where = fmt::format("{}{} on {}", l.sweep ? "sweep " : "", l.scenario, l.engine);
-    if (!is_negative_control(l.reason))
-      EXPECT_TRUE(!l.evidence.empty() || !l.cause_not_shown.empty()) << where << ": its reason names no experiment (nor the ones tried): " << l.reason;
-    if (!l.evidence.empty()) EXPECT_TRUE(l.cause_not_shown.empty()) << where << ": has evidence and says no experiment moved its figure";
+    if (!is_negative_control(l.reason)) {
+      EXPECT_TRUE(!l.evidence.empty() || !l.cause_not_shown.empty())
+          << where << ": its reason names no experiment (nor the ones tried): " << l.reason;
+    }
+    if (!l.evidence.empty()) {
+      EXPECT_TRUE(l.cause_not_shown.empty()) << where << ": has evidence and says no experiment moved its figure";
+    }
     // A reason without evidence states the failure, not a cause: it says so first.
     const bool says_not_shown = l.reason.rfind(kCauseNotShown, 0) == 0;
-    EXPECT_EQ(says_not_shown, !l.cause_not_shown.empty()) << where << ": a reason begins with '" << kCauseNotShown
-                                                          << "' exactly when no experiment shows its cause: " << l.reason;
+    EXPECT_EQ(says_not_shown, !l.cause_not_shown.empty())
+        << where << ": a reason begins with '" << kCauseNotShown
+        << "' exactly when no experiment shows its cause: " << l.reason;
     const SweepDef* sw = nullptr;
     for (const SweepDef& d : sweep_catalogue())
       if (d.name == l.scenario) sw = &d;
@@ -427,10 +462,15 @@ TEST(Expectations, EveryNamedCauseHasAnExperiment) {
         for (const auto& [m, c] : k.metrics) failing.insert(m);
     for (const Evidence& ev : l.evidence) {
       EXPECT_NE(s->metric(ev.metric), nullptr) << where << ": no metric " << ev.metric;
-      EXPECT_TRUE(failing.empty() || failing.count(ev.metric)) << where << ": " << ev.metric << " is not among the metrics it lists as failing";
+      EXPECT_TRUE(failing.empty() || failing.count(ev.metric))
+          << where << ": " << ev.metric << " is not among the metrics it lists as failing";
       for (const auto& [key, value] : ev.change)
-        EXPECT_TRUE(std::none_of(l.params.begin(), l.params.end(), [&](const auto& kv) { return kv.first == key; })) << where << ": changes its own '" << key << "'";
-      if (l.sweep && sw) EXPECT_NE(std::find(sw->values.begin(), sw->values.end(), ev.x), sw->values.end()) << where << ": no point " << ev.x;
+        EXPECT_TRUE(std::none_of(l.params.begin(), l.params.end(), [&](const auto& kv) { return kv.first == key; }))
+            << where << ": changes its own '" << key << "'";
+      if (l.sweep && sw) {
+        EXPECT_NE(std::find(sw->values.begin(), sw->values.end(), ev.x), sw->values.end())
+            << where << ": no point " << ev.x;
+      }
       const EngineInfo* e = nullptr;
       for (const EngineInfo& c : engines())
         if (c.name == l.engine && !c.is_outside()) e = &c;
@@ -439,7 +479,8 @@ TEST(Expectations, EveryNamedCauseHasAnExperiment) {
       changed.insert(changed.end(), ev.change.begin(), ev.change.end());
       try {
         const ResolvedRun a = resolve_run(*s, *e, base), b = resolve_run(*s, *e, changed);
-        EXPECT_FALSE(a.params.to_json() == b.params.to_json() && a.settings == b.settings) << where << ": " << ev.change_text() << " changes nothing";
+        EXPECT_FALSE(a.params.to_json() == b.params.to_json() && a.settings == b.settings)
+            << where << ": " << ev.change_text() << " changes nothing";
       } catch (const std::exception& x) {
         ADD_FAILURE() << where << ": " << ev.change_text() << ": " << x.what();
       }
@@ -482,11 +523,13 @@ TEST(Runner, InformationalMetricsAreNotCounted) {
 TEST(Report, ZeroThreadsRenderOnOne) {
   const EngineInfo& analytic = *find_engine("analytic");
   for (int threads : {0, -3}) {
-    std::vector<RunRecord> runs{run_scenario(*find_scenario("car.circle"), analytic), run_scenario(*find_scenario("disks.copy"), analytic)};
+    std::vector<RunRecord> runs{run_scenario(*find_scenario("car.circle"), analytic),
+                                run_scenario(*find_scenario("disks.copy"), analytic)};
     // Shared with the writer: if it never finishes, the test fails without leaving it a dangling reference.
     const auto shared = std::make_shared<nlohmann::json>(results_json(runs, context_json({&analytic}, 0.0)));
     const nlohmann::json& results = *shared;
-    const auto dir = std::filesystem::temp_directory_path() / fmt::format("liftcheck-report-threads-{}-{}", threads, ::getpid());
+    const auto dir =
+        std::filesystem::temp_directory_path() / fmt::format("liftcheck-report-threads-{}-{}", threads, ::getpid());
     std::filesystem::remove_all(dir);
     ReportDef def;
     def.plots = false;
@@ -500,7 +543,8 @@ TEST(Report, ZeroThreadsRenderOnOne) {
     ASSERT_EQ(finished.wait_for(std::chrono::seconds(60)), std::future_status::ready) << "threads = " << threads;
     EXPECT_EQ(results["report"]["errors"].size(), 0u) << results["report"]["errors"].dump();
     EXPECT_GE(results["report"]["snapshots"].size(), 4u);
-    for (const auto& s : results["report"]["snapshots"]) EXPECT_TRUE(std::filesystem::exists(dir / s["file"].get<std::string>())) << s;
+    for (const auto& s : results["report"]["snapshots"])
+      EXPECT_TRUE(std::filesystem::exists(dir / s["file"].get<std::string>())) << s;
     std::filesystem::remove_all(dir);
   }
 }
@@ -526,7 +570,8 @@ TEST(Runner, LeadingOrderChecksCountForTheReferenceOnly) {
   // An engine that matches the exact holonomy exactly, 30% off the bracket prediction.
   o.values["dx"] = {1e-3, 1e-3};
   o.values["lo_dx"] = {0.7e-3, 1e-3, 0.0, 1.0};
-  for (const auto& [role, counted] : {std::pair<TolRole, bool>{TolRole::kReference, true}, {TolRole::kDefault, false}}) {
+  for (const auto& [role, counted] :
+       {std::pair<TolRole, bool>{TolRole::kReference, true}, {TolRole::kDefault, false}}) {
     const std::string key = role == TolRole::kReference ? "reference" : "default";
     const auto metrics = score(*cycle, role, o);
     const auto lo = std::find_if(metrics.begin(), metrics.end(), [](const Metric& m) { return m.name == "lo_dx"; });
@@ -548,15 +593,23 @@ TEST(Runner, OutcomeHorizonsLoseNoContactOfTheExactModel) {
   for (const std::string path : {"line", "circle", "figure8"})
     for (double a : {-1.0, 0.0, 0.5, 0.9, 1.5, 2.0, 3.0})
       for (double b : {-1.0, 0.0, 0.5, 1.0}) {
-        const Overrides ov{{"a", fmt::format("{}", a)}, {"b", fmt::format("{}", b)}, {"path", path}, {"cN", "4,0"}, {"vN", "-0.6,0.4"}, {"T", "8"}, {"sample_dt", "0.01"}};
+        const Overrides ov{{"a", fmt::format("{}", a)},
+                           {"b", fmt::format("{}", b)},
+                           {"path", path},
+                           {"cN", "4,0"},
+                           {"vN", "-0.6,0.4"},
+                           {"T", "8"},
+                           {"sample_dt", "0.01"}};
         const OutcomeHorizon& h = kOutcomeHorizon;
-        const double T = linear_outcome_horizon_s(Params::resolve(s.params, ov, s.name), h.clearance_m, h.after_s, h.t_min_s);
+        const double T =
+            linear_outcome_horizon_s(Params::resolve(s.params, ov, s.name), h.clearance_m, h.after_s, h.t_min_s);
         total_s += T;
         const RunRecord r = run_scenario(resolve_run(s, reference_engine(), ov));
         ASSERT_EQ(r.status, Status::kPass) << path << " a=" << a << " b=" << b << ": " << r.message;
         double d_after_min = INFINITY, last_contact_s = -1.0;
         for (const auto& row : r.details.at("trace")) {
-          const double d = std::hypot(row[1].get<double>() - row[3].get<double>(), row[2].get<double>() - row[4].get<double>());
+          const double d =
+              std::hypot(row[1].get<double>() - row[3].get<double>(), row[2].get<double>() - row[4].get<double>());
           if (d <= 2.0 + 1e-9) last_contact_s = row[0].get<double>();
           if (row[0].get<double>() >= T) d_after_min = std::min(d_after_min, d);
         }
@@ -566,12 +619,15 @@ TEST(Runner, OutcomeHorizonsLoseNoContactOfTheExactModel) {
         } else if (T < 8.0) {
           ++shortened;
           contacts_shortened += last_contact_s >= 0.0 ? 1 : 0;
-          EXPECT_GT(T, last_contact_s + h.after_s) << path << " a=" << a << " b=" << b << ": the horizon ends less than 0.5 s after the contact";
-          EXPECT_GE(d_after_min, 2.0 + h.clearance_m) << path << " a=" << a << " b=" << b << ": the reference comes within 0.5 m of contact after " << T << " s";
+          EXPECT_GT(T, last_contact_s + h.after_s)
+              << path << " a=" << a << " b=" << b << ": the horizon ends less than 0.5 s after the contact";
+          EXPECT_GE(d_after_min, 2.0 + h.clearance_m)
+              << path << " a=" << a << " b=" << b << ": the reference comes within 0.5 m of contact after " << T
+              << " s";
         }
       }
-  EXPECT_EQ(contacts, 20);           // the grid's collisions
-  EXPECT_GT(shortened, 50);          // the contact-free cases mostly stop early, and released contacts too
+  EXPECT_EQ(contacts, 20);   // the grid's collisions
+  EXPECT_GT(shortened, 50);  // the contact-free cases mostly stop early, and released contacts too
   EXPECT_GT(contacts_shortened, 5);
   EXPECT_LT(total_s, 0.34 * 84 * 8.0);  // 223.7 of 672 s
 }
@@ -627,7 +683,9 @@ TEST(SharedDrive, PlannedOnceAndItsRecordsShared) {
   EXPECT_EQ(dealt, std::set<size_t>(makers.begin(), makers.end()));
   // The makers' records, one with its judges' records and one from a worker that died.
   std::map<std::string, nlohmann::json> records;
-  const nlohmann::json died{{"scenario", plan.items[makers[1]].scenario->name}, {"status", "error"}, {"message", "the engine ended its process (killed by signal 9)"}};
+  const nlohmann::json died{{"scenario", plan.items[makers[1]].scenario->name},
+                            {"status", "error"},
+                            {"message", "the engine ended its process (killed by signal 9)"}};
   records[plan.items[makers[0]].key] = run_item(plan.items[makers[0]]);
   records[plan.items[makers[1]].key] = died;
   ASSERT_TRUE(records[plan.items[makers[0]].key].contains("shared"));
@@ -655,8 +713,9 @@ TEST(SharedDrive, PlannedOnceAndItsRecordsShared) {
 // carries its reason to the worker, which makes it the run's error record.
 TEST(SuitePlan, AWorkerRunsTheRunResolvedInThePlan) {
   const EngineInfo& ode = *find_engine("ode-quick");
-  const SuiteItem car = planned_item(SuiteItem::kRun, "k", *find_scenario("car.circle"), ode,
-                                     {{"w", "1.23456789"}, {"contact_cfm", "1.234567890123e-6"}, {"R", "0.3123456789"}});
+  const SuiteItem car =
+      planned_item(SuiteItem::kRun, "k", *find_scenario("car.circle"), ode,
+                   {{"w", "1.23456789"}, {"contact_cfm", "1.234567890123e-6"}, {"R", "0.3123456789"}});
   ASSERT_TRUE(car.run) << car.resolve_error;
   const SuiteItem back = item_from_request(nlohmann::json::parse(item_request(car).dump()));
   ASSERT_TRUE(back.run);
@@ -665,7 +724,8 @@ TEST(SuitePlan, AWorkerRunsTheRunResolvedInThePlan) {
   EXPECT_DOUBLE_EQ(back.run->settings.number("contact_cfm"), 1.234567890123e-6);
   EXPECT_DOUBLE_EQ(back.run->params.num("R"), 0.3123456789);
   EXPECT_EQ(back.run->params.to_json(), car.run->params.to_json());
-  const SuiteItem disks = planned_item(SuiteItem::kRun, "d", *find_scenario("disks.target"), ode, {{"target", "4.25,-0.375"}});
+  const SuiteItem disks =
+      planned_item(SuiteItem::kRun, "d", *find_scenario("disks.target"), ode, {{"target", "4.25,-0.375"}});
   ASSERT_TRUE(disks.run) << disks.resolve_error;
   const SuiteItem disks_back = item_from_request(nlohmann::json::parse(item_request(disks).dump()));
   EXPECT_DOUBLE_EQ(disks_back.run->params.vec("target").x(), 4.25);

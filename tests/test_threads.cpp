@@ -106,7 +106,8 @@ TEST(Threads, ConcurrentRunsEqualTheSequentialOnes) {
     for (std::thread& t : pool) t.join();
 
     for (std::size_t i = 0; i < all.size(); ++i)
-      EXPECT_TRUE(concurrent[i] == sequential[i]) << "round " << round << ": " << all[i].label()
-                                                  << " differs when run alongside the others: " << first_differences(sequential[i], concurrent[i]);
+      EXPECT_TRUE(concurrent[i] == sequential[i])
+          << "round " << round << ": " << all[i].label()
+          << " differs when run alongside the others: " << first_differences(sequential[i], concurrent[i]);
   }
 }

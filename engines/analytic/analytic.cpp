@@ -57,19 +57,27 @@ class AnalyticDisks final : public DiskEngine {
 }  // namespace
 
 EngineInfo analytic_engine() {
-  return {.name = "analytic",
-          .library = "liftcheck",
-          .version = "1",
-          .description = "the exact models: car by the horizontal lift (4.1), disks by the lift (21) with root-found contact",
-          .color = "#1a1a1a",
-          .is_reference = true,
-          .make_car = [](const Settings&) { return std::make_unique<AnalyticCar>(); },
-          .make_disks = [](const Settings&) { return std::make_unique<AnalyticDisks>(); },
-          .contact_dynamics = false,
-          .settings = {{"car integrator", "Boost.Odeint runge_kutta_dopri5, dense output, abs and rel tolerance 1e-13"},
-                       {"disk integrator", "Boost.Odeint runge_kutta_dopri5 at 1e-12; first contact by TOMS 748 on the dense output; after contact the frictionless, inelastic response (M on |c_M - c_N| = 2 until its command points away from N)"},
-                       {"wheels", "3 or 4: the lift of the commanded (alpha, beta) is the reference for both (a four-wheel car's alpha is its front-axle centre's rolling angle, beta its virtual steering angle); gravity and its tilt do not enter the kinematics"}},
-          .four_wheels = true};
+  return {
+      .name = "analytic",
+      .library = "liftcheck",
+      .version = "1",
+      .description =
+          "the exact models: car by the horizontal lift (4.1), disks by the lift (21) with root-found contact",
+      .color = "#1a1a1a",
+      .is_reference = true,
+      .make_car = [](const Settings&) { return std::make_unique<AnalyticCar>(); },
+      .make_disks = [](const Settings&) { return std::make_unique<AnalyticDisks>(); },
+      .contact_dynamics = false,
+      .settings =
+          {{"car integrator", "Boost.Odeint runge_kutta_dopri5, dense output, abs and rel tolerance 1e-13"},
+           {"disk integrator",
+            "Boost.Odeint runge_kutta_dopri5 at 1e-12; first contact by TOMS 748 on the dense output; after contact "
+            "the frictionless, inelastic response (M on |c_M - c_N| = 2 until its command points away from N)"},
+           {"wheels",
+            "3 or 4: the lift of the commanded (alpha, beta) is the reference for both (a four-wheel car's alpha is "
+            "its front-axle centre's rolling angle, beta its virtual steering angle); gravity and its tilt do not "
+            "enter the kinematics"}},
+      .four_wheels = true};
 }
 
 }  // namespace liftcheck

@@ -4,8 +4,8 @@
 // wheels: btHingeConstraint about the rear axle. Wheel-ground friction uses two friction rows
 // (SOLVER_USE_2_FRICTION_DIRECTIONS); with friction_dirs = wheel the first row lies along the
 // wheel's rolling direction, set on every contact point before each solve.
-// Signs (tests/conformance.cpp, ForwardIsPositiveAlphaAndLeftIsPositiveBeta): the 6DOF angles are of body B relative to body A with the
-// chassis as A; the steering angle and spin rate are negated where marked.
+// Signs (tests/conformance.cpp, ForwardIsPositiveAlphaAndLeftIsPositiveBeta): the 6DOF angles are of body B relative to
+// body A with the chassis as A; the steering angle and spin rate are negated where marked.
 #include "engines/bullet/bullet_car.hpp"
 #include "engines/bullet/bullet_core.hpp"
 
@@ -66,7 +66,9 @@ struct BulletKnobs {
   int iterations = 100;    ///< btContactSolverInfo::m_numIterations
   bool cylinder = false;   ///< wheel: cylinders instead of spheres
   static BulletKnobs from(const Settings& s) {
-    return {.wheel_dirs = s.choice("friction_dirs") == "wheel", .iterations = s.integer("iterations"), .cylinder = s.choice("wheel") == "cylinder"};
+    return {.wheel_dirs = s.choice("friction_dirs") == "wheel",
+            .iterations = s.integer("iterations"),
+            .cylinder = s.choice("wheel") == "cylinder"};
   }
 };
 
@@ -80,7 +82,6 @@ class BulletCar final : public RigidCar {
   const BulletKnobs knobs_;
 
  public:
-
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
     teardown();
@@ -114,12 +115,15 @@ class BulletCar final : public RigidCar {
     };
     const btQuaternion yaw_chassis(btVector3(0, 0, 1), q0.phi_rad);
 
-    auto* chassis_shape = add_shape(std::make_unique<btBoxShape>(btVector3(0.5 * d.l_m, 0.5 * d.track_m, 0.5 * d.chassis_height_m)));
-    chassis_ = add_body(d.chassis_mass_kg, chassis_shape, btTransform(yaw_chassis, to_world(-0.5 * d.l_m, 0, d.R_m)), 0, 0);
+    auto* chassis_shape =
+        add_shape(std::make_unique<btBoxShape>(btVector3(0.5 * d.l_m, 0.5 * d.track_m, 0.5 * d.chassis_height_m)));
+    chassis_ =
+        add_body(d.chassis_mass_kg, chassis_shape, btTransform(yaw_chassis, to_world(-0.5 * d.l_m, 0, d.R_m)), 0, 0);
 
     btCollisionShape* wheel_shape = nullptr;
     if (knobs_.cylinder)
-      wheel_shape = add_shape(std::make_unique<btCylinderShape>(btVector3(d.R_m, 0.5 * d.wheel_width_m, d.R_m)));  // along local y
+      wheel_shape = add_shape(
+          std::make_unique<btCylinderShape>(btVector3(d.R_m, 0.5 * d.wheel_width_m, d.R_m)));  // along local y
     else
       wheel_shape = add_shape(std::make_unique<btSphereShape>(d.R_m));
     // Wheel local frames: y along the axle (left), so cylinder and sphere wheels share the joints.
@@ -130,19 +134,25 @@ class BulletCar final : public RigidCar {
     for (int k = 0; k < n_front_; ++k) {
       beta0_[k] = q0.beta_rad;
       if (n_front_ == 2 && !d.parallel_steering)
-        beta0_[k] = car::ackermann_wheel_angle(q0.beta_rad, d.l_m, d.track_m, k == 0 ? car::Side::kLeft : car::Side::kRight);
+        beta0_[k] =
+            car::ackermann_wheel_angle(q0.beta_rad, d.l_m, d.track_m, k == 0 ? car::Side::kLeft : car::Side::kRight);
       const double y_k = n_front_ == 1 ? 0.0 : (k == 0 ? 0.5 : -0.5) * d.track_m;
-      front_[k] = add_body(d.wheel_mass_kg, wheel_shape,
-                           btTransform(btQuaternion(btVector3(0, 0, 1), q0.phi_rad + beta0_[k]), to_world(0, y_k, d.R_m)), kGroupWheel, kGroupGround);
+      front_[k] =
+          add_body(d.wheel_mass_kg, wheel_shape,
+                   btTransform(btQuaternion(btVector3(0, 0, 1), q0.phi_rad + beta0_[k]), to_world(0, y_k, d.R_m)),
+                   kGroupWheel, kGroupGround);
       // No knuckle body: the hinge-2 constraint steers the wheel body itself, so the knuckle's
       // mass rides on it (at the wheel centre, its isotropic inertia added to the wheel's).
       btVector3 inertia;
       wheel_shape->calculateLocalInertia(d.wheel_mass_kg, inertia);
-      front_[k]->setMassProps(d.wheel_mass_kg + d.knuckle_mass_kg, inertia + btVector3(1, 1, 1) * d.knuckle_inertia_kgm2());
+      front_[k]->setMassProps(d.wheel_mass_kg + d.knuckle_mass_kg,
+                              inertia + btVector3(1, 1, 1) * d.knuckle_inertia_kgm2());
       front_[k]->updateInertiaTensor();
     }
-    rear_[0] = add_body(d.wheel_mass_kg, wheel_shape, btTransform(yaw_chassis, to_world(-d.l_m, 0.5 * d.track_m, d.R_m)), kGroupWheel, kGroupGround);
-    rear_[1] = add_body(d.wheel_mass_kg, wheel_shape, btTransform(yaw_chassis, to_world(-d.l_m, -0.5 * d.track_m, d.R_m)), kGroupWheel, kGroupGround);
+    rear_[0] = add_body(d.wheel_mass_kg, wheel_shape,
+                        btTransform(yaw_chassis, to_world(-d.l_m, 0.5 * d.track_m, d.R_m)), kGroupWheel, kGroupGround);
+    rear_[1] = add_body(d.wheel_mass_kg, wheel_shape,
+                        btTransform(yaw_chassis, to_world(-d.l_m, -0.5 * d.track_m, d.R_m)), kGroupWheel, kGroupGround);
     for (btRigidBody* w : {front_[0], front_[1], rear_[0], rear_[1]}) {
       if (!w) continue;
       w->setFriction(1.0);
@@ -152,7 +162,8 @@ class BulletCar final : public RigidCar {
     // Front: a hinge-2 at each front wheel centre; axis 1 up (steering), axis 2 the axle.
     for (int k = 0; k < n_front_; ++k) {
       const double steer_yaw = q0.phi_rad + beta0_[k];
-      btVector3 anchor = front_[k]->getWorldTransform().getOrigin(), up(0, 0, 1), axle(-std::sin(steer_yaw), std::cos(steer_yaw), 0);
+      btVector3 anchor = front_[k]->getWorldTransform().getOrigin(), up(0, 0, 1),
+                axle(-std::sin(steer_yaw), std::cos(steer_yaw), 0);
       hinge2_[k] = std::make_unique<btHinge2Constraint>(*chassis_, *front_[k], anchor, up, axle);
       hinge2_[k]->setLinearLowerLimit(btVector3(0, 0, 0));  // suspension locked
       hinge2_[k]->setLinearUpperLimit(btVector3(0, 0, 0));
@@ -183,9 +194,7 @@ class BulletCar final : public RigidCar {
 
   bool four_wheels() const override { return true; }
 
-  void step(double dt_s) override {
-    world_->stepSimulation(dt_s, 1, dt_s);
-  }
+  void step(double dt_s) override { world_->stepSimulation(dt_s, 1, dt_s); }
 
   RigidCarState read() const override {
     const btMatrix3x3& Rc = chassis_->getWorldTransform().getBasis();
@@ -203,11 +212,14 @@ class BulletCar final : public RigidCar {
     }
     s.phi_rad = std::atan2(Rc[1][0], Rc[0][0]);
     s.rear_z_m = std::min(rear_[0]->getWorldTransform().getOrigin().z(), rear_[1]->getWorldTransform().getOrigin().z());
-    const btRigidBody* bodies[4] = {front_[0], n_front_ == 2 ? front_[1] : rear_[0], n_front_ == 2 ? rear_[0] : rear_[1], rear_[1]};
+    const btRigidBody* bodies[4] = {front_[0], n_front_ == 2 ? front_[1] : rear_[0],
+                                    n_front_ == 2 ? rear_[0] : rear_[1], rear_[1]};
     for (int w = 0; w < n_front_ + 2; ++w) {
       const btVector3 v = bodies[w]->getLinearVelocity(), o = bodies[w]->getAngularVelocity();
       const btVector3 axle = bodies[w]->getWorldTransform().getBasis().getColumn(1);  // every wheel's local y
-      s.wheels[w] = {{v.x(), v.y(), v.z()}, {o.x(), o.y(), o.z()}, {axle.x(), axle.y(), axle.z()},
+      s.wheels[w] = {{v.x(), v.y(), v.z()},
+                     {o.x(), o.y(), o.z()},
+                     {axle.x(), axle.y(), axle.z()},
                      bodies[w]->getWorldTransform().getOrigin().z()};
     }
     return s;
@@ -254,18 +266,20 @@ class BulletCar final : public RigidCar {
   std::unique_ptr<btHinge2Constraint> hinge2_[2];  ///< one per front wheel
   std::unique_ptr<btHingeConstraint> rear_hinge_[2];
   btRigidBody *ground_ = nullptr, *chassis_ = nullptr, *front_[2] = {nullptr, nullptr}, *rear_[2] = {nullptr, nullptr};
-  int n_front_ = 1;                 ///< front wheels: 1 (tricycle) or 2 (left, right)
-  double beta0_[2] = {0.0, 0.0};    ///< each front wheel's start steering angle
+  int n_front_ = 1;               ///< front wheels: 1 (tricycle) or 2 (left, right)
+  double beta0_[2] = {0.0, 0.0};  ///< each front wheel's start steering angle
 };
 
 /// The benchmarks' raw loop (engines/raw_car.hpp): BulletCar's world, bodies and hinges, the motors
 /// set once, stepSimulation directly.
 class RawBulletCar final : public RawCar {
  public:
-  RawBulletCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) { car_.reset(setup, q0); }
+  RawBulletCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) {
+    car_.reset(setup, q0);
+  }
 
   void run(long steps, double spin_radps) override {
-    const ServoDef& servo = car_.servo_;  // the run's own limits (ServoDef::for_car)
+    const ServoDef& servo = car_.servo_;                 // the run's own limits (ServoDef::for_car)
     car_.hinge2_[0]->setTargetVelocity(3, -spin_radps);  // negated as in BulletCar::actuate
     car_.hinge2_[0]->setMaxMotorForce(3, servo.spin_torque_max_Nm);
     car_.hinge2_[0]->setTargetVelocity(5, 0.0);
@@ -290,31 +304,59 @@ std::unique_ptr<RawCar> make_raw_bullet_car(const Settings& s, const CarSetup& s
 }
 
 EngineInfo bullet_engine() {
-  return {.name = "bullet",
-          .library = "Bullet",
-          .version = fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
-          .description = "Bullet rigid bodies: btHinge2Constraint front wheel, hinge rear wheels, 2 friction directions, fixed step",
-          .color = "#ff7f0e",
-          .make_car = [](const Settings& s) { return std::make_unique<BulletCar>(s); },
-          .make_disks = [](const Settings&) { return make_bullet_disks(); },
-          .contact_dynamics = true,
-          .settings = {{"precision", "double (bullet-float64)"},
+  return {
+      .name = "bullet",
+      .library = "Bullet",
+      .version = fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
+      .description =
+          "Bullet rigid bodies: btHinge2Constraint front wheel, hinge rear wheels, 2 friction directions, fixed step",
+      .color = "#ff7f0e",
+      .make_car = [](const Settings& s) { return std::make_unique<BulletCar>(s); },
+      .make_disks = [](const Settings&) { return make_bullet_disks(); },
+      .contact_dynamics = true,
+      .settings =
+          {{"precision", "double (bullet-float64)"},
            {"stepper", "btDiscreteDynamicsWorld, stepSimulation(dt, 1, dt), sequential impulse solver"},
-           {"front wheel", "btHinge2Constraint, linear suspension locked, spring off; motors on angular x (spin) and z (steering); no knuckle body: the knuckle's mass and inertia ride on the wheel body"},
+           {"front wheel",
+            "btHinge2Constraint, linear suspension locked, spring off; motors on angular x (spin) and z (steering); no "
+            "knuckle body: the knuckle's mass and inertia ride on the wheel body"},
            {"rear wheels", "btHingeConstraint each"},
            {"contact", "friction = mu x 1 (Bullet multiplies both bodies' coefficients)"},
-           {"friction directions", "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},
-           {"servo", "rate = commanded rate + 40/s x angle error, torque limit 1.5 mu N R of the driven wheel (106 N m for the default car); settle 0.5 s, hold 0.2 s"},
-           {"disks", "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), sequential-impulse response"}},
-          .knobs = {SettingSpec{{.key = "iterations", .kind = ParamKind::kInteger, .default_text = "100", .unit = "1",
-                                 .help = "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)", .min = 1, .max = 10000},
-                                Vehicle::kCar, SettingRole::kSolverIterations},
-                    SettingSpec{{.key = "wheel", .kind = ParamKind::kChoice, .default_text = "sphere", .help = "wheel collision shape", .choices = {"sphere", "cylinder"}}, Vehicle::kCar},
-                    SettingSpec{{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = "wheel",
-                                 .help = "first friction direction: along the wheel's rolling direction, or the engine's default axes", .choices = {"wheel", "world"}},
-                                Vehicle::kCar}},
-          .four_wheels = true,
-          .make_raw_car = make_raw_bullet_car};
+           {"friction directions",
+            "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each "
+            "solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},
+           {"servo",
+            "rate = commanded rate + 40/s x angle error, torque limit 1.5 mu N R of the driven wheel (106 N m for the "
+            "default car); settle 0.5 s, hold 0.2 s"},
+           {"disks",
+            "M: dynamic sphere (radius 1, 1 kg, frictionless), linear velocity set to the command before each step; N: "
+            "kinematic sphere placed on its path; contact from the step's manifolds (distance <= 0), "
+            "sequential-impulse response"}},
+      .knobs = {SettingSpec{{.key = "iterations",
+                             .kind = ParamKind::kInteger,
+                             .default_text = "100",
+                             .unit = "1",
+                             .help = "sequential-impulse solver iterations (btContactSolverInfo::m_numIterations)",
+                             .min = 1,
+                             .max = 10000},
+                            Vehicle::kCar,
+                            SettingRole::kSolverIterations},
+                SettingSpec{{.key = "wheel",
+                             .kind = ParamKind::kChoice,
+                             .default_text = "sphere",
+                             .help = "wheel collision shape",
+                             .choices = {"sphere", "cylinder"}},
+                            Vehicle::kCar},
+                SettingSpec{
+                    {.key = "friction_dirs",
+                     .kind = ParamKind::kChoice,
+                     .default_text = "wheel",
+                     .help =
+                         "first friction direction: along the wheel's rolling direction, or the engine's default axes",
+                     .choices = {"wheel", "world"}},
+                    Vehicle::kCar}},
+      .four_wheels = true,
+      .make_raw_car = make_raw_bullet_car};
 }
 
 }  // namespace liftcheck

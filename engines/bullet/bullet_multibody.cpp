@@ -73,7 +73,8 @@ class MultiBodyScene {
   }
 
   /// A collider for link `link` of `mb` (-1: the base), registered with the multibody and the world.
-  btMultiBodyLinkCollider* collider(btMultiBody* mb, int link, btCollisionShape* s, double friction, int group, int mask) {
+  btMultiBodyLinkCollider* collider(btMultiBody* mb, int link, btCollisionShape* s, double friction, int group,
+                                    int mask) {
     auto c = std::make_unique<btMultiBodyLinkCollider>(mb, link);
     c->setCollisionShape(s);
     c->setFriction(friction);
@@ -136,7 +137,7 @@ constexpr int kKnuckle = 0, kFront = 1, kRearLeft = 2, kRearRight = 3, kLinks = 
 // literal 0.04f (0.039999999106 in double); both vehicles set the setting's value instead, so a
 // record's "damping" is what Bullet applied.
 constexpr double kDefaultDamping = 0.04;
-constexpr int kDefaultIterations = 10;    // btContactSolverInfo's default
+constexpr int kDefaultIterations = 10;  // btContactSolverInfo's default
 
 Eigen::Vector3d eig(const btVector3& v) { return {v.x(), v.y(), v.z()}; }
 
@@ -146,7 +147,9 @@ class RawMultiBodyCar;
 struct MultiBodyKnobs {
   int iterations = 10;    ///< btContactSolverInfo::m_numIterations
   double damping = 0.04;  ///< btMultiBody linear and angular damping
-  static MultiBodyKnobs from(const Settings& s) { return {.iterations = s.integer("iterations"), .damping = s.number("damping")}; }
+  static MultiBodyKnobs from(const Settings& s) {
+    return {.iterations = s.integer("iterations"), .damping = s.number("damping")};
+  }
 };
 
 class MultiBodyCar final : public RigidCar {
@@ -166,10 +169,11 @@ class MultiBodyCar final : public RigidCar {
 
     // Ground plane z = 0; Bullet multiplies both bodies' friction coefficients: mu x 1.
     scene_->fixed(scene_->shape<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0), btTransform::getIdentity(), setup.mu,
-                 kGroupGround, kGroupWheel);
+                  kGroupGround, kGroupWheel);
 
     btVector3 box_inertia(0, 0, 0);
-    btBoxShape(btVector3(0.5 * d.l_m, 0.5 * d.track_m, 0.5 * d.chassis_height_m)).calculateLocalInertia(d.chassis_mass_kg, box_inertia);
+    btBoxShape(btVector3(0.5 * d.l_m, 0.5 * d.track_m, 0.5 * d.chassis_height_m))
+        .calculateLocalInertia(d.chassis_mass_kg, box_inertia);
     auto* wheel_shape = scene_->shape<btSphereShape>(d.R_m);
     btVector3 wheel_inertia(0, 0, 0);
     wheel_shape->calculateLocalInertia(d.wheel_mass_kg, wheel_inertia);
@@ -177,12 +181,16 @@ class MultiBodyCar final : public RigidCar {
     const btQuaternion same(0, 0, 0, 1);
     const btVector3 zero(0, 0, 0), up(0, 0, 1), axle(0, 1, 0);
 
-    auto mb = std::make_unique<btMultiBody>(kLinks, d.chassis_mass_kg, box_inertia, /*fixedBase=*/false, /*canSleep=*/false);
+    auto mb =
+        std::make_unique<btMultiBody>(kLinks, d.chassis_mass_kg, box_inertia, /*fixedBase=*/false, /*canSleep=*/false);
     // Pivot offsets are from the parent's centre of mass: the base's is the middle of the tie rod.
-    mb->setupRevolute(kKnuckle, d.knuckle_mass_kg, knuckle_inertia, -1, same, up, btVector3(0.5 * d.l_m, 0, 0), zero, true);
+    mb->setupRevolute(kKnuckle, d.knuckle_mass_kg, knuckle_inertia, -1, same, up, btVector3(0.5 * d.l_m, 0, 0), zero,
+                      true);
     mb->setupRevolute(kFront, d.wheel_mass_kg, wheel_inertia, kKnuckle, same, axle, zero, zero, true);
-    mb->setupRevolute(kRearLeft, d.wheel_mass_kg, wheel_inertia, -1, same, axle, btVector3(-0.5 * d.l_m, 0.5 * d.track_m, 0), zero, true);
-    mb->setupRevolute(kRearRight, d.wheel_mass_kg, wheel_inertia, -1, same, axle, btVector3(-0.5 * d.l_m, -0.5 * d.track_m, 0), zero, true);
+    mb->setupRevolute(kRearLeft, d.wheel_mass_kg, wheel_inertia, -1, same, axle,
+                      btVector3(-0.5 * d.l_m, 0.5 * d.track_m, 0), zero, true);
+    mb->setupRevolute(kRearRight, d.wheel_mass_kg, wheel_inertia, -1, same, axle,
+                      btVector3(-0.5 * d.l_m, -0.5 * d.track_m, 0), zero, true);
     mb->finalizeMultiDof();
     const double damping = knobs_.damping;
     mb->setLinearDamping(damping);
@@ -191,13 +199,15 @@ class MultiBodyCar final : public RigidCar {
     // The car at q0: q0 is the front-axle centre, the chassis centre is l/2 behind it.
     const double c = std::cos(q0.phi_rad), s = std::sin(q0.phi_rad);
     const btVector3 base_pos(q0.x_m - 0.5 * d.l_m * c, q0.y_m - 0.5 * d.l_m * s, d.R_m);
-    mb->setBaseWorldTransform(btTransform(btQuaternion(up, q0.phi_rad), base_pos));  // stores world-to-base as the inverse
-    mb->setJointPos(kKnuckle, q0.beta_rad);  // the joint position is the steering angle itself
+    mb->setBaseWorldTransform(
+        btTransform(btQuaternion(up, q0.phi_rad), base_pos));  // stores world-to-base as the inverse
+    mb->setJointPos(kKnuckle, q0.beta_rad);                    // the joint position is the steering angle itself
     mb_ = scene_->add(std::move(mb));
 
     // The knuckle's collider only puts the steering motor into an island: it collides with nothing.
     scene_->collider(mb_, kKnuckle, scene_->shape<btSphereShape>(0.01), 0.0, 0, 0);
-    for (int link : {kFront, kRearLeft, kRearRight}) scene_->collider(mb_, link, wheel_shape, 1.0, kGroupWheel, kGroupGround);
+    for (int link : {kFront, kRearLeft, kRearRight})
+      scene_->collider(mb_, link, wheel_shape, 1.0, kGroupWheel, kGroupGround);
     btAlignedObjectArray<btQuaternion> world_to_local;
     btAlignedObjectArray<btVector3> local_origin;
     mb_->forwardKinematics(world_to_local, local_origin);
@@ -234,7 +244,8 @@ class MultiBodyCar final : public RigidCar {
     st.y_m = front.y();
     st.z_m = front.z();
     st.phi_rad = std::atan2(base_rot[1][0], base_rot[0][0]);
-    st.rear_z_m = std::min(mb_->localPosToWorld(kRearLeft, btVector3(0, 0, 0)).z(), mb_->localPosToWorld(kRearRight, btVector3(0, 0, 0)).z());
+    st.rear_z_m = std::min(mb_->localPosToWorld(kRearLeft, btVector3(0, 0, 0)).z(),
+                           mb_->localPosToWorld(kRearRight, btVector3(0, 0, 0)).z());
     const int links[3] = {kFront, kRearLeft, kRearRight};
     for (int w = 0; w < 3; ++w) {
       const int i = links[w];
@@ -290,7 +301,8 @@ class MultiBodyDisks final : public DrivenDisks {
     btDispatcher* d = scene_->world().getDispatcher();
     for (int i = 0; i < d->getNumManifolds(); ++i) {
       const btPersistentManifold* m = d->getManifoldByIndexInternal(i);
-      const bool pair = (m->getBody0() == m_collider_ && m->getBody1() == n_) || (m->getBody0() == n_ && m->getBody1() == m_collider_);
+      const bool pair = (m->getBody0() == m_collider_ && m->getBody1() == n_) ||
+                        (m->getBody0() == n_ && m->getBody1() == m_collider_);
       if (!pair) continue;
       for (int k = 0; k < m->getNumContacts(); ++k) {
         const double dist = m->getContactPoint(k).getDistance();
@@ -323,7 +335,9 @@ class MultiBodyDisks final : public DrivenDisks {
 /// motors set once, stepSimulation directly.
 class RawMultiBodyCar final : public RawCar {
  public:
-  RawMultiBodyCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) { car_.reset(setup, q0); }
+  RawMultiBodyCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) {
+    car_.reset(setup, q0);
+  }
 
   void run(long steps, double spin_radps) override {
     const ServoDef& servo = car_.servo_;  // the run's own limits (ServoDef::for_car)
@@ -347,9 +361,16 @@ class RawMultiBodyCar final : public RawCar {
 
 /// btMultiBody's velocity damping of `vehicle`: the car's multibody, or disk M's.
 SettingSpec damping_knob(Vehicle vehicle) {
-  return {{.key = "damping", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultDamping), .unit = "1",
-           .help = "btMultiBody linear and angular damping (btMultiBody::setLinearDamping, setAngularDamping; Bullet's default 0.04)", .min = 0, .max = 1},
-          vehicle, SettingRole::kDamping};
+  return {{.key = "damping",
+           .kind = ParamKind::kNumber,
+           .default_text = fmt::format("{:g}", kDefaultDamping),
+           .unit = "1",
+           .help = "btMultiBody linear and angular damping (btMultiBody::setLinearDamping, setAngularDamping; Bullet's "
+                   "default 0.04)",
+           .min = 0,
+           .max = 1},
+          vehicle,
+          SettingRole::kDamping};
 }
 
 }  // namespace
@@ -359,28 +380,57 @@ std::unique_ptr<RawCar> make_raw_bullet_multibody_car(const Settings& s, const C
 }
 
 EngineInfo bullet_multibody_engine() {
-  return {.name = "bullet-multibody",
-          .library = "Bullet",
-          .version = fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
-          .description = "Bullet Featherstone btMultiBody: floating-base tricycle, revolute links, joint motors, Bullet's defaults (damping 0.04, 10 iterations)",
-          .color = "#d62728",
-          .make_car = [](const Settings& s) { return std::make_unique<MultiBodyCar>(s); },
-          .make_disks = [](const Settings& s) { return std::make_unique<MultiBodyDisks>(kDefaultIterations, s.number("damping")); },
-          .contact_dynamics = true,
-          .settings = {{"precision", "double (bullet-float64)"},
-           {"stepper", "btMultiBodyDynamicsWorld, btMultiBodyConstraintSolver (sequential impulse), stepSimulation(dt, 1, dt)"},
-           {"joints", "floating-base btMultiBody (chassis box, no collider); revolute links: steering knuckle (knuckle_mass, isotropic inertia knuckle_mass x 2e-3 m^2; carries a 0.01 m collider that collides with nothing, so its motor enters an island), front wheel on the knuckle, two rear wheels on the base"},
-           {"motors", "btMultiBodyJointMotor velocity targets on the knuckle (steering) and the front wheel (spin), max impulse per step = torque limit x dt"},
-           {"contact", "btMultiBodyLinkCollider spheres on a static plane; friction = mu x 1 (Bullet multiplies both bodies' coefficients); other btContactSolverInfo fields at Bullet's defaults"},
-           {"friction directions", "two (SOLVER_USE_2_FRICTION_DIRECTIONS, set by btMultiBodyDynamicsWorld): world plane-space axes of the contact normal; custom directions are ignored by btMultiBodyConstraintSolver, so they cannot follow the wheel"},
-           {"damping", "btMultiBody linear and angular damping (setLinearDamping, setAngularDamping) of the car and of disk M: --set damping (default 0.04, Bullet's)"},
-           {"servo", "rate = commanded rate + 40/s x angle error, torque limit 1.5 mu N R of the driven wheel (106 N m for the default car); settle 0.5 s, hold 0.2 s"},
-           {"disks", "M: zero-link floating-base btMultiBody (radius 1, 1 kg, frictionless base collider), base velocity set to the command (z = 0) before each step; N: kinematic btRigidBody sphere placed on its path; contact from the step's manifolds (distance <= 0), multibody solver response, 10 iterations"}},
-          .knobs = {SettingSpec{{.key = "iterations", .kind = ParamKind::kInteger, .default_text = std::to_string(kDefaultIterations), .unit = "1",
-                                 .help = "solver iterations (btContactSolverInfo::m_numIterations)", .min = 1, .max = 10000},
-                                Vehicle::kCar, SettingRole::kSolverIterations},
-                    damping_knob(Vehicle::kCar), damping_knob(Vehicle::kDisks)},
-          .make_raw_car = make_raw_bullet_multibody_car};
+  return {
+      .name = "bullet-multibody",
+      .library = "Bullet",
+      .version = fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
+      .description =
+          "Bullet Featherstone btMultiBody: floating-base tricycle, revolute links, joint motors, Bullet's defaults "
+          "(damping 0.04, 10 iterations)",
+      .color = "#d62728",
+      .make_car = [](const Settings& s) { return std::make_unique<MultiBodyCar>(s); },
+      .make_disks =
+          [](const Settings& s) { return std::make_unique<MultiBodyDisks>(kDefaultIterations, s.number("damping")); },
+      .contact_dynamics = true,
+      .settings =
+          {{"precision", "double (bullet-float64)"},
+           {"stepper",
+            "btMultiBodyDynamicsWorld, btMultiBodyConstraintSolver (sequential impulse), stepSimulation(dt, 1, dt)"},
+           {"joints",
+            "floating-base btMultiBody (chassis box, no collider); revolute links: steering knuckle (knuckle_mass, "
+            "isotropic inertia knuckle_mass x 2e-3 m^2; carries a 0.01 m collider that collides with nothing, so its "
+            "motor enters an island), front wheel on the knuckle, two rear wheels on the base"},
+           {"motors",
+            "btMultiBodyJointMotor velocity targets on the knuckle (steering) and the front wheel (spin), max impulse "
+            "per step = torque limit x dt"},
+           {"contact",
+            "btMultiBodyLinkCollider spheres on a static plane; friction = mu x 1 (Bullet multiplies both bodies' "
+            "coefficients); other btContactSolverInfo fields at Bullet's defaults"},
+           {"friction directions",
+            "two (SOLVER_USE_2_FRICTION_DIRECTIONS, set by btMultiBodyDynamicsWorld): world plane-space axes of the "
+            "contact normal; custom directions are ignored by btMultiBodyConstraintSolver, so they cannot follow the "
+            "wheel"},
+           {"damping",
+            "btMultiBody linear and angular damping (setLinearDamping, setAngularDamping) of the car and of disk M: "
+            "--set damping (default 0.04, Bullet's)"},
+           {"servo",
+            "rate = commanded rate + 40/s x angle error, torque limit 1.5 mu N R of the driven wheel (106 N m for the "
+            "default car); settle 0.5 s, hold 0.2 s"},
+           {"disks",
+            "M: zero-link floating-base btMultiBody (radius 1, 1 kg, frictionless base collider), base velocity set to "
+            "the command (z = 0) before each step; N: kinematic btRigidBody sphere placed on its path; contact from "
+            "the step's manifolds (distance <= 0), multibody solver response, 10 iterations"}},
+      .knobs = {SettingSpec{{.key = "iterations",
+                             .kind = ParamKind::kInteger,
+                             .default_text = std::to_string(kDefaultIterations),
+                             .unit = "1",
+                             .help = "solver iterations (btContactSolverInfo::m_numIterations)",
+                             .min = 1,
+                             .max = 10000},
+                            Vehicle::kCar,
+                            SettingRole::kSolverIterations},
+                damping_knob(Vehicle::kCar), damping_knob(Vehicle::kDisks)},
+      .make_raw_car = make_raw_bullet_multibody_car};
 }
 
 }  // namespace liftcheck

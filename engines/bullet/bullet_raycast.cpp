@@ -80,10 +80,11 @@ class RawRaycastCar;
 
 /// bullet-raycast's knobs, typed once when the car is made.
 struct RaycastKnobs {
-  bool heading_angle = true;            ///< wheel_angle: the travel along the wheel's heading (else Bullet's m_rotation)
-  double suspension_stiffness = 1e4;    ///< per unit chassis mass, 1/s^2
+  bool heading_angle = true;          ///< wheel_angle: the travel along the wheel's heading (else Bullet's m_rotation)
+  double suspension_stiffness = 1e4;  ///< per unit chassis mass, 1/s^2
   static RaycastKnobs from(const Settings& s) {
-    return {.heading_angle = s.choice("wheel_angle") == "heading", .suspension_stiffness = s.number("suspension_stiffness")};
+    return {.heading_angle = s.choice("wheel_angle") == "heading",
+            .suspension_stiffness = s.number("suspension_stiffness")};
   }
 };
 
@@ -119,7 +120,8 @@ class BulletRaycastCar final : public RigidCar {
 
     // Ground plane z = 0: a static btRigidBody (the raycaster accepts rigid bodies only).
     ground_shape_ = std::make_unique<btStaticPlaneShape>(btVector3(0, 0, 1), 0);
-    ground_ = std::make_unique<btRigidBody>(btRigidBody::btRigidBodyConstructionInfo(0.0, nullptr, ground_shape_.get()));
+    ground_ =
+        std::make_unique<btRigidBody>(btRigidBody::btRigidBodyConstructionInfo(0.0, nullptr, ground_shape_.get()));
     world_->addRigidBody(ground_.get());  // static filter: hit by the wheel rays (default filter)
 
     // Chassis: centre of mass at the middle of the tie rod at axle height, level, heading phi.
@@ -228,7 +230,8 @@ class BulletRaycastCar final : public RigidCar {
     for (int i = 0; i < 3; ++i) rotation_[i] = vehicle_->getWheelInfo(i).m_rotation;
     if (heading_angle_) {
       const btWheelInfo& w = vehicle_->getWheelInfo(kFront);
-      const btVector3 v = chassis_->getVelocityInLocalPoint(w.m_raycastInfo.m_hardPointWS - chassis_->getCenterOfMassPosition());
+      const btVector3 v =
+          chassis_->getVelocityInLocalPoint(w.m_raycastInfo.m_hardPointWS - chassis_->getCenterOfMassPosition());
       rotation_[kFront] = prev_rotation_[kFront] + v.dot(wheel_forward(kFront)) * dt_s / R_;
     }
   }
@@ -244,7 +247,8 @@ class BulletRaycastCar final : public RigidCar {
     s.y_m = p.y();
     s.z_m = p.z();
     s.phi_rad = std::atan2(Rc[1][0], Rc[0][0]);
-    s.rear_z_m = std::min(vehicle_->getWheelTransformWS(1).getOrigin().z(), vehicle_->getWheelTransformWS(2).getOrigin().z());
+    s.rear_z_m =
+        std::min(vehicle_->getWheelTransformWS(1).getOrigin().z(), vehicle_->getWheelTransformWS(2).getOrigin().z());
     for (int i = 0; i < 3; ++i) {
       const btVector3 hub = vehicle_->getWheelTransformWS(i).getOrigin();
       const btVector3 v = chassis_->getVelocityInLocalPoint(hub - chassis_->getCenterOfMassPosition());
@@ -309,7 +313,9 @@ class BulletRaycastCar final : public RigidCar {
 /// velocity along its forward axis), M x 160/s x (target - speed), capped like the adapter's.
 class RawRaycastCar final : public RawCar {
  public:
-  RawRaycastCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) { car_.reset(setup, q0); }
+  RawRaycastCar(const Settings& s, const CarSetup& setup, const car::Config& q0) : car_(s), dt_s_(setup.dt_s) {
+    car_.reset(setup, q0);
+  }
 
   void run(long steps, double spin_radps) override {
     const ServoDef& servo = car_.servo_;  // the run's own limits (ServoDef::for_car)
@@ -351,36 +357,79 @@ std::unique_ptr<RawCar> make_raw_bullet_raycast_car(const Settings& s, const Car
 }
 
 EngineInfo bullet_raycast_engine() {
-  return {.name = "bullet-raycast",
-          .library = "Bullet",
-          .version = fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
-          .description = "Bullet btRaycastVehicle: ray-cast wheels on a spring-damper suspension, per-wheel side impulses, engine force on the front wheel",
-          .color = "#9467bd",
-          .make_car = [](const Settings& s) { return std::make_unique<BulletRaycastCar>(s); },
-          .make_disks = {},
-          .contact_dynamics = true,
-          .settings =
-              {{"precision", "double (bullet-float64)"},
-               {"stepper", "btDiscreteDynamicsWorld, stepSimulation(dt, 1, dt); the vehicle is an action run after integration"},
-               {"vehicle", "btRaycastVehicle with btDefaultVehicleRaycaster, setCoordinateSystem(1, 2, 0); 3 wheels: front (steered, driven) at the front-axle centre, rear (passive) at the rear axle +-track/2; wheel direction -z, axle -y"},
-               {"chassis", "box l x track x height of the car's total mass (chassis + 3 wheels + knuckle), centre of mass at the middle of the tie rod at axle height, collides with nothing; ground: static btRigidBody plane"},
-               {"suspension", "stiffness k per unit chassis mass (knob), damping sqrt(3k) per unit mass in compression and relaxation (173 at k = 1e4), max force 1e6 N; connection points R/3 above the centre of mass, rest lengths R/3 + static sag (g/(2k) front, g/(4k) rear), so the chassis starts level and at rest with wheel centres at z = R; max travel rest + R (never binds)"},
-               {"friction", "one Jacobi side-impulse pass per wheel per step (resolveSingleBilateral with Bullet's hard-coded 0.2 damping, 0.2 of the impulse that cancels the wheel's lateral velocity): not a no-slip model, the lateral slip carries the centripetal force; m_frictionSlip = mu caps the combined impulse at mu x suspension force x dt; roll influence 0.1 (Bullet default)"},
-               {"speed", "engine force on the front wheel F = M x 160/s x (spin command x R - forward speed of the front wheel centre along the wheel's heading), capped at the servo's torque limit / R (1.5 mu N of the front wheel: 353 N for the default car); no feed-forward; 160/s = 4 x the 40/s angle servo: the cascade is critically damped"},
-               {"steering", "kinematic: setSteeringValue with the commanded steering rate integrated over each step (left positive)"},
-               {"hold", "for the first settle_s (0.5 s) after build all three wheels are braked (setBrake, impulse cap mu M g dt per wheel) with engine force 0; afterwards no brakes"},
-               {"wheel angle", "no spin state (along-slip not measured): heading = the front wheel's travel along its own heading / R, integrated like Bullet's m_rotation; m_rotation = Bullet's own value, which projects the velocity on the chassis axis, so the steered wheel turns cos(beta) too slowly; the spin reported for the slip metrics is the angle's change per step (m_deltaRotation before Bullet's 0.99 decay)"},
-               {"stability", "the suspension is explicit: at k = 1e4 the run diverges for dt >= 2 ms (a period-2 oscillation from about 1.8 ms); smaller k allows larger steps"},
-               {"threads", "Bullet writes the same constants into one function-static btRigidBody (btActionInterface::getFixedBody, the vehicle's ground object) from every vehicle on every ray cast and reads it in the friction pass: the body is made once before the first vehicle, and each vehicle's action (ray casts, suspension, friction) holds a process-wide lock, so concurrent runs take turns at it; the numbers do not depend on what else runs"}},
-          .knobs = {SettingSpec{{.key = "suspension_stiffness", .kind = ParamKind::kNumber, .default_text = "10000", .unit = "1",
-                                 .help = "suspension stiffness per unit chassis mass, 1/s^2 (btVehicleTuning::m_suspensionStiffness); damping follows as sqrt(3k)",
-                                 .min = 0, .min_exclusive = true, .max = 1e6},
-                                Vehicle::kCar},
-                    SettingSpec{{.key = "wheel_angle", .kind = ParamKind::kChoice, .default_text = "heading",
-                                 .help = "the realized wheel angle: the front wheel's travel along its heading / R, or Bullet's m_rotation (travel along the chassis axis / R)",
-                                 .choices = {"heading", "m_rotation"}},
-                                Vehicle::kCar}},
-          .make_raw_car = make_raw_bullet_raycast_car};
+  return {
+      .name = "bullet-raycast",
+      .library = "Bullet",
+      .version = fmt::format("{} (double)", LIFTCHECK_BULLET_VERSION),
+      .description =
+          "Bullet btRaycastVehicle: ray-cast wheels on a spring-damper suspension, per-wheel side impulses, engine "
+          "force on the front wheel",
+      .color = "#9467bd",
+      .make_car = [](const Settings& s) { return std::make_unique<BulletRaycastCar>(s); },
+      .make_disks = {},
+      .contact_dynamics = true,
+      .settings =
+          {{"precision", "double (bullet-float64)"},
+           {"stepper",
+            "btDiscreteDynamicsWorld, stepSimulation(dt, 1, dt); the vehicle is an action run after integration"},
+           {"vehicle",
+            "btRaycastVehicle with btDefaultVehicleRaycaster, setCoordinateSystem(1, 2, 0); 3 wheels: front (steered, "
+            "driven) at the front-axle centre, rear (passive) at the rear axle +-track/2; wheel direction -z, axle -y"},
+           {"chassis",
+            "box l x track x height of the car's total mass (chassis + 3 wheels + knuckle), centre of mass at the "
+            "middle of the tie rod at axle height, collides with nothing; ground: static btRigidBody plane"},
+           {"suspension",
+            "stiffness k per unit chassis mass (knob), damping sqrt(3k) per unit mass in compression and relaxation "
+            "(173 at k = 1e4), max force 1e6 N; connection points R/3 above the centre of mass, rest lengths R/3 + "
+            "static sag (g/(2k) front, g/(4k) rear), so the chassis starts level and at rest with wheel centres at z = "
+            "R; max travel rest + R (never binds)"},
+           {"friction",
+            "one Jacobi side-impulse pass per wheel per step (resolveSingleBilateral with Bullet's hard-coded 0.2 "
+            "damping, 0.2 of the impulse that cancels the wheel's lateral velocity): not a no-slip model, the lateral "
+            "slip carries the centripetal force; m_frictionSlip = mu caps the combined impulse at mu x suspension "
+            "force x dt; roll influence 0.1 (Bullet default)"},
+           {"speed",
+            "engine force on the front wheel F = M x 160/s x (spin command x R - forward speed of the front wheel "
+            "centre along the wheel's heading), capped at the servo's torque limit / R (1.5 mu N of the front wheel: "
+            "353 N for the default car); no feed-forward; 160/s = 4 x the 40/s angle servo: the cascade is critically "
+            "damped"},
+           {"steering",
+            "kinematic: setSteeringValue with the commanded steering rate integrated over each step (left positive)"},
+           {"hold",
+            "for the first settle_s (0.5 s) after build all three wheels are braked (setBrake, impulse cap mu M g dt "
+            "per wheel) with engine force 0; afterwards no brakes"},
+           {"wheel angle",
+            "no spin state (along-slip not measured): heading = the front wheel's travel along its own heading / R, "
+            "integrated like Bullet's m_rotation; m_rotation = Bullet's own value, which projects the velocity on the "
+            "chassis axis, so the steered wheel turns cos(beta) too slowly; the spin reported for the slip metrics is "
+            "the angle's change per step (m_deltaRotation before Bullet's 0.99 decay)"},
+           {"stability",
+            "the suspension is explicit: at k = 1e4 the run diverges for dt >= 2 ms (a period-2 oscillation from about "
+            "1.8 ms); smaller k allows larger steps"},
+           {"threads",
+            "Bullet writes the same constants into one function-static btRigidBody (btActionInterface::getFixedBody, "
+            "the vehicle's ground object) from every vehicle on every ray cast and reads it in the friction pass: the "
+            "body is made once before the first vehicle, and each vehicle's action (ray casts, suspension, friction) "
+            "holds a process-wide lock, so concurrent runs take turns at it; the numbers do not depend on what else "
+            "runs"}},
+      .knobs = {SettingSpec{{.key = "suspension_stiffness",
+                             .kind = ParamKind::kNumber,
+                             .default_text = "10000",
+                             .unit = "1",
+                             .help = "suspension stiffness per unit chassis mass, 1/s^2 "
+                                     "(btVehicleTuning::m_suspensionStiffness); damping follows as sqrt(3k)",
+                             .min = 0,
+                             .min_exclusive = true,
+                             .max = 1e6},
+                            Vehicle::kCar},
+                SettingSpec{{.key = "wheel_angle",
+                             .kind = ParamKind::kChoice,
+                             .default_text = "heading",
+                             .help = "the realized wheel angle: the front wheel's travel along its heading / R, or "
+                                     "Bullet's m_rotation (travel along the chassis axis / R)",
+                             .choices = {"heading", "m_rotation"}},
+                            Vehicle::kCar}},
+      .make_raw_car = make_raw_bullet_raycast_car};
 }
 
 }  // namespace liftcheck

@@ -74,7 +74,9 @@ enum class Detector {
   kDart,     ///< "dart": DARTCollisionDetector, analytic spheres and boxes
 };
 
-Detector detector_of(const Settings& s) { return s.choice("detector") == "dart" ? Detector::kDart : Detector::kShipped; }
+Detector detector_of(const Settings& s) {
+  return s.choice("detector") == "dart" ? Detector::kDart : Detector::kShipped;
+}
 
 constexpr double kGroundSize_m = 200.0, kGroundThickness_m = 1.0;
 constexpr double kDiskMass_kg = 1.0;
@@ -86,7 +88,8 @@ std::shared_ptr<dart::simulation::World> make_world(Detector det, const Eigen::V
   auto world = dart::simulation::World::create("liftcheck");
   world->setGravity(gravity_W_mps2);
   world->setTimeStep(dt_s);
-  if (det == Detector::kDart) world->getConstraintSolver()->setCollisionDetector(dart::collision::DARTCollisionDetector::create());
+  if (det == Detector::kDart)
+    world->getConstraintSolver()->setCollisionDetector(dart::collision::DARTCollisionDetector::create());
   return world;
 }
 
@@ -102,7 +105,8 @@ ShapeNode* add_shape(BodyNode* body, std::shared_ptr<dart::dynamics::Shape> shap
 
 /// Box inertia (diagonal) about its centre.
 Eigen::Matrix3d box_inertia(double m, double a, double b, double c) {
-  return Eigen::Vector3d(m * (b * b + c * c) / 12.0, m * (a * a + c * c) / 12.0, m * (a * a + b * b) / 12.0).asDiagonal();
+  return Eigen::Vector3d(m * (b * b + c * c) / 12.0, m * (a * a + c * c) / 12.0, m * (a * a + b * b) / 12.0)
+      .asDiagonal();
 }
 
 class RawDartCar;
@@ -112,7 +116,9 @@ class DartCar final : public RigidCar {
 
  public:
   explicit DartCar(Settings settings)
-      : RigidCar(std::move(settings)), det_(detector_of(settings_)), wheel_dirs_(settings_.choice("friction_dirs") == "wheel") {}
+      : RigidCar(std::move(settings)),
+        det_(detector_of(settings_)),
+        wheel_dirs_(settings_.choice("friction_dirs") == "wheel") {}
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
@@ -124,7 +130,10 @@ class DartCar final : public RigidCar {
     Eigen::Isometry3d below = Eigen::Isometry3d::Identity();
     below.translation() = Eigen::Vector3d(0.0, 0.0, -0.5 * kGroundThickness_m);
     gj->setTransformFromParentBodyNode(below);
-    add_shape(gb, std::make_shared<dart::dynamics::BoxShape>(Eigen::Vector3d(kGroundSize_m, kGroundSize_m, kGroundThickness_m)), setup.mu);
+    add_shape(
+        gb,
+        std::make_shared<dart::dynamics::BoxShape>(Eigen::Vector3d(kGroundSize_m, kGroundSize_m, kGroundThickness_m)),
+        setup.mu);
     ground->setMobile(false);
     world_->addSkeleton(ground);
 
@@ -155,7 +164,8 @@ class DartCar final : public RigidCar {
     dart::dynamics::RevoluteJoint::Properties steer_p;
     steer_p.mName = "steer";
     steer_p.mAxis = Eigen::Vector3d::UnitZ();
-    auto [sj, knuckle] = car_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(chassis, steer_p, named("knuckle"));
+    auto [sj, knuckle] =
+        car_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(chassis, steer_p, named("knuckle"));
     knuckle->setMass(d.knuckle_mass_kg);
     knuckle->setMomentOfInertia(d.knuckle_inertia_kgm2(), d.knuckle_inertia_kgm2(), d.knuckle_inertia_kgm2());
     steer_ = sj;
@@ -163,7 +173,8 @@ class DartCar final : public RigidCar {
     dart::dynamics::RevoluteJoint::Properties spin_p;
     spin_p.mName = "spin";
     spin_p.mAxis = Eigen::Vector3d::UnitY();
-    auto [wj, front] = car_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(knuckle, spin_p, named("front wheel"));
+    auto [wj, front] =
+        car_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(knuckle, spin_p, named("front wheel"));
     wheel_body(front, knuckle);
     spin_ = wj;
     wheels_[0] = front;
@@ -173,7 +184,8 @@ class DartCar final : public RigidCar {
       rp.mName = side == 0 ? "rear left" : "rear right";
       rp.mAxis = Eigen::Vector3d::UnitY();
       rp.mT_ParentBodyToJoint.translation() = Eigen::Vector3d(-d.l_m, (side == 0 ? 0.5 : -0.5) * d.track_m, 0.0);
-      auto [rj, rb] = car_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(chassis, rp, named(rp.mName + " wheel"));
+      auto [rj, rb] =
+          car_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(chassis, rp, named(rp.mName + " wheel"));
       wheel_body(rb, chassis);
       wheels_[1 + side] = rb;
     }
@@ -211,13 +223,14 @@ class DartCar final : public RigidCar {
     st.y_m = front.y();
     st.z_m = front.z();
     st.phi_rad = std::atan2(Tc.linear()(1, 0), Tc.linear()(0, 0));
-    st.rear_z_m = std::min(wheels_[1]->getWorldTransform().translation().z(), wheels_[2]->getWorldTransform().translation().z());
+    st.rear_z_m =
+        std::min(wheels_[1]->getWorldTransform().translation().z(), wheels_[2]->getWorldTransform().translation().z());
     for (int w = 0; w < 3; ++w) {
       const BodyNode* b = wheels_[w];
       const Eigen::Isometry3d T = b->getWorldTransform();
       // The wheel's frame origin is its centre: the body's linear velocity is the hub's.
-      st.wheels[w] = {b->getLinearVelocity(), b->getAngularVelocity(), (T.linear() * Eigen::Vector3d::UnitY()).normalized(),
-                      T.translation().z()};
+      st.wheels[w] = {b->getLinearVelocity(), b->getAngularVelocity(),
+                      (T.linear() * Eigen::Vector3d::UnitY()).normalized(), T.translation().z()};
     }
     return st;
   }
@@ -307,22 +320,46 @@ std::string detector_name(Detector det) { return det == Detector::kDart ? "dart"
 std::vector<std::pair<std::string, std::string>> settings_for(Detector det) {
   using dart::constraint::ContactConstraint;
   const std::string detector = fmt::format(
-      "--set detector for cars and disks (default {}): fcl, FCLCollisionDetector as World creates it (primitive shape type MESH: spheres tessellated into "
-      "polyhedra; DART's own contact points); dart, DARTCollisionDetector set on the constraint solver (analytic sphere-box and sphere-sphere contacts)",
+      "--set detector for cars and disks (default {}): fcl, FCLCollisionDetector as World creates it (primitive shape "
+      "type MESH: spheres tessellated into "
+      "polyhedra; DART's own contact points); dart, DARTCollisionDetector set on the constraint solver (analytic "
+      "sphere-box and sphere-sphere contacts)",
       detector_name(det));
   return {
-      {"stepper", "dart::simulation::World::step: Featherstone forward dynamics, semi-implicit Euler (velocities, then positions with the new velocities), fixed dt"},
-      {"constraint solver", "BoxedLcpConstraintSolver as shipped: Dantzig boxed LCP, PGS as fallback; contacts, servos and friction in one LCP per step"},
-      {"contact parameters", fmt::format("ContactConstraint defaults: error reduction {:g}, max error reduction velocity {:g} m/s, error allowance {:g} m, CFM {:g}; restitution 0",
-                                         ContactConstraint::getErrorReductionParameter(), ContactConstraint::getMaxErrorReductionVelocity(),
-                                         ContactConstraint::getErrorAllowance(), ContactConstraint::getConstraintForceMixing())},
+      {"stepper",
+       "dart::simulation::World::step: Featherstone forward dynamics, semi-implicit Euler (velocities, then positions "
+       "with the new velocities), fixed dt"},
+      {"constraint solver",
+       "BoxedLcpConstraintSolver as shipped: Dantzig boxed LCP, PGS as fallback; contacts, servos and friction in one "
+       "LCP per step"},
+      {"contact parameters",
+       fmt::format("ContactConstraint defaults: error reduction {:g}, max error reduction velocity {:g} m/s, error "
+                   "allowance {:g} m, CFM {:g}; restitution 0",
+                   ContactConstraint::getErrorReductionParameter(), ContactConstraint::getMaxErrorReductionVelocity(),
+                   ContactConstraint::getErrorAllowance(), ContactConstraint::getConstraintForceMixing())},
       {"collision detector", detector},
-      {"friction", "Coulomb, wheel and ground shapes both set to mu (so the pair has mu whichever way DART combines them), friction pyramid with two directions; the first one is set by friction_dirs"},
-      {"friction directions", "world (DART's default): derived from the contact normal alone, so fixed to the world axes; wheel: DynamicsAspect first friction direction x of the knuckle (front) or chassis (rear), the rolling direction"},
-      {"joints", "Skeleton: FreeJoint chassis (frame at the front-axle centre, a box of the scenario's chassis_mass, centre of mass l/2 behind, no collision shape); RevoluteJoint steering knuckle (knuckle_mass, isotropic inertia knuckle_mass x 2e-3 m^2) about the chassis z; RevoluteJoint front wheel about the knuckle's y; RevoluteJoint rear wheels about the chassis y; sphere wheels of wheel_mass"},
+      {"friction",
+       "Coulomb, wheel and ground shapes both set to mu (so the pair has mu whichever way DART combines them), "
+       "friction pyramid with two directions; the first one is set by friction_dirs"},
+      {"friction directions",
+       "world (DART's default): derived from the contact normal alone, so fixed to the world axes; wheel: "
+       "DynamicsAspect first friction direction x of the knuckle (front) or chassis (rear), the rolling direction"},
+      {"joints",
+       "Skeleton: FreeJoint chassis (frame at the front-axle centre, a box of the scenario's chassis_mass, centre of "
+       "mass l/2 behind, no collision shape); RevoluteJoint steering knuckle (knuckle_mass, isotropic inertia "
+       "knuckle_mass x 2e-3 m^2) about the chassis z; RevoluteJoint front wheel about the knuckle's y; RevoluteJoint "
+       "rear wheels about the chassis y; sphere wheels of wheel_mass"},
       {"ground", "static skeleton (WeldJoint, not mobile): a 200 x 200 x 1 m BoxShape with its top face at z = 0"},
-      {"servo", "Joint::SERVO actuators on steering and spin (command = joint velocity, solved with the contacts), force limits +-(1.5 mu N R of the driven wheel: 106 N m for the default car); rate = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s"},
-      {"disks", "M: skeleton on a TranslationalJoint with SERVO actuators (radius 1, 1 kg, frictionless, no gravity), commands = the commanded velocity (z 0), force limits +-servo_force_limit_N on each axis (--set, default 1e5 N; DART's own default is unbounded); N: skeleton on a TranslationalJoint with VELOCITY actuators (kinematic) commanded to land on its path each step; contact from World::getLastCollisionResult() (the collision pass at the start of the step), depth >= 0"},
+      {"servo",
+       "Joint::SERVO actuators on steering and spin (command = joint velocity, solved with the contacts), force limits "
+       "+-(1.5 mu N R of the driven wheel: 106 N m for the default car); rate = commanded rate + 40/s x angle error; "
+       "settle 0.5 s, hold 0.2 s"},
+      {"disks",
+       "M: skeleton on a TranslationalJoint with SERVO actuators (radius 1, 1 kg, frictionless, no gravity), commands "
+       "= the commanded velocity (z 0), force limits +-servo_force_limit_N on each axis (--set, default 1e5 N; DART's "
+       "own default is unbounded); N: skeleton on a TranslationalJoint with VELOCITY actuators (kinematic) commanded "
+       "to land on its path each step; contact from World::getLastCollisionResult() (the collision pass at the start "
+       "of the step), depth >= 0"},
   };
 }
 
@@ -356,19 +393,31 @@ class RawDartCar final : public RawCar {
 std::vector<SettingSpec> knobs_for(Detector det) {
   std::vector<SettingSpec> knobs;
   for (const Vehicle vehicle : kVehicles)
-    knobs.push_back({{.key = "detector", .kind = ParamKind::kChoice, .default_text = detector_name(det),
-                      .help = "collision detector of the World's constraint solver (ConstraintSolver::setCollisionDetector): fcl, the FCLCollisionDetector "
-                              "World creates by default, which meshes primitive shapes; dart, DARTCollisionDetector, DART's own analytic detector for spheres and boxes",
+    knobs.push_back({{.key = "detector",
+                      .kind = ParamKind::kChoice,
+                      .default_text = detector_name(det),
+                      .help = "collision detector of the World's constraint solver "
+                              "(ConstraintSolver::setCollisionDetector): fcl, the FCLCollisionDetector "
+                              "World creates by default, which meshes primitive shapes; dart, DARTCollisionDetector, "
+                              "DART's own analytic detector for spheres and boxes",
                       .choices = {"fcl", "dart"}},
                      vehicle});
-  knobs.push_back({{.key = "friction_dirs", .kind = ParamKind::kChoice, .default_text = "world",
-                    .help = "first friction direction: DART's default from the contact normal (world-fixed), or along the wheel's rolling direction (DynamicsAspect::setFirstFrictionDirection)",
+  knobs.push_back({{.key = "friction_dirs",
+                    .kind = ParamKind::kChoice,
+                    .default_text = "world",
+                    .help = "first friction direction: DART's default from the contact normal (world-fixed), or along "
+                            "the wheel's rolling direction (DynamicsAspect::setFirstFrictionDirection)",
                     .choices = {"world", "wheel"}},
                    Vehicle::kCar});
-  knobs.push_back({{.key = "servo_force_limit_N", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDiskServoForceMax_N), .unit = "N",
-                    .help = "force limit of disk M's SERVO actuator on each translational axis (Joint::setForceLowerLimit/setForceUpperLimit at -+ the value; "
+  knobs.push_back({{.key = "servo_force_limit_N",
+                    .kind = ParamKind::kNumber,
+                    .default_text = fmt::format("{:g}", kDiskServoForceMax_N),
+                    .unit = "N",
+                    .help = "force limit of disk M's SERVO actuator on each translational axis "
+                            "(Joint::setForceLowerLimit/setForceUpperLimit at -+ the value; "
                             "DART's own default is unbounded)",
-                    .min = 0.0, .min_exclusive = true},
+                    .min = 0.0,
+                    .min_exclusive = true},
                    Vehicle::kDisks});
   return knobs;
 }
@@ -378,8 +427,10 @@ EngineInfo make_info(Detector det) {
   return {.name = prim ? "dart-primitive" : "dart",
           .library = "DART",
           .version = DART_VERSION,
-          .description = prim ? "DART with its own collision detector (DARTCollisionDetector): analytic sphere contacts; Skeleton tricycle, SERVO actuators, Dantzig LCP"
-                              : "DART as shipped: FCL collision detection with spheres as meshes, Dantzig LCP; Skeleton tricycle, SERVO actuators",
+          .description = prim ? "DART with its own collision detector (DARTCollisionDetector): analytic sphere "
+                                "contacts; Skeleton tricycle, SERVO actuators, Dantzig LCP"
+                              : "DART as shipped: FCL collision detection with spheres as meshes, Dantzig LCP; "
+                                "Skeleton tricycle, SERVO actuators",
           .color = prim ? "#e377c2" : "#8c564b",
           .make_car = [](const Settings& s) { return std::make_unique<DartCar>(s); },
           .make_disks = [](const Settings& s) { return std::make_unique<DartDisks>(s); },

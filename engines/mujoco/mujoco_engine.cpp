@@ -60,8 +60,8 @@ struct Variant {
   /// solref's time constant for every geom (MJCF <default><geom solref="timeconst 1"/>); none:
   /// refsafe's floor of 2 dt, the stiffest contact MuJoCo steps without clamping.
   std::optional<double> solref_timeconst_s = kDefaultTimeconst_s;
-  bool elliptic = false;      ///< option cone: pyramidal (MuJoCo's default) or elliptic
-  double impratio = 1.0;      ///< MuJoCo's default 1
+  bool elliptic = false;  ///< option cone: pyramidal (MuJoCo's default) or elliptic
+  double impratio = 1.0;  ///< MuJoCo's default 1
 };
 
 // Velocity actuator gains: MuJoCo's Euler step treats an actuator's velocity term explicitly, so
@@ -90,27 +90,34 @@ double solref_timeconst(const Variant& v, double dt) {
   const double floor_s = 2.0 * dt;
   const double tc = v.solref_timeconst_s.value_or(floor_s);
   if (tc < floor_s)
-    throw InputError(fmt::format("setting 'solref_timeconst_s' = {:g} s is below 2 dt = {:g} s, the floor MuJoCo's refsafe raises solref's time constant to "
-                                 "without a word: set at least {:g} s (or a smaller dt)", tc, floor_s, floor_s));
+    throw InputError(
+        fmt::format("setting 'solref_timeconst_s' = {:g} s is below 2 dt = {:g} s, the floor MuJoCo's refsafe raises "
+                    "solref's time constant to "
+                    "without a word: set at least {:g} s (or a smaller dt)",
+                    tc, floor_s, floor_s));
   return tc;
 }
 
 /// The <option> element and the geom defaults of a variant at time step dt. Options left at
 /// MuJoCo's defaults are not written; solref always is (MuJoCo's own default is 0.02 1).
 std::string option_xml(const Variant& v, double dt, const Eigen::Vector3d& gravity_W_mps2) {
-  std::string opt = fmt::format(R"(<option timestep="{:.17g}" gravity="{:.17g} {:.17g} {:.17g}")", dt, gravity_W_mps2.x(), gravity_W_mps2.y(), gravity_W_mps2.z());
+  std::string opt = fmt::format(R"(<option timestep="{:.17g}" gravity="{:.17g} {:.17g} {:.17g}")", dt,
+                                gravity_W_mps2.x(), gravity_W_mps2.y(), gravity_W_mps2.z());
   if (v.noslip_iterations > 0) opt += fmt::format(R"( noslip_iterations="{}")", v.noslip_iterations);
   if (v.elliptic) opt += R"( cone="elliptic")";
   if (v.impratio != 1.0) opt += fmt::format(R"( impratio="{:.17g}")", v.impratio);
   opt += "/>\n";
-  opt += fmt::format(R"(<default><geom solref="{:.17g} 1"/></default>)" "\n", solref_timeconst(v, dt));
+  opt += fmt::format(R"(<default><geom solref="{:.17g} 1"/></default>)"
+                     "\n",
+                     solref_timeconst(v, dt));
   return opt;
 }
 
 /// MuJoCo's warnings go to stderr, set once per process before the first model is compiled.
 void route_warnings() {
   static std::once_flag once;
-  std::call_once(once, [] { mju_user_warning = [](const char* msg) { std::fprintf(stderr, "MuJoCo warning: %s\n", msg); }; });
+  std::call_once(once,
+                 [] { mju_user_warning = [](const char* msg) { std::fprintf(stderr, "MuJoCo warning: %s\n", msg); }; });
 }
 
 /// A compiled model and its data, owned together.
@@ -171,7 +178,10 @@ class Sim {
     for (int w : {mjWARN_BADQPOS, mjWARN_BADQVEL, mjWARN_BADQACC})
       if (d_->warning[w].number > 0)
         throw EngineError(fmt::format("MuJoCo reported a bad state ({}) at t = {:.4f} s",
-                                      w == mjWARN_BADQPOS ? "qpos" : w == mjWARN_BADQVEL ? "qvel" : "qacc", d_->time));
+                                      w == mjWARN_BADQPOS   ? "qpos"
+                                      : w == mjWARN_BADQVEL ? "qvel"
+                                                            : "qacc",
+                                      d_->time));
   }
 
   mjModel* m_ = nullptr;
@@ -233,10 +243,12 @@ class MujocoCar final : public RigidCar {
         fmt::arg("half_track", num(0.5 * d.track_m)), fmt::arg("half_track_neg", num(-0.5 * d.track_m)),
         fmt::arg("half_h", num(0.5 * d.chassis_height_m)), fmt::arg("mc", num(d.chassis_mass_kg)),
         fmt::arg("bw", num(std::cos(0.5 * q0.beta_rad))), fmt::arg("bz", num(std::sin(0.5 * q0.beta_rad))),
-        fmt::arg("mk", num(d.knuckle_mass_kg)), fmt::arg("ik", num(d.knuckle_inertia_kgm2())), fmt::arg("wheel", wheel_geom),
-        fmt::arg("l_neg", num(-d.l_m)), fmt::arg("kv_spin", num(spin_inertia(d) / setup.dt_s)), fmt::arg("kv_steer", num(steer_inertia(d) / setup.dt_s)),
-        fmt::arg("tspin", num(servo_.spin_torque_max_Nm)), fmt::arg("tspin_neg", num(-servo_.spin_torque_max_Nm)),
-        fmt::arg("tsteer", num(servo_.steer_torque_max_Nm)), fmt::arg("tsteer_neg", num(-servo_.steer_torque_max_Nm)));
+        fmt::arg("mk", num(d.knuckle_mass_kg)), fmt::arg("ik", num(d.knuckle_inertia_kgm2())),
+        fmt::arg("wheel", wheel_geom), fmt::arg("l_neg", num(-d.l_m)),
+        fmt::arg("kv_spin", num(spin_inertia(d) / setup.dt_s)),
+        fmt::arg("kv_steer", num(steer_inertia(d) / setup.dt_s)), fmt::arg("tspin", num(servo_.spin_torque_max_Nm)),
+        fmt::arg("tspin_neg", num(-servo_.spin_torque_max_Nm)), fmt::arg("tsteer", num(servo_.steer_torque_max_Nm)),
+        fmt::arg("tsteer_neg", num(-servo_.steer_torque_max_Nm)));
     sim_.reset();
     sim_ = std::make_unique<Sim>(xml);
     const mjModel* m = sim_->m();
@@ -320,9 +332,9 @@ class MujocoDisks final : public DrivenDisks {
 </actuator>
 </mujoco>
 )",
-        fmt::arg("option", option_xml(v_, setup.dt_s, Eigen::Vector3d::Zero())), fmt::arg("mx", num(cM0.x())), fmt::arg("my", num(cM0.y())),
-        fmt::arg("nx", num(cN0.x())), fmt::arg("ny", num(cN0.y())), fmt::arg("r", num(setup.radius_m)),
-        fmt::arg("mass", num(kDiskMass_kg)), fmt::arg("kv", num(kv)));
+        fmt::arg("option", option_xml(v_, setup.dt_s, Eigen::Vector3d::Zero())), fmt::arg("mx", num(cM0.x())),
+        fmt::arg("my", num(cM0.y())), fmt::arg("nx", num(cN0.x())), fmt::arg("ny", num(cN0.y())),
+        fmt::arg("r", num(setup.radius_m)), fmt::arg("mass", num(kDiskMass_kg)), fmt::arg("kv", num(kv)));
     sim_.reset();
     sim_ = std::make_unique<Sim>(xml);
     M_ = sim_->id(mjOBJ_BODY, "M");
@@ -371,16 +383,24 @@ class MujocoDisks final : public DrivenDisks {
 std::string version() { return fmt::format("{} (header {})", mj_versionString(), mjVERSION_HEADER); }
 
 const char* const kServo =
-    "MuJoCo velocity actuators (force = kv (ctrl - qvel), explicit in the Euler step) on the spin and steering hinges, kv = I / dt "
-    "for the joint's own inertia I (deadbeat when unloaded: 72 N m s at R = 0.3 m, dt = 1 ms), force limited to the servo's torque limit (1.5 mu N R of the driven wheel, 106 N m for the default car); "
+    "MuJoCo velocity actuators (force = kv (ctrl - qvel), explicit in the Euler step) on the spin and steering hinges, "
+    "kv = I / dt "
+    "for the joint's own inertia I (deadbeat when unloaded: 72 N m s at R = 0.3 m, dt = 1 ms), force limited to the "
+    "servo's torque limit (1.5 mu N R of the driven wheel, 106 N m for the default car); "
     "ctrl = commanded rate + 40/s x angle error; settle 0.5 s, hold 0.2 s";
 const char* const kJoints =
-    "chassis: free joint at the front-axle centre (box of the scenario's chassis_mass l/2 behind it, no collision); steering knuckle (knuckle_mass, isotropic inertia knuckle_mass x 2e-3 m^2) hinged "
-    "about the chassis z at the front-axle centre; front wheel hinged about the knuckle's y; rear wheels hinged about the chassis y";
-const char* const kStepping = "mj_step1 / set ctrl / mj_step2 (equal to mj_step); Euler integrator (MuJoCo's default), Newton solver, 100 iterations, tolerance 1e-8";
+    "chassis: free joint at the front-axle centre (box of the scenario's chassis_mass l/2 behind it, no collision); "
+    "steering knuckle (knuckle_mass, isotropic inertia knuckle_mass x 2e-3 m^2) hinged "
+    "about the chassis z at the front-axle centre; front wheel hinged about the knuckle's y; rear wheels hinged about "
+    "the chassis y";
+const char* const kStepping =
+    "mj_step1 / set ctrl / mj_step2 (equal to mj_step); Euler integrator (MuJoCo's default), Newton solver, 100 "
+    "iterations, tolerance 1e-8";
 const char* const kDisks =
-    "M: sphere (radius 1, 1 kg) on slide joints x and y, velocity actuators kv = 1 kg / dt (one Euler step realises the command); "
-    "N: mocap sphere placed on its path each step; no gravity, frictionless (condim 1); first contact from the contacts mj_step1 "
+    "M: sphere (radius 1, 1 kg) on slide joints x and y, velocity actuators kv = 1 kg / dt (one Euler step realises "
+    "the command); "
+    "N: mocap sphere placed on its path each step; no gravity, frictionless (condim 1); first contact from the "
+    "contacts mj_step1 "
     "generated on the state a step starts from (dist <= 0); the configuration's contact options apply";
 
 std::vector<std::pair<std::string, std::string>> common_settings(const std::string& contact, const std::string& cone) {
@@ -388,7 +408,9 @@ std::vector<std::pair<std::string, std::string>> common_settings(const std::stri
           {"stepping", kStepping},
           {"timestep", "the scenario's dt (option timestep)"},
           {"joints", kJoints},
-          {"wheels", "spheres of radius R, 2 kg, condim 3, friction mu (torsional 0.005 and rolling 1e-4 unused at condim 3); ground plane, friction mu (MuJoCo takes the larger)"},
+          {"wheels",
+           "spheres of radius R, 2 kg, condim 3, friction mu (torsional 0.005 and rolling 1e-4 unused at condim 3); "
+           "ground plane, friction mu (MuJoCo takes the larger)"},
           {"contact", contact},
           {"friction cone", cone},
           {"servo", kServo},
@@ -399,7 +421,9 @@ std::vector<std::pair<std::string, std::string>> common_settings(const std::stri
 /// controls set once, mj_step directly.
 class RawMujocoCar final : public RawCar {
  public:
-  RawMujocoCar(const Settings& s, Variant v, const CarSetup& setup, const car::Config& q0) : car_(s, v) { car_.reset(setup, q0); }
+  RawMujocoCar(const Settings& s, Variant v, const CarSetup& setup, const car::Config& q0) : car_(s, v) {
+    car_.reset(setup, q0);
+  }
 
   void run(long steps, double spin_radps) override {
     const mjModel* m = car_.sim_->m();
@@ -428,21 +452,33 @@ const Variant kStiff{.solref_timeconst_s = std::nullopt, .elliptic = true, .impr
 std::vector<SettingSpec> soft_contact_knobs() {
   std::vector<SettingSpec> knobs;
   for (const Vehicle vehicle : kVehicles)
-    knobs.push_back({{.key = "solref_timeconst_s", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultTimeconst_s), .unit = "s",
-                      .help = "time constant of the contacts' soft constraint: solref[0] of the geom defaults (MJCF <default><geom solref=\"timeconst 1\"/>, "
-                              "MuJoCo's default 0.02 s), damping ratio kept at 1; at least 2 dt, refsafe's floor, to which MuJoCo would raise a smaller one without a word",
-                      .min = 0.0, .min_exclusive = true, .max = 1.0},
+    knobs.push_back({{.key = "solref_timeconst_s",
+                      .kind = ParamKind::kNumber,
+                      .default_text = fmt::format("{:g}", kDefaultTimeconst_s),
+                      .unit = "s",
+                      .help = "time constant of the contacts' soft constraint: solref[0] of the geom defaults (MJCF "
+                              "<default><geom solref=\"timeconst 1\"/>, "
+                              "MuJoCo's default 0.02 s), damping ratio kept at 1; at least 2 dt, refsafe's floor, to "
+                              "which MuJoCo would raise a smaller one without a word",
+                      .min = 0.0,
+                      .min_exclusive = true,
+                      .max = 1.0},
                      vehicle});
-  knobs.push_back({{.key = "cone", .kind = ParamKind::kChoice, .default_text = "pyramidal",
-                    .help = "friction cone (option cone): pyramidal, MuJoCo's default, or elliptic", .choices = {"pyramidal", "elliptic"}},
+  knobs.push_back({{.key = "cone",
+                    .kind = ParamKind::kChoice,
+                    .default_text = "pyramidal",
+                    .help = "friction cone (option cone): pyramidal, MuJoCo's default, or elliptic",
+                    .choices = {"pyramidal", "elliptic"}},
                    Vehicle::kCar});
   return knobs;
 }
 
 const char* const kSoftContact =
-    "solref (solref_timeconst_s, 1): the geom defaults' time constant, --set solref_timeconst_s for cars and disks (default 0.02 s, MuJoCo's; "
+    "solref (solref_timeconst_s, 1): the geom defaults' time constant, --set solref_timeconst_s for cars and disks "
+    "(default 0.02 s, MuJoCo's; "
     "refused below 2 dt, refsafe's floor), damping ratio 1; solimp 0.9 0.95 0.001 (MuJoCo's default), margin 0";
-const char* const kSoftCone = "car --set cone (default pyramidal, MuJoCo's; elliptic); disks frictionless; impratio 1 (MuJoCo's default)";
+const char* const kSoftCone =
+    "car --set cone (default pyramidal, MuJoCo's; elliptic); disks frictionless; impratio 1 (MuJoCo's default)";
 
 }  // namespace
 
@@ -462,7 +498,9 @@ EngineInfo mujoco_engine() {
   return {.name = "mujoco",
           .library = "MuJoCo",
           .version = version(),
-          .description = "MuJoCo as shipped: MJCF tricycle with a free-joint chassis, hinge wheels, velocity actuators; Euler, Newton, pyramidal cone, soft contacts (solref 0.02 1)",
+          .description =
+              "MuJoCo as shipped: MJCF tricycle with a free-joint chassis, hinge wheels, velocity actuators; Euler, "
+              "Newton, pyramidal cone, soft contacts (solref 0.02 1)",
           .color = "#2ca02c",
           .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, kShipped); },
           .make_disks = [](const Settings& s) { return std::make_unique<MujocoDisks>(s, kShipped); },
@@ -474,15 +512,25 @@ EngineInfo mujoco_engine() {
 
 EngineInfo mujoco_noslip_engine() {
   auto settings = common_settings(kSoftContact, kSoftCone);
-  settings.push_back({"noslip", fmt::format("noslip post-solver: car --set noslip_iterations (default {}); disks {} (frictionless, so it has no friction rows to act on)", kDefaultNoslip, kDefaultNoslip)});
-  std::vector<SettingSpec> knobs = {SettingSpec{{.key = "noslip_iterations", .kind = ParamKind::kInteger, .default_text = std::to_string(kDefaultNoslip), .unit = "1",
-                                                 .help = "noslip post-solver iterations (option noslip_iterations; 0 turns it off)", .min = 0, .max = 1000},
-                                                Vehicle::kCar}};
+  settings.push_back({"noslip", fmt::format("noslip post-solver: car --set noslip_iterations (default {}); disks {} "
+                                            "(frictionless, so it has no friction rows to act on)",
+                                            kDefaultNoslip, kDefaultNoslip)});
+  std::vector<SettingSpec> knobs = {
+      SettingSpec{{.key = "noslip_iterations",
+                   .kind = ParamKind::kInteger,
+                   .default_text = std::to_string(kDefaultNoslip),
+                   .unit = "1",
+                   .help = "noslip post-solver iterations (option noslip_iterations; 0 turns it off)",
+                   .min = 0,
+                   .max = 1000},
+                  Vehicle::kCar}};
   for (SettingSpec& k : soft_contact_knobs()) knobs.push_back(std::move(k));
   return {.name = "mujoco-noslip",
           .library = "MuJoCo",
           .version = version(),
-          .description = "MuJoCo's defaults plus the noslip post-solver (10 iterations), the remedy MuJoCo's documentation names for slip",
+          .description =
+              "MuJoCo's defaults plus the noslip post-solver (10 iterations), the remedy MuJoCo's documentation names "
+              "for slip",
           .color = "#98df8a",
           .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, kNoslip); },
           .make_disks = [](const Settings& s) { return std::make_unique<MujocoDisks>(s, kNoslip); },
@@ -495,20 +543,30 @@ EngineInfo mujoco_noslip_engine() {
 // No solref_timeconst_s here: this configuration's time constant is 2 dt of the run's own dt, which
 // no fixed default value states (and any smaller one refsafe would clamp).
 EngineInfo mujoco_stiff_engine() {
-  auto settings = common_settings("solref (2 dt, 1): time constant at its refsafe floor of 2 x timestep (0.002 at 1 ms), damping ratio 1; solimp 0.9 0.95 0.001 (default), margin 0",
-                                  fmt::format("elliptic; impratio: car --set impratio (default {:g}), disks {:g}", kDefaultImpratio, kDefaultImpratio));
+  auto settings = common_settings(
+      "solref (2 dt, 1): time constant at its refsafe floor of 2 x timestep (0.002 at 1 ms), damping ratio 1; solimp "
+      "0.9 0.95 0.001 (default), margin 0",
+      fmt::format("elliptic; impratio: car --set impratio (default {:g}), disks {:g}", kDefaultImpratio,
+                  kDefaultImpratio));
   settings.push_back({"noslip", "off (noslip_iterations 0, MuJoCo's default)"});
   return {.name = "mujoco-stiff",
           .library = "MuJoCo",
           .version = version(),
-          .description = "MuJoCo with the stiffest contacts refsafe allows (solref 2 dt), elliptic friction cone, impratio 10",
+          .description =
+              "MuJoCo with the stiffest contacts refsafe allows (solref 2 dt), elliptic friction cone, impratio 10",
           .color = "#006d2c",
           .make_car = [](const Settings& s) { return std::make_unique<MujocoCar>(s, kStiff); },
           .make_disks = [](const Settings& s) { return std::make_unique<MujocoDisks>(s, kStiff); },
           .contact_dynamics = true,
           .settings = settings,
-          .knobs = {SettingSpec{{.key = "impratio", .kind = ParamKind::kNumber, .default_text = fmt::format("{:g}", kDefaultImpratio), .unit = "1",
-                                 .help = "ratio of frictional to normal constraint impedance (option impratio)", .min = 0.0, .min_exclusive = true, .max = 1000.0},
+          .knobs = {SettingSpec{{.key = "impratio",
+                                 .kind = ParamKind::kNumber,
+                                 .default_text = fmt::format("{:g}", kDefaultImpratio),
+                                 .unit = "1",
+                                 .help = "ratio of frictional to normal constraint impedance (option impratio)",
+                                 .min = 0.0,
+                                 .min_exclusive = true,
+                                 .max = 1000.0},
                                 Vehicle::kCar}},
           .make_raw_car = make_raw_mujoco_stiff_car};
 }

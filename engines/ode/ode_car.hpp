@@ -16,10 +16,10 @@ constexpr double kContactSoftCfm_m_per_Ns = 1e-9;
 /// settings, or the iterative quick-step solver with Gazebo's SDF physics defaults.
 struct OdeStepper {
   bool quick = false;
-  int iterations = 50;                    ///< dWorldSetQuickStepNumIterations (quick only)
-  double w = 1.3;                         ///< dWorldSetQuickStepW, SOR over-relaxation (quick only)
-  double cfm = 1e-10;                     ///< global CFM (dWorldStep needs a little: LCP errors at 0)
-  double surface_layer_m = 0.0;           ///< dWorldSetContactSurfaceLayer
+  int iterations = 50;                       ///< dWorldSetQuickStepNumIterations (quick only)
+  double w = 1.3;                            ///< dWorldSetQuickStepW, SOR over-relaxation (quick only)
+  double cfm = 1e-10;                        ///< global CFM (dWorldStep needs a little: LCP errors at 0)
+  double surface_layer_m = 0.0;              ///< dWorldSetContactSurfaceLayer
   double max_correcting_vel_mps = INFINITY;  ///< dWorldSetContactMaxCorrectingVel
 
   /// Gazebo's defaults (sdformat physics.sdf: quick, 50 iterations, SOR 1.3, CFM 0, ERP 0.2,

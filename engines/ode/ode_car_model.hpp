@@ -16,13 +16,15 @@ namespace liftcheck {
 
 /// The ODE car's knobs, typed once when the car is made.
 struct OdeCarKnobs {
-  bool cylinder = false;                          ///< wheel: cylinders instead of spheres
-  double soft_erp = kContactSoftErp;              ///< contact_erp (ode-quick has none: ODE's default)
-  double soft_cfm = kContactSoftCfm_m_per_Ns;     ///< contact_cfm
-  bool wheel_dirs = true;                         ///< friction_dirs: dContactFDir1 along the rolling direction
+  bool cylinder = false;                       ///< wheel: cylinders instead of spheres
+  double soft_erp = kContactSoftErp;           ///< contact_erp (ode-quick has none: ODE's default)
+  double soft_cfm = kContactSoftCfm_m_per_Ns;  ///< contact_cfm
+  bool wheel_dirs = true;                      ///< friction_dirs: dContactFDir1 along the rolling direction
   static OdeCarKnobs from(const Settings& s) {
-    return {.cylinder = s.choice("wheel") == "cylinder", .soft_erp = s.has("contact_erp") ? s.number("contact_erp") : kContactSoftErp,
-            .soft_cfm = s.number("contact_cfm"), .wheel_dirs = s.choice("friction_dirs") == "wheel"};
+    return {.cylinder = s.choice("wheel") == "cylinder",
+            .soft_erp = s.has("contact_erp") ? s.number("contact_erp") : kContactSoftErp,
+            .soft_cfm = s.number("contact_cfm"),
+            .wheel_dirs = s.choice("friction_dirs") == "wheel"};
   }
 };
 
@@ -101,7 +103,8 @@ class OdeCar : public RigidCar {
       const double y_k = n_front_ == 1 ? 0.0 : (k == 0 ? 0.5 : -0.5) * d.track_m;
       beta0_[k] = q0.beta_rad;
       if (n_front_ == 2 && !d.parallel_steering)
-        beta0_[k] = car::ackermann_wheel_angle(q0.beta_rad, d.l_m, d.track_m, k == 0 ? car::Side::kLeft : car::Side::kRight);
+        beta0_[k] =
+            car::ackermann_wheel_angle(q0.beta_rad, d.l_m, d.track_m, k == 0 ? car::Side::kLeft : car::Side::kRight);
       const double steer_yaw = q0.phi_rad + beta0_[k];
       const auto p = to_world(0.0, y_k, d.R_m);
       front_[k] = make_wheel(p, steer_yaw, true);
@@ -117,7 +120,6 @@ class OdeCar : public RigidCar {
     }
     rear_[0] = make_wheel(to_world(-d.l_m, 0.5 * d.track_m, d.R_m), q0.phi_rad, false);
     rear_[1] = make_wheel(to_world(-d.l_m, -0.5 * d.track_m, d.R_m), q0.phi_rad, false);
-
 
     // Rear: plain hinges about the rear axle.
     for (int i = 0; i < 2; ++i) {
@@ -166,14 +168,18 @@ class OdeCar : public RigidCar {
     }
     s.phi_rad = std::atan2(Rc[4], Rc[0]);  // chassis x axis in the world: (R00, R10)
     s.rear_z_m = std::min(dBodyGetPosition(rear_[0])[2], dBodyGetPosition(rear_[1])[2]);
-    const dBodyID bodies[4] = {front_[0], n_front_ == 2 ? front_[1] : rear_[0], n_front_ == 2 ? rear_[0] : rear_[1], rear_[1]};
+    const dBodyID bodies[4] = {front_[0], n_front_ == 2 ? front_[1] : rear_[0], n_front_ == 2 ? rear_[0] : rear_[1],
+                               rear_[1]};
     for (int w = 0; w < n_front_ + 2; ++w) {
       const dReal* v = dBodyGetLinearVel(bodies[w]);
       const dReal* o = dBodyGetAngularVel(bodies[w]);
       dVector3 axle;
-      if (w < n_front_) dJointGetHinge2Axis2(steer_joint_[w], axle);
-      else dJointGetHingeAxis(rear_joint_[w - n_front_], axle);
-      s.wheels[w] = {{v[0], v[1], v[2]}, {o[0], o[1], o[2]}, {axle[0], axle[1], axle[2]}, dBodyGetPosition(bodies[w])[2]};
+      if (w < n_front_)
+        dJointGetHinge2Axis2(steer_joint_[w], axle);
+      else
+        dJointGetHingeAxis(rear_joint_[w - n_front_], axle);
+      s.wheels[w] = {
+          {v[0], v[1], v[2]}, {o[0], o[1], o[2]}, {axle[0], axle[1], axle[2]}, dBodyGetPosition(bodies[w])[2]};
     }
     return s;
   }
@@ -193,9 +199,12 @@ class OdeCar : public RigidCar {
     dBodyID body = dGeomGetBody(wheel);
     // Rolling direction: the axle (the hinge axis) turned a quarter about the up axis.
     dVector3 axle;
-    if (body == self->front_[0]) dJointGetHinge2Axis2(self->steer_joint_[0], axle);
-    else if (body == self->front_[1]) dJointGetHinge2Axis2(self->steer_joint_[1], axle);
-    else dJointGetHingeAxis(self->rear_joint_[body == self->rear_[0] ? 0 : 1], axle);
+    if (body == self->front_[0])
+      dJointGetHinge2Axis2(self->steer_joint_[0], axle);
+    else if (body == self->front_[1])
+      dJointGetHinge2Axis2(self->steer_joint_[1], axle);
+    else
+      dJointGetHingeAxis(self->rear_joint_[body == self->rear_[0] ? 0 : 1], axle);
     dContact contact[4];
     const int n = dCollide(o1, o2, 4, &contact[0].geom, sizeof(dContact));
     for (int i = 0; i < n; ++i) {
@@ -221,7 +230,7 @@ class OdeCar : public RigidCar {
   void destroy() {
     if (contacts_) dJointGroupDestroy(contacts_);
     if (space_) dSpaceDestroy(space_);  // destroys its geoms
-    sim_.reset();  // destroys the world, its bodies and joints
+    sim_.reset();                       // destroys the world, its bodies and joints
     contacts_ = nullptr;
     space_ = nullptr;
     world_ = nullptr;
@@ -234,13 +243,13 @@ class OdeCar : public RigidCar {
   dGeomID ground_ = nullptr;
   dBodyID chassis_ = nullptr, front_[2] = {nullptr, nullptr}, rear_[2] = {nullptr, nullptr};
   dJointID steer_joint_[2] = {nullptr, nullptr}, rear_joint_[2] = {nullptr, nullptr};
-  int n_front_ = 1;  ///< front wheels: 1 (tricycle) or 2 (left, right)
+  int n_front_ = 1;                          ///< front wheels: 1 (tricycle) or 2 (left, right)
   double beta0_[2] = {0.0, 0.0}, mu_ = 1.0;  ///< each front wheel's start steering angle
-  double soft_erp_ = kContactSoftErp, soft_cfm_ = kContactSoftCfm_m_per_Ns;  ///< the wheel-ground contacts' soft_erp, soft_cfm
+  double soft_erp_ = kContactSoftErp,
+         soft_cfm_ = kContactSoftCfm_m_per_Ns;  ///< the wheel-ground contacts' soft_erp, soft_cfm
   bool wheel_dirs_ = true;
   OdeStepper stepper_;
   const OdeCarKnobs knobs_;
 };
-
 
 }  // namespace liftcheck

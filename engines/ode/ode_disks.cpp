@@ -51,7 +51,8 @@ void OdeDisks::near_callback(void* data, dGeomID o1, dGeomID o2) {
   }
 }
 
-DrivenDisks::StepContacts OdeDisks::step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2&, double dt_s) {
+DrivenDisks::StepContacts OdeDisks::step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2&,
+                                         double dt_s) {
   dBodySetLinearVel(M_, vM_cmd.x(), vM_cmd.y(), 0.0);
   // N is kinematic: ODE integrates the velocity that lands it on its path at the end of the step.
   const dReal* p = dBodyGetPosition(N_);

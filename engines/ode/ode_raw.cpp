@@ -24,8 +24,10 @@ class OdeRawCar final : public RawCar {
     const bool quick = car_.stepper_.quick;
     for (long k = 0; k < steps; ++k) {
       dSpaceCollide(car_.space_, &car_, &OdeCar::near_callback);
-      if (quick) dWorldQuickStep(car_.world_, dt_s_);
-      else dWorldStep(car_.world_, dt_s_);
+      if (quick)
+        dWorldQuickStep(car_.world_, dt_s_);
+      else
+        dWorldStep(car_.world_, dt_s_);
       dJointGroupEmpty(car_.contacts_);
     }
   }

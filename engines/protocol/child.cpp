@@ -107,7 +107,8 @@ void close_fd(int& fd) {
 
 }  // namespace
 
-ProtocolChild::ProtocolChild(std::string label, const std::vector<std::string>& argv, const std::string& cwd) : label_(std::move(label)) {
+ProtocolChild::ProtocolChild(std::string label, const std::vector<std::string>& argv, const std::string& cwd)
+    : label_(std::move(label)) {
   if (argv.empty()) throw EngineError(fmt::format("engine '{}': its registration names no command", label_));
   // A child that died is seen at its pipe's end, not by a signal that would end liftcheck.
   std::signal(SIGPIPE, SIG_IGN);
@@ -167,7 +168,8 @@ ProtocolChild::ProtocolChild(std::string label, const std::vector<std::string>& 
   if (rc != 0) {
     ::close(in[1]), ::close(out[0]), ::close(err[0]);
     pid_ = -1;
-    throw EngineError(fmt::format("engine '{}': cannot start '{}' (in {}): {}", label_, clip(argv[0]), cwd.empty() ? "." : cwd, std::strerror(rc)));
+    throw EngineError(fmt::format("engine '{}': cannot start '{}' (in {}): {}", label_, clip(argv[0]),
+                                  cwd.empty() ? "." : cwd, std::strerror(rc)));
   }
   in_fd_ = in[1], out_fd_ = out[0], err_fd_ = err[0];
   fcntl(in_fd_, F_SETFL, O_NONBLOCK);
@@ -193,10 +195,10 @@ void ProtocolChild::kill_and_reap() {
     ::kill(-pid_, SIGKILL);
     ::kill(pid_, SIGKILL);
     int status = 0;
-    while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {
-    }
+    while (waitpid(pid_, &status, 0) < 0 && errno == EINTR) {}
     if (exit_how_.empty())
-      exit_how_ = WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status)) : fmt::format("exited with status {}", WEXITSTATUS(status));
+      exit_how_ = WIFSIGNALED(status) ? fmt::format("killed by signal {}", WTERMSIG(status))
+                                      : fmt::format("exited with status {}", WEXITSTATUS(status));
     pid_ = -1;
   }
   // What it started that outlived it or left its group (reaped already, its group is not named).
@@ -219,7 +221,7 @@ void ProtocolChild::drain_stderr() {
     }
     if (got < 0 && errno == EINTR) continue;
     if (got == 0) err_open_ = false;  // its end: polled no more (it would wake every poll at once)
-    return;  // end of file or nothing more for now
+    return;                           // end of file or nothing more for now
   }
 }
 
@@ -227,7 +229,8 @@ std::string ProtocolChild::context() const {
   std::string s = last_line_.empty() ? "; it sent nothing" : fmt::format("; it sent last: '{}'", clip(last_line_));
   const std::string err = last_nonempty_line(err_tail_);
   if (!err.empty()) s += fmt::format("; its stderr ended: '{}'", clip(err));
-  if (err_tail_.find("ERR_MODULE_NOT_FOUND") != std::string::npos || err_tail_.find("Cannot find module") != std::string::npos ||
+  if (err_tail_.find("ERR_MODULE_NOT_FOUND") != std::string::npos ||
+      err_tail_.find("Cannot find module") != std::string::npos ||
       err_tail_.find("Cannot find package") != std::string::npos)
     s += " (are the npm packages installed? 'npm ci' in engines/outside, which 'make build' runs)";
   return s;
@@ -242,8 +245,9 @@ bool ProtocolChild::reaped_if_gone() {
   if (pid_ <= 0) return true;
   int status = 0;
   if (waitpid(pid_, &status, WNOHANG) != pid_) return false;
-  exit_how_ = WIFSIGNALED(status) ? fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
-                                  : fmt::format("exited with status {}", WEXITSTATUS(status));
+  exit_how_ = WIFSIGNALED(status)
+                  ? fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
+                  : fmt::format("exited with status {}", WEXITSTATUS(status));
   pid_ = -1;
   return true;
 }
@@ -331,13 +335,15 @@ const std::string& ProtocolChild::read_line(double deadline_s) {
       pid_t r = 0;
       for (int k = 0; k < 100 && pid_ > 0 && (r = waitpid(pid_, &status, WNOHANG)) == 0; ++k) usleep(10000);
       if (r == pid_ && pid_ > 0) {
-        exit_how_ = WIFSIGNALED(status) ? fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
-                                        : fmt::format("exited with status {}", WEXITSTATUS(status));
+        exit_how_ = WIFSIGNALED(status)
+                        ? fmt::format("killed by signal {} ({})", WTERMSIG(status), strsignal(WTERMSIG(status)))
+                        : fmt::format("exited with status {}", WEXITSTATUS(status));
         pid_ = -1;
       }
       drain_stderr();
       if (!out_buf_.empty()) last_line_ = out_buf_.substr(0, 200);
-      fail(fmt::format("the process ended ({}) without replying", exit_how_.empty() ? "closed its standard output" : exit_how_));
+      fail(fmt::format("the process ended ({}) without replying",
+                       exit_how_.empty() ? "closed its standard output" : exit_how_));
     }
   }
 }
@@ -372,16 +378,23 @@ nlohmann::json ProtocolChild::checked_reply(const std::string& line) {
   nlohmann::json reply = nlohmann::json::parse(line, nullptr, false);
   if (reply.is_discarded()) {
     const bool non_finite = line.find("NaN") != std::string::npos || line.find("Infinity") != std::string::npos;
-    fail(non_finite ? "a reply with a non-finite number (NaN or Infinity is not JSON)" : "a reply that is not one JSON object");
+    fail(non_finite ? "a reply with a non-finite number (NaN or Infinity is not JSON)"
+                    : "a reply that is not one JSON object");
   }
   if (!reply.is_object()) fail("a reply that is not a JSON object");
   const auto id = reply.find("id");
   if (id == reply.end())
-    fail(fmt::format("a reply without its request's number (\"id\": {}): protocol {} numbers every request and each reply must carry "
-                     "its number (an adapter written to protocol 1?)", id_, kProtocolVersion));
-  if (!id->is_number_integer()) fail(fmt::format("a reply whose \"id\" {} is not a whole number (the request's number is {})", clip(id->dump(), 40), id_));
+    fail(
+        fmt::format("a reply without its request's number (\"id\": {}): protocol {} numbers every request and each "
+                    "reply must carry "
+                    "its number (an adapter written to protocol 1?)",
+                    id_, kProtocolVersion));
+  if (!id->is_number_integer())
+    fail(fmt::format("a reply whose \"id\" {} is not a whole number (the request's number is {})", clip(id->dump(), 40),
+                     id_));
   if (id->get<long>() != id_)
-    fail(fmt::format("a reply numbered {} to request {}: out of step with its requests (a line too many or too few)", id->get<long>(), id_));
+    fail(fmt::format("a reply numbered {} to request {}: out of step with its requests (a line too many or too few)",
+                     id->get<long>(), id_));
   const auto ok = reply.find("ok");
   if (ok == reply.end() || !ok->is_boolean()) fail("a reply without a boolean 'ok'");
   if (!ok->get<bool>()) {
@@ -401,7 +414,9 @@ nlohmann::json ProtocolChild::call(const nlohmann::json& request, double timeout
 double ProtocolChild::number(const nlohmann::json& reply, const char* key, const char* where) {
   const auto it = reply.find(key);
   if (it == reply.end()) fail(fmt::format("the reply has no field '{}{}'", where, key));
-  if (!it->is_number()) fail(fmt::format("field '{}{}' is {}, not a number", where, key, it->is_null() ? "null (not finite?)" : it->type_name()));
+  if (!it->is_number())
+    fail(fmt::format("field '{}{}' is {}, not a number", where, key,
+                     it->is_null() ? "null (not finite?)" : it->type_name()));
   const double v = it->get<double>();
   if (!std::isfinite(v)) fail(fmt::format("field '{}{}' is not finite", where, key));
   return v;
@@ -411,10 +426,13 @@ std::vector<double> ProtocolChild::numbers(const nlohmann::json& reply, const ch
   const auto it = reply.find(key);
   if (it == reply.end()) fail(fmt::format("the reply has no field '{}{}'", where, key));
   if (!it->is_array() || (n > 0 && it->size() != n) || it->empty())
-    fail(fmt::format("field '{}{}' is not an array of {} numbers", where, key, n > 0 ? fmt::format("{}", n) : "1 or more"));
+    fail(fmt::format("field '{}{}' is not an array of {} numbers", where, key,
+                     n > 0 ? fmt::format("{}", n) : "1 or more"));
   std::vector<double> out;
   for (const auto& v : *it) {
-    if (!v.is_number()) fail(fmt::format("field '{}{}' holds {}, not a number", where, key, v.is_null() ? "null (not finite?)" : v.type_name()));
+    if (!v.is_number())
+      fail(fmt::format("field '{}{}' holds {}, not a number", where, key,
+                       v.is_null() ? "null (not finite?)" : v.type_name()));
     out.push_back(v.get<double>());
     if (!std::isfinite(out.back())) fail(fmt::format("field '{}{}' holds a non-finite number", where, key));
   }

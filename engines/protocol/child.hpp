@@ -87,13 +87,13 @@ class ProtocolChild {
   void write_all(const std::string& text, double deadline_s);
 
   std::string label_;
-  std::string op_ = "start";    ///< the request in flight, for messages
+  std::string op_ = "start";  ///< the request in flight, for messages
   pid_t pid_ = -1;
   int in_fd_ = -1, out_fd_ = -1, err_fd_ = -1;
-  std::string out_buf_;         ///< stdout read past the last complete line
-  std::string err_tail_;        ///< the last 8 KiB of stderr
-  std::string last_line_;       ///< the last complete line it sent on stdout
-  std::string exit_how_;        ///< "exited with status 1", once reaped
+  std::string out_buf_;    ///< stdout read past the last complete line
+  std::string err_tail_;   ///< the last 8 KiB of stderr
+  std::string last_line_;  ///< the last complete line it sent on stdout
+  std::string exit_how_;   ///< "exited with status 1", once reaped
   bool healthy_ = true;
   double timeout_hint_s_ = 0.0;  ///< the time limit of the call in flight
   long id_ = 0;                  ///< the number of the request in flight

@@ -17,9 +17,9 @@ namespace liftcheck {
 class FlatReply {
  public:
   struct Slot {
-    std::string path;       ///< keys and array indices joined by '/'
-    bool required = true;   ///< an optional slot left out reads as 0
-    bool integer = false;   ///< must be a whole number (JSON without fraction or exponent)
+    std::string path;      ///< keys and array indices joined by '/'
+    bool required = true;  ///< an optional slot left out reads as 0
+    bool integer = false;  ///< must be a whole number (JSON without fraction or exponent)
   };
   explicit FlatReply(std::vector<Slot> slots);
 

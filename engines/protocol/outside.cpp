@@ -20,9 +20,9 @@
 #include "engines/protocol/flat_reply.hpp"
 #include "engines/rigid_car.hpp"
 #include "input/interrupt.hpp"
-#include "input/params.hpp"     // InputError
+#include "input/params.hpp"  // InputError
 #include "input/read_file.hpp"
-#include "input/trace.hpp"      // parse_json_text, printable
+#include "input/trace.hpp"  // parse_json_text, printable
 
 #ifndef LIFTCHECK_OUTSIDE_DIR
 #define LIFTCHECK_OUTSIDE_DIR "engines/outside"
@@ -57,7 +57,8 @@ json hello(ProtocolChild& c, double deadline_s) {
   json r = c.call({{"op", "hello"}, {"protocol", kProtocolVersion}}, std::max(0.05, deadline_s - now_s()));
   const auto p = r.find("protocol");
   if (p == r.end() || !p->is_number_integer() || p->get<long>() != kProtocolVersion)
-    c.fail(fmt::format("speaks protocol {}, liftcheck speaks {}", p == r.end() ? "(none given)" : p->dump(), kProtocolVersion));
+    c.fail(fmt::format("speaks protocol {}, liftcheck speaks {}", p == r.end() ? "(none given)" : p->dump(),
+                       kProtocolVersion));
   return r;
 }
 
@@ -163,8 +164,16 @@ void put(std::string& out, double v) {
 /// The slots of a car step reply (docs/protocol.md, "step (car)"), in the order car_state_of reads them.
 std::vector<FlatReply::Slot> car_slots(int wheels) {
   const bool four = wheels == 4;
-  std::vector<FlatReply::Slot> s{{"engine_s"}, {"spin_joint_rad/0"}, {"spin_joint_rad/1", four}, {"steer_rad/0"}, {"steer_rad/1", four},
-                                 {"x_m"}, {"y_m"}, {"z_m"}, {"phi_rad"}, {"rear_z_m"}};
+  std::vector<FlatReply::Slot> s{{"engine_s"},
+                                 {"spin_joint_rad/0"},
+                                 {"spin_joint_rad/1", four},
+                                 {"steer_rad/0"},
+                                 {"steer_rad/1", four},
+                                 {"x_m"},
+                                 {"y_m"},
+                                 {"z_m"},
+                                 {"phi_rad"},
+                                 {"rear_z_m"}};
   for (int k = 0; k < wheels; ++k) {
     for (const char* v : {"v_hub_W", "omega_W", "axle_W"})
       for (int i = 0; i < 3; ++i) s.push_back({fmt::format("wheels/{}/{}/{}", k, v, i)});
@@ -180,7 +189,8 @@ size_t car_id_slot(int wheels) { return 10 + 10 * static_cast<size_t>(wheels); }
 /// RigidCarState from a reply read by the slots of car_slots(wheels).
 RigidCarState car_state_of(const FlatReply& f, int wheels) {
   RigidCarState s{};
-  s.spin_joint_rad[0] = f.value(1), s.spin_joint_rad[1] = f.value(2), s.steer_rad[0] = f.value(3), s.steer_rad[1] = f.value(4);
+  s.spin_joint_rad[0] = f.value(1), s.spin_joint_rad[1] = f.value(2), s.steer_rad[0] = f.value(3),
+  s.steer_rad[1] = f.value(4);
   s.x_m = f.value(5), s.y_m = f.value(6), s.z_m = f.value(7), s.phi_rad = f.value(8), s.rear_z_m = f.value(9);
   size_t i = 10;
   for (int k = 0; k < wheels; ++k, i += 10) {
@@ -196,19 +206,34 @@ RigidCarState car_state_of(const FlatReply& f, int wheels) {
 class ProtocolCar final : public RigidCar {
  public:
   ProtocolCar(std::shared_ptr<Outside> o, Settings s)
-      : RigidCar(std::move(s)), lease_(std::move(o)), wheel_shape_(settings_.has("wheel") ? settings_.choice("wheel") : "sphere") {}
+      : RigidCar(std::move(s)),
+        lease_(std::move(o)),
+        wheel_shape_(settings_.has("wheel") ? settings_.choice("wheel") : "sphere") {}
   double reported_engine_s() const override { return engine_s_; }
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    const json car{{"R_m", d.R_m}, {"l_m", d.l_m}, {"track_m", d.track_m}, {"wheels", d.wheels},
-                   {"parallel_steering", d.parallel_steering}, {"wheel_width_m", d.wheel_width_m},
-                   {"wheel_shape", wheel_shape_}, {"chassis_height_m", d.chassis_height_m},
-                   {"chassis_mass_kg", d.chassis_mass_kg}, {"wheel_mass_kg", d.wheel_mass_kg}, {"knuckle_mass_kg", d.knuckle_mass_kg}};
-    const json req{{"op", "car"}, {"settings", settings_json(settings_)}, {"dt_s", setup.dt_s}, {"mu", setup.mu},
-                   {"gravity_W", vec(setup.gravity_W())}, {"car", car},
-                   {"q0", {{"x_m", q0.x_m}, {"y_m", q0.y_m}, {"phi_rad", q0.phi_rad}, {"beta_rad", q0.beta_rad}}},
-                   {"servo", {{"spin_torque_max_Nm", servo_.spin_torque_max_Nm}, {"steer_torque_max_Nm", servo_.steer_torque_max_Nm}}}};
+    const json car{{"R_m", d.R_m},
+                   {"l_m", d.l_m},
+                   {"track_m", d.track_m},
+                   {"wheels", d.wheels},
+                   {"parallel_steering", d.parallel_steering},
+                   {"wheel_width_m", d.wheel_width_m},
+                   {"wheel_shape", wheel_shape_},
+                   {"chassis_height_m", d.chassis_height_m},
+                   {"chassis_mass_kg", d.chassis_mass_kg},
+                   {"wheel_mass_kg", d.wheel_mass_kg},
+                   {"knuckle_mass_kg", d.knuckle_mass_kg}};
+    const json req{
+        {"op", "car"},
+        {"settings", settings_json(settings_)},
+        {"dt_s", setup.dt_s},
+        {"mu", setup.mu},
+        {"gravity_W", vec(setup.gravity_W())},
+        {"car", car},
+        {"q0", {{"x_m", q0.x_m}, {"y_m", q0.y_m}, {"phi_rad", q0.phi_rad}, {"beta_rad", q0.beta_rad}}},
+        {"servo",
+         {{"spin_torque_max_Nm", servo_.spin_torque_max_Nm}, {"steer_torque_max_Nm", servo_.steer_torque_max_Nm}}}};
     const json r = lease_.call(req);
     state_ = car_state(lease_.get(), r, d.wheels);
   }
@@ -226,7 +251,8 @@ class ProtocolCar final : public RigidCar {
     ProtocolChild& c = lease_.get();
     const std::string& line = c.exchange("step", request_, lease_.seconds_left());
     if (!reply_ || reply_wheels_ != def_.wheels) reply_.emplace(car_slots(def_.wheels)), reply_wheels_ = def_.wheels;
-    if (reply_->read(line) && reply_->value(0) >= 0.0 && reply_->value(car_id_slot(def_.wheels)) == static_cast<double>(c.request_id())) {
+    if (reply_->read(line) && reply_->value(0) >= 0.0 &&
+        reply_->value(car_id_slot(def_.wheels)) == static_cast<double>(c.request_id())) {
       engine_s_ += reply_->value(0);
       state_ = car_state_of(*reply_, def_.wheels);
       return;
@@ -257,12 +283,17 @@ class ProtocolDisks final : public DrivenDisks {
 
  protected:
   void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
-    const json req{{"op", "disks"}, {"settings", settings_json(settings_)}, {"radius_m", setup.radius_m}, {"dt_s", setup.dt_s},
-                   {"cM0", vec(cM0)}, {"cN0", vec(cN0)}};
+    const json req{{"op", "disks"},
+                   {"settings", settings_json(settings_)},
+                   {"radius_m", setup.radius_m},
+                   {"dt_s", setup.dt_s},
+                   {"cM0", vec(cM0)},
+                   {"cN0", vec(cN0)}};
     const json r = lease_.call(req);
     state_ = positions(lease_.get(), r);
   }
-  StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN, double dt_s) override {
+  StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2& vN,
+                    double dt_s) override {
     request_.assign(R"({"op":"step","vM_cmd":[)");
     put(request_, vM_cmd.x()), request_ += ',', put(request_, vM_cmd.y());
     request_ += R"(],"cN_next":[)";
@@ -276,7 +307,8 @@ class ProtocolDisks final : public DrivenDisks {
     const std::string& line = c.exchange("step", request_, lease_.seconds_left());
     // The fast path: engine_s, cM, cN, contacts.count and, where there are contacts, their depth and
     // distance; the reply's number (slot 8) the request's.
-    if (reply_.read(line) && reply_.value(8) == static_cast<double>(c.request_id()) && reply_.value(0) >= 0.0 && reply_.value(5) >= 0.0 &&
+    if (reply_.read(line) && reply_.value(8) == static_cast<double>(c.request_id()) && reply_.value(0) >= 0.0 &&
+        reply_.value(5) >= 0.0 &&
         (reply_.value(5) == 0.0 || (reply_.given(6) && reply_.given(7) && reply_.value(6) >= 0.0))) {
       engine_s_ += reply_.value(0);
       state_ = {disks::Vec2(reply_.value(1), reply_.value(2)), disks::Vec2(reply_.value(3), reply_.value(4))};
@@ -291,7 +323,8 @@ class ProtocolDisks final : public DrivenDisks {
     const auto ct = r.find("contacts");
     if (ct == r.end() || !ct->is_object()) c.fail("the reply has no object 'contacts'");
     const auto n = ct->find("count");
-    if (n == ct->end() || !n->is_number_integer() || n->get<long>() < 0) c.fail("'contacts.count' is not a whole number >= 0");
+    if (n == ct->end() || !n->is_number_integer() || n->get<long>() < 0)
+      c.fail("'contacts.count' is not a whole number >= 0");
     StepContacts out;
     out.count = static_cast<int>(std::min<long>(n->get<long>(), 1000000));
     if (out.count > 0) {
@@ -316,13 +349,21 @@ class ProtocolDisks final : public DrivenDisks {
   State state_;
   double engine_s_ = 0.0;
   std::string request_;
-  FlatReply reply_{{{"engine_s"}, {"cM/0"}, {"cM/1"}, {"cN/0"}, {"cN/1"}, {"contacts/count", true, true},
-                    {"contacts/depth_max_m", false}, {"contacts/distance_min_m", false}, {"id", true, true}}};
+  FlatReply reply_{{{"engine_s"},
+                    {"cM/0"},
+                    {"cM/1"},
+                    {"cN/0"},
+                    {"cN/1"},
+                    {"contacts/count", true, true},
+                    {"contacts/depth_max_m", false},
+                    {"contacts/distance_min_m", false},
+                    {"id", true, true}}};
 };
 
 // ---- the hello: what the configuration is ----
 
-std::string text_field(ProtocolChild& c, const json& j, const char* key, const std::string& where, bool required = true) {
+std::string text_field(ProtocolChild& c, const json& j, const char* key, const std::string& where,
+                       bool required = true) {
   const auto it = j.find(key);
   if (it == j.end() && !required) return "";
   if (it == j.end() || !it->is_string()) c.fail(fmt::format("hello: '{}{}' must be a string", where, key));
@@ -349,7 +390,8 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
   k.help = text_field(c, j, "help", where, false);
   if (k.numeric()) {
     k.min = c.number(j, "min", where.c_str()), k.max = c.number(j, "max", where.c_str());
-    if (j.contains("min_exclusive") && !j["min_exclusive"].is_boolean()) c.fail(fmt::format("hello: {}min_exclusive must be true or false", where));
+    if (j.contains("min_exclusive") && !j["min_exclusive"].is_boolean())
+      c.fail(fmt::format("hello: {}min_exclusive must be true or false", where));
     k.min_exclusive = j.value("min_exclusive", false);
     k.unit = "1";
     try {
@@ -359,7 +401,8 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
     }
   } else {
     const auto ch = j.find("choices");
-    if (ch == j.end() || !ch->is_array() || ch->empty()) c.fail(fmt::format("hello: {}choices must be a non-empty array", where));
+    if (ch == j.end() || !ch->is_array() || ch->empty())
+      c.fail(fmt::format("hello: {}choices must be a non-empty array", where));
     for (const auto& v : *ch) {
       if (!v.is_string()) c.fail(fmt::format("hello: {}choices must be strings", where));
       k.choices.push_back(printable(v.get<std::string>(), 300));
@@ -375,7 +418,8 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
   e.library = text_field(c, r, "engine", "");
   e.version = text_field(c, r, "version", "");
   e.precision = text_field(c, r, "precision", "");
-  if (e.precision != "float32" && e.precision != "float64") c.fail(fmt::format("hello: precision '{}' must be float32 or float64", e.precision));
+  if (e.precision != "float32" && e.precision != "float64")
+    c.fail(fmt::format("hello: precision '{}' must be float32 or float64", e.precision));
   o->precision = e.precision;
   const auto v = r.find("vehicles");
   if (v == r.end() || !v->is_array()) c.fail("hello: 'vehicles' must be an array of \"car\" and \"disks\"");
@@ -395,18 +439,23 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
   }
   std::set<std::pair<std::string, Vehicle>> seen;
   for (const SettingSpec& k : e.knobs)
-    if (!seen.insert({k.key, k.vehicle}).second) c.fail(fmt::format("hello: setting '{}' declared twice for {}", k.key, to_string(k.vehicle)));
+    if (!seen.insert({k.key, k.vehicle}).second)
+      c.fail(fmt::format("hello: setting '{}' declared twice for {}", k.key, to_string(k.vehicle)));
   e.settings.clear();
   if (const auto f = r.find("fixed"); f != r.end()) {
     if (!f->is_array()) c.fail("hello: 'fixed' must be an array of [name, value] pairs");
     for (const auto& p : *f) {
-      if (!p.is_array() || p.size() != 2 || !p[0].is_string() || !p[1].is_string()) c.fail("hello: 'fixed' must be an array of [name, value] pairs");
+      if (!p.is_array() || p.size() != 2 || !p[0].is_string() || !p[1].is_string())
+        c.fail("hello: 'fixed' must be an array of [name, value] pairs");
       e.settings.emplace_back(printable(p[0].get<std::string>(), 300), printable(p[1].get<std::string>(), 1000));
     }
   }
-  e.settings.insert(e.settings.begin(), {"protocol", fmt::format("{} (docs/protocol.md), precision {}", fmt::join(e.outside.command, " "), e.precision)});
-  if (vehicles.count(Vehicle::kCar)) e.make_car = [o](const Settings& s) { return std::make_unique<ProtocolCar>(o, s); };
-  if (vehicles.count(Vehicle::kDisks)) e.make_disks = [o](const Settings& s) { return std::make_unique<ProtocolDisks>(o, s); };
+  e.settings.insert(e.settings.begin(), {"protocol", fmt::format("{} (docs/protocol.md), precision {}",
+                                                                 fmt::join(e.outside.command, " "), e.precision)});
+  if (vehicles.count(Vehicle::kCar))
+    e.make_car = [o](const Settings& s) { return std::make_unique<ProtocolCar>(o, s); };
+  if (vehicles.count(Vehicle::kDisks))
+    e.make_disks = [o](const Settings& s) { return std::make_unique<ProtocolDisks>(o, s); };
 }
 
 /// A configuration whose hello failed: every run of it is an error record saying why.
@@ -433,31 +482,42 @@ bool read_registration(const std::filesystem::path& file, EngineInfo& e, std::st
   } catch (const InputError& err) {
     return problem = registration_problem(file, err.what()), false;
   }
-  const auto str = [&](const char* key) { return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string(); };
+  const auto str = [&](const char* key) {
+    return j.contains(key) && j[key].is_string() ? j[key].get<std::string>() : std::string();
+  };
   if (!j.is_object()) return problem = registration_problem(file, "not a JSON object"), false;
   e.name = str("name");
   if (e.name.empty() || e.name.find_first_not_of("abcdefghijklmnopqrstuvwxyz0123456789.-_") != std::string::npos)
     return problem = registration_problem(file, "'name' must be lower-case letters, digits, '.', '-' and '_'"), false;
-  if (e.name != file.stem().string()) return problem = registration_problem(file, fmt::format("'name' '{}' must be the file's name", e.name)), false;
+  if (e.name != file.stem().string())
+    return problem = registration_problem(file, fmt::format("'name' '{}' must be the file's name", e.name)), false;
   if (!j.contains("command") || !j["command"].is_array() || j["command"].empty())
-    return problem = registration_problem(file, "'command' must be a non-empty array of strings (an argument vector)"), false;
+    return problem = registration_problem(file, "'command' must be a non-empty array of strings (an argument vector)"),
+           false;
   for (const auto& a : j["command"]) {
-    if (!a.is_string() || a.get<std::string>().empty()) return problem = registration_problem(file, "'command' must hold non-empty strings"), false;
+    if (!a.is_string() || a.get<std::string>().empty())
+      return problem = registration_problem(file, "'command' must hold non-empty strings"), false;
     // An argument vector holds C strings: a NUL would cut the argument short, unseen.
     if (a.get<std::string>().find('\0') != std::string::npos)
-      return problem = registration_problem(file, fmt::format("'command' argument {} holds a NUL byte ('{}')", e.outside.command.size(), printable(a.get<std::string>(), 80))), false;
+      return problem =
+                 registration_problem(file, fmt::format("'command' argument {} holds a NUL byte ('{}')",
+                                                        e.outside.command.size(), printable(a.get<std::string>(), 80))),
+             false;
     e.outside.command.push_back(a.get<std::string>());
   }
   e.description = str("description");
   e.color = str("color");
-  const bool hex = e.color.size() == 7 && e.color[0] == '#' && e.color.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos;
+  const bool hex = e.color.size() == 7 && e.color[0] == '#' &&
+                   e.color.find_first_not_of("0123456789abcdefABCDEF", 1) == std::string::npos;
   if (!hex) return problem = registration_problem(file, "'color' must be \"#rrggbb\""), false;
   // "points": "map": the configuration joins a suite's runs and its speed-accuracy map only; "runs":
   // its runs only, the map showing its default run (the rest with validate --all-points).
   const std::string points = j.contains("points") ? str("points") : "all";
   if (points != "all" && points != "map" && points != "runs")
     return problem = registration_problem(file, "'points' must be \"all\", \"map\" or \"runs\""), false;
-  e.outside.points = points == "all" ? OutsideEngine::Points::kAll : points == "map" ? OutsideEngine::Points::kMap : OutsideEngine::Points::kRuns;
+  e.outside.points = points == "all"   ? OutsideEngine::Points::kAll
+                     : points == "map" ? OutsideEngine::Points::kMap
+                                       : OutsideEngine::Points::kRuns;
   e.outside.registration = std::filesystem::absolute(file).lexically_normal().string();
   return true;
 }
@@ -513,7 +573,8 @@ std::vector<std::string> engine_dirs() {
   return dirs;
 }
 
-std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled_names, std::vector<std::string>& problems) {
+std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled_names,
+                                        std::vector<std::string>& problems) {
   std::vector<EngineInfo> out;
   std::set<std::string> taken(compiled_names.begin(), compiled_names.end());
   std::set<std::string> dirs_seen;
@@ -522,16 +583,20 @@ std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled
     const std::filesystem::path d = std::filesystem::weakly_canonical(std::filesystem::absolute(dir), ec);
     if (!dirs_seen.insert(d.string()).second) continue;
     if (!std::filesystem::is_directory(d, ec)) {
-      if (dir != default_suite_dir()) problems.push_back(fmt::format("engine folder '{}' (--engine-dir or LIFTCHECK_ENGINE_PATH) is not a folder", dir));
+      if (dir != default_suite_dir())
+        problems.push_back(
+            fmt::format("engine folder '{}' (--engine-dir or LIFTCHECK_ENGINE_PATH) is not a folder", dir));
       continue;
     }
     std::vector<std::filesystem::path> files;
     for (const auto& entry : std::filesystem::directory_iterator(d, ec)) {
       const std::string name = entry.path().filename().string();
-      if (entry.path().extension() == ".json" && name != "package.json" && name != "package-lock.json") files.push_back(entry.path());
+      if (entry.path().extension() == ".json" && name != "package.json" && name != "package-lock.json")
+        files.push_back(entry.path());
     }
     // By configuration name (the file's stem), so that "cannon" comes before "cannon-accurate".
-    std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.stem().string() < b.stem().string(); });
+    std::sort(files.begin(), files.end(),
+              [](const auto& a, const auto& b) { return a.stem().string() < b.stem().string(); });
     for (const auto& f : files) {
       EngineInfo e;
       std::string problem;
@@ -540,7 +605,8 @@ std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled
         continue;
       }
       if (!taken.insert(e.name).second) {
-        problems.push_back(registration_problem(f, fmt::format("the name '{}' is taken (by a compiled-in configuration or another registration)", e.name)));
+        problems.push_back(registration_problem(
+            f, fmt::format("the name '{}' is taken (by a compiled-in configuration or another registration)", e.name)));
         continue;
       }
       e.library = "outside";
@@ -571,7 +637,7 @@ void describe_outside(EngineInfo& e) {
   } catch (const EngineError& err) {
     make_unavailable(e, err.what());
   } catch (const Interrupted&) {
-    throw;  // a signal while it started: the command ends, the configuration is not judged
+    throw;                               // a signal while it started: the command ends, the configuration is not judged
   } catch (const std::exception& err) {  // a mistyped optional field of the hello
     make_unavailable(e, fmt::format("engine '{}' (hello): malformed: {}", e.name, err.what()));
   }

@@ -32,7 +32,8 @@ std::string adapter_path(const EngineInfo& e);
 /// One entry per registration file found, not yet described (no process started). A file that
 /// cannot be read or is malformed, a name taken twice or by a compiled-in configuration is left
 /// out and named in `problems` (one line each).
-std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled_names, std::vector<std::string>& problems);
+std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled_names,
+                                        std::vector<std::string>& problems);
 
 /// Reads the entry's hello (starting its first child process) and fills in its library, version,
 /// precision, vehicles, knobs and fixed settings. A child that cannot start or breaks the protocol

@@ -51,27 +51,35 @@ class ProtocolServer {
     if (op == "hello") return hello(req);
     if (op == "car") return car(req);
     if (op == "disks") return disks(req);
-    if (op == "step") return car_ ? car_step(req) : disks_ ? disk_step(req) : throw EngineError("'step' before 'car' or 'disks'");
+    if (op == "step")
+      return car_ ? car_step(req) : disks_ ? disk_step(req) : throw EngineError("'step' before 'car' or 'disks'");
     throw EngineError(fmt::format("unknown op '{}'", op));
   }
 
  private:
   json hello(const json& req) const {
     if (req.at("protocol") != kProtocolVersion)
-      throw EngineError(fmt::format("protocol {} asked, this server speaks {}", req.at("protocol").dump(), kProtocolVersion));
+      throw EngineError(
+          fmt::format("protocol {} asked, this server speaks {}", req.at("protocol").dump(), kProtocolVersion));
     json vehicles = json::array(), settings = json::array(), fixed = json::array();
     if (e_.make_car) vehicles.push_back("car");
     if (e_.make_disks) vehicles.push_back("disks");
     for (const SettingSpec& k : e_.knobs) {
-      json j{{"key", k.key}, {"vehicle", k.vehicle}, {"default", k.default_text}, {"help", k.help},
+      json j{{"key", k.key},
+             {"vehicle", k.vehicle},
+             {"default", k.default_text},
+             {"help", k.help},
              {"kind", k.kind_name()}};
-      if (k.numeric()) j["min"] = k.min, j["max"] = k.max, j["min_exclusive"] = k.min_exclusive;
-      else j["choices"] = k.choices;
+      if (k.numeric())
+        j["min"] = k.min, j["max"] = k.max, j["min_exclusive"] = k.min_exclusive;
+      else
+        j["choices"] = k.choices;
       settings.push_back(j);
     }
     for (const auto& [k, v] : e_.settings) fixed.push_back({k, v});
-    return {{"protocol", kProtocolVersion}, {"engine", e_.library}, {"version", e_.version}, {"precision", e_.precision},
-            {"vehicles", vehicles}, {"four_wheels", e_.four_wheels}, {"settings", settings}, {"fixed", fixed}};
+    return {{"protocol", kProtocolVersion}, {"engine", e_.library}, {"version", e_.version},
+            {"precision", e_.precision},    {"vehicles", vehicles}, {"four_wheels", e_.four_wheels},
+            {"settings", settings},         {"fixed", fixed}};
   }
 
   /// The request's settings, every knob of `vehicle` present (its default where not given).
@@ -79,7 +87,8 @@ class ProtocolServer {
     const Settings defaults = e_.defaults(vehicle);
     Overrides given;
     for (const auto& [k, v] : req.at("settings").items()) {
-      if (!defaults.has(k)) throw EngineError(fmt::format("'{}' has no setting '{}' for {}", e_.name, k, to_string(vehicle)));
+      if (!defaults.has(k))
+        throw EngineError(fmt::format("'{}' has no setting '{}' for {}", e_.name, k, to_string(vehicle)));
       given.emplace_back(k, v.get<std::string>());
     }
     try {
@@ -101,7 +110,8 @@ class ProtocolServer {
     setup.dt_s = req.at("dt_s"), setup.mu = req.at("mu");
     // Engines read gravity as gravity_W(): the request's vector itself, not a renormalised one.
     setup.gravity_mps2 = 1.0;
-    setup.gravity_dir_W = Eigen::Vector3d(req.at("gravity_W").at(0), req.at("gravity_W").at(1), req.at("gravity_W").at(2));
+    setup.gravity_dir_W =
+        Eigen::Vector3d(req.at("gravity_W").at(0), req.at("gravity_W").at(1), req.at("gravity_W").at(2));
     setup.wheels = c.at("wheels"), setup.track_m = c.at("track_m"), setup.parallel_steering = c.at("parallel_steering");
     const json& q = req.at("q0");
     const car::Config q0{0.0, q.at("beta_rad"), q.at("x_m"), q.at("y_m"), q.at("phi_rad")};
@@ -117,10 +127,19 @@ class ProtocolServer {
     json wheels = json::array();
     for (int k = 0; k < (car_->def_.wheels == 4 ? 4 : 3); ++k) {
       const WheelState& w = s.wheels[k];
-      wheels.push_back({{"v_hub_W", vec(w.v_hub_W)}, {"omega_W", vec(w.omega_W)}, {"axle_W", vec(w.axle_W)}, {"hub_z_m", w.hub_z_m}});
+      wheels.push_back({{"v_hub_W", vec(w.v_hub_W)},
+                        {"omega_W", vec(w.omega_W)},
+                        {"axle_W", vec(w.axle_W)},
+                        {"hub_z_m", w.hub_z_m}});
     }
-    return {{"spin_joint_rad", {s.spin_joint_rad[0], s.spin_joint_rad[1]}}, {"steer_rad", {s.steer_rad[0], s.steer_rad[1]}},
-            {"x_m", s.x_m}, {"y_m", s.y_m}, {"z_m", s.z_m}, {"phi_rad", s.phi_rad}, {"rear_z_m", s.rear_z_m}, {"wheels", wheels}};
+    return {{"spin_joint_rad", {s.spin_joint_rad[0], s.spin_joint_rad[1]}},
+            {"steer_rad", {s.steer_rad[0], s.steer_rad[1]}},
+            {"x_m", s.x_m},
+            {"y_m", s.y_m},
+            {"z_m", s.z_m},
+            {"phi_rad", s.phi_rad},
+            {"rear_z_m", s.rear_z_m},
+            {"wheels", wheels}};
   }
 
   json car_step(const json& req) {
@@ -154,11 +173,14 @@ class ProtocolServer {
 
   json disk_step(const json& req) {
     const auto t0 = std::chrono::steady_clock::now();
-    const DrivenDisks::StepContacts c = disks_->step(vec2(req.at("vM_cmd")), vec2(req.at("cN_next")), vec2(req.at("vN")), req.at("dt_s"));
+    const DrivenDisks::StepContacts c =
+        disks_->step(vec2(req.at("vM_cmd")), vec2(req.at("cN_next")), vec2(req.at("vN")), req.at("dt_s"));
     const double engine_s = seconds_since(t0);
     const DrivenDisks::State s = disks_->read();
     json contacts{{"count", c.count}};
-    if (c.count > 0) contacts["depth_max_m"] = c.depth_max_m, contacts["distance_min_m"] = std::isnan(c.distance_min_m) ? -c.depth_max_m : c.distance_min_m;
+    if (c.count > 0)
+      contacts["depth_max_m"] = c.depth_max_m,
+      contacts["distance_min_m"] = std::isnan(c.distance_min_m) ? -c.depth_max_m : c.distance_min_m;
     return {{"engine_s", engine_s}, {"cM", vec(s.cM)}, {"cN", vec(s.cN)}, {"contacts", contacts}};
   }
 
@@ -213,7 +235,9 @@ int serve_main(const std::string& config) {
   for (const EngineInfo& x : engines())
     if (x.name == config && !x.is_outside()) e = &x;
   if (!e || e->is_reference) {
-    std::cerr << fmt::format("liftcheck: error: serve: '{}' is not a compiled-in rigid-body configuration (see 'liftcheck engines')\n", config);
+    std::cerr << fmt::format(
+        "liftcheck: error: serve: '{}' is not a compiled-in rigid-body configuration (see 'liftcheck engines')\n",
+        config);
     return 2;
   }
   // Replies go to the original standard output; anything an engine prints there goes to stderr.

@@ -23,30 +23,34 @@ std::vector<double> grid(double T_s, double h_s) {
 void check_grid(const Trace& tr, double T_s, double h_s) {
   const std::vector<double> want = grid(T_s, h_s);
   if (tr.rows.size() != want.size())
-    throw InputError(fmt::format("{}: {} rows; the path has {} (every {:g} s from 0 to {:g} s): write one row per path row", tr.file,
-                                 tr.rows.size(), want.size(), h_s, T_s));
+    throw InputError(
+        fmt::format("{}: {} rows; the path has {} (every {:g} s from 0 to {:g} s): write one row per path row", tr.file,
+                    tr.rows.size(), want.size(), h_s, T_s));
   for (std::size_t i = 0; i < want.size(); ++i)
     if (std::abs(tr.rows[i][0] - want[i]) > 1e-6 * std::max(1.0, want[i]))
-      throw InputError(fmt::format("{}: row {} is at t = {:g} s; the path's row {} is at {:g} s", tr.file, i + 1, tr.rows[i][0], i + 1, want[i]));
+      throw InputError(fmt::format("{}: row {} is at t = {:g} s; the path's row {} is at {:g} s", tr.file, i + 1,
+                                   tr.rows[i][0], i + 1, want[i]));
 }
 
 /// A car trace must have a row at each time of the path (it may have more, at times in between,
 /// as a lift that samples its path's corners does), and none outside [0, T].
 void check_covers(const Trace& tr, double T_s, double h_s) {
   if (tr.rows.front()[0] < -1e-9 || tr.rows.back()[0] > T_s + 1e-6 * std::max(1.0, T_s))
-    throw InputError(fmt::format("{}: the trace runs from t = {:g} to {:g} s; the path from 0 to {:g} s", tr.file, tr.rows.front()[0],
-                                 tr.rows.back()[0], T_s));
+    throw InputError(fmt::format("{}: the trace runs from t = {:g} to {:g} s; the path from 0 to {:g} s", tr.file,
+                                 tr.rows.front()[0], tr.rows.back()[0], T_s));
   std::size_t i = 0;
   for (const double t : grid(T_s, h_s)) {
     while (i < tr.rows.size() && tr.rows[i][0] < t - 1e-6 * std::max(1.0, t)) ++i;
     if (i == tr.rows.size() || std::abs(tr.rows[i][0] - t) > 1e-6 * std::max(1.0, t))
-      throw InputError(fmt::format("{}: no row at t = {:g} s; the path has a row every {:g} s from 0 to {:g} s: write one at each",
-                                   tr.file, t, h_s, T_s));
+      throw InputError(
+          fmt::format("{}: no row at t = {:g} s; the path has a row every {:g} s from 0 to {:g} s: write one at each",
+                      tr.file, t, h_s, T_s));
   }
 }
 
 InputError single_run_only(const std::string& scenario, int runs) {
-  return InputError(fmt::format("scenario '{}' drives {} runs; liftcheck path and score take scenarios with a single run", scenario, runs));
+  return InputError(fmt::format(
+      "scenario '{}' drives {} runs; liftcheck path and score take scenarios with a single run", scenario, runs));
 }
 
 class ReplayCar final : public CarEngine {
@@ -103,11 +107,13 @@ class ReplayDisks final : public DiskEngine {
         r.t_contact_s = row[0];
         r.contact_state = disks::Sample{row[0], cM, cN};
         const disks::Vec2 vN = pb.path.velocity(row[0]);
-        separation_m = std::max(kSeparation_m, disks::kSeparationSteps * (pb.rule(row[0], cM, cN, vN) - vN).norm() * setup.dt_s);
+        separation_m =
+            std::max(kSeparation_m, disks::kSeparationSteps * (pb.rule(row[0], cM, cN, vN) - vN).norm() * setup.dt_s);
         log.distance_at_first_m = d;
         if (k + 1 < trace_.rows.size()) {
           const auto& nx = trace_.rows[k + 1];
-          log.overlap_growth_first_m = (touch - (disks::Vec2(nx[1], nx[2]) - disks::Vec2(nx[3], nx[4])).norm()) - (touch - d);
+          log.overlap_growth_first_m =
+              (touch - (disks::Vec2(nx[1], nx[2]) - disks::Vec2(nx[3], nx[4])).norm()) - (touch - d);
         }
       }
       if (r.t_contact_s) {
@@ -116,7 +122,8 @@ class ReplayDisks final : public DiskEngine {
       }
       if (k % sample_every == 0 || k + 1 == trace_.rows.size()) r.trace.push_back({row[0], cM, cN});
     }
-    log.apart_at_end = r.t_contact_s && r.trace.back().cM != r.trace.back().cN && (r.trace.back().cM - r.trace.back().cN).norm() > touch;
+    log.apart_at_end = r.t_contact_s && r.trace.back().cM != r.trace.back().cN &&
+                       (r.trace.back().cM - r.trace.back().cN).norm() > touch;
     r.contact_log = log;
     simulated_s_ = trace_.rows.back()[0];
     return r;
@@ -139,7 +146,8 @@ std::vector<car::TimedConfig> RecordingCar::drive(const car::BasePath& path) {
     const car::BaseSample s = path.at(t);
     recorded.rows.push_back({t, s.alpha_rad, s.beta_rad});
   }
-  recorded.start = {{"alpha", q0_.alpha_rad}, {"beta", q0_.beta_rad}, {"x", q0_.x_m}, {"y", q0_.y_m}, {"phi", q0_.phi_rad}};
+  recorded.start = {
+      {"alpha", q0_.alpha_rad}, {"beta", q0_.beta_rad}, {"x", q0_.x_m}, {"y", q0_.y_m}, {"phi", q0_.phi_rad}};
   car::LiftDef def;
   def.sample_dt_s = h;
   return car::lift(setup_.car, path, q0_, def);
@@ -150,8 +158,10 @@ DiskRun RecordingDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
   // Every engine step: a disk trace is scored like a stepping engine's states (so the path lists
   // every step, and the samples' limit holds for the steps).
   if (!(pb.T_s / setup.dt_s <= kMaxRunSamples))
-    throw InputError(fmt::format("parameter 'dt' = {:g} s asks for {:.3g} rows of the path (one per engine step) over the run's {:g} s: at most {:g} (dt >= {:.3g} s here)",
-                                 setup.dt_s, pb.T_s / setup.dt_s, pb.T_s, kMaxRunSamples, pb.T_s / kMaxRunSamples));
+    throw InputError(
+        fmt::format("parameter 'dt' = {:g} s asks for {:.3g} rows of the path (one per engine step) over the run's "
+                    "{:g} s: at most {:g} (dt >= {:.3g} s here)",
+                    setup.dt_s, pb.T_s / setup.dt_s, pb.T_s, kMaxRunSamples, pb.T_s / kMaxRunSamples));
   for (const double t : grid(pb.T_s, setup.dt_s)) {
     const disks::Vec2 c = pb.path.position(t);
     recorded.rows.push_back({t, c.x(), c.y()});
@@ -172,8 +182,11 @@ EngineInfo outside_engine(const std::string& name, const std::string& descriptio
   // The name is printed on the console, in summary.md's table and the report, and recorded in JSON.
   require_utf8(name, "configuration name");
   if (std::any_of(name.begin(), name.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }))
-    throw InputError(fmt::format("configuration name '{}' holds a control character (a line break?): it would forge lines of the console and the "
-                                 "summary; rename it", printable(name)));
+    throw InputError(
+        fmt::format("configuration name '{}' holds a control character (a line break?): it would forge lines of the "
+                    "console and the "
+                    "summary; rename it",
+                    printable(name)));
   EngineInfo e;
   e.name = name;
   e.library = "external";
@@ -187,12 +200,15 @@ EngineInfo outside_engine(const std::string& name, const std::string& descriptio
 }
 
 EngineInfo replay_engine(const std::string& name, const std::string& scenario, Vehicle vehicle, const Trace& trace) {
-  EngineInfo e = outside_engine(name, fmt::format("a simulator outside liftcheck, scored from its trace ({})", trace.file));
+  EngineInfo e =
+      outside_engine(name, fmt::format("a simulator outside liftcheck, scored from its trace ({})", trace.file));
   e.settings = {{"trace", trace.file}};
   e.precision = trace.precision;  // the trace header's, float64 unless it says otherwise
   for (const auto& [k, v] : trace.settings) e.settings.emplace_back("setting " + k, v);
-  if (vehicle == Vehicle::kCar) e.make_car = [scenario, trace](const Settings&) { return std::make_unique<ReplayCar>(scenario, trace); };
-  else e.make_disks = [scenario, trace](const Settings&) { return std::make_unique<ReplayDisks>(scenario, trace); };
+  if (vehicle == Vehicle::kCar)
+    e.make_car = [scenario, trace](const Settings&) { return std::make_unique<ReplayCar>(scenario, trace); };
+  else
+    e.make_disks = [scenario, trace](const Settings&) { return std::make_unique<ReplayDisks>(scenario, trace); };
   return e;
 }
 

@@ -333,7 +333,8 @@ EngineInfo disk_fault(const std::string& name, std::function<std::unique_ptr<Dis
 
 /// A car fault, judged under the name of the configuration it breaks when `judged_as` is given
 /// (so that configuration's known failures apply, and the fault must show beyond them).
-EngineInfo car_fault(const std::string& name, std::function<std::unique_ptr<CarEngine>()> make, const std::string& judged_as = "") {
+EngineInfo car_fault(const std::string& name, std::function<std::unique_ptr<CarEngine>()> make,
+                     const std::string& judged_as = "") {
   EngineInfo e = fault(judged_as.empty() ? name : judged_as);
   e.description = "fault injection: " + name;
   e.make_car = [make](const Settings&) { return make(); };
@@ -369,9 +370,10 @@ Verdict judge(const EngineInfo& e, const std::string& scenario, const std::strin
     if (r.scenario == scenario)
       for (const Metric& m : r.metrics)
         if (m.name == metric && !m.pass) {
-          std::cout << "  " << e.description << ": " << metric << " in " << scenario << " error " << m.compared_error() << " ("
-                    << (m.kind == TolKind::kRelative ? "relative" : "absolute") << ") against tolerance " << m.tolerance
-                    << (r.known ? " (a listed known failure of the configuration it breaks)" : "") << "\n";
+          std::cout << "  " << e.description << ": " << metric << " in " << scenario << " error " << m.compared_error()
+                    << " (" << (m.kind == TolKind::kRelative ? "relative" : "absolute") << ") against tolerance "
+                    << m.tolerance << (r.known ? " (a listed known failure of the configuration it breaks)" : "")
+                    << "\n";
           bool beyond = r.known == nullptr;
           for (const auto& b : r.beyond_known()) beyond = beyond || b.substr(0, b.find(' ')) == metric;
           v.metric_failed = v.metric_failed || beyond;
@@ -384,53 +386,64 @@ Verdict judge(const EngineInfo& e, const std::string& scenario, const std::strin
 void expect_flagged(const EngineInfo& e, const std::string& scenario, const std::string& metric) {
   const Verdict v = judge(e, scenario, metric);
   EXPECT_GT(v.unexpected, 0) << e.description << " slipped through every scenario";
-  EXPECT_TRUE(v.metric_failed) << e.description << ": " << metric << " in " << scenario << " did not flag it; flagged:\n" << v.summary;
+  EXPECT_TRUE(v.metric_failed) << e.description << ": " << metric << " in " << scenario
+                               << " did not flag it; flagged:\n"
+                               << v.summary;
 }
 
 }  // namespace
 
 TEST(Faults, DiskEngineWithoutPhysics) {
-  const Verdict v = judge(disk_fault("no-physics", [] { return std::make_unique<NoPhysicsDisks>(); }), "disks.repel", "penetration_max");
+  const Verdict v = judge(disk_fault("no-physics", [] { return std::make_unique<NoPhysicsDisks>(); }), "disks.repel",
+                          "penetration_max");
   // Every disk scenario in which the disks meet must fail it (without contact, an engine that
   // realises the commanded velocity exactly is indistinguishable from placing M by hand).
   for (const char* name : {"disks.repel", "disks.linear", "disks.forced"}) {
-    const RunRecord r = run_scenario(*find_scenario(name), disk_fault("no-physics", [] { return std::make_unique<NoPhysicsDisks>(); }));
+    const RunRecord r =
+        run_scenario(*find_scenario(name), disk_fault("no-physics", [] { return std::make_unique<NoPhysicsDisks>(); }));
     EXPECT_EQ(r.status, Status::kFail) << name << ": " << r.message;
   }
 }
 
 TEST(Faults, DiskContactReportedOneStepLate) {
-  expect_flagged(disk_fault("late-contact", [] { return std::make_unique<LateContactDisks>(); }), "disks.repel", "contact_missed");
+  expect_flagged(disk_fault("late-contact", [] { return std::make_unique<LateContactDisks>(); }), "disks.repel",
+                 "contact_missed");
 }
 
 TEST(Faults, DiskCollisionMarginOf2cm) {
-  expect_flagged(disk_fault("margin", [] { return std::make_unique<MarginDisks>(); }), "disks.repel", "contact_report_gap");
+  expect_flagged(disk_fault("margin", [] { return std::make_unique<MarginDisks>(); }), "disks.repel",
+                 "contact_report_gap");
 }
 
 TEST(Faults, DiskContactResponseOneStepLate) {
-  expect_flagged(disk_fault("late-response", [] { return std::make_unique<LateResponseDisks>(); }), "disks.repel", "overlap_growth");
+  expect_flagged(disk_fault("late-response", [] { return std::make_unique<LateResponseDisks>(); }), "disks.repel",
+                 "overlap_growth");
 }
 
 TEST(Faults, DiskContactDepthHundredfold) {
-  expect_flagged(disk_fault("deep-contact", [] { return std::make_unique<DeepContactDisks>(); }), "disks.repel", "contact_depth_error");
+  expect_flagged(disk_fault("deep-contact", [] { return std::make_unique<DeepContactDisks>(); }), "disks.repel",
+                 "contact_depth_error");
 }
 
 TEST(Faults, DiskContactSticks) {
-  expect_flagged(disk_fault("sticking-contact", [] { return std::make_unique<StickingContactDisks>(); }), "disks.oblique",
-                 "contact_path_error");
+  expect_flagged(disk_fault("sticking-contact", [] { return std::make_unique<StickingContactDisks>(); }),
+                 "disks.oblique", "contact_path_error");
 }
 
 TEST(Faults, DiskContactBounces) {
-  expect_flagged(disk_fault("bouncing-contact", [] { return std::make_unique<BouncingContactDisks>(); }), "disks.oblique",
-                 "contact_duration");
+  expect_flagged(disk_fault("bouncing-contact", [] { return std::make_unique<BouncingContactDisks>(); }),
+                 "disks.oblique", "contact_duration");
 }
 
 TEST(Faults, DiskVelocityMotorOneStepLate) {
-  expect_flagged(disk_fault("late-motor", [] { return std::make_unique<LateMotorDisks>(); }), "disks.repel", "step_displacement");
+  expect_flagged(disk_fault("late-motor", [] { return std::make_unique<LateMotorDisks>(); }), "disks.repel",
+                 "step_displacement");
 }
 
 TEST(Faults, WheelsSlipOnePercentAlongTheRollingDirection) {
-  expect_flagged(car_fault("slip-1pct", [] { return std::make_unique<SlippingCar>(); }, "ode"), "car.circle", "slip_along_max");
+  expect_flagged(car_fault(
+                     "slip-1pct", [] { return std::make_unique<SlippingCar>(); }, "ode"),
+                 "car.circle", "slip_along_max");
 }
 
 TEST(Faults, SlipWorseThanAKnownFailureIsFlagged) {
@@ -443,12 +456,15 @@ TEST(Faults, SlipWorseThanAKnownFailureIsFlagged) {
   EXPECT_FALSE(r.as_expected()) << r.message;
   bool above = false;
   for (const auto& p : r.beyond_known())
-    above = above || (p.substr(0, p.find(' ')) == "slip_along_max" && p.find("above its known ceiling") != std::string::npos);
+    above = above ||
+            (p.substr(0, p.find(' ')) == "slip_along_max" && p.find("above its known ceiling") != std::string::npos);
   EXPECT_TRUE(above) << r.message;
 }
 
 TEST(Faults, LateralGripLeaks) {
-  expect_flagged(car_fault("leaky-grip", [] { return std::make_unique<LeakyCar>(); }, "ode"), "car.circle", "slip_across_max");
+  expect_flagged(car_fault(
+                     "leaky-grip", [] { return std::make_unique<LeakyCar>(); }, "ode"),
+                 "car.circle", "slip_across_max");
 }
 
 TEST(Faults, FrictionFixedToWorldAxes) {
@@ -456,13 +472,16 @@ TEST(Faults, FrictionFixedToWorldAxes) {
 }
 
 TEST(Faults, HeadingLagsHalfAStep) {
-  expect_flagged(car_fault("heading-lag", [] { return std::make_unique<LaggingCar>(); }, "ode"), "car.circle", "heading_residual");
+  expect_flagged(car_fault(
+                     "heading-lag", [] { return std::make_unique<LaggingCar>(); }, "ode"),
+                 "car.circle", "heading_residual");
 }
 
 // The pose one engine step late: at every sample the chassis is one step's travel (v dt, 0.5 mm
 // at 0.5 m/s and 1 ms) behind the lift of the wheel angles of that same sample.
 TEST(Faults, PoseReportedOneStepLate) {
-  const EngineInfo e = car_fault("stale-pose", [] { return std::make_unique<StalePoseCar>(); }, "ode");
+  const EngineInfo e = car_fault(
+      "stale-pose", [] { return std::make_unique<StalePoseCar>(); }, "ode");
   expect_flagged(e, "car.circle", "realized_lift_error");
   expect_flagged(e, "car.cycle", "realized_lift_error");
 }
@@ -470,16 +489,22 @@ TEST(Faults, PoseReportedOneStepLate) {
 // Time at the wrong rate: the Coulomb slide's acceleration scales with the square of the clock
 // ratio (+2% for a step 1% long, against a tolerance of 0.2%).
 TEST(Faults, EngineStepOnePercentLongerThanDt) {
-  expect_flagged(car_fault("long-step", [] { return std::make_unique<LongStepCar>(); }, "ode"), "car.coulomb", "slide_accel");
+  expect_flagged(car_fault(
+                     "long-step", [] { return std::make_unique<LongStepCar>(); }, "ode"),
+                 "car.coulomb", "slide_accel");
 }
 
 TEST(Faults, GravityNotTilted) {
-  expect_flagged(car_fault("upright-gravity", [] { return std::make_unique<UprightGravityCar>(); }, "ode"), "car.coulomb", "slide_accel");
+  expect_flagged(car_fault(
+                     "upright-gravity", [] { return std::make_unique<UprightGravityCar>(); }, "ode"),
+                 "car.coulomb", "slide_accel");
 }
 
 // mu 0.24 for 0.3 on the 0.5 rad slope: the slide accelerates 24% faster.
 TEST(Faults, EffectiveFrictionTwentyPercentBelowMu) {
-  expect_flagged(car_fault("low-friction", [] { return std::make_unique<ScaledFrictionCar>(0.8); }, "ode"), "car.coulomb", "slide_accel");
+  expect_flagged(car_fault(
+                     "low-friction", [] { return std::make_unique<ScaledFrictionCar>(0.8); }, "ode"),
+                 "car.coulomb", "slide_accel");
 }
 
 // The kinematic car follows the lift where its centre of mass needs 2.7 mu g, and never slides
@@ -492,26 +517,32 @@ TEST(Faults, KinematicCarOnTheExactLift) {
 
 // Ten times the stated friction: the car holds the lift's circle past the grip limit.
 TEST(Faults, CarKeepsItsGripPastTheLimit) {
-  const EngineInfo e = car_fault("grip-past-limit", [] { return std::make_unique<ScaledFrictionCar>(10.0); }, "ode");
+  const EngineInfo e = car_fault(
+      "grip-past-limit", [] { return std::make_unique<ScaledFrictionCar>(10.0); }, "ode");
   expect_flagged(e, "car.beyond-grip", "com_accel_excess");
   expect_flagged(e, "car.beyond-grip", "slide_shortfall");
 }
 
 // A blow-up is caught while stepping and ends the run as an error naming what and when.
 TEST(Faults, ABlowUpIsAnErrorSayingWhatAndWhen) {
-  const RunRecord car = run_scenario(*find_scenario("car.circle"), car_fault("runaway", [] { return std::make_unique<RunawayCar>(); }));
+  const RunRecord car =
+      run_scenario(*find_scenario("car.circle"), car_fault("runaway", [] { return std::make_unique<RunawayCar>(); }));
   EXPECT_EQ(car.status, Status::kError) << car.message;
   EXPECT_NE(car.message.find("wheel speed"), std::string::npos) << car.message;
   EXPECT_NE(car.message.find("m/s at t = 1."), std::string::npos) << car.message;
-  const RunRecord disks = run_scenario(*find_scenario("disks.repel"), disk_fault("exploding", [] { return std::make_unique<ExplodingContactDisks>(); }));
+  const RunRecord disks = run_scenario(
+      *find_scenario("disks.repel"), disk_fault("exploding", [] { return std::make_unique<ExplodingContactDisks>(); }));
   EXPECT_EQ(disks.status, Status::kError) << disks.message;
   EXPECT_NE(disks.message.find("disk M speed"), std::string::npos) << disks.message;
 }
 
 // The unbroken engine passes the same judgement: the faults, not the suite, are what fail.
 TEST(Faults, TheUnbrokenEnginePasses) {
-  const Verdict disks = judge(disk_fault("ode-disks", [] { return std::make_unique<OdeDisks>(); }), "disks.repel", "penetration_max");
+  const Verdict disks =
+      judge(disk_fault("ode-disks", [] { return std::make_unique<OdeDisks>(); }), "disks.repel", "penetration_max");
   EXPECT_EQ(disks.unexpected, 0) << disks.summary;
-  const Verdict car = judge(car_fault("ode-car", [] { return std::make_unique<OdeCar>(ode_defaults()); }, "ode"), "car.circle", "heading_residual");
+  const Verdict car = judge(car_fault(
+                                "ode-car", [] { return std::make_unique<OdeCar>(ode_defaults()); }, "ode"),
+                            "car.circle", "heading_residual");
   EXPECT_EQ(car.unexpected, 0) << car.summary;
 }

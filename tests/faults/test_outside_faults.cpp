@@ -22,7 +22,8 @@ namespace {
 std::string missing() {
   bool node = false;
   std::stringstream path(std::getenv("PATH") ? std::getenv("PATH") : "");
-  for (std::string d; std::getline(path, d, ':');) node = node || (!d.empty() && std::filesystem::exists(std::filesystem::path(d) / "node"));
+  for (std::string d; std::getline(path, d, ':');)
+    node = node || (!d.empty() && std::filesystem::exists(std::filesystem::path(d) / "node"));
   if (!node) return "node is not on PATH (Debian's nodejs runs the outside adapters)";
   if (!std::filesystem::exists(std::filesystem::path(LIFTCHECK_ADAPTERS_DIR) / "node_modules/cannon-es/package.json"))
     return "cannon-es is not installed ('npm ci' in engines/outside, which 'make build' runs)";
@@ -64,8 +65,9 @@ std::pair<RunRecord, RunRecord> clean_and_broken(const std::string& scenario, co
 
 void print(const char* what, const RunRecord& r, const std::string& name) {
   const Metric& m = metric(r, name);
-  std::cout << "  " << what << ": " << name << " in " << r.scenario << " error " << m.compared_error() << " against tolerance " << m.tolerance
-            << (m.pass ? " (pass)" : " (fail)") << (r.known ? " (a listed known failure of cannon)" : "") << "\n";
+  std::cout << "  " << what << ": " << name << " in " << r.scenario << " error " << m.compared_error()
+            << " against tolerance " << m.tolerance << (m.pass ? " (pass)" : " (fail)")
+            << (r.known ? " (a listed known failure of cannon)" : "") << "\n";
 }
 
 }  // namespace
@@ -93,8 +95,11 @@ TEST(OutsideFaults, CannonPoseReportedOneStepLate) {
   const auto [clean, stale] = clean_and_broken("car.circle", "stale-pose");
   print("cannon", clean, "realized_lift_error");
   print("cannon.mjs --fault stale-pose", stale, "realized_lift_error");
-  const double added_m = metric(stale, "realized_lift_error").abs_error - metric(clean, "realized_lift_error").abs_error;
-  std::cout << "  the stale pose adds " << added_m << " m; flagged beyond cannon's listing: " << (flagged(stale, "realized_lift_error") ? "yes" : "no") << "\n";
+  const double added_m =
+      metric(stale, "realized_lift_error").abs_error - metric(clean, "realized_lift_error").abs_error;
+  std::cout << "  the stale pose adds " << added_m
+            << " m; flagged beyond cannon's listing: " << (flagged(stale, "realized_lift_error") ? "yes" : "no")
+            << "\n";
   const double step_m = clean.params["speed"].get<double>() * clean.params["dt"].get<double>();
   // The lag adds its projection on the direction of cannon's own departure from the lift (67 mm
   // since its constraints' SPOOK is for dt and its motors are sized to the grip): half a step and more.

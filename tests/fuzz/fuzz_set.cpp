@@ -23,8 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const std::size_t nl = std::min(text.find('\n', from), text.size());
     try {
       ov.push_back(split_assignment(text.substr(from, nl - from)));
-    } catch (const InputError&) {
-    }
+    } catch (const InputError&) {}
     from = nl + 1;
   }
   try {

@@ -23,7 +23,6 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (!std::isfinite(v)) std::abort();
       if (i > 0 && !(tr.rows[i][0] > tr.rows[i - 1][0])) std::abort();
     }
-  } catch (const InputError&) {
-  }
+  } catch (const InputError&) {}
   return 0;
 }
