@@ -145,7 +145,7 @@ const bool kRegistered = [] {
 namespace {
 
 /// Keeps the calling thread, and the engine processes it starts, on the core it runs on, as
-/// validate keeps each worker with its outside engine (harness/suite.cpp, bind_worker); the thread's
+/// validate keeps each worker with its outside engine (harness/worker_pool.cpp, bind_worker); the thread's
 /// own affinity comes back at the end of the scope.
 struct OnOneCore {
   cpu_set_t before{};

@@ -98,6 +98,13 @@ std::map<std::string, std::string> Settings::texts() const {
   return out;
 }
 
+std::map<std::string, std::string> Settings::exact_texts() const {
+  std::map<std::string, std::string> out;
+  for (const auto& [key, value] : values_)
+    out[key] = std::holds_alternative<double>(value) ? fmt::format("{}", std::get<double>(value)) : at(key);
+  return out;
+}
+
 nlohmann::json Settings::to_json() const {
   nlohmann::json j = nlohmann::json::object();
   for (const auto& [key, value] : values_) {

@@ -49,6 +49,9 @@ class Settings {
   Value& operator[](const std::string& key) { return values_[key]; }
   /// Every value as at() shows it, by key.
   std::map<std::string, std::string> texts() const;
+  /// As texts(), each number in the shortest text that reads back as the same double (what an
+  /// outside engine is sent, and what tells two runs apart): "{:g}" keeps six digits only.
+  std::map<std::string, std::string> exact_texts() const;
   bool operator==(const Settings&) const = default;
   /// Every value as it is (numbers as numbers, unrounded), and read back: what a worker is sent
   /// of a run resolved before it. std::invalid_argument on another shape.

@@ -62,7 +62,7 @@ double RunRecord::worst_ratio() const {
   double worst = 0.0;
   for (const auto& m : metrics) {
     if (m.informational) continue;
-    const double err = m.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
+    const double err = m.compared_error();
     double ratio = m.tolerance > 0 ? err / m.tolerance : (err > 0 ? INFINITY : 0.0);
     if (m.floor > 0.0) ratio = std::min(ratio, m.abs_error / m.floor);
     worst = std::max(worst, ratio);
@@ -117,7 +117,7 @@ std::vector<Metric> score(const Scenario& scenario, TolRole role, const Outcome&
     const double scale = v.scale > 0.0 ? v.scale : std::abs(v.expected);
     m.rel_error = scale > 0.0 ? m.abs_error / scale : (m.abs_error == 0.0 ? 0.0 : INFINITY);
     m.tolerance = def.tolerance_for(role) * v.tolerance_factor * (def.bookkeeping ? bookkeeping_factor : 1.0);
-    const double err = def.kind == TolKind::kRelative ? m.rel_error : m.abs_error;
+    const double err = m.compared_error();
     m.floor = def.kind == TolKind::kRelative ? def.floor_for(role) : 0.0;
     m.pass = (std::isfinite(err) && err <= m.tolerance) || (std::isfinite(m.abs_error) && m.abs_error <= m.floor);
     // A check of the paper's approximation measures the paper, not the engine: counted for the

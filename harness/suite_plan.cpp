@@ -141,8 +141,9 @@ void resolve_items(SuitePlan& plan) {
     SuiteItem& it = plan.items[i];
     if (it.owned || !it.run) continue;  // a run not resolved is an error record of its own
     it.cost = cost_estimate(*it.run);
-    const nlohmann::json identity{
-        {"engine", it.engine->name}, {"params", it.run->params.to_json()}, {"settings", it.run->settings.texts()}};
+    const nlohmann::json identity{{"engine", it.engine->name},
+                                  {"params", it.run->params.to_json()},
+                                  {"settings", it.run->settings.exact_texts()}};
     const auto [where, inserted] =
         first.emplace(nlohmann::json{{"scenario", it.scenario->name}, {"run", identity}}.dump(), static_cast<long>(i));
     if (!inserted) it.same_as = where->second;

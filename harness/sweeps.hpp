@@ -88,12 +88,6 @@ inline constexpr OutcomeHorizon kOutcomeHorizon{};
 nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engines, const RecordLookup& record,
                                       double near_m = 0.01);
 
-/// What a map point varies, as its record names it ("knob"): nothing (the exact model), dt, or the
-/// solver's iteration count (the setting with SettingRole::kSolverIterations, whatever its key).
-inline constexpr const char* kMapDefault = "default";
-inline constexpr const char* kMapDt = "dt";
-inline constexpr const char* kMapIterations = "iterations";
-
 /// The speed-accuracy map's runs (configurations with an iterative solver also over the iteration
 /// count) and the map assembled from their records, with the Pareto front marked.
 /// `all_points`: validate --all-points (a configuration registered for its runs only gets the map's

@@ -223,11 +223,13 @@ void read_json_header(const json& j, Trace& tr) {
   }
 }
 
-/// Appends `row` (its time first) to `tr`; InputError (at `where`) when time does not increase.
-void append_row(Trace& tr, std::vector<double> row, const std::string& where) {
+/// Appends `row` (its time first) to `tr`; InputError when time does not increase, at the place
+/// `where()` names (made only then).
+template <class Where>
+void append_row(Trace& tr, std::vector<double> row, const Where& where) {
   if (!tr.rows.empty() && !(row[0] > tr.rows.back()[0]))
     throw InputError(
-        fmt::format("{}: time goes from {:g} to {:g} s: it must increase", where, tr.rows.back()[0], row[0]));
+        fmt::format("{}: time goes from {:g} to {:g} s: it must increase", where(), tr.rows.back()[0], row[0]));
   tr.rows.push_back(std::move(row));
 }
 
@@ -254,7 +256,7 @@ void read_json_trace(std::string_view text, const std::vector<std::string>& want
         throw InputError(fmt::format("{}: row {}: column '{}' is not a finite number", tr.file, i, c));
       row.push_back(col->get<double>());
     }
-    append_row(tr, std::move(row), fmt::format("{}: row {}", tr.file, i));
+    append_row(tr, std::move(row), [&] { return fmt::format("{}: row {}", tr.file, i); });
   }
 }
 
@@ -316,7 +318,7 @@ void read_csv_trace(std::string_view text, const std::vector<std::string>& want,
       throw InputError(fmt::format("{}:{}: {} columns, the header has {}", tr.file, n, cells.size(), width));
     std::vector<double> row;
     for (std::size_t k = 0; k < want.size(); ++k) row.push_back(number_at(cells[index[k]], tr.file, n, want[k]));
-    append_row(tr, std::move(row), fmt::format("{}:{}", tr.file, n));
+    append_row(tr, std::move(row), [&] { return fmt::format("{}:{}", tr.file, n); });
   }
   if (index.empty()) throw InputError(fmt::format("{}: no header line (needs {})", tr.file, fmt::join(want, ",")));
 }

@@ -15,7 +15,7 @@
 namespace liftcheck::disks {
 
 /// A stepping engine's contact has ended when the disks are apart by more than this many steps of
-/// M's travel relative to N at the first contact (and at least kSeparation_m of engines/engine.hpp):
+/// M's travel relative to N at the first contact (and at least kSeparation_m of engines/vehicle.hpp):
 /// a tenth of a step, above the chord of a step on the circle, (|v_rel| dt)^2 / 4, which opens a gap
 /// of 5 um at 4.4 m/s and 1 ms while the contact holds, and below a bounce's separation (a good part
 /// of a step of closing travel).

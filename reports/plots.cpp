@@ -1,6 +1,6 @@
 #include "reports/plots.hpp"
 
-#include "harness/sweeps.hpp"
+#include "scenarios/sweep_catalogue.hpp"
 #include "input/record_view.hpp"
 #include "input/vehicle.hpp"
 #include "scenarios/details.hpp"

@@ -72,6 +72,12 @@ const std::vector<SweepDef>& sweep_catalogue();
 /// The scenario the outcome sweep (harness/sweeps.hpp: outcome_runs) runs over its grid.
 const std::string& outcome_sweep_scenario();
 
+/// What a map point varies, as its record names it ("knob"): nothing (the exact model), dt, or the
+/// solver's iteration count (the setting with SettingRole::kSolverIterations, whatever its key).
+inline constexpr const char* kMapDefault = "default";
+inline constexpr const char* kMapDt = "dt";
+inline constexpr const char* kMapIterations = "iterations";
+
 /// The speed-accuracy map: scenarios run on every configuration over the engine step dt and, for
 /// configurations with an iterative solver (a car setting "iterations"), over the iteration count;
 /// each point's error against the exact reference and its cost in wall-clock seconds per simulated

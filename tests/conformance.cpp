@@ -58,7 +58,7 @@ TEST_P(Conformance, DefaultRunIsAsExpected) {
   const RunRecord r = run_scenario(*s, *e);
   for (const auto& m : r.metrics)
     std::cout << "  " << m.name << ": expected " << m.expected << " measured " << m.measured << " err "
-              << (m.kind == TolKind::kRelative ? m.rel_error : m.abs_error) << " tol " << m.tolerance << "\n";
+              << m.compared_error() << " tol " << m.tolerance << "\n";
   EXPECT_TRUE(r.as_expected()) << r.verdict() << ": " << r.message;
   if (s->negative_control) {
     // A negative control must be listed, and fail through the metrics built to see slip (present,

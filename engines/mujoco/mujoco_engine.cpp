@@ -196,11 +196,11 @@ class MujocoCar final : public RigidCar {
   friend class RawMujocoCar;  // the benchmarks' raw loop on this model
 
  public:
-  MujocoCar(const Settings& s, Variant v) : RigidCar(s), v_(v) {}
+  MujocoCar(const Settings& s, Variant v) : RigidCar(s), v_(with_settings(v, s)) {}
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    const Variant v = with_settings(v_, settings_);
+    const Variant& v = v_;
     beta0_ = q0.beta_rad;
     const std::string wheel_geom = fmt::format(
         R"(<geom type="sphere" size="{}" mass="{}" condim="3" friction="{} 0.005 0.0001" contype="1" conaffinity="2"/>)",

@@ -150,7 +150,7 @@ function buildCar(req) {
            HK.MotionType.STATIC, 0);
   const chassis = addBody(shape(HK.HP_Shape_CreateBox([0, 0, 0], [0, 0, 0, 1], [c.l_m, c.track_m, c.chassis_height_m]), F_GHOST, 0),
                            at(-0.5 * c.l_m, 0, R), q_chassis, DYN, c.chassis_mass_kg);
-  const wheel_shape = () => shape(C.wheelShapeOf(req, knob) === 'cylinder'
+  const wheelShape = () => shape(C.wheelShapeOf(req, knob) === 'cylinder'
     ? HK.HP_Shape_CreateCylinder([0, -0.5 * c.wheel_width_m, 0], [0, 0.5 * c.wheel_width_m, 0], R)  // axis along local y
     : HK.HP_Shape_CreateSphere([0, 0, 0], R), F_WHEEL, req.mu);
   const Z = [0, 0, 1], Y = [0, 1, 0], X = [1, 0, 0], O = [0, 0, 0];
@@ -160,13 +160,13 @@ function buildCar(req) {
   world.fronts = C.frontWheels(c, q0.beta_rad).map(({ y_m, beta0_rad: b0 }) => {
     const q_front = C.yawQuat(q0.phi_rad + b0), hub = at(0, y_m, R);
     const knuckle = addBody(shape(HK.HP_Shape_CreateSphere(O, C.KNUCKLE_RADIUS_M), F_GHOST, 0), hub, q_front, DYN, c.knuckle_mass_kg);
-    const body = addBody(wheel_shape(), hub, q_front, DYN, c.wheel_mass_kg);
+    const body = addBody(wheelShape(), hub, q_front, DYN, c.wheel_mass_kg);
     const steer = addHinge(chassis, knuckle, [0.5 * c.l_m, y_m, 0], Z, X, O, Z, [Math.cos(b0), -Math.sin(b0), 0], req.servo.steer_torque_max_Nm);
     const spin = addHinge(knuckle, body, O, Y, Z, O, Y, Z, req.servo.spin_torque_max_Nm);
     return { knuckle, body, steer, spin };
   });
   world.rear = [0.5, -0.5].map((y) => {
-    const body = addBody(wheel_shape(), at(-c.l_m, y * c.track_m, R), q_chassis, DYN, c.wheel_mass_kg);
+    const body = addBody(wheelShape(), at(-c.l_m, y * c.track_m, R), q_chassis, DYN, c.wheel_mass_kg);
     addHinge(chassis, body, [-0.5 * c.l_m, y * c.track_m, 0], Y, Z, O, Y, Z, 0);
     return body;
   });

@@ -178,10 +178,10 @@ function buildCar(req) {
   const chassis = addBody(new Jolt.BoxShape(box, 0, null), at(-0.5 * c.l_m, 0, R), q_chassis, Jolt.EMotionType_Dynamic, L_GHOST,
                            { mass_kg: c.chassis_mass_kg });
   Jolt.destroy(box);
-  const wheel_shape = () => C.wheelShapeOf(req, knob) === 'cylinder'
+  const wheelShape = () => C.wheelShapeOf(req, knob) === 'cylinder'
     ? new Jolt.CylinderShape(0.5 * c.wheel_width_m, R, Math.min(0.05, 0.25 * c.wheel_width_m), null)  // axis along local y
     : new Jolt.SphereShape(R, null);
-  const wheel = (p, q) => addBody(wheel_shape(), p, q, Jolt.EMotionType_Dynamic, L_WHEEL, { mass_kg: c.wheel_mass_kg, friction: req.mu });
+  const wheel = (p, q) => addBody(wheelShape(), p, q, Jolt.EMotionType_Dynamic, L_WHEEL, { mass_kg: c.wheel_mass_kg, friction: req.mu });
   // Each front wheel on its own knuckle, both yawed by the wheel's start steering angle.
   world.fronts = C.frontWheels(c, q0.beta_rad).map(({ y_m, beta0_rad }) => {
     const q_front = C.yawQuat(q0.phi_rad + beta0_rad), hub = at(0, y_m, R);

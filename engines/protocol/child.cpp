@@ -150,7 +150,7 @@ ProtocolChild::ProtocolChild(std::string label, const std::vector<std::string>& 
   std::vector<char*> cenv;
   for (std::string& v : env) cenv.push_back(v.data());
   cenv.push_back(nullptr);
-  // A worker's memory limit (RLIMIT_AS, harness/suite.cpp) is for the engines compiled in: an
+  // A worker's memory limit (RLIMIT_AS, harness/worker.cpp) is for the engines compiled in: an
   // outside engine's runtime starts without it (V8 reserves address space for WebAssembly far
   // beyond any useful limit and would not start), bounded by its own heap limits and its reply timeout.
   rlimit as{};

@@ -110,7 +110,7 @@ class Lease {
 
 json settings_json(const Settings& s) {
   json j = json::object();
-  for (const auto& [k, v] : s.texts()) j[k] = v;
+  for (const auto& [k, v] : s.exact_texts()) j[k] = v;
   return j;
 }
 
