@@ -59,6 +59,10 @@ DiskRun DrivenDisks::run(const DiskSetup& setup, const DiskProblem& pb) {
     if (const double v = (s.cM - cM_before).norm() / h; h >= 0.5 * dt && !(v <= runaway_mps))
       throw EngineError(
           fmt::format("disk M speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {:g} m/s)", v, t + h, runaway_mps));
+    if (!s.wM_radps.allFinite())
+      throw EngineError(fmt::format("disk M's angular velocity is not finite at t = {:.4f} s", t + h));
+    if (const double w = s.wM_radps.norm(); w > log.spin_M_max_radps)
+      log.spin_M_max_radps = w, log.spin_M_max_at_s = t + h;
     const double d1 = (s.cM - s.cN).norm();
     r.min_distance = std::min(r.min_distance, d1);
     // Free: the engine's actuation and integrator alone moved M. The step in which a contact the

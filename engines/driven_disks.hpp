@@ -19,6 +19,10 @@ class DrivenDisks : public DiskEngine {
  protected:
   struct State {
     disks::Vec2 cM, cN;
+    /// M's angular velocity in the world frame, rad/s: Farber's disks are planar vehicles whose
+    /// velocity is commanded, so every engine holds M's spin (about every axis) and reports it.
+    /// NaN until the adapter reads it: a read() that leaves it out is an error at the first step.
+    Eigen::Vector3d wM_radps = Eigen::Vector3d::Constant(NAN);
   };
   /// Contacts between M and N that the engine's collision pass generated during one step.
   struct StepContacts {
@@ -29,7 +33,7 @@ class DrivenDisks : public DiskEngine {
     /// (the contacts touch).
     double distance_min_m = NAN;
   };
-  /// Builds the world: M a dynamic body at cM0 at rest, N a kinematic body at cN0.
+  /// Builds the world: M a dynamic body at cM0 at rest, its rotation held, N a kinematic body at cN0.
   virtual void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) = 0;
   /// One engine step of dt_s from the current state: M's actuation tracks vM_cmd, N moves to
   /// cN_next (velocity vN), collision detection runs on the state at the start of the step.

@@ -98,6 +98,10 @@ struct DiskSetup {
   double radius_m = 1.0;
   double dt_s = 1e-3;         ///< engine step
   double sample_dt_s = 0.02;  ///< spacing of the reported trace
+  /// Coulomb friction between M and N. Farber's disks are frictionless and every scenario runs at
+  /// 0; the conformance test sets it to see that each engine holds M's spin (a tangential contact
+  /// force then moves M instead of turning it).
+  double mu_MN = 0.0;
 };
 
 struct DiskProblem {
@@ -126,6 +130,11 @@ struct DiskContactLog {
   /// an engine that realises its command moves M by exactly the commanded velocity times the step.
   double step_displacement_error_max_m = 0.0;
   double step_displacement_error_at_s = 0.0;  ///< the start of the step where it was largest
+  /// Largest |omega_M| after any step, rad/s: the engine holds M's spin (a planar vehicle whose
+  /// velocity is commanded does not roll on N), and when it does not, friction between the disks
+  /// spins M up instead of moving it.
+  double spin_M_max_radps = 0.0;
+  double spin_M_max_at_s = 0.0;  ///< the end of the step after which it was largest
   /// Contact was reported by the engine's own collision pipeline. False for a trace from outside,
   /// whose "contact" is read off its positions: comparing those with themselves measures nothing.
   bool reported_by_engine = true;

@@ -290,6 +290,11 @@ Outcome disk_outcome(const Params& p, const DiskProblem& pb, const DiskRun& run,
       o.values["step_displacement"] = {.expected = 0.0, .measured = log->step_displacement_error_max_m};
       o.details["step_displacement_at_s"] = log->step_displacement_error_at_s;
     }
+    // M's spin, held by every engine (a trace from outside has positions only).
+    if (log->reported_by_engine) {
+      o.values["spin_M_max"] = {.expected = 0.0, .measured = log->spin_M_max_radps};
+      o.details["spin_M_max_at_s"] = log->spin_M_max_at_s;
+    }
     if (log->reported_by_engine)
       o.values["contact_missed"] = {.expected = 0.0, .measured = std::max(0.0, log->overlap_unreported_m)};
     if (run.t_contact_s) {
@@ -419,6 +424,19 @@ std::vector<MetricDef> disk_metrics(std::vector<MetricDef> extra, double analyti
        "which the engine's contact stops M at touching)",
        {},
        true},
+      // Farber's disks are planar vehicles whose velocity is commanded: M does not turn. An engine
+      // that leaves its spin free lets friction between the disks roll M on N instead of moving it
+      // (disks.oblique with M-N friction: M's path within 3.4e-4 m of the frictionless response).
+      // Held by a joint or a lock, it is zero to round-off; a spin of 1e-6 rad/s turns M's surface
+      // by a micrometre a second. The scenarios' disks are frictionless, so their contact puts no
+      // torque on M (a free M turns at 4e-15 rad/s on cannon-es): here the metric catches a torque
+      // of the engine's own making; that every adapter holds the spin is the conformance test's
+      // (DisksHoldMsSpinAndFeelFrictionBetweenThem, with friction between the disks).
+      {"spin_M_max",
+       "rad/s",
+       TolKind::kAbsolute,
+       {{TolRole::kDefault, 1e-6}},
+       "largest angular speed |omega_M| of M after any step: every engine holds M's spin"},
       // Engines: the penetration penetration_max allows (kPenetrationSteps steps of closing travel, along n)
       // plus one step of travel along the tangent (contact is seen up to a step late, M went straight on).
       abs_("contact_path_error", "m", 1e-8, kPenetrationSteps + 1.0,

@@ -325,6 +325,64 @@ TEST_P(AnyConfiguration, EveryDeclaredSettingChangesAResult) {
   }
 }
 
+/// An engine's disks with Coulomb friction mu_MN between M and N (DiskSetup::mu_MN), every other
+/// input as the scenario sets it; keeps where M ended.
+class WithFriction final : public DiskEngine {
+ public:
+  WithFriction(DiskEngine& engine, double mu) : engine_(engine), mu_(mu) {}
+  DiskRun run(const DiskSetup& setup, const DiskProblem& problem) override {
+    DiskSetup rough = setup;
+    rough.mu_MN = mu_;
+    DiskRun r = engine_.run(rough, problem);
+    if (!r.trace.empty()) cM_end = r.trace.back().cM;
+    return r;
+  }
+  double simulated_s() const override { return engine_.simulated_s(); }
+  disks::Vec2 cM_end{NAN, NAN};
+
+ private:
+  DiskEngine& engine_;
+  double mu_;
+};
+
+// Farber's disks are planar vehicles whose velocity is commanded: every engine holds M's spin.
+// disks.oblique with friction between the disks (mu 0.5): M slides over N for 2.6 s, so a held M
+// is dragged along N's surface by the friction force and ends far from where the frictionless run
+// ends (ODE: 2.7 m), and it does not turn (spin_M_max, 1e-6 rad/s); an M whose spin is free rolls
+// on N instead and turns. The run without friction turns M not at all either.
+TEST_P(AnyConfiguration, DisksHoldMsSpinAndFeelFrictionBetweenThem) {
+  const EngineInfo* e = find_engine(GetParam());
+  ASSERT_NE(e, nullptr);
+  if (lacks(*e, {.vehicle = Vehicle::kDisks, .contact_dynamics = true}) != Lack::kNothing)
+    GTEST_SKIP() << GetParam() << " has no stepped disks";
+  const Scenario* s = find_scenario("disks.oblique");
+  ASSERT_NE(s, nullptr);
+  const ResolvedRun run = resolve_run(*s, *e, {});
+  const auto outcome = [&](double mu) {
+    const std::unique_ptr<DiskEngine> disks = e->make_disks(run.settings);
+    WithFriction rough(*disks, mu);
+    const Outcome o = s->run_disks(run.params, rough);
+    return std::make_pair(o.values.at("spin_M_max").measured, rough.cM_end);
+  };
+  const auto [spin_smooth, end_smooth] = outcome(0.0);
+  const auto [spin_rough, end_rough] = outcome(0.5);
+  std::cout << "  spin_M_max " << spin_smooth << " and " << spin_rough << " rad/s; M ends "
+            << (end_rough - end_smooth).norm() << " m apart\n";
+  EXPECT_LE(spin_smooth, 1e-6);
+  EXPECT_LE(spin_rough, 1e-6) << "M's spin is not held";
+  // A configuration whose actuation keeps friction between the disks from moving M far says why in
+  // its facts; the friction must still reach its engine (M's path changes).
+  const auto why = std::find_if(e->settings.begin(), e->settings.end(),
+                                [](const auto& fact) { return fact.first == "disk friction"; });
+  if (why != e->settings.end()) {
+    std::cout << "  friction between the disks hardly moves M: " << why->second << "\n";
+    EXPECT_GT((end_rough - end_smooth).norm(), 0.0) << "mu_MN did not reach the engine";
+    return;
+  }
+  // Ten times contact_path_error's tolerance at the defaults (6.36e-3 m: six steps of travel).
+  EXPECT_GT((end_rough - end_smooth).norm(), 0.0636) << "friction between the disks did not move M";
+}
+
 // The four-wheel car (wheels=4: Ackermann front wheels, electronic differential) against the same
 // exact lift as the tricycle: on every configuration that builds one, car.circle, car.cycle and
 // car.iterated are as the expectations say, so a configuration whose tricycle passes passes with

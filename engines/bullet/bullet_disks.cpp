@@ -1,6 +1,6 @@
 // Two disks in Bullet (double precision): M a dynamic sphere whose linear velocity is set to the
-// commanded one before each step (Bullet's velocity state; its solver and integrator take it
-// from there), N a kinematic sphere placed on its path. Contact from the manifolds that
+// commanded one before each step and whose rotation is held (angular factor 0) (Bullet's velocity state; its solver and
+// integrator take it from there), N a kinematic sphere placed on its path. Contact from the manifolds that
 // stepSimulation's collision pass built on the state at the start of the step (points with
 // distance <= 0); the sequential-impulse solver applies the contact response.
 #include <btBulletDynamicsCommon.h>
@@ -35,7 +35,8 @@ class BulletDisks final : public DrivenDisks {
       btRigidBody::btRigidBodyConstructionInfo ci(mass, nullptr, shape_.get(), inertia);
       ci.m_startWorldTransform.setIdentity();
       ci.m_startWorldTransform.setOrigin(btVector3(at[i].x(), at[i].y(), 0));
-      ci.m_friction = 0.0;
+      // Bullet multiplies the two bodies' coefficients: mu_MN x 1, 0 in every scenario.
+      ci.m_friction = i == 0 ? setup.mu_MN : 1.0;
       ci.m_linearDamping = 0.0;
       ci.m_angularDamping = 0.0;
       body_[i] = std::make_unique<btRigidBody>(ci);
@@ -44,6 +45,9 @@ class BulletDisks final : public DrivenDisks {
     }
     body_[1]->setCollisionFlags(body_[1]->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
     body_[0]->setLinearFactor(btVector3(1, 1, 0));  // M stays in the plane
+    // M's rotation held about every axis (Bullet's angular factor, as its character controllers
+    // hold theirs): the solver sees no rotational freedom, a tangential contact force moves M.
+    body_[0]->setAngularFactor(btVector3(0, 0, 0));
   }
 
   StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2&, double dt_s) override {
@@ -69,7 +73,10 @@ class BulletDisks final : public DrivenDisks {
     return c;
   }
 
-  State read() const override { return {at(0), at(1)}; }
+  State read() const override {
+    const btVector3 w = body_[0]->getAngularVelocity();
+    return {at(0), at(1), {w.x(), w.y(), w.z()}};
+  }
 
  private:
   disks::Vec2 at(int i) const {

@@ -11,7 +11,8 @@
 // link's collider. Signs: a positive revolute position turns the child counter-clockwise about
 // the joint axis, so steering left and rolling forward are both positive, with no negation.
 //
-// Disks: M a zero-link floating-base btMultiBody with a base collider, N a kinematic btRigidBody;
+// Disks: M the y link of a fixed-base btMultiBody on two prismatic joints (x, then y), so it cannot
+// turn, N a kinematic btRigidBody;
 // M's damping is the setting `damping` as the car's is (btMultiBody damps every body by default).
 #include "engines/bullet/bullet_multibody.hpp"
 
@@ -263,8 +264,10 @@ class MultiBodyCar final : public RigidCar {
   double dt_s_ = 1e-3;
 };
 
-/// Two disks: M a zero-link floating-base multibody whose base velocity is set to the command
-/// before each step, N a kinematic rigid body placed on its path after each step.
+/// Two disks: M the last link of a fixed-base multibody on two prismatic joints, x then y (as a
+/// robot's planar base is built: PyBullet's two sliders), so it moves in the plane and cannot turn;
+/// its joint velocities are set to the command before each step. N a kinematic rigid body placed
+/// on its path after each step.
 class MultiBodyDisks final : public DrivenDisks {
  public:
   MultiBodyDisks(int iterations, double damping) : iterations_(iterations), damping_(damping) {}
@@ -276,26 +279,34 @@ class MultiBodyDisks final : public DrivenDisks {
     auto* sphere = scene_->shape<btSphereShape>(setup.radius_m);
     btVector3 inertia(0, 0, 0);
     sphere->calculateLocalInertia(1.0, inertia);
-    auto mb = std::make_unique<btMultiBody>(0, 1.0, inertia, /*fixedBase=*/false, /*canSleep=*/false);
+    auto mb = std::make_unique<btMultiBody>(2, 1.0, btVector3(1, 1, 1), /*fixedBase=*/true, /*canSleep=*/false);
+    const btQuaternion same(0, 0, 0, 1);
+    const btVector3 zero(0, 0, 0);
+    // The x slider carries no mass of its own: M's 1 kg and its inertia are the y slider's link.
+    mb->setupPrismatic(0, 0.0, zero, -1, same, btVector3(1, 0, 0), zero, zero, true);
+    mb->setupPrismatic(1, 1.0, inertia, 0, same, btVector3(0, 1, 0), zero, zero, true);
     mb->finalizeMultiDof();
     mb->setLinearDamping(damping_);
     mb->setAngularDamping(damping_);
-    mb->setBasePos(btVector3(cM0.x(), cM0.y(), 0));
+    mb->setJointPos(0, cM0.x());
+    mb->setJointPos(1, cM0.y());
     m_ = scene_->add(std::move(mb));
-    m_collider_ = scene_->collider(m_, -1, sphere, 0.0, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
+    // Bullet multiplies the two bodies' friction coefficients: mu_MN x 1, 0 in every scenario.
+    m_collider_ =
+        scene_->collider(m_, 1, sphere, setup.mu_MN, btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
     btAlignedObjectArray<btQuaternion> world_to_local;
     btAlignedObjectArray<btVector3> local_origin;
     m_->updateCollisionObjectWorldTransforms(world_to_local, local_origin);
 
-    n_ = scene_->body(sphere, btTransform(btQuaternion(0, 0, 0, 1), btVector3(cN0.x(), cN0.y(), 0)), 0.0,
+    n_ = scene_->body(sphere, btTransform(btQuaternion(0, 0, 0, 1), btVector3(cN0.x(), cN0.y(), 0)), 1.0,
                       btBroadphaseProxy::DefaultFilter, btBroadphaseProxy::AllFilter);
     n_->setCollisionFlags(n_->getCollisionFlags() | btCollisionObject::CF_KINEMATIC_OBJECT);
     n_->setActivationState(DISABLE_DEACTIVATION);
   }
 
   StepContacts step(const disks::Vec2& vM_cmd, const disks::Vec2& cN_next, const disks::Vec2&, double dt_s) override {
-    m_->setBaseVel(btVector3(vM_cmd.x(), vM_cmd.y(), 0));  // in the plane
-    m_->setBaseOmega(btVector3(0, 0, 0));
+    m_->setJointVel(0, vM_cmd.x());
+    m_->setJointVel(1, vM_cmd.y());
     scene_->world().stepSimulation(dt_s, 1, dt_s);
     StepContacts c;
     btDispatcher* d = scene_->world().getDispatcher();
@@ -318,8 +329,13 @@ class MultiBodyDisks final : public DrivenDisks {
   }
 
   State read() const override {
-    const btVector3 pm = m_->getBasePos(), pn = n_->getWorldTransform().getOrigin();
-    return {{pm.x(), pm.y()}, {pn.x(), pn.y()}};
+    const btVector3 pn = n_->getWorldTransform().getOrigin();
+    // The links' angular velocities as Bullet computes them from the joint rates (base, x, y).
+    btAlignedObjectArray<btVector3> omega, vel;
+    omega.resize(3), vel.resize(3);
+    m_->compTreeLinkVelocities(&omega[0], &vel[0]);
+    const btVector3 w = m_->localDirToWorld(1, omega[2]);
+    return {{m_->getJointPos(0), m_->getJointPos(1)}, {pn.x(), pn.y()}, {w.x(), w.y(), w.z()}};
   }
 
  private:
@@ -417,8 +433,9 @@ EngineInfo bullet_multibody_engine() {
             "rate = commanded rate + 40/s x angle error, torque limit 1.5 mu N R of the driven wheel (106 N m for the "
             "default car); settle 0.5 s, hold 0.2 s"},
            {"disks",
-            "M: zero-link floating-base btMultiBody (radius 1, 1 kg, frictionless base collider), base velocity set to "
-            "the command (z = 0) before each step; N: kinematic btRigidBody sphere placed on its path; contact from "
+            "M: the y link of a fixed-base btMultiBody on two prismatic joints, x (no mass) then y (radius 1, 1 kg, "
+            "frictionless collider), as PyBullet's planar bases are built: it cannot turn; joint velocities set to "
+            "the command before each step; N: kinematic btRigidBody sphere placed on its path; contact from "
             "the step's manifolds (distance <= 0), multibody solver response, 10 iterations"}},
       .knobs = {SettingSpec{{.key = "iterations",
                              .kind = ParamKind::kInteger,

@@ -320,10 +320,10 @@ class MujocoDisks final : public DrivenDisks {
 <body name="M" pos="{mx} {my} 0">
   <joint name="x" type="slide" axis="1 0 0"/>
   <joint name="y" type="slide" axis="0 1 0"/>
-  <geom type="sphere" size="{r}" mass="{mass}" condim="1" friction="0 0 0"/>
+  <geom type="sphere" size="{r}" mass="{mass}" condim="{condim}" friction="{mu} 0 0"/>
 </body>
 <body name="N" mocap="true" pos="{nx} {ny} 0">
-  <geom type="sphere" size="{r}" condim="1" friction="0 0 0"/>
+  <geom type="sphere" size="{r}" condim="{condim}" friction="{mu} 0 0"/>
 </body>
 </worldbody>
 <actuator>
@@ -334,7 +334,10 @@ class MujocoDisks final : public DrivenDisks {
 )",
         fmt::arg("option", option_xml(v_, setup.dt_s, Eigen::Vector3d::Zero())), fmt::arg("mx", num(cM0.x())),
         fmt::arg("my", num(cM0.y())), fmt::arg("nx", num(cN0.x())), fmt::arg("ny", num(cN0.y())),
-        fmt::arg("r", num(setup.radius_m)), fmt::arg("mass", num(kDiskMass_kg)), fmt::arg("kv", num(kv)));
+        fmt::arg("r", num(setup.radius_m)), fmt::arg("mass", num(kDiskMass_kg)), fmt::arg("kv", num(kv)),
+        // Frictionless (condim 1) in every scenario; with friction mu_MN, condim 3 (MuJoCo takes the
+        // larger condim and friction of the two geoms).
+        fmt::arg("condim", setup.mu_MN > 0.0 ? 3 : 1), fmt::arg("mu", num(setup.mu_MN)));
     sim_.reset();
     sim_ = std::make_unique<Sim>(xml);
     M_ = sim_->id(mjOBJ_BODY, "M");
@@ -371,7 +374,8 @@ class MujocoDisks final : public DrivenDisks {
 
   State read() const override {
     const mjtNum* x = sim_->d()->xpos;
-    return {{x[3 * M_], x[3 * M_ + 1]}, {x[3 * N_], x[3 * N_ + 1]}};
+    const mjtNum* w = sim_->d()->cvel + 6 * M_;  // [rotation; translation], the rotation in the world frame
+    return {{x[3 * M_], x[3 * M_ + 1]}, {x[3 * N_], x[3 * N_ + 1]}, {w[0], w[1], w[2]}};
   }
 
  private:

@@ -14,6 +14,7 @@ OdeDisks::~OdeDisks() { destroy(); }
 
 void OdeDisks::build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) {
   destroy();
+  mu_MN_ = setup.mu_MN;
   sim_ = std::make_unique<OdeWorld>(stepper_, Eigen::Vector3d::Zero());
   world_ = sim_->id();
   space_ = dSimpleSpaceCreate(nullptr);
@@ -29,6 +30,19 @@ void OdeDisks::build(const DiskSetup& setup, const disks::Vec2& cM0, const disks
     dGeomSetBody(dCreateSphere(space_, setup.radius_m), *body[i]);
   }
   dBodySetKinematic(N_);
+  // M's rotation is held by an angular motor about the world's three axes (dAMotorUser, target 0,
+  // unbounded torque), ODE's joint for holding a body's orientation: the solver sees M as a body
+  // that cannot turn, so a tangential contact force moves it instead of spinning it.
+  if (hold_spin_) {
+    dJointID hold = dJointCreateAMotor(world_, nullptr);
+    dJointAttach(hold, M_, nullptr);
+    dJointSetAMotorMode(hold, dAMotorUser);
+    dJointSetAMotorNumAxes(hold, 3);
+    dJointSetAMotorAxis(hold, 0, 0, 1, 0, 0);
+    dJointSetAMotorAxis(hold, 1, 0, 0, 1, 0);
+    dJointSetAMotorAxis(hold, 2, 0, 0, 0, 1);
+    for (int p : {dParamFMax1, dParamFMax2, dParamFMax3}) dJointSetAMotorParam(hold, p, dInfinity);
+  }
   // M is velocity-commanded: its linear velocity is set to the command before each step (as Bullet's
   // is) and ODE's integrator and contact joints take it from there. A dJointLMotor would not do: its
   // three world-axis rows are force-bounded each on its own, so against a contact (unbounded) the
@@ -40,8 +54,10 @@ void OdeDisks::near_callback(void* data, dGeomID o1, dGeomID o2) {
   dContact contact[4];
   const int n = dCollide(o1, o2, 4, &contact[0].geom, sizeof(dContact));
   for (int i = 0; i < n; ++i) {
-    contact[i].surface.mode = 0;  // frictionless: only the normal response
-    contact[i].surface.mu = 0.0;
+    // Coulomb friction mu_MN (dContactApprox1: mu a coefficient of the normal force, not a force
+    // cap, as the car's wheels have it); 0 in every scenario: only the normal response.
+    contact[i].surface.mode = self->mu_MN_ > 0.0 ? dContactApprox1 : 0;
+    contact[i].surface.mu = self->mu_MN_;
     const bool keep = self->keep_contact(contact[i]);
     self->seen_.count += 1;
     self->seen_.depth_max_m = std::max(self->seen_.depth_max_m, static_cast<double>(contact[i].geom.depth));
@@ -67,7 +83,8 @@ DrivenDisks::StepContacts OdeDisks::step(const disks::Vec2& vM_cmd, const disks:
 DrivenDisks::State OdeDisks::read() const {
   const dReal* m = dBodyGetPosition(M_);
   const dReal* n = dBodyGetPosition(N_);
-  return {{m[0], m[1]}, {n[0], n[1]}};
+  const dReal* w = dBodyGetAngularVel(M_);
+  return {{m[0], m[1]}, {n[0], n[1]}, {w[0], w[1], w[2]}};
 }
 
 void OdeDisks::destroy() {

@@ -1,6 +1,6 @@
 // Two disks in ODE: M a dynamic sphere whose linear velocity is set to its command before each
-// step, N a kinematic sphere moved along its path; contact joints from dCollide in
-// the near callback of each step (frictionless, the world's ERP and CFM).
+// step and whose rotation an angular motor holds, N a kinematic sphere moved along its path; contact joints from
+// dCollide in the near callback of each step (frictionless, the world's ERP and CFM).
 #pragma once
 
 #include <ode/ode.h>
@@ -15,6 +15,8 @@ namespace liftcheck {
 class OdeDisks : public DrivenDisks {
  public:
   explicit OdeDisks(const OdeStepper& stepper = {}) : stepper_(stepper) {}
+  /// Test hook (the fault-injection suite): M's spin left free.
+  OdeDisks(const OdeStepper& stepper, bool hold_spin) : stepper_(stepper), hold_spin_(hold_spin) {}
   ~OdeDisks() override;
 
  protected:
@@ -38,6 +40,8 @@ class OdeDisks : public DrivenDisks {
   dBodyID M_ = nullptr, N_ = nullptr;
   StepContacts seen_;
   OdeStepper stepper_;
+  bool hold_spin_ = true;
+  double mu_MN_ = 0.0;  ///< DiskSetup::mu_MN
 };
 
 }  // namespace liftcheck

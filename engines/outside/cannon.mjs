@@ -151,12 +151,20 @@ function stepCar(req) {
 function buildDisks(req) {
   car = disks = null;
   C.applySettings(KNOBS, req.settings, 'disks');
-  const { radius_m, cM0, cN0 } = C.diskRequest(req);
-  const world = new CANNON.World({ gravity: vec([0, 0, 0]) });
+  const { radius_m, cM0, cN0, mu_MN } = C.diskRequest(req);
+  // No gravity in the disks' plane; cannon-es bounds friction by mu |g| times the reduced mass
+  // (Narrowphase: friction * (world.frictionGravity || world.gravity).length()), so the friction
+  // between the disks (mu_MN, 0 in every scenario) takes the option cannon-es has for a world
+  // without gravity, frictionGravity, at standard gravity.
+  const world = new CANNON.World({ gravity: vec([0, 0, 0]), frictionGravity: vec([0, 0, -9.81]) });
   world.solver.iterations = ITERATIONS;
-  world.defaultContactMaterial.friction = 0;  // frictionless; restitution 0 (cannon-es's default for it)
+  world.defaultContactMaterial.friction = mu_MN;  // 0, frictionless, in every scenario; restitution 0 (cannon-es's default for it)
   const M = body(world, { mass: 1, shape: new CANNON.Sphere(radius_m), inertia: C.sphereInertia(1, radius_m), p: [...cM0, 0], q: [0, 0, 0, 1], group: 1, mask: 1 });
   M.linearFactor.set(1, 1, 0);  // M stays in the plane
+  // Its rotation held (Body.fixedRotation, with no inverse inertia: the solver sees no rotational freedom).
+  M.fixedRotation = true;
+  M.invInertia.set(0, 0, 0);
+  M.updateInertiaWorld(true);
   const N = body(world, { mass: 0, type: CANNON.Body.KINEMATIC, shape: new CANNON.Sphere(radius_m), p: [...cN0, 0], q: [0, 0, 0, 1], group: 1, mask: 1 });
   disks = { world, M, N, seen: none(), previous: none() };
   // The contacts' signed distances on the state the step starts from: preStep comes after the
@@ -193,7 +201,8 @@ function stepDisks(req) {
   const engine_s = timed(() => world.step(dt_s));
   let contacts = disks.seen;
   if (opts.fault === 'late-contact') [contacts, disks.previous] = [disks.previous, disks.seen];
-  return { engine_s, cM: [M.position.x, M.position.y], cN: [N.position.x, N.position.y], contacts };
+  const w = M.angularVelocity;
+  return { engine_s, cM: [M.position.x, M.position.y], cN: [N.position.x, N.position.y], wM: [w.x, w.y, w.z], contacts };
 }
 
 serve({
@@ -207,7 +216,7 @@ serve({
       ['bodies', 'chassis box (collides with nothing), knuckle (no shape, inertia m x 2e-3 m^2), sphere wheels; exact solid inertias set (cannon-es estimates a world-aligned bounding box); damping 0 (default 0.01)'],
       ['friction', 'ContactMaterial(ground, wheel) friction mu, restitution 0 (the materials have no coefficients, so the pair\'s apply); cannon-es clamps each friction row\'s impulse over the step at mu g times the pair\'s reduced mass (the wheel\'s mass), not at mu times the normal impulse: at dt = 1 ms a force of mu g m / dt, a thousand times the wheel\'s weight'],
       ['ground', 'CANNON.Plane z = 0'],
-      ['disks', `M sphere 1 kg, velocity set before each step, linearFactor (1, 1, 0); N kinematic sphere, velocity that lands it on cN_next; frictionless, restitution 0; ${ITERATIONS} iterations; contacts: the step's ContactEquations (narrow phase on the start state), signed distance n . (x_j + r_j - x_i - r_i)`],
+      ['disks', `M sphere 1 kg, velocity set before each step, linearFactor (1, 1, 0), fixedRotation with no inverse inertia; frictionGravity 9.81 m/s^2 (friction mu_MN between the disks, 0 in every scenario); N kinematic sphere, velocity that lands it on cN_next; frictionless, restitution 0; ${ITERATIONS} iterations; contacts: the step's ContactEquations (narrow phase on the start state), signed distance n . (x_j + r_j - x_i - r_i)`],
     ],
   }),
   car: buildCar,

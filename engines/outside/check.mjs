@@ -7,7 +7,7 @@
 //    liftcheck's servo (rate = feed-forward + 40/s x angle error): the circle fitted to the
 //    front-axle centre against the kinematic radius l / sin(beta0), and the engine's cost per step.
 // 2. Two disks (radius 1 m) 3 m apart closing head-on at 1 m/s: the first step whose reported
-//    contacts are not empty against the exact contact time 1 s.
+//    contacts are not empty against the exact contact time 1 s, and M's spin held (wM).
 import { spawn } from 'node:child_process';
 import { readFileSync } from 'node:fs';
 import { dirname, resolve } from 'node:path';
@@ -134,12 +134,14 @@ function wrap(a) {
 
 async function checkDisks(request) {
   const dt = 0.001, v = 0.5;  // each disk at 0.5 m/s: closing at 1 m/s, surfaces 1 m apart
-  let s = await request({ op: 'disks', settings: {}, radius_m: 1, dt_s: dt, cM0: [0, 0], cN0: [3, 0] });
+  let s = await request({ op: 'disks', settings: {}, radius_m: 1, mu_MN: 0, dt_s: dt, cM0: [0, 0], cN0: [3, 0] });
   let engine_s = 0;
   for (let k = 1; k <= 2000; k++) {
     const cN_next = [3 - v * k * dt, 0];
     s = await request({ op: 'step', vM_cmd: [v, 0], cN_next, vN: [-v, 0], dt_s: dt });
     engine_s += s.engine_s;
+    if (!Array.isArray(s.wM) || s.wM.length !== 3) throw new Error(`step ${k}: the reply has no wM [wx, wy, wz] (M's angular velocity, protocol 3)`);
+    if (!(Math.hypot(...s.wM) <= 1e-6)) throw new Error(`disks: M turns at ${Math.hypot(...s.wM).toExponential(2)} rad/s after step ${k}: its spin must be held (spin_M_max, 1e-6 rad/s)`);
     if (s.contacts.count > 0) {
       console.log(`disks: first contact in step ${k} (starts at t = ${((k - 1) * dt).toFixed(3)} s; exact contact 1.000 s), ` +
         `${s.contacts.count} point(s), signed distance ${s.contacts.distance_min_m.toExponential(2)} m; ` +
@@ -158,7 +160,7 @@ if (!target.argv?.length) {
 }
 const { child, request } = connect(target);
 try {
-  const hello = await request({ op: 'hello', protocol: 2 });
+  const hello = await request({ op: 'hello', protocol: 3 });
   console.log(`${target.name}: ${hello.engine} ${hello.version} (${hello.precision}); knobs: ${hello.settings.map((k) => `${k.key}=${k.default}`).join(', ') || 'none'}`);
   await checkCar(request, settings, wheels);
   await checkDisks(request);

@@ -116,8 +116,10 @@ export function frontWheels(car, beta0) {
 }
 
 export function diskRequest(req) {
+  const mu_MN = req?.mu_MN;
+  need(typeof mu_MN === 'number' && Number.isFinite(mu_MN) && mu_MN >= 0, 'disks request.mu_MN must be a number >= 0');
   return { radius_m: positive(req, 'radius_m', 'disks request'), dt_s: positive(req, 'dt_s', 'disks request'),
-    cM0: vector(req, 'cM0', 2, 'disks request'), cN0: vector(req, 'cN0', 2, 'disks request') };
+    cM0: vector(req, 'cM0', 2, 'disks request'), cN0: vector(req, 'cN0', 2, 'disks request'), mu_MN };
 }
 
 /// A step request's rates (car) or commands (disks), checked.

@@ -204,20 +204,26 @@ function stepCar(req) {
 
 function buildDisks(req) {
   dropWorld();
-  if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
+  const { mu_MN } = C.diskRequest(req);
   const knob = C.applySettings(SETTINGS, req.settings, 'disks');
   newWorld([0, 0, 0], knob, req.dt_s);
-  const ball = () => shape(HK.HP_Shape_CreateSphere([0, 0, 0], req.radius_m), F_DISK, 0);
+  // Friction mu_MN on both (MINIMUM combine): 0, frictionless, in every scenario.
+  const ball = () => shape(HK.HP_Shape_CreateSphere([0, 0, 0], req.radius_m), F_DISK, mu_MN);
   world.M = addBody(ball(), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], HK.MotionType.DYNAMIC, 1);
   HK.HP_Body_SetGravityFactor(world.M, 0);
+  // Its rotation held: zero inertia, which Havok (as Babylon.js's physics documents) takes as a body
+  // that cannot turn.
+  const mp = ok(HK.HP_Body_GetMassProperties(world.M), 'HP_Body_GetMassProperties');
+  mp[2] = [0, 0, 0];
+  ok(HK.HP_Body_SetMassProperties(world.M, mp), 'HP_Body_SetMassProperties');
   world.N = addBody(ball(), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], HK.MotionType.KINEMATIC, 0);
   HK.HP_Body_SetEventMask(world.M, HK.EventType.COLLISION_STARTED.value | HK.EventType.COLLISION_CONTINUED.value);
   return { ...diskState(), ideal_step_time_s: world.ideal_s };
 }
 
 function diskState() {
-  const m = pose(world.M).p, n = pose(world.N).p;
-  return { cM: [m[0], m[1]], cN: [n[0], n[1]] };
+  const m = pose(world.M).p, n = pose(world.N).p, w = HK.HP_Body_GetAngularVelocity(world.M)[1];
+  return { cM: [m[0], m[1]], cN: [n[0], n[1]], wM: [w[0], w[1], w[2]] };
 }
 
 /// The M-N collision events of the last step: their count and smallest signed distance.
@@ -261,7 +267,7 @@ serve({
         ['bodies', `chassis box of the chassis mass (filter colliding with nothing); knuckle a ${C.KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg, colliding with nothing; wheels spheres of radius R (or y-axis cylinders) of wheel_mass_kg; inertias HP_Shape_BuildMassProperties gives for the shapes at those masses; no damping, always active`],
         ['ground', 'static box, top face z = 0, 60 m square (or 20 l) centred under the start (float32 contact precision degrades on large shapes)'],
         ['friction', 'each material names its combine mode; measured: GEOMETRIC_MEAN, MINIMUM, MAXIMUM, ARITHMETIC_MEAN, MULTIPLY do what they say, and of two different modes the later in that list wins. Both materials MINIMUM (Babylon.js PhysicsMaterial default), wheel and ground both mu: min(mu, mu) = mu; restitution 0'],
-        ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, linear velocity set to the command (z = 0) before each step; N kinematic, HP_Body_SetTargetQTransform to its next position; contacts from the step\'s COLLISION_STARTED/CONTINUED events, distance (p_N - p_M) . n'],
+        ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, zero inertia (its rotation held), linear velocity set to the command (z = 0) before each step; N kinematic, HP_Body_SetTargetQTransform to its next position; contacts from the step\'s COLLISION_STARTED/CONTINUED events, distance (p_N - p_M) . n'],
         ['four wheels', 'two front wheels at +-track/2, each on its own knuckle and hinges as above, built at its Ackermann angle (or at beta when steered in parallel)'],
       ],
     };

@@ -250,12 +250,14 @@ function contactListener() {
 
 function buildDisks(req) {
   dropWorld();
-  if (!(req.radius_m > 0) || !(req.dt_s > 0)) throw new Error('disks need radius_m > 0 and dt_s > 0');
+  const { mu_MN } = C.diskRequest(req);
   const knob = { ...PRESETS[CONFIG], ...C.applySettings(SETTINGS, req.settings, 'disks') };
   world = makeSystem(knob, [0, 0, 0]);
   world.M = addBody(new Jolt.SphereShape(req.radius_m, null), [req.cM0[0], req.cM0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Dynamic, L_DISK,
-                     { mass_kg: 1, gravity_factor: 0, dofs: Jolt.EAllowedDOFs_Plane2D });
-  world.N = addBody(new Jolt.SphereShape(req.radius_m, null), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Kinematic, L_DISK);
+                     { mass_kg: 1, gravity_factor: 0, friction: mu_MN, dofs: Jolt.EAllowedDOFs_TranslationX | Jolt.EAllowedDOFs_TranslationY });
+  // Friction mu_MN on both (Jolt's geometric mean): 0, frictionless, in every scenario.
+  world.N = addBody(new Jolt.SphereShape(req.radius_m, null), [req.cN0[0], req.cN0[1], 0], [0, 0, 0, 1], Jolt.EMotionType_Kinematic, L_DISK,
+                     { friction: mu_MN });
   world.listener = contactListener();
   world.system.SetContactListener(world.listener);
   world.identity = new Jolt.Quat(0, 0, 0, 1);
@@ -271,7 +273,8 @@ function xy(body) {
 }
 
 function diskState() {
-  return { cM: xy(world.M), cN: xy(world.N) };
+  const w = world.M.GetAngularVelocity();
+  return { cM: xy(world.M), cN: xy(world.N), wM: [w.GetX(), w.GetY(), w.GetZ()] };
 }
 
 function stepDisks(req) {
@@ -306,7 +309,7 @@ serve({
         ['bodies', `chassis box of the chassis mass (layer colliding with nothing); knuckle a ${C.KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg (inertia 0.4 m r^2: 1e-4 kg m^2 at 0.05 kg), colliding with nothing; wheels spheres of radius R (or Y-axis cylinders) of wheel_mass_kg; inertias Jolt computes for the shapes at those masses; no damping, no sleeping`],
         ['ground', 'static BoxShape, top face z = 0, 60 m square (or 20 l) centred under the start'],
         ['friction', 'Jolt combines friction as the geometric mean sqrt(f1 f2): wheel and ground both mu'],
-        ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, EAllowedDOFs_Plane2D, linear velocity set to the command before each step; N kinematic, MoveKinematic to its next position; contacts from ContactListener OnContactAdded/OnContactPersisted (speculative manifolds within 2 cm included, distance = -mPenetrationDepth)'],
+        ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, EAllowedDOFs TranslationX | TranslationY (in the plane, its rotation held), linear velocity set to the command before each step; N kinematic, MoveKinematic to its next position; contacts from ContactListener OnContactAdded/OnContactPersisted (speculative manifolds within 2 cm included, distance = -mPenetrationDepth)'],
         ['four wheels', 'two front wheels at +-track/2, each on its own knuckle and hinges as above, built at its Ackermann angle (or at beta when steered in parallel)'],
       ],
     };

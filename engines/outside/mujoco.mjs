@@ -201,16 +201,18 @@ function stepCar(req) {
   return carState(engine_s);
 }
 
-function disksXml({ radius_m, dt_s, cM0, cN0 }, knob) {
+function disksXml({ radius_m, dt_s, cM0, cN0, mu_MN }, knob) {
   const r = num(radius_m);
+  // Frictionless (condim 1) in every scenario; with friction mu_MN, condim 3 (MuJoCo takes the larger of the two geoms').
+  const contact = `condim="${mu_MN > 0 ? 3 : 1}" friction="${num(mu_MN)} 0 0"`;
   return `<mujoco model="liftcheck disks">
 ${option(dt_s, [0, 0, 0], { impratio: CONFIG.impratio, ...knob })}
 <worldbody>
 <body name="M" pos="${num(cM0[0])} ${num(cM0[1])} 0">
   <joint name="x" type="slide" axis="1 0 0"/><joint name="y" type="slide" axis="0 1 0"/>
-  <geom type="sphere" size="${r}" mass="1" condim="1" friction="0 0 0"/>
+  <geom type="sphere" size="${r}" mass="1" ${contact}/>
 </body>
-<body name="N" mocap="true" pos="${num(cN0[0])} ${num(cN0[1])} 0"><geom type="sphere" size="${r}" condim="1" friction="0 0 0"/></body>
+<body name="N" mocap="true" pos="${num(cN0[0])} ${num(cN0[1])} 0"><geom type="sphere" size="${r}" ${contact}/></body>
 </worldbody>
 <actuator><velocity name="x" joint="x" kv="${num(1 / dt_s)}"/><velocity name="y" joint="y" kv="${num(1 / dt_s)}"/></actuator>
 </mujoco>
@@ -230,8 +232,8 @@ function buildDisks(req) {
 }
 
 function diskPositions() {
-  const x = sim.d.xpos;
-  return { cM: [x[3 * disks.M], x[3 * disks.M + 1]], cN: [x[3 * disks.N], x[3 * disks.N + 1]] };
+  const x = sim.d.xpos, w = sim.d.cvel;  // cvel: [rotation; translation] per body, the rotation in the world frame
+  return { cM: [x[3 * disks.M], x[3 * disks.M + 1]], cN: [x[3 * disks.N], x[3 * disks.N + 1]], wM: [w[6 * disks.M], w[6 * disks.M + 1], w[6 * disks.M + 2]] };
 }
 
 /// The M-N contacts mj_step1 generated on the state the coming step starts from.

@@ -1,4 +1,4 @@
-// The liftcheck engine protocol (docs/protocol.md), version 2: one JSON request per line on
+// The liftcheck engine protocol (docs/protocol.md), version 3: one JSON request per line on
 // standard input, one JSON reply per line on standard output, each reply carrying its request's
 // number ("id"; this loop puts it in, the adapter never sees it). An adapter supplies an object with
 // hello(), car(request), disks(request), stepCar(request) and stepDisks(request) (or one
@@ -11,7 +11,7 @@
 import { readSync, writeSync } from 'node:fs';
 import { StringDecoder } from 'node:string_decoder';
 
-export const PROTOCOL = 2;
+export const PROTOCOL = 3;
 
 function finite(value, where) {
   if (typeof value === 'number' && !Number.isFinite(value)) throw new Error(`${where} is not finite`);

@@ -126,13 +126,14 @@ function stepCar(req) {
 function buildDisks(req) {
   car = disks = null;
   C.applySettings(KNOBS, req.settings, 'disks');
-  const { radius_m, dt_s, cM0, cN0 } = C.diskRequest(req);
+  const { radius_m, dt_s, cM0, cN0, mu_MN } = C.diskRequest(req);
   newWorld([0, 0, 0], dt_s);
   world.numSolverIterations = CONFIG.solver;
   world.numInternalPgsIterations = CONFIG.pgs;
-  const M = world.createRigidBody(RAPIER.RigidBodyDesc.dynamic().setTranslation(cM0[0], cM0[1], 0).enabledTranslations(true, true, false).setCanSleep(false));
+  const M = world.createRigidBody(RAPIER.RigidBodyDesc.dynamic().setTranslation(cM0[0], cM0[1], 0).enabledTranslations(true, true, false).lockRotations().setCanSleep(false));
   const N = world.createRigidBody(RAPIER.RigidBodyDesc.kinematicPositionBased().setTranslation(cN0[0], cN0[1], 0));
-  const ball = () => RAPIER.ColliderDesc.ball(radius_m).setFriction(0).setRestitution(0);
+  // Friction mu_MN on both (Rapier's Average combine): 0, frictionless, in every scenario.
+  const ball = () => RAPIER.ColliderDesc.ball(radius_m).setFriction(mu_MN).setRestitution(0);
   const colM = world.createCollider(ball().setMass(1), M), colN = world.createCollider(ball(), N);
   disks = { M, N, colM, colN };
   car = null;
@@ -140,8 +141,8 @@ function buildDisks(req) {
 }
 
 function diskPositions() {
-  const m = disks.M.translation(), n = disks.N.translation();
-  return { cM: [m.x, m.y], cN: [n.x, n.y] };
+  const m = disks.M.translation(), n = disks.N.translation(), w = disks.M.angvel();
+  return { cM: [m.x, m.y], cN: [n.x, n.y], wM: [w.x, w.y, w.z] };
 }
 
 const pose = (b) => { const t = b.translation(), r = b.rotation(); return { x: [t.x, t.y, t.z], q: [r.x, r.y, r.z, r.w] }; };
@@ -188,7 +189,7 @@ serve({
       ['bodies', 'chassis cuboid collider with setMass (collision groups 0: collides with nothing); knuckle setAdditionalMassProperties (inertia m x 2e-3 m^2); ball wheels setMass (Rapier\'s solid-ball inertia)'],
       ['friction', 'wheel and ground colliders both friction mu, restitution 0; Rapier\'s default combine rule (Average) gives mu'],
       ['ground', `cuboid ${2 * GROUND_HALF_M} m x ${2 * GROUND_HALF_M} m x 1 m, top face z = 0, centred under the start (float32: kept small)`],
-      ['disks', `M ball 1 kg, linvel set before each step, translations z locked; N kinematicPositionBased ball, setNextKinematicTranslation(cN_next); friction 0, restitution 0; ${CONFIG.solver} solver iterations, ${CONFIG.pgs} PGS; contacts: the points of the M-N manifold the step used (predictive ones included); signed distance n . (p2 - p1) of each point's two local points at the start poses, as Rapier's solver measures it (contactDist is the distance when the narrow phase last recomputed the manifold, which it does not do every step)`],
+      ['disks', `M ball 1 kg, linvel set before each step, translations z locked, rotations locked (RigidBodyDesc.lockRotations); N kinematicPositionBased ball, setNextKinematicTranslation(cN_next); friction 0, restitution 0; ${CONFIG.solver} solver iterations, ${CONFIG.pgs} PGS; contacts: the points of the M-N manifold the step used (predictive ones included); signed distance n . (p2 - p1) of each point's two local points at the start poses, as Rapier's solver measures it (contactDist is the distance when the narrow phase last recomputed the manifold, which it does not do every step)`],
     ],
   }),
   car: buildCar,

@@ -1,13 +1,14 @@
 // Tests of the adapters' side of the protocol (node --test test.mjs, or npm test): every
 // registered configuration's hello, the refusal of bad knobs and of a step without a world, and
 // the two faults of cannon.mjs, each against the clean adapter stepped the same way.
-import { test } from 'node:test';
+import { after, test } from 'node:test';
 import assert from 'node:assert/strict';
 import { spawn } from 'node:child_process';
 import { readFileSync, readdirSync } from 'node:fs';
 import { createInterface } from 'node:readline';
 import { fileURLToPath } from 'node:url';
 import { dirname } from 'node:path';
+import { PROTOCOL } from './protocol.mjs';
 
 const DIR = dirname(fileURLToPath(import.meta.url));
 const SUITE = `${DIR}/suite`;
@@ -16,8 +17,13 @@ const REGISTERED = readdirSync(SUITE).filter((f) => f.endsWith('.json') && !f.st
 
 /// An adapter child and a function sending one request, numbered, and returning its reply (10 s
 /// at most), which must carry the request's number.
+/// Every child started, ended after the last test (a failed assertion leaves its child running).
+const CHILDREN = [];
+after(() => { for (const c of CHILDREN) c.kill('SIGKILL'); });
+
 function start(argv) {
   const child = spawn(argv[0], argv.slice(1), { cwd: SUITE, stdio: ['pipe', 'pipe', 'ignore'] });
+  CHILDREN.push(child);
   const lines = createInterface({ input: child.stdout })[Symbol.asyncIterator]();
   let numbered = 0;
   const request = async (msg) => {
@@ -41,11 +47,11 @@ const carRequest = (settings) => ({ op: 'car', settings, dt_s: 0.001, mu: 1, gra
   q0: { x_m: 0, y_m: 0, phi_rad: 0, beta_rad: 0.35 }, servo: { spin_torque_max_Nm: 500, steer_torque_max_Nm: 500 } });
 
 for (const reg of REGISTERED) {
-  test(`${reg.name}: hello declares protocol 2, a precision and knobs with their defaults in range`, async () => {
+  test(`${reg.name}: hello declares the protocol's version, a precision and knobs with their defaults in range`, async () => {
     const a = start(reg.command);
-    const h = await a.request({ op: 'hello', protocol: 2 });
+    const h = await a.request({ op: 'hello', protocol: PROTOCOL });
     assert.equal(h.ok, true);
-    assert.equal(h.protocol, 2);
+    assert.equal(h.protocol, PROTOCOL);
     assert.ok(['float32', 'float64'].includes(h.precision));
     assert.deepEqual(h.vehicles, ['car', 'disks']);
     for (const k of h.settings) {
@@ -58,7 +64,7 @@ for (const reg of REGISTERED) {
 
   test(`${reg.name}: bad knobs and a step without a world are refused`, async () => {
     const a = start(reg.command);
-    const h = await a.request({ op: 'hello', protocol: 2 });
+    const h = await a.request({ op: 'hello', protocol: PROTOCOL });
     const refused = async (msg, why) => {
       const r = await a.request(msg);
       assert.equal(r.ok, false, why);
@@ -80,7 +86,7 @@ for (const reg of REGISTERED) {
 /// x of the front-axle centre after each of n steps of a car driven at 1 rad/s.
 async function drive(argv, n) {
   const a = start(argv);
-  await a.request({ op: 'hello', protocol: 2 });
+  await a.request({ op: 'hello', protocol: PROTOCOL });
   await a.request(carRequest({}));
   const xs = [];
   for (let k = 0; k < n; k++) xs.push((await a.request({ op: 'step', spin_radps: [1, 0], steer_radps: [0, 0], dt_s: 0.001 })).x_m);
@@ -91,8 +97,8 @@ async function drive(argv, n) {
 /// The first step with a reported contact, disks closing at 1 m/s from 1 m apart.
 async function firstContact(argv) {
   const a = start(argv);
-  await a.request({ op: 'hello', protocol: 2 });
-  await a.request({ op: 'disks', settings: {}, radius_m: 1, dt_s: 0.001, cM0: [0, 0], cN0: [2.0105, 0] });
+  await a.request({ op: 'hello', protocol: PROTOCOL });
+  await a.request({ op: 'disks', settings: {}, radius_m: 1, mu_MN: 0, dt_s: 0.001, cM0: [0, 0], cN0: [2.0105, 0] });
   for (let k = 1; k <= 100; k++) {
     const r = await a.request({ op: 'step', vM_cmd: [1, 0], cN_next: [2.0105, 0], vN: [0, 0], dt_s: 0.001 });
     if (r.contacts.count > 0) {
@@ -123,12 +129,12 @@ test('cannon --fault late-contact reports the disks\' first contact one step lat
 test('havok: the ideal step time set is the request\'s dt, for two dt', async () => {
   const reg = REGISTERED.find((r) => r.name === 'havok');
   const a = start(reg.command);
-  assert.equal((await a.request({ op: 'hello', protocol: 2 })).ok, true);
+  assert.equal((await a.request({ op: 'hello', protocol: PROTOCOL })).ok, true);
   for (const dt_s of [0.001, 0.002]) {
     const car = await a.request({ ...carRequest({}), dt_s });
     assert.equal(car.ok, true);
     assert.equal(car.ideal_step_time_s, dt_s);
-    const disks = await a.request({ op: 'disks', settings: {}, radius_m: 1, dt_s, cM0: [0, 0], cN0: [3, 0] });
+    const disks = await a.request({ op: 'disks', settings: {}, radius_m: 1, mu_MN: 0, dt_s, cM0: [0, 0], cN0: [3, 0] });
     assert.equal(disks.ideal_step_time_s, dt_s);
   }
   await a.stop();
@@ -139,7 +145,7 @@ test('havok: the ideal step time set is the request\'s dt, for two dt', async ()
 // solver's stiffness adapted to a 60 Hz step). A hard-coded ideal step time fails one of the two.
 async function havokEnd(settings) {
   const a = start(REGISTERED.find((r) => r.name === 'havok').command);
-  assert.equal((await a.request({ op: 'hello', protocol: 2 })).ok, true);
+  assert.equal((await a.request({ op: 'hello', protocol: PROTOCOL })).ok, true);
   assert.equal((await a.request(carRequest(settings))).ok, true);
   let s = null;
   for (let k = 0; k < 300; k++) s = await a.request({ op: 'step', spin_radps: [3, 0], steer_radps: [0.2, 0], dt_s: 0.001 });
@@ -162,7 +168,7 @@ for (const name of ['cannon', 'cannon-accurate']) {
   test(`${name}: every constraint equation's SPOOK parameters are those of the run's dt`, async () => {
     const reg = REGISTERED.find((r) => r.name === name);
     const a = start(reg.command);
-    assert.equal((await a.request({ op: 'hello', protocol: 2 })).ok, true);
+    assert.equal((await a.request({ op: 'hello', protocol: PROTOCOL })).ok, true);
     for (const [wheels, count] of [[3, 4 * 6], [4, 6 * 6]]) {  // hinges x (3 point, 2 rotational, 1 motor)
       for (const dt_s of [0.001, 0.002]) {
         const r = await a.request({ ...carRequest({}), dt_s, car: { ...CAR, wheels } });

@@ -385,10 +385,9 @@ nlohmann::json ProtocolChild::checked_reply(const std::string& line) {
   const auto id = reply.find("id");
   if (id == reply.end())
     fail(
-        fmt::format("a reply without its request's number (\"id\": {}): protocol {} numbers every request and each "
-                    "reply must carry "
-                    "its number (an adapter written to protocol 1?)",
-                    id_, kProtocolVersion));
+        fmt::format("a reply without its request's number (\"id\": {}): since protocol 2 every request is numbered "
+                    "and each reply must carry its number (an adapter written to protocol 1?)",
+                    id_));
   if (!id->is_number_integer())
     fail(fmt::format("a reply whose \"id\" {} is not a whole number (the request's number is {})", clip(id->dump(), 40),
                      id_));

@@ -20,8 +20,9 @@ namespace liftcheck {
 
 /// The longest line either side may send (docs/protocol.md).
 constexpr size_t kProtocolLineMax = size_t{1} << 20;
-/// The protocol's version: 2 numbers every request ("id") and requires it in its reply.
-constexpr int kProtocolVersion = 2;
+/// The protocol's version: 2 numbers every request ("id") and requires it in its reply; 3 adds M's
+/// angular velocity (wM) to the disks' step reply.
+constexpr int kProtocolVersion = 3;
 
 /// Ends (SIGKILL) every process started as an adapter by the liftcheck process `owner` that is
 /// still running, wherever it went (a new session, a parent that died): each adapter and whatever

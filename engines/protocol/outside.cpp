@@ -287,6 +287,7 @@ class ProtocolDisks final : public DrivenDisks {
                    {"settings", settings_json(settings_)},
                    {"radius_m", setup.radius_m},
                    {"dt_s", setup.dt_s},
+                   {"mu_MN", setup.mu_MN},
                    {"cM0", vec(cM0)},
                    {"cN0", vec(cN0)}};
     const json r = lease_.call(req);
@@ -311,7 +312,8 @@ class ProtocolDisks final : public DrivenDisks {
         reply_.value(5) >= 0.0 &&
         (reply_.value(5) == 0.0 || (reply_.given(6) && reply_.given(7) && reply_.value(6) >= 0.0))) {
       engine_s_ += reply_.value(0);
-      state_ = {disks::Vec2(reply_.value(1), reply_.value(2)), disks::Vec2(reply_.value(3), reply_.value(4))};
+      state_ = {disks::Vec2(reply_.value(1), reply_.value(2)), disks::Vec2(reply_.value(3), reply_.value(4)),
+                Eigen::Vector3d(reply_.value(9), reply_.value(10), reply_.value(11))};
       StepContacts out;
       out.count = static_cast<int>(std::min(reply_.value(5), 1e6));
       if (out.count > 0) out.depth_max_m = reply_.value(6), out.distance_min_m = reply_.value(7);
@@ -320,6 +322,8 @@ class ProtocolDisks final : public DrivenDisks {
     const json r = c.checked_reply(line);
     engine_s_ += engine_seconds(c, r);
     state_ = positions(c, r);
+    const std::vector<double> w = c.numbers(r, "wM", 3);
+    state_.wM_radps = Eigen::Vector3d(w[0], w[1], w[2]);
     const auto ct = r.find("contacts");
     if (ct == r.end() || !ct->is_object()) c.fail("the reply has no object 'contacts'");
     const auto n = ct->find("count");
@@ -357,7 +361,10 @@ class ProtocolDisks final : public DrivenDisks {
                     {"contacts/count", true, true},
                     {"contacts/depth_max_m", false},
                     {"contacts/distance_min_m", false},
-                    {"id", true, true}}};
+                    {"id", true, true},
+                    {"wM/0"},
+                    {"wM/1"},
+                    {"wM/2"}}};
 };
 
 // ---- the hello: what the configuration is ----

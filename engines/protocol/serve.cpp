@@ -165,7 +165,8 @@ class ProtocolServer {
     if (!disks_) throw EngineError(fmt::format("'{}' has no stepped disks: they cannot be served", e_.name));
     disks_holder_ = std::move(engine);
     DiskSetup setup;
-    setup.radius_m = req.at("radius_m"), setup.dt_s = req.at("dt_s");
+    setup.radius_m = req.at("radius_m"), setup.dt_s = req.at("dt_s"), setup.mu_MN = req.at("mu_MN");
+    if (!(setup.mu_MN >= 0.0)) throw EngineError("disks request.mu_MN must be a number >= 0");
     disks_->build(setup, vec2(req.at("cM0")), vec2(req.at("cN0")));
     const DrivenDisks::State s = disks_->read();
     return {{"cM", vec(s.cM)}, {"cN", vec(s.cN)}};
@@ -181,7 +182,8 @@ class ProtocolServer {
     if (c.count > 0)
       contacts["depth_max_m"] = c.depth_max_m,
       contacts["distance_min_m"] = std::isnan(c.distance_min_m) ? -c.depth_max_m : c.distance_min_m;
-    return {{"engine_s", engine_s}, {"cM", vec(s.cM)}, {"cN", vec(s.cN)}, {"contacts", contacts}};
+    return {
+        {"engine_s", engine_s}, {"cM", vec(s.cM)}, {"cN", vec(s.cN)}, {"wM", vec(s.wM_radps)}, {"contacts", contacts}};
   }
 
   const EngineInfo& e_;

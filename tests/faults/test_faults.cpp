@@ -24,7 +24,9 @@ namespace {
 /// on its path), contact when the centres are within 2, and no contact response.
 class NoPhysicsDisks final : public DrivenDisks {
  protected:
-  void build(const DiskSetup&, const disks::Vec2& cM0, const disks::Vec2& cN0) override { s_ = {cM0, cN0}; }
+  void build(const DiskSetup&, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
+    s_ = {cM0, cN0, Eigen::Vector3d::Zero()};  // placed, never turned
+  }
   StepContacts step(const disks::Vec2& vM, const disks::Vec2& cN_next, const disks::Vec2&, double dt) override {
     StepContacts c;
     const double d = (s_.cM - s_.cN).norm();
@@ -84,23 +86,27 @@ class DeepContactDisks final : public OdeDisks {
 // ---- disk faults after contact and before it (issue 21, classes 5 and 6) ---------------------
 
 /// A contact that sticks: ODE's M-N contacts get unbounded Coulomb friction (mu = infinity, where
-/// the disks are frictionless) and M cannot spin (an angular motor holds its rotation, as a
-/// vehicle's body would): M is glued to N where it touched instead of sliding over it.
+/// the disks are frictionless); M cannot spin (OdeDisks holds it): M is glued to N where it touched
+/// instead of sliding over it.
 class StickingContactDisks final : public OdeDisks {
  protected:
-  void build(const DiskSetup& setup, const disks::Vec2& cM0, const disks::Vec2& cN0) override {
-    OdeDisks::build(setup, cM0, cN0);
-    dJointID hold = dJointCreateAMotor(world(), nullptr);
-    dJointAttach(hold, body_M(), nullptr);
-    dJointSetAMotorMode(hold, dAMotorUser);
-    dJointSetAMotorNumAxes(hold, 3);
-    dJointSetAMotorAxis(hold, 0, 0, 1, 0, 0);
-    dJointSetAMotorAxis(hold, 1, 0, 0, 1, 0);
-    dJointSetAMotorAxis(hold, 2, 0, 0, 0, 1);
-    for (int p : {dParamFMax1, dParamFMax2, dParamFMax3}) dJointSetAMotorParam(hold, p, 1e9);
-  }
   bool keep_contact(dContact& c) override {
     c.surface.mu = dInfinity;
+    return true;
+  }
+};
+
+/// Friction between the disks (Coulomb, mu = 0.5) where they are frictionless; M's spin held or,
+/// with `hold_spin` false, left free, as an adapter that forgets to hold it would: M then rolls on
+/// N and its path hardly changes, but it turns.
+class FrictionDisks final : public OdeDisks {
+ public:
+  explicit FrictionDisks(bool hold_spin) : OdeDisks(OdeStepper{}, hold_spin) {}
+
+ protected:
+  bool keep_contact(dContact& c) override {
+    c.surface.mode |= dContactApprox1;  // Coulomb: mu times the normal force
+    c.surface.mu = 0.5;
     return true;
   }
 };
@@ -428,6 +434,16 @@ TEST(Faults, DiskContactDepthHundredfold) {
 TEST(Faults, DiskContactSticks) {
   expect_flagged(disk_fault("sticking-contact", [] { return std::make_unique<StickingContactDisks>(); }),
                  "disks.oblique", "contact_path_error");
+}
+
+TEST(Faults, FrictionBetweenTheDisks) {
+  expect_flagged(disk_fault("disk-friction", [] { return std::make_unique<FrictionDisks>(true); }), "disks.oblique",
+                 "contact_path_error");
+}
+
+TEST(Faults, FrictionBetweenTheDisksWithMsSpinFree) {
+  expect_flagged(disk_fault("disk-friction-spin-free", [] { return std::make_unique<FrictionDisks>(false); }),
+                 "disks.oblique", "spin_M_max");
 }
 
 TEST(Faults, DiskContactBounces) {

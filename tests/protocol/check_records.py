@@ -39,7 +39,7 @@ def same(results, a, b):
 
 
 EXPECT = {
-    "fake-version": "speaks protocol 1, liftcheck speaks 2",
+    "fake-version": "speaks protocol 1, liftcheck speaks 3",
     "fake-malformed": "a reply that is not one JSON object",
     "fake-nan": "non-finite number",
     "fake-missing": "the reply has no field '",

@@ -2,7 +2,7 @@
 """An adapter that lies, for the tests of liftcheck's engine protocol (docs/protocol.md): it says
 hello and builds like an honest one (a car that stands where it was put, disks that stay put),
 then breaks the protocol in the way its mode names, at the first step (every reply carries its
-request's number, "id", as protocol 2 requires):
+request's number, "id", as protocol 2 and later require):
   version    hello answers protocol 1
   malformed  a reply that is not JSON
   nan        a reply with NaN in it (Python writes the bare word, which is not JSON)
@@ -41,7 +41,7 @@ for line in sys.stdin:
         built = car_state(req)
         out(built)
     elif op == "disks":
-        built = {"ok": True, "cM": req["cM0"], "cN": req["cN0"], "contacts": {"count": 0}, "engine_s": 0.0}
+        built = {"ok": True, "cM": req["cM0"], "cN": req["cN0"], "wM": [0.0, 0.0, 0.0], "contacts": {"count": 0}, "engine_s": 0.0}
         out({"ok": True, "cM": req["cM0"], "cN": req["cN0"]})
     elif op == "step":
         if mode == "malformed":

@@ -116,7 +116,7 @@ def main():
             send({"ok": True, "id": rid})
             break
         if op in ("car", "disks"):
-            state = car_state(req) if op == "car" else {"cM": req["cM0"], "cN": req["cN0"], "contacts": {"count": 0}}
+            state = car_state(req) if op == "car" else {"cM": req["cM0"], "cN": req["cN0"], "wM": [0.0, 0.0, 0.0], "contacts": {"count": 0}}
             reply = {k: v for k, v in state.items() if k != "contacts"}
             send(dict(reply, ok=True) if rid is None else dict(reply, ok=True, id=rid))
             if mode == "extra-build":

@@ -220,7 +220,7 @@ for args in "--help" "--version" "run --help" "validate --help"; do
 done
 
 # ---- item 9: serve to a full standard output ----
-printf '{"op": "hello", "protocol": 2, "id": 1}\n{"op": "bye", "id": 2}\n' | "$bin" serve ode >/dev/full 2>"$tmp/err"
+printf '{"op": "hello", "protocol": 3, "id": 1}\n{"op": "bye", "id": 2}\n' | "$bin" serve ode >/dev/full 2>"$tmp/err"
 st=$?
 if [ "$st" -eq 2 ] && grep -q "cannot write to standard output" "$tmp/err" && [ "$(wc -l <"$tmp/err")" -eq 1 ]; then pass serve-full-stdout
 else fail serve-full-stdout "exit $st: $(head -c 300 "$tmp/err")"; fi
