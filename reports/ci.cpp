@@ -36,13 +36,109 @@ std::string known_points_text(const json& entry) {
   return out;
 }
 
-/// A failure's message: what went wrong and, for each metric out of tolerance, its figures.
+/// A record's metrics, worst first (the largest multiple of its tolerance), name order on ties.
+std::vector<std::pair<std::string, MetricView>> worst_first(const json& r) {
+  std::vector<std::pair<std::string, MetricView>> out;
+  RecordView(r).each_metric([&](const std::string& name, const MetricView& m) { out.emplace_back(name, m); });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const auto& a, const auto& b) { return a.second.ratio() > b.second.ratio(); });
+  return out;
+}
+
+/// A failure's message: what went wrong and, for each metric out of tolerance, worst first, its figures.
 std::string failure_text(const json& r) {
   std::string msg = RecordView(r).verdict() + ": " + r.value("message", "");
-  RecordView(r).each_metric([&](const std::string& name, const MetricView& m) {
+  for (const auto& [name, m] : worst_first(r))
     if (!m.pass() && m.counted()) msg += fmt::format("; {}: {}", name, metric_text(m));
-  });
   return msg;
+}
+
+/// A test case's own metrics, a line each, worst first ("METRIC: figures, N x tolerance").
+std::string metrics_out(const json& r) {
+  std::string out;
+  for (const auto& [name, m] : worst_first(r))
+    out += fmt::format("{}: {}, {:.3g} x tolerance{}\n", name, metric_text(m), m.ratio(), m.pass() ? "" : " OUT");
+  return out.empty() ? "" : "<system-out>" + xml(out) + "</system-out>";
+}
+
+/// The verdict element of a run's test case and the counter it adds to: a true skip and a listed
+/// known failure are both <skipped>, told apart by their type ("not-applicable", "known-failure");
+/// a run that is as expected is never an <error> or <failure>, so the counts are zero exactly
+/// when validate exits 0.
+std::string verdict_element(const json& r, int& failures, int& errors, int& skipped) {
+  const std::string st = r["status"];
+  if (st == "skip") {
+    ++skipped;
+    return fmt::format("<skipped type=\"not-applicable\" message=\"{}\"/>", xml(r["message"]));
+  }
+  if (record_as_expected(r)) {
+    if (st == "pass") return "";
+    ++skipped;
+    const json& ex = r.value("expectation", json());
+    return fmt::format("<skipped type=\"known-failure\" message=\"known failure: {}\"/>",
+                       xml(ex.is_object() ? ex.value("reason", "") : r.value("message", "")));
+  }
+  if (st == "error") {
+    ++errors;
+    return fmt::format("<error message=\"{}\"/>", xml(r["message"]));
+  }
+  ++failures;
+  return fmt::format("<failure type=\"{}\" message=\"{}\"/>", xml(r.value("verdict", "fail")), xml(failure_text(r)));
+}
+
+/// summary.md's table, a row per configuration (it reads in a narrow pull-request comment): its
+/// runs passed, known failures, skipped and not as expected, and its furthest metric from
+/// tolerance among the runs that fail, negative controls aside (multiple of tolerance, scenario,
+/// metric).
+std::string configuration_table(const json& results) {
+  struct Row {
+    int pass = 0, known = 0, skip = 0, bad = 0;
+    double worst = 0.0;
+    std::string where;
+  };
+  std::vector<std::string> engines;
+  for (const auto& e : results["context"]["engines"]) engines.push_back(e["name"]);
+  // A negative control must fail on every configuration: its figure is no standing.
+  std::vector<std::string> controls;
+  for (const auto& sc : results.value("scenarios", json::array()))
+    if (sc.value("negative_control", false)) controls.push_back(sc.value("name", ""));
+  std::map<std::string, Row> rows;
+  for (const auto& r : results["runs"]) {
+    Row& row = rows[r["engine"].get<std::string>()];
+    const std::string st = r["status"], sc = r["scenario"];
+    if (!record_as_expected(r))
+      ++row.bad;
+    else if (st == "pass")
+      ++row.pass;
+    else if (st == "skip")
+      ++row.skip;
+    else
+      ++row.known;
+    if (st == "pass" || st == "skip" || std::find(controls.begin(), controls.end(), sc) != controls.end()) continue;
+    for (const auto& [name, m] : worst_first(r)) {
+      if (!m.counted()) continue;
+      if (row.where.empty() || m.ratio() > row.worst) {
+        row.worst = m.ratio();
+        // A zero tolerance has no multiple: its measured figure instead.
+        const std::string figure = std::isfinite(m.ratio())
+                                       ? fmt::format("{:.3g}×", m.ratio())
+                                       : fmt::format("{:.3g} against a zero tolerance", m.measured());
+        row.where = figure + " in " + escape_markdown(sc) + " " + markdown_code(name);
+      }
+      break;
+    }
+  }
+  std::string md =
+      "| configuration | ✅ pass | 🟦 known | – skip | ❌ not as expected | furthest from tolerance |\n"
+      "|---|--:|--:|--:|--:|---|\n";
+  for (const auto& e : engines) {
+    const Row& row = rows[e];
+    md += fmt::format("| {} | {} | {} | {} | {} | {} |\n", escape_markdown(e), row.pass, row.known, row.skip,
+                      row.bad == 0 ? "0" : fmt::format("**{}**", row.bad), row.where);
+  }
+  return md +
+         "\n✅ pass · 🟦 known failure (listed with its reason in harness/expectations.json) · – skip · "
+         "❌ fail, error or unexpected pass\n";
 }
 
 }  // namespace
@@ -60,41 +156,15 @@ std::string junit_xml(const json& results) {
   for (const auto& sc : order) {
     int f = 0, e = 0, s = 0;
     std::string cases;
-    // Every run's metrics as the suite's properties (the schema allows properties on suites, not
-    // on cases): "CONFIGURATION METRIC" = expected, measured, error, tolerance.
-    std::string props;
     for (const json* r : by[sc]) {
-      RecordView(*r).each_metric([&](const std::string& name, const MetricView& m) {
-        props += fmt::format("    <property name=\"{} {}\" value=\"{}\"/>\n", xml((*r)["engine"]), xml(name),
-                             xml(metric_text(m)));
-      });
-    }
-    if (!props.empty()) props = "    <properties>\n" + props + "    </properties>\n";
-    for (const json* r : by[sc]) {
-      const std::string st = (*r)["status"];
-      cases += fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.6f}\">", xml(sc), xml((*r)["engine"]),
-                           r->value("wall_s", 0.0));
-      if (st == "skip") {
-        cases += fmt::format("<skipped message=\"{}\"/>", xml((*r)["message"]));
-        ++s;
-      } else if (st == "error") {
-        cases += fmt::format("<error message=\"{}\"/>", xml((*r)["message"]));
-        ++e;
-      } else if (!record_as_expected(*r)) {
-        cases += fmt::format("<failure type=\"{}\" message=\"{}\"/>", xml(r->value("verdict", "fail")),
-                             xml(failure_text(*r)));
-        ++f;
-      } else if (st == "fail" && r->contains("expectation") && (*r)["expectation"].is_object()) {
-        // An expected failure is the skip convention's: a CI page shows it apart from the passes.
-        cases += fmt::format("<skipped message=\"known failure: {}\"/>", xml((*r)["expectation"]["reason"]));
-        ++s;
-      }
-      cases += "</testcase>\n";
+      const std::string verdict = verdict_element(*r, f, e, s);
+      cases += fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.6f}\">{}{}</testcase>\n", xml(sc),
+                           xml((*r)["engine"]), r->value("wall_s", 0.0), verdict, metrics_out(*r));
     }
     tests += static_cast<int>(by[sc].size()), failures += f, errors += e;
     suites += fmt::format(
-        "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\">\n{}{}  </testsuite>\n",
-        xml(sc), by[sc].size(), f, e, s, props, cases);
+        "  <testsuite name=\"{}\" tests=\"{}\" failures=\"{}\" errors=\"{}\" skipped=\"{}\">\n{}  </testsuite>\n",
+        xml(sc), by[sc].size(), f, e, s, cases);
   }
   // The sweeps' gates: a suite per sweep, a case per engine.
   for (const auto& sw : results.value("sweeps", json::array())) {
@@ -110,7 +180,7 @@ std::string junit_xml(const json& results) {
         cases += fmt::format("<failure message=\"{}\"/>", xml(msg));
         ++f;
       } else if (entry["gate"].value("points_known_failure", 0) > 0 && entry["gate"].value("points_pass", 0) == 0) {
-        cases += fmt::format("<skipped message=\"{}\"/>", xml(known_points_text(entry)));
+        cases += fmt::format("<skipped type=\"known-failure\" message=\"{}\"/>", xml(known_points_text(entry)));
         ++sk;
       }
       cases += "</testcase>\n";
@@ -175,35 +245,7 @@ std::string summary_markdown(const json& results, const std::string& report_link
                            markdown_code(e["engine"].get<std::string>()), escape_markdown(problems));
       }
   if (!bad.empty()) md += "### Not as expected\n\n" + bad + "\n";
-  // The matrix.
-  std::vector<std::string> engines, scenarios;
-  for (const auto& e : results["context"]["engines"]) engines.push_back(e["name"]);
-  std::map<std::pair<std::string, std::string>, const json*> runs;
-  for (const auto& r : results["runs"]) {
-    if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end())
-      scenarios.push_back(r["scenario"]);
-    runs[{r["scenario"].get<std::string>(), r["engine"].get<std::string>()}] = &r;
-  }
-  md += "| scenario |";
-  for (const auto& e : engines) md += " " + escape_markdown(e) + " |";
-  md += "\n|---|";
-  for (std::size_t i = 0; i < engines.size(); ++i) md += ":-:|";
-  md += "\n";
-  for (const auto& sc : scenarios) {
-    md += "| " + sc + " |";
-    for (const auto& e : engines) {
-      const auto it = runs.find({sc, e});
-      std::string cell = " ";
-      if (it != runs.end()) {
-        const std::string v = it->second->value("verdict", (*it->second)["status"].get<std::string>());
-        cell = v == "pass" ? "✅" : v == "known failure" ? "🟦" : v == "skip" ? "–" : v == "error" ? "💥" : "❌";
-      }
-      md += " " + cell + " |";
-    }
-    md += "\n";
-  }
-  md += "\n✅ pass · 🟦 known failure (listed with its reason in harness/expectations.json)";
-  md += " · ❌ fail or unexpected pass · 💥 error · – skip\n";
+  md += configuration_table(results);
   return md;
 }
 

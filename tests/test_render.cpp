@@ -204,7 +204,7 @@ TEST(Escape, SummaryMarkdownKeepsItsLinesAndColumns) {
     }
   }
   EXPECT_EQ(bullets, 1);
-  EXPECT_NE(md.find("| scenario | a\\|b |\n|---|:-:|\n| car.circle | 💥 |\n"), std::string::npos) << md;
+  EXPECT_NE(md.find("| a\\|b | 0 | 0 | 0 | **1** |  |\n"), std::string::npos) << md;
   EXPECT_EQ(md.find('\x1b'), std::string::npos);
 }
 
@@ -213,6 +213,50 @@ TEST(Escape, JunitHoldsNoControlCharacter) {
   for (char c : xml) EXPECT_FALSE(static_cast<unsigned char>(c) < 0x20 && c != '\n') << static_cast<int>(c);
   EXPECT_NE(xml.find("<error message=\"boom\nFAIL forged | ?[2J\"/>"), std::string::npos)
       << xml;  // a line break is allowed in XML
+}
+
+/// A metric record as results.json holds it: an absolute tolerance.
+nlohmann::json metric(double measured, double tolerance) {
+  return {{"expected", 0.0},        {"measured", measured},    {"abs_error", measured},        {"rel_error", nullptr},
+          {"tolerance", tolerance}, {"tolerance_kind", "abs"}, {"pass", measured <= tolerance}};
+}
+
+// junit.xml counts errors and failures only where validate would exit 1: a listed known failure,
+// even an error record, is a <skipped type="known-failure">, a run that does not apply a
+// <skipped type="not-applicable">; a failure's message and each case's metrics go worst first.
+TEST(Junit, ErrorsAndFailuresOnlyWhereNotAsExpected) {
+  const nlohmann::json known_error = {{"scenario", "car.slope"},
+                                      {"engine", "e1"},
+                                      {"status", "error"},
+                                      {"verdict", "known failure"},
+                                      {"as_expected", true},
+                                      {"message", "blew up"},
+                                      {"expectation", {{"reason", "listed"}}}};
+  const nlohmann::json skip = {{"scenario", "car.slip"}, {"engine", "e1"},      {"status", "skip"},
+                               {"verdict", "skip"},      {"as_expected", true}, {"message", "no forces"}};
+  const nlohmann::json fail = {{"scenario", "car.circle"},
+                               {"engine", "e2"},
+                               {"status", "fail"},
+                               {"verdict", "fail"},
+                               {"as_expected", false},
+                               {"message", "out of tolerance"},
+                               {"metrics", {{"a_small", metric(2.0, 1.0)}, {"b_large", metric(30.0, 1.0)}}}};
+  nlohmann::json results = {{"runs", {known_error, skip}}, {"sweeps", nlohmann::json::array()}};
+  std::string xml = liftcheck::junit_xml(results);
+  EXPECT_NE(xml.find("errors=\"0\">"), std::string::npos) << xml;
+  EXPECT_EQ(xml.find("<error"), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<skipped type=\"known-failure\" message=\"known failure: listed\"/>"), std::string::npos);
+  EXPECT_NE(xml.find("<skipped type=\"not-applicable\" message=\"no forces\"/>"), std::string::npos);
+  results["runs"].push_back(fail);
+  xml = liftcheck::junit_xml(results);
+  EXPECT_NE(xml.find("failures=\"1\" errors=\"0\">"), std::string::npos) << xml;
+  const std::size_t large = xml.find("b_large: expected"), small = xml.find("a_small: expected");
+  ASSERT_NE(large, std::string::npos);
+  ASSERT_NE(small, std::string::npos);
+  EXPECT_LT(large, small) << "worst first";
+  EXPECT_NE(xml.find("b_large: expected 0, measured 30, absolute error 30, tolerance 1, 30 x tolerance OUT"),
+            std::string::npos)
+      << xml;
 }
 
 }  // namespace
