@@ -70,6 +70,9 @@ RunnerDef runner_def(int jobs, double timeout_s, double memory_limit_mib) {
   RunnerDef r;
   r.memory_limit_mib = memory_limit_mib;
   r.jobs = std::min(jobs, usable_cores());  // more would only queue for the same cores
+  if (r.jobs < jobs)
+    std::cerr << fmt::format("liftcheck: note: --jobs {} runs {} at once: this machine lets it use {} core{}\n", jobs,
+                             r.jobs, r.jobs, r.jobs == 1 ? "" : "s");
   r.timeout_s = timeout_s;
   r.stop = [] { return pending_signal() != 0; };
   // Outside engines' replies are bounded by the run's limit, here and in the worker processes.

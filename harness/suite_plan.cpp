@@ -189,7 +189,12 @@ SuitePlan plan_suite(const SuiteDef& def) {
   if (def.engines.empty()) throw InputError("--engines names no engine");
   for (const auto& s : scenarios())
     if (matches_any(def.globs, s.name)) plan.scenarios.push_back(&s);
-  if (plan.scenarios.empty()) throw InputError(fmt::format("no scenario matches '{}'", fmt::join(def.globs, ",")));
+  if (plan.scenarios.empty()) {
+    std::vector<std::string> names;
+    for (const auto& s : scenarios()) names.push_back(s.name);
+    const std::string hint = def.globs.size() == 1 ? did_you_mean(def.globs.front(), names) : "";
+    throw InputError(fmt::format("no scenario matches '{}' (see 'liftcheck list'){}", fmt::join(def.globs, ","), hint));
+  }
   check_set_taken(def, plan.scenarios);
   add_runs(plan, def);
   check_set_values(plan);

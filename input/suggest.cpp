@@ -39,9 +39,21 @@ std::string nearest_name(const std::string& name, const std::vector<std::string>
     const std::size_t d = lower(c) == lower(name) ? 0 : edit_distance(name, c);
     if (d < best_d) best = c, best_d = d;
   }
-  if (best.empty()) return "";
   const std::size_t limit = std::max<std::size_t>(1, std::max(name.size(), best.size()) / 3);
-  return best_d <= limit ? best : "";
+  if (!best.empty() && best_d <= limit) return best;
+  // A name without its family ("circle" for "car.circle"), or mistyped within the part after the
+  // family's dot: the candidate whose last dot-separated part is nearest, when near enough.
+  if (name.empty() || name.find('.') != std::string::npos) return "";
+  best.clear(), best_d = static_cast<std::size_t>(-1);
+  for (const auto& c : candidates) {
+    const std::size_t dot = c.rfind('.');
+    if (dot == std::string::npos) continue;
+    const std::string part = c.substr(dot + 1);
+    const std::size_t d = lower(part) == lower(name) ? 0 : edit_distance(name, part);
+    if (d < best_d) best = c, best_d = d;
+  }
+  const std::size_t part_limit = name.size() / 3;
+  return !best.empty() && best_d <= part_limit ? best : "";
 }
 
 std::string did_you_mean(const std::string& name, const std::vector<std::string>& candidates) {

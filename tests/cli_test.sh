@@ -46,6 +46,8 @@ bad_input analytic-has-no-wheel "engine 'analytic' has no setting 'wheel'" run c
 bad_input iterations-range "parameter 'iterations' must be >= 1" run car.cycle --engine bullet --set iterations=0
 bad_input validate-unknown-engine "unknown engine configuration 'warp'" validate --engines warp --out "$tmp/r0"
 bad_input validate-no-match "no scenario matches 'zzz*'" validate --filter 'zzz*' --out "$tmp/r1"
+bad_input validate-typo "no scenario matches 'car.circel' (see 'liftcheck list'); did you mean 'car.circle'?" validate --filter car.circel --out "$tmp/r1"
+bad_input run-family-left-out "unknown scenario 'circle' (see 'liftcheck list'); did you mean 'car.circle'?" run circle --engine ode
 [ -e "$tmp/r1/results.json" ] && { echo "FAIL validate-no-match left a results.json"; fails=$((fails + 1)); }
 
 check run-json 0 "$bin" run car.cycle --engine analytic --set R=0.3 --set l=1.2 --set beta=0.4 --set phi=0.7 \
@@ -537,6 +539,9 @@ grep -qF '| a\|b | 1 | 0 | 0 | 0 |  |' "$tmp/rpipe/summary.md" && grep -q '^| an
 for j in 1 2 64; do
   check "rel-jobs-$j" 0 "$bin" validate --engines analytic,ode --filter car.circle,disks.linear --no-sweeps --no-report --timeout 1.5 --jobs "$j" --out "$tmp/rj$j"
 done
+# --jobs above the cores is capped, and says so in one line.
+grep -q "^liftcheck: note: --jobs 64 runs [0-9]* at once: this machine lets it use [0-9]* core" "$tmp/err" && passes=$((passes + 1)) \
+  || { echo "FAIL --jobs 64 capped silently"; cat "$tmp/err"; fails=$((fails + 1)); }
 python3 - "$tmp/rj1/results.json" "$tmp/rj2/results.json" "$tmp/rj64/results.json" "$(nproc)" <<'PY' && passes=$((passes + 1)) || { echo "FAIL verdicts depend on --jobs"; fails=$((fails + 1)); }
 import json, sys
 runs = [{(r["scenario"], r["engine"]): r["verdict"] for r in json.load(open(p))["runs"]} for p in sys.argv[1:4]]

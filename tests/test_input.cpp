@@ -63,6 +63,10 @@ TEST(Suggest, NearestOnlyWhenNear) {
   EXPECT_EQ(nearest_name("car.cylce", names), "car.cycle");
   EXPECT_EQ(nearest_name("CAR.CIRCLE", names), "car.circle");
   EXPECT_EQ(nearest_name("zzz", names), "");
+  EXPECT_EQ(nearest_name("circle", names), "car.circle");  // the family left out
+  EXPECT_EQ(nearest_name("circel", names), "car.circle");
+  EXPECT_EQ(nearest_name("copy", names), "disks.copy");
+  EXPECT_EQ(nearest_name("xy", names), "");
   EXPECT_EQ(nearest_name("", names), "");
   EXPECT_EQ(did_you_mean("disk.copy", names), "; did you mean 'disks.copy'?");
   EXPECT_EQ(did_you_mean("x", {}), "");
