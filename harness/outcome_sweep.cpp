@@ -151,16 +151,12 @@ nlohmann::json engine_outcomes(const EngineInfo& e, const std::vector<ReferenceC
     const OutcomeCase& c = *cs.c;
     // The reference engine's runs are the cases themselves.
     const nlohmann::json& rec = record(outcome_key(e, c));
+    // The case and the reference's outcome, which every row of it starts with.
+    nlohmann::json row = {{"a", c.a}, {"b", c.b}, {"path", c.path}, {"T_s", c.T_s}, {"reference", cs.collision}};
     if (rec["status"] == "error") {  // its own column: no outcome to compare
       ++errors;
-      rows.push_back({{"a", c.a},
-                      {"b", c.b},
-                      {"path", c.path},
-                      {"T_s", c.T_s},
-                      {"reference", cs.collision},
-                      {"engine", nullptr},
-                      {"status", "error"},
-                      {"message", rec["message"]}});
+      row.update({{"engine", nullptr}, {"status", "error"}, {"message", rec["message"]}});
+      rows.push_back(std::move(row));
       continue;
     }
     const auto& d = rec["details"];
@@ -187,19 +183,15 @@ nlohmann::json engine_outcomes(const EngineInfo& e, const std::vector<ReferenceC
       steps = (d[detail_key::kTContactMeasured].get<double>() - cs.t) / 1e-3;
       worst_steps = std::max(worst_steps, std::abs(steps));
     }
-    rows.push_back({{"a", c.a},
-                    {"b", c.b},
-                    {"path", c.path},
-                    {"T_s", c.T_s},
-                    {"reference", cs.collision},
-                    {"engine", hit},
-                    {"reference_t_contact_s", cs.collision ? nlohmann::json(cs.t) : nlohmann::json()},
-                    {"t_error_steps", std::isfinite(steps) ? nlohmann::json(steps) : nlohmann::json()},
-                    {"reference_min_distance", cs.min_d},
-                    {"near_boundary", is_near},
-                    {"status", rec["status"]},
-                    {"errors", failed_errors},
-                    {"known_failure", known_fail}});
+    row.update({{"engine", hit},
+                {"reference_t_contact_s", cs.collision ? nlohmann::json(cs.t) : nlohmann::json()},
+                {"t_error_steps", std::isfinite(steps) ? nlohmann::json(steps) : nlohmann::json()},
+                {"reference_min_distance", cs.min_d},
+                {"near_boundary", is_near},
+                {"status", rec["status"]},
+                {"errors", failed_errors},
+                {"known_failure", known_fail}});
+    rows.push_back(std::move(row));
   }
   const nlohmann::json problems = outcome_problems(unexplained, errors, failing, known_failing, listed, failing_cases);
   return nlohmann::json(
