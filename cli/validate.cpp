@@ -60,16 +60,16 @@ struct Ran {
 /// multiple of tolerance, and how many more fail ("slip_along_max 67x, slip_rms 4.2x, +2 more");
 /// the reason of a known failure is for `liftcheck explain`, the figures for the report.
 std::string failing_metrics_text(const nlohmann::json& r) {
-  std::vector<std::pair<double, std::string>> out;
-  RecordView(r).each_metric([&](const std::string& name, const MetricView& m) {
-    if (!m.pass() && m.counted()) out.emplace_back(m.ratio(), name);
-  });
+  std::vector<std::pair<std::string, MetricView>> out;
+  for (const auto& nm : RecordView(r).metrics_worst_first())
+    if (!nm.second.pass() && nm.second.counted()) out.push_back(nm);
   if (out.empty()) return printable(r["message"].get<std::string>(), 1000);
-  std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::string text;
-  for (std::size_t i = 0; i < std::min<std::size_t>(3, out.size()); ++i)
-    text += fmt::format("{}{} {}", i ? ", " : "", out[i].second,
-                        std::isfinite(out[i].first) ? fmt::format("{:.3g}x", out[i].first) : "(tolerance 0)");
+  for (std::size_t i = 0; i < std::min<std::size_t>(3, out.size()); ++i) {
+    const double ratio = out[i].second.ratio();
+    text += fmt::format("{}{} {}", i ? ", " : "", out[i].first,
+                        std::isfinite(ratio) ? fmt::format("{:.3g}x", ratio) : "(tolerance 0)");
+  }
   if (out.size() > 3) text += fmt::format(", +{} more", out.size() - 3);
   return text;
 }

@@ -36,6 +36,14 @@ const nlohmann::json& MetricView::raw(const char* key) const {
   return it != m_->end() ? *it : null;
 }
 
+std::vector<std::pair<std::string, MetricView>> RecordView::metrics_worst_first() const {
+  std::vector<std::pair<std::string, MetricView>> out;
+  each_metric([&](const std::string& name, const MetricView& m) { out.emplace_back(name, m); });
+  std::stable_sort(out.begin(), out.end(),
+                   [](const auto& a, const auto& b) { return a.second.ratio() > b.second.ratio(); });
+  return out;
+}
+
 std::string RecordView::verdict() const {
   const auto it = r_->find("verdict");
   return it != r_->end() && it->is_string() ? it->get<std::string>() : r_->value("status", std::string());

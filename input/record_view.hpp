@@ -10,6 +10,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace liftcheck {
 
@@ -82,6 +84,8 @@ class RecordView {
     if (!r_->contains("metrics") || !(*r_)["metrics"].is_object()) return;
     for (const auto& [name, m] : (*r_)["metrics"].items()) f(name, MetricView(m));
   }
+  /// Its metrics, worst first (the largest ratio to tolerance), in name order on ties.
+  std::vector<std::pair<std::string, MetricView>> metrics_worst_first() const;
 
  private:
   const nlohmann::json* r_;

@@ -36,19 +36,10 @@ std::string known_points_text(const json& entry) {
   return out;
 }
 
-/// A record's metrics, worst first (the largest multiple of its tolerance), name order on ties.
-std::vector<std::pair<std::string, MetricView>> worst_first(const json& r) {
-  std::vector<std::pair<std::string, MetricView>> out;
-  RecordView(r).each_metric([&](const std::string& name, const MetricView& m) { out.emplace_back(name, m); });
-  std::stable_sort(out.begin(), out.end(),
-                   [](const auto& a, const auto& b) { return a.second.ratio() > b.second.ratio(); });
-  return out;
-}
-
 /// A failure's message: what went wrong and, for each metric out of tolerance, worst first, its figures.
 std::string failure_text(const json& r) {
   std::string msg = RecordView(r).verdict() + ": " + r.value("message", "");
-  for (const auto& [name, m] : worst_first(r))
+  for (const auto& [name, m] : RecordView(r).metrics_worst_first())
     if (!m.pass() && m.counted()) msg += fmt::format("; {}: {}", name, metric_text(m));
   return msg;
 }
@@ -56,7 +47,7 @@ std::string failure_text(const json& r) {
 /// A test case's own metrics, a line each, worst first ("METRIC: figures, N x tolerance").
 std::string metrics_out(const json& r) {
   std::string out;
-  for (const auto& [name, m] : worst_first(r))
+  for (const auto& [name, m] : RecordView(r).metrics_worst_first())
     out += fmt::format("{}: {}, {:.3g} x tolerance{}\n", name, metric_text(m), m.ratio(), m.pass() ? "" : " OUT");
   return out.empty() ? "" : "<system-out>" + xml(out) + "</system-out>";
 }
@@ -115,7 +106,7 @@ std::string configuration_table(const json& results) {
     else
       ++row.known;
     if (st == "pass" || st == "skip" || std::find(controls.begin(), controls.end(), sc) != controls.end()) continue;
-    for (const auto& [name, m] : worst_first(r)) {
+    for (const auto& [name, m] : RecordView(r).metrics_worst_first()) {
       if (!m.counted()) continue;
       if (row.where.empty() || m.ratio() > row.worst) {
         row.worst = m.ratio();

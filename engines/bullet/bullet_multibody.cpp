@@ -17,6 +17,7 @@
 #include "engines/bullet/bullet_multibody.hpp"
 
 #include <btBulletDynamicsCommon.h>
+
 #include <BulletDynamics/Featherstone/btMultiBody.h>
 #include <BulletDynamics/Featherstone/btMultiBodyConstraintSolver.h>
 #include <BulletDynamics/Featherstone/btMultiBodyDynamicsWorld.h>
@@ -24,6 +25,7 @@
 #include <BulletDynamics/Featherstone/btMultiBodyLinkCollider.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fmt/format.h>
 #include <memory>
@@ -331,10 +333,8 @@ class MultiBodyDisks final : public DrivenDisks {
   State read() const override {
     const btVector3 pn = n_->getWorldTransform().getOrigin();
     // The links' angular velocities as Bullet computes them from the joint rates (base, x, y).
-    btAlignedObjectArray<btVector3> omega, vel;
-    omega.resize(3), vel.resize(3);
-    m_->compTreeLinkVelocities(&omega[0], &vel[0]);
-    const btVector3 w = m_->localDirToWorld(1, omega[2]);
+    m_->compTreeLinkVelocities(omega_.data(), vel_.data());
+    const btVector3 w = m_->localDirToWorld(1, omega_[2]);
     return {{m_->getJointPos(0), m_->getJointPos(1)}, {pn.x(), pn.y()}, {w.x(), w.y(), w.z()}};
   }
 
@@ -344,6 +344,7 @@ class MultiBodyDisks final : public DrivenDisks {
   std::unique_ptr<MultiBodyScene> scene_;
   btMultiBody* m_ = nullptr;
   btMultiBodyLinkCollider* m_collider_ = nullptr;
+  mutable std::array<btVector3, 3> omega_, vel_;  ///< read()'s scratch: base, x link, y link
   btRigidBody* n_ = nullptr;
 };
 
