@@ -1,5 +1,6 @@
 #include "engines/rigid_car.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -153,8 +154,11 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   sample(0.0);
   for (long k = 0; k < steps; ++k) {
     const double t0 = k * dt, t1 = (k + 1) * dt;
-    const car::BaseSample start = path.at(t0), mid = path.at(t0 + 0.5 * dt);
-    advance(t1, start.alpha_rad, start.beta_rad, mid.alpha_rate_radps, mid.beta_rate_radps);
+    const double ta = std::max(0.0, servo_instant_s(t0, false)), tb = std::max(0.0, servo_instant_s(t0, true));
+    const car::BaseSample drive = path.at(ta), drive_mid = path.at(ta + 0.5 * dt);
+    const car::BaseSample steer = tb == ta ? drive : path.at(tb),
+                          steer_mid = tb == ta ? drive_mid : path.at(tb + 0.5 * dt);
+    advance(t1, drive.alpha_rad, steer.beta_rad, drive_mid.alpha_rate_radps, steer_mid.beta_rate_radps);
     book_slip();
     if ((k + 1) % sample_every == 0 || k + 1 == steps) sample(t1);
   }

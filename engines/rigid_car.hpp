@@ -109,6 +109,9 @@ class RigidCar : public CarEngine {
   virtual RigidCarState read() const = 0;
   /// False where a wheel has no spin state of its own (WheelSlip::along_measured).
   virtual bool wheels_spin() const { return true; }
+  /// The instant whose command the servo aims the steering (`steering`) or the drive at during the
+  /// step from t_s: t_s itself. Only the fault-injection suite shifts it (a servo a step early or late).
+  virtual double servo_instant_s(double t_s, bool /*steering*/) const { return t_s; }
 
   /// The engine's knob values, typed (declared in its EngineInfo; resolved by resolve_settings).
   Settings settings_;

@@ -83,6 +83,21 @@ std::vector<car::TimedConfig> drive_checked(CarEngine& engine, const CarSetup& s
   return trace;
 }
 
+namespace {
+
+/// The lag tau of a realized angle behind its command, from samples of e = command - realized and
+/// the command's rate r: realized(t) = command(t - tau) = command(t) - tau r(t) to first order, so
+/// tau = sum(e r) / sum(r^2), the least-squares fit.
+struct LagFit {
+  double er = 0.0, rr = 0.0;
+  void add(double error_rad, double rate_radps) { er += error_rad * rate_radps, rr += rate_radps * rate_radps; }
+  /// Whether the command moves at all (a path that does not steer has no steering lag).
+  bool moves() const { return rr > 0.0; }
+  double steps(double dt_s) const { return moves() ? er / rr / dt_s : 0.0; }
+};
+
+}  // namespace
+
 /// A simulator outside liftcheck shows only its trace: its whole path is compared with the exact
 /// lift of the commanded path at every sample (front-axle position), and its realized shape with
 /// the commanded one. An engine liftcheck runs is judged by the same comparisons of its own trace
@@ -92,6 +107,7 @@ std::vector<car::TimedConfig> drive_checked(CarEngine& engine, const CarSetup& s
 void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup, const car::BasePath& path,
                      const Config& q0, const std::vector<car::TimedConfig>& trace) {
   double pos = 0.0, shape = 0.0;
+  LagFit alpha_lag, beta_lag;
   car::LiftDef def;
   def.sample_dt_s = setup.sample_dt_s;
   const auto exact = car::lift(setup.car, path, q0, def);
@@ -116,9 +132,16 @@ void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup,
     shape = std::max(shape, std::abs(e2::wrap_angle(s.q.phi_rad - ephi)));
     const car::BaseSample cmd = path.at(std::min(s.t_s, path.duration_s()));
     shape = std::max({shape, std::abs(s.q.alpha_rad - cmd.alpha_rad), std::abs(s.q.beta_rad - cmd.beta_rad)});
+    alpha_lag.add(cmd.alpha_rad - s.q.alpha_rad, cmd.alpha_rate_radps);
+    beta_lag.add(cmd.beta_rad - s.q.beta_rad, cmd.beta_rate_radps);
   }
-  o.values["trace_path_error"] = {.expected = 0.0, .measured = pos, .informational = engine.exact_by_construction()};
-  o.values["trace_shape_error"] = {.expected = 0.0, .measured = shape, .informational = engine.exact_by_construction()};
+  const bool by_construction = engine.exact_by_construction();
+  o.values["trace_path_error"] = {.expected = 0.0, .measured = pos, .informational = by_construction};
+  o.values["trace_shape_error"] = {.expected = 0.0, .measured = shape, .informational = by_construction};
+  o.values["drive_lag"] = {
+      .expected = 0.0, .measured = alpha_lag.steps(setup.dt_s), .informational = by_construction || !alpha_lag.moves()};
+  o.values["steer_lag"] = {
+      .expected = 0.0, .measured = beta_lag.steps(setup.dt_s), .informational = by_construction || !beta_lag.moves()};
 }
 
 /// At most ~400 rows [t, alpha, beta, x, y, phi] for plots and snapshots.
@@ -302,6 +325,8 @@ std::vector<MetricDef> cycle_metrics() {
       SLIP_RMS,
       TRACE_PATH,
       TRACE_SHAPE,
+      STEER_LAG,
+      DRIVE_LAG,
       REALIZED_LIFT,
       floored(rel("dx", "m", 1e-9, 0.02, "net x change against the exact holonomy" + size)),
       floored(rel("dy", "m", 1e-9, 0.02, "net y change against the exact holonomy" + size)),

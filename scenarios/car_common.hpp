@@ -53,7 +53,20 @@ nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedCon
 /// largest speed along and across its rolling direction and its RMS slip speed. The analytic lift
 /// rolls without slipping by construction and reports none.
 void add_slip(Outcome& o, const CarEngine& engine);
-/// The connection (3.3) at every sample: the pose the engine reports at sample k against the lift
+/// The trace's timing: the time by which the realized wheel angle alpha and steering angle beta
+// trail the commanded path, fitted by least squares over the drive (add_trace_check), in engine
+// steps. A servo or motor a step early or late is off by one step however small the angles it
+// moves in a step (the 5e-4 rad that steering at 0.5 rad/s turns in 1 ms is half trace_shape_error's
+// tolerance); a quarter of a step is the tolerance.
+inline const MetricDef STEER_LAG =
+    abs_("steer_lag", "steps", 0.0, 0.25,
+         "time by which the realized steering angle beta trails the commanded path (negative: leads), fitted by "
+         "least squares over the drive's samples, in engine steps dt; informational on a path that does not steer");
+inline const MetricDef DRIVE_LAG =
+    abs_("drive_lag", "steps", 0.0, 0.25,
+         "time by which the realized wheel angle alpha trails the commanded path (negative: leads), fitted by least "
+         "squares over the drive's samples, in engine steps dt");
+// The connection (3.3) at every sample: the pose the engine reports at sample k against the lift
 /// of the (alpha, beta) its own wheels realized over samples 0..k (lift_of_samples, each interval
 /// composed of exact flows; exact where only one of alpha and beta changes between two samples:
 /// on car.circle the front-axle centre's arc is R times the wheel angle turned). A pose read late,

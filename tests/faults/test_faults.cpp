@@ -299,6 +299,23 @@ class ScaledFrictionCar final : public OdeCar {
   double factor_;
 };
 
+/// A servo `steps` engine steps off in time: it aims the steering (`steering`) or the drive at the
+/// command of t + steps dt instead of t, as a steering servo a step early (+1) or a drive motor a
+/// step late (-1) would; the other angle is servoed on time.
+class ShiftedServoCar final : public OdeCar {
+ public:
+  ShiftedServoCar(bool steering, double steps) : OdeCar(ode_defaults()), steering_(steering), steps_(steps) {}
+
+ protected:
+  double servo_instant_s(double t_s, bool steering) const override {
+    return steering == steering_ ? t_s + steps_ * setup_.dt_s : t_s;
+  }
+
+ private:
+  bool steering_;
+  double steps_;
+};
+
 /// No contact physics at all: the car placed on the exact lift of the commanded path, claiming to
 /// be a rigid-body engine whose wheels realize the command and never slip.
 class KinematicCar final : public CarEngine {
@@ -537,6 +554,21 @@ TEST(Faults, CarKeepsItsGripPastTheLimit) {
       "grip-past-limit", [] { return std::make_unique<ScaledFrictionCar>(10.0); }, "ode");
   expect_flagged(e, "car.beyond-grip", "com_accel_excess");
   expect_flagged(e, "car.beyond-grip", "slide_shortfall");
+}
+
+// Timing at step scale: steering one step early turns 5e-4 rad ahead at 0.5 rad/s and 1 ms (half
+// trace_shape_error's tolerance), and the servo's drive one step late; both are a whole step of
+// lag against a tolerance of a quarter.
+TEST(Faults, SteeringServoOneStepEarly) {
+  expect_flagged(car_fault(
+                     "steer-early", [] { return std::make_unique<ShiftedServoCar>(true, 1.0); }, "ode"),
+                 "car.cycle", "steer_lag");
+}
+
+TEST(Faults, DriveMotorOneStepLate) {
+  expect_flagged(car_fault(
+                     "drive-late", [] { return std::make_unique<ShiftedServoCar>(false, -1.0); }, "ode"),
+                 "car.circle", "drive_lag");
 }
 
 // A blow-up is caught while stepping and ends the run as an error naming what and when.
