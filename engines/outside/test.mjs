@@ -182,3 +182,42 @@ for (const name of ['cannon', 'cannon-accurate']) {
     await a.stop();
   });
 }
+
+// PhysX (physx.mjs): the car drives the way it is told on every configuration (the sign of each
+// drive: PxRevoluteJoint's drive velocity is the child's relative to the parent, an articulation
+// joint's likewise), M's spin is held on the disks, and the contacts PhysX reports for the pair
+// come with their signed distances: none while the disks are further apart than the two contact
+// offsets (0.04 m), a speculative one from there on.
+for (const name of ['physx', 'physx-tgs', 'physx-articulation']) {
+  test(`${name}: the front wheel rolls forward and steers left when told to`, async () => {
+    const a = start(REGISTERED.find((r) => r.name === name).command);
+    assert.equal((await a.request({ op: 'hello', protocol: PROTOCOL })).ok, true);
+    const first = await a.request({ ...carRequest({}), servo: { spin_torque_max_Nm: 105.9, steer_torque_max_Nm: 105.9 } });
+    assert.equal(first.ok, true);
+    let s = first;
+    for (let k = 0; k < 300; k++) s = await a.request({ op: 'step', spin_radps: [2, 0], steer_radps: [0.1, 0], dt_s: 0.001 });
+    assert.ok(s.spin_joint_rad[0] > 0.1, `spin angle ${s.spin_joint_rad[0]} after 0.3 s at 2 rad/s (the sign; PGS at 4 iterations lags: 0.27 rad)`);
+    assert.ok(s.steer_rad[0] > 0.36 && s.steer_rad[0] < 0.39, `steering ${s.steer_rad[0]}, want about 0.38`);
+    assert.ok(s.x_m > 0.02, `the front axle moved ${s.x_m} m forward`);
+    assert.ok(Math.abs(s.z_m - 0.3) < 1e-3, `the front wheel rests on the ground: hub at ${s.z_m} m`);
+    await a.stop();
+  });
+
+  test(`${name}: disk contacts are PhysX's reports, M's spin held`, async () => {
+    const a = start(REGISTERED.find((r) => r.name === name).command);
+    assert.equal((await a.request({ op: 'hello', protocol: PROTOCOL })).ok, true);
+    assert.equal((await a.request({ op: 'disks', settings: {}, radius_m: 1, mu_MN: 0.5, dt_s: 0.001, cM0: [0, 0], cN0: [2.1, 0.5] })).ok, true);
+    let first = null, r = null;
+    for (let k = 1; k <= 200; k++) {
+      r = await a.request({ op: 'step', vM_cmd: [1, 0], cN_next: [2.1, 0.5], vN: [0, 0], dt_s: 0.001 });
+      assert.deepEqual(r.wM.map(Math.abs), [0, 0, 0], `M turned at step ${k}`);
+      if (r.contacts.count > 0 && first === null) first = { k, r };
+    }
+    const gap0 = Math.hypot(2.1, 0.5) - 2;  // 0.1602 m, closed at 1 m/s along x
+    assert.ok(first !== null, 'a contact is reported');
+    assert.ok(first.r.contacts.distance_min_m > 0 && first.r.contacts.distance_min_m <= 0.04 + 1e-6, `first reported at distance ${first.r.contacts.distance_min_m}`);
+    assert.ok(first.k > 100, `first contact at step ${first.k}, the disks ${gap0} m apart at the start`);
+    assert.ok(r.contacts.count > 0, 'still in contact');
+    await a.stop();
+  });
+}
