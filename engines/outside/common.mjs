@@ -211,3 +211,11 @@ export function parseArgs(argv, configs, faults = []) {
   }
   return opts;
 }
+
+/// The step reply's contacts from a tally {count, distance_min_m} of the step's M-N contact points
+/// (distance_min_m the smallest signed distance, negative when penetrating; Infinity before any).
+export function contactsReply(c) {
+  return c.count > 0
+    ? { count: c.count, depth_max_m: Math.max(0, -c.distance_min_m), distance_min_m: c.distance_min_m }
+    : { count: 0, depth_max_m: 0, distance_min_m: 0 };
+}

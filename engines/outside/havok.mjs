@@ -250,9 +250,7 @@ function stepDisks(req) {
   HK.HP_Body_SetTargetQTransform(world.N, [[req.cN_next[0], req.cN_next[1], 0], [0, 0, 0, 1]]);
   const engine_s = worldStep(req.dt_s);
   const c = diskContacts();
-  const contacts = c.count > 0
-    ? { count: c.count, depth_max_m: Math.max(0, -c.distance_min_m), distance_min_m: c.distance_min_m }
-    : { count: 0, depth_max_m: 0, distance_min_m: 0 };
+  const contacts = C.contactsReply(c);
   return { engine_s, ...diskState(), contacts };
 }
 

@@ -287,9 +287,7 @@ function stepDisks(req) {
   world.contacts = { count: 0, distance_min_m: Infinity };
   const engine_s = timed(() => world.jolt.Step(req.dt_s, 1));
   const c = world.contacts;
-  const contacts = c.count > 0
-    ? { count: c.count, depth_max_m: Math.max(0, -c.distance_min_m), distance_min_m: c.distance_min_m }
-    : { count: 0, depth_max_m: 0, distance_min_m: 0 };
+  const contacts = C.contactsReply(c);
   return { engine_s, ...diskState(), contacts };
 }
 
