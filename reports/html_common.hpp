@@ -24,7 +24,7 @@ inline std::string num(double v) { return std::isnan(v) ? "&ndash;" : fmt::forma
 
 inline constexpr const char* kCss =
     "body{font-family:'DejaVu Sans',Arial,sans-serif;margin:0 auto;padding:.5em "
-    "1.2em;max-width:96em;color:#222;line-height:1.35}"
+    ".6em;max-width:96em;color:#222;line-height:1.35}"
     "h1{font-size:1.35em;margin:.2em 0}h2{margin-top:1.4em;border-bottom:1px solid #ccc;font-size:1.25em}"
     "table{border-collapse:collapse;margin:.5em 0}td,th{border:1px solid #bbb;padding:.2em "
     ".5em;text-align:right;vertical-align:top}"
@@ -34,9 +34,9 @@ inline constexpr const char* kCss =
     ".skip{background:#e4e4e4;color:#555}.xfail{background:#d6e8f7;color:#104a7a}"
     "td.st,span.st{font-weight:bold;text-align:center;white-space:nowrap}"
     "p.counts{margin:.2em 0 .4em 0}"
-    // 20 configurations and 21 scenarios on the first screen of a 1366 x 768 window.
-    "table.matrix{font-size:10px;margin:.2em 0}table.matrix td,table.matrix th{padding:1px "
-    "2px;vertical-align:middle;white-space:nowrap}"
+    // 23 configurations and 21 scenarios on the first screen of a 1366 x 768 window.
+    "table.matrix{font-size:9.5px;line-height:1.15;margin:.2em 0}table.matrix td,table.matrix th{padding:1px "
+    "1px;vertical-align:middle;white-space:nowrap}"
     "table.matrix "
     "th.eng{white-space:normal;max-width:5em;font-size:9px;line-height:1.1;vertical-align:bottom;text-align:center}"
     "table.matrix td.c{text-align:left;padding:0}table.matrix td.c a{display:block;padding:1px "
