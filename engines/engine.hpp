@@ -22,17 +22,18 @@ class RawCar;  // engines/raw_car.hpp
 /// Makes a configuration's raw car at q0 with the given settings (its car knobs).
 using RawCarFactory = std::unique_ptr<RawCar> (*)(const Settings&, const CarSetup&, const car::Config&);
 
+/// Which of a suite's points a configuration joins besides its runs: every sweep, outcome case and
+/// map point (kAll); the speed-accuracy map's dt and iteration axes, no sweep or outcome point
+/// (kMap); or none, the map showing its default run (kRuns). An outside engine's registration
+/// says it ("points"); a compiled-in configuration whose steps cost hundreds of microseconds
+/// declares kRuns. validate --all-points gives every configuration all of them.
+enum class SuitePoints { kAll, kMap, kRuns };
+
 /// What only an engine outside liftcheck has (engines/protocol/outside.hpp): its registration file,
-/// the argument vector that starts it, the points it joins, and whether its hello was read.
+/// the argument vector that starts it, and whether its hello was read.
 struct OutsideEngine {
   std::string registration = {};
   std::vector<std::string> command = {};
-  /// Which of a suite's points it joins besides its runs (the registration's "points"): every
-  /// sweep, outcome case and map point (kAll); the speed-accuracy map's dt and iteration axes, no
-  /// sweep or outcome point (kMap); or none, the map showing its default run (kRuns).
-  /// validate --all-points gives every configuration all of them.
-  enum class Points { kAll, kMap, kRuns };
-  Points points = Points::kAll;
   /// False until its hello has been read (find_engine reads it).
   bool described = true;
   /// Why it cannot run (its command did not start, its hello was wrong); its runs are error
@@ -67,6 +68,8 @@ struct EngineInfo {
   /// bookkeeping (MetricDef::bookkeeping) scale with it (bookkeeping_factor). Every compiled-in
   /// engine here is double precision.
   std::string precision = "float64";
+  /// The suite points it joins besides its runs.
+  SuitePoints points = SuitePoints::kAll;
   /// What only an engine outside liftcheck has; empty (registration "") for a compiled-in one.
   OutsideEngine outside = {};
   /// An engine outside liftcheck, started over the engine protocol.

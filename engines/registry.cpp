@@ -5,6 +5,7 @@
 #include "engines/mujoco/mujoco_engine.hpp"
 #include "engines/dart/dart_engine.hpp"
 #include "engines/ode/ode_car.hpp"
+#include "engines/simbody/simbody_engine.hpp"
 #include "engines/engine.hpp"
 #include "engines/protocol/outside.hpp"
 
@@ -30,6 +31,7 @@ std::vector<EngineInfo> compiled_in() {
   v.push_back(mujoco_stiff_engine());
   v.push_back(dart_engine());
   v.push_back(dart_primitive_engine());
+  v.push_back(simbody_engine());
   return v;
 }
 

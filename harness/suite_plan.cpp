@@ -161,7 +161,7 @@ void resolve_items(SuitePlan& plan) {
 std::vector<const EngineInfo*> sweep_engines(const SuiteDef& def) {
   std::vector<const EngineInfo*> v;
   for (const EngineInfo* e : def.engines)
-    if (e->outside.points == OutsideEngine::Points::kAll || def.all_points) v.push_back(e);
+    if (e->points == SuitePoints::kAll || def.all_points) v.push_back(e);
   return v;
 }
 

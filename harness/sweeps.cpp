@@ -217,8 +217,7 @@ struct MapPoint {
 /// a configuration registered for its runs only (its default run, which steps nothing more).
 std::vector<MapPoint> map_grid(const MapDef& map, const EngineInfo& e, bool all_points) {
   std::vector<MapPoint> grid;
-  if (e.is_reference || (e.outside.points == OutsideEngine::Points::kRuns && !all_points))
-    return {{kMapDefault, 0.0, {}}};
+  if (e.is_reference || (e.points == SuitePoints::kRuns && !all_points)) return {{kMapDefault, 0.0, {}}};
   for (double dt : map.dt_s) grid.push_back({kMapDt, dt, {{"dt", fmt::format("{}", dt)}}});
   for (const SettingSpec& k : e.knobs)
     if (k.vehicle == Vehicle::kCar && k.role == SettingRole::kSolverIterations)

@@ -200,6 +200,22 @@ class KeepTrace final : public CarEngine {
 // car.beyond-grip, the negative control car.slip) are scored too: their metrics are functions of
 // the pose alone, so the trace carries them; the replayed configuration is declared to have the
 // contact dynamics of the engine whose trace it is.
+//
+// Where a car still moves after T, a trace that ends at T cannot carry the pose the run's end
+// metrics read after the hold. Where that flips a metric, it is listed here with its figures, and
+// the listed metric must be the whole of the difference (a listing that no longer differs fails).
+struct RoadDifference {
+  const char* engine;
+  const char* scenario;
+  const char* metric;
+  const char* why;
+};
+constexpr RoadDifference kRoadDifferences[] = {
+    {"simbody", "car.cycle", "dx",
+     "Simbody's compliant friction lets the stopped car creep: 2.9e-5 m in x over the 0.2 s hold after T; the cycle's "
+     "dx is 2.6% off after the hold (tolerance 2%) and within it at T"},
+};
+
 TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
@@ -242,7 +258,16 @@ TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
                              (run.status == Status::kPass ? "passes" : "fails: " + run.message) +
                              "; its trace scored " +
                              (score.status == Status::kPass ? "passes" : "fails: " + score.message);
-    EXPECT_EQ(score.failed_metrics(), run_failed) << what;
+    std::vector<std::string> score_failed = score.failed_metrics();
+    for (const RoadDifference& d : kRoadDifferences) {
+      if (d.engine != GetParam() || d.scenario != s.name) continue;
+      const bool in_run = std::count(run_failed.begin(), run_failed.end(), d.metric) > 0;
+      const bool in_score = std::count(score_failed.begin(), score_failed.end(), d.metric) > 0;
+      EXPECT_NE(in_run, in_score) << what << ": listed road difference " << d.metric << " no longer differs";
+      std::erase(run_failed, std::string(d.metric));
+      std::erase(score_failed, std::string(d.metric));
+    }
+    EXPECT_EQ(score_failed, run_failed) << what;
     // The verdict itself: the same status, unless all the run fails is the slip the trace cannot carry.
     if (run_failed.empty() && !slip_failed.empty()) {
       EXPECT_EQ(score.status, Status::kPass) << what;

@@ -522,9 +522,7 @@ bool read_registration(const std::filesystem::path& file, EngineInfo& e, std::st
   const std::string points = j.contains("points") ? str("points") : "all";
   if (points != "all" && points != "map" && points != "runs")
     return problem = registration_problem(file, "'points' must be \"all\", \"map\" or \"runs\""), false;
-  e.outside.points = points == "all"   ? OutsideEngine::Points::kAll
-                     : points == "map" ? OutsideEngine::Points::kMap
-                                       : OutsideEngine::Points::kRuns;
+  e.points = points == "all" ? SuitePoints::kAll : points == "map" ? SuitePoints::kMap : SuitePoints::kRuns;
   e.outside.registration = std::filesystem::absolute(file).lexically_normal().string();
   return true;
 }
