@@ -8,10 +8,11 @@
 // chassis z, Pins for the wheels about their axles; sphere wheels with a ContactSurface on a
 // ground HalfSpace (Gazebo's SimbodyPhysics builds the same). The servos are Simbody's prescribed
 // motion: a Motion::Steady on the spin and on the steering mobility, its rate the servo's command
-// over each step; Simbody computes the torque (unlimited: the servo's 1.5 mu N R limit is not
-// applied). A torque servo held over the step (Force::DiscreteForces, I (w_cmd - w) / dt on the
-// joint's own inertia) lagged its command, the wheel carrying the car: drive_lag 4.5 steps on
-// car.cycle against 6.5e-5 with the prescribed speed, which also steps 1.5 to 2.5 times faster.
+// over each step, written into the state with System::prescribeU; Simbody computes the torque,
+// unlimited: the other engines' 1.5 mu N R limit is not applied. Measured over the default suite,
+// the spin servo's largest torque (MobilizedBody::getOneTau at each step's end) is 39 N m on
+// car.slope against the limit's 106 N m, and 7.2 N m against 10.6 N m on the mu = 0.1 scenarios:
+// the limit would not have acted.
 //
 // Disks: M on a Translation mobilizer (it cannot turn), its velocity set at each step as Gazebo's
 // SimbodyJoint::SetVelocity sets a mobility's speed; N on a Translation mobilizer whose speeds a
@@ -55,11 +56,8 @@ simbody::ContactDef contact_of(const Settings& s) {
   if (s.has("transition_velocity_mps")) c.transition_velocity_mps = s.number("transition_velocity_mps");
   return c;
 }
-/// The disks always step with SemiExplicitEuler2: with N's Motion::Steady, Runge-Kutta-Merson and
-/// RungeKutta3 stop at t = 0 ("unable to advance time past 0", measured on disks.forced).
 simbody::IntegratorDef integrator_of(const Settings& s) {
-  return {.method = s.has("integrator") ? s.choice("integrator") : "semi_explicit_euler2",
-          .accuracy = s.number("accuracy")};
+  return {.method = s.choice("integrator"), .accuracy = s.number("accuracy")};
 }
 
 /// Simbody's exceptions (an integrator that cannot meet its accuracy, a singular state) are the
@@ -167,56 +165,46 @@ class SimbodyDisks final : public DrivenDisks {
   std::unique_ptr<simbody::DisksSim> sim_;
 };
 
+/// A number knob of both vehicles or of one.
+void add_number(std::vector<SettingSpec>& knobs, const char* key, double value, const char* unit, std::string help,
+                double min, double max, std::initializer_list<Vehicle> vehicles) {
+  for (const Vehicle vehicle : vehicles)
+    knobs.push_back({{.key = key,
+                      .kind = ParamKind::kNumber,
+                      .default_text = fmt::format("{:g}", value),
+                      .unit = unit,
+                      .help = help,
+                      .min = min,
+                      .max = max},
+                     vehicle});
+}
+
 std::vector<SettingSpec> knobs_for(const SimbodyPreset& p) {
   std::vector<SettingSpec> knobs;
-  knobs.push_back({{.key = "integrator",
-                    .kind = ParamKind::kChoice,
-                    .default_text = p.integrator.method,
-                    .help = "Simbody integrator between two car steps (the disks always use SemiExplicitEuler2: "
-                            "with N's Motion::Steady the Runge-Kutta ones cannot advance past t = 0): "
-                            "semi_explicit_euler2 "
-                            "(SemiExplicitEuler2Integrator, Gazebo's), rk_merson (RungeKuttaMersonIntegrator, "
-                            "Simbody's general-purpose choice), rk3 (RungeKutta3Integrator); all error-controlled",
-                    .choices = {std::begin(kIntegrators), std::end(kIntegrators)}},
-                   Vehicle::kCar});
-  for (const Vehicle vehicle : kVehicles) {
-    knobs.push_back({{.key = "accuracy",
-                      .kind = ParamKind::kNumber,
-                      .default_text = fmt::format("{:g}", p.integrator.accuracy),
-                      .unit = "1",
-                      .help = "Integrator::setAccuracy: the relative error the integrator's step-size control "
-                              "keeps to",
-                      .min = 1e-9,
-                      .max = 0.1},
+  for (const Vehicle vehicle : kVehicles)
+    knobs.push_back({{.key = "integrator",
+                      .kind = ParamKind::kChoice,
+                      .default_text = p.integrator.method,
+                      .help = "Simbody integrator between two steps, all error-controlled: semi_explicit_euler2 "
+                              "(SemiExplicitEuler2Integrator, Gazebo's), rk_merson (RungeKuttaMersonIntegrator, "
+                              "Simbody's general-purpose choice), rk3 (RungeKutta3Integrator)",
+                      .choices = {std::begin(kIntegrators), std::end(kIntegrators)}},
                      vehicle});
-    knobs.push_back({{.key = "stiffness_Pa",
-                      .kind = ParamKind::kNumber,
-                      .default_text = fmt::format("{:g}", p.contact.stiffness_Pa),
-                      .unit = "Pa",
-                      .help = "ContactMaterial stiffness of every contact surface (Hertz plane-strain modulus; "
-                              "two surfaces combine in series)",
-                      .min = 1e4,
-                      .max = 1e13},
-                     vehicle});
-    knobs.push_back({{.key = "dissipation_s_per_m",
-                      .kind = ParamKind::kNumber,
-                      .default_text = fmt::format("{:g}", p.contact.dissipation_s_per_m),
-                      .unit = "s/m",
-                      .help = "ContactMaterial dissipation (Hunt-Crossley)",
-                      .min = 0.0,
-                      .max = 1e4},
-                     vehicle});
-  }
+  const auto both = {Vehicle::kCar, Vehicle::kDisks};
+  add_number(knobs, "accuracy", p.integrator.accuracy, "1",
+             "Integrator::setAccuracy: the relative error the integrator's step-size control keeps to", 1e-9, 0.1,
+             both);
+  add_number(knobs, "stiffness_Pa", p.contact.stiffness_Pa, "Pa",
+             "ContactMaterial stiffness of every contact surface (Hertz plane-strain modulus; two surfaces combine "
+             "in series)",
+             1e4, 1e13, both);
+  add_number(knobs, "dissipation_s_per_m", p.contact.dissipation_s_per_m, "s/m",
+             "ContactMaterial dissipation (Hunt-Crossley)", 0.0, 1e4, both);
   // The disks are frictionless in every scenario: the transition velocity changes nothing there.
-  knobs.push_back({{.key = "transition_velocity_mps",
-                    .kind = ParamKind::kNumber,
-                    .default_text = fmt::format("{:g}", p.contact.transition_velocity_mps),
-                    .unit = "m/s",
-                    .help = "CompliantContactSubsystem::setTransitionVelocity: below this slip speed friction "
-                            "is regularised (Gazebo's <max_transient_velocity>)",
-                    .min = 1e-6,
-                    .max = 1.0},
-                   Vehicle::kCar});
+  add_number(knobs, "transition_velocity_mps", p.contact.transition_velocity_mps, "m/s",
+             "CompliantContactSubsystem::setTransitionVelocity: below this slip speed friction is regularised "
+             "(Gazebo's <max_transient_velocity>)",
+             1e-6, 1.0, {Vehicle::kCar});
   return knobs;
 }
 
@@ -241,12 +229,13 @@ std::vector<std::pair<std::string, std::string>> settings_for(const SimbodyPrese
       {"ground", "a ContactGeometry::HalfSpace on Ground, turned to fill z < 0 (as Gazebo's plane)"},
       {"servo",
        "Motion::Steady on the spin and on the steering mobility (Simbody's prescribed motion), its rate set each step "
-       "to commanded rate + 40/s x angle error; the torque it takes is Simbody's and not limited (the 1.5 mu N R "
-       "limit of the other engines' servos is not applied); settle 0.5 s, hold 0.2 s"},
+       "to commanded rate + 40/s x angle error and written into the state (System::prescribeU); the torque it takes "
+       "is Simbody's and not limited (the other engines' 1.5 mu N R limit would not act: the default suite's "
+       "largest spin torque is 39 N m of 106 on car.slope, 7.2 of 10.6 at mu = 0.1); settle 0.5 s, hold 0.2 s"},
       {"disks",
        "M: sphere (radius 1, 1 kg, no gravity) on a MobilizedBody::Translation (it cannot turn), its speeds set each "
        "step (Gazebo's SimbodyJoint::SetVelocity); N: the same on a Translation whose speeds a Motion::Steady "
-       "prescribes to land on its path each step, SemiExplicitEuler2 whatever the car's integrator; contact: the "
+       "prescribes to land on its path each step; contact: the "
        "tracker's active contacts at the step's start, or the one the step entered, with its separation at the start"},
   };
 }

@@ -43,7 +43,6 @@ struct World {
   CompliantContactSubsystem contact{system, tracker};
   std::unique_ptr<Integrator> integ;
   double t_s = 0.0;
-  long steps_before = 0;
 
   explicit World(const ContactDef& c) { contact.setTransitionVelocity(c.transition_velocity_mps); }
   ContactMaterial material(const ContactDef& c, double mu) const {
@@ -58,11 +57,18 @@ struct World {
     integ = make_integrator(system, def);
     integ->initialize(s);
   }
-  /// The integrator from t to t + dt, stopping exactly there (Gazebo: stepTo(t, t)), after the
-  /// caller changed the advanced state's speeds or prescribed rates (reinitialize: the integrator must
-  /// not reuse derivatives of the state before the change).
+  /// After the caller changed the advanced state's free speeds or a Motion's rate (an Instance-stage
+  /// variable): the prescribed speeds written into the state (System::prescribeU) and the
+  /// integrator told the state changed from Instance on, so it reuses no derivative of the state
+  /// before the change (Integrator::reinitialize's contract for a changed advanced state).
+  void commit_changes() {
+    State& s = integ->updAdvancedState();
+    system.realize(s, Stage::Position);
+    system.prescribeU(s);
+    integ->reinitialize(Stage::Instance, false);
+  }
+  /// The integrator from t to t + dt, stopping exactly there (Gazebo: stepTo(t, t)).
   void advance(double dt_s) {
-    integ->reinitialize(Stage::Velocity, false);
     t_s += dt_s;
     while (integ->getTime() < t_s) {
       const Integrator::SuccessfulStepStatus status = integ->stepTo(t_s, t_s);
@@ -143,11 +149,10 @@ void CarSim::command(double spin_radps, double steer_radps) {
   State& s = m.world.integ->updAdvancedState();
   m.spin_motion.setOneRate(s, MobilizerUIndex(0), spin_radps);
   m.steer_motion.setOneRate(s, MobilizerUIndex(0), steer_radps);
+  m.world.commit_changes();
 }
 
 void CarSim::step(double dt_s) { impl_->world.advance(dt_s); }
-
-long CarSim::internal_steps() const { return impl_->world.integ->getNumStepsTaken(); }
 
 CarOut CarSim::read() const {
   const Impl& m = *impl_;
@@ -219,6 +224,7 @@ DisksContacts DisksSim::step(const Eigen::Vector2d& vM_mps, const Eigen::Vector2
   m.N_motion.setOneRate(s, MobilizerUIndex(0), vN_mps.x());
   m.N_motion.setOneRate(s, MobilizerUIndex(1), vN_mps.y());
   m.N_motion.setOneRate(s, MobilizerUIndex(2), 0.0);
+  w.commit_changes();
   DisksContacts c = active_contacts(w, s);
   const double gap_m = (m.M.getBodyOriginLocation(s) - m.N.getBodyOriginLocation(s)).norm() - 2.0 * m.radius_m;
   w.advance(dt_s);

@@ -53,12 +53,11 @@ class CarSim {
   explicit CarSim(const CarDef& def);
   ~CarSim();
   /// The spin and steering joints' speeds over the next step: Motion::Steady, Simbody's prescribed
-  /// motion (the torque it takes is not limited).
+  /// motion, written into the state (System::prescribeU). The torque it takes is not limited; the
+  /// default suite's peak is 39 N m of the other engines' 106 N m limit (docs/adapters-simbody.md).
   void command(double spin_radps, double steer_radps);
   void step(double dt_s);
   CarOut read() const;
-  /// Integrator steps taken so far (the cost of its error control).
-  long internal_steps() const;
 
  private:
   struct Impl;
@@ -76,9 +75,11 @@ struct DisksDef {
 struct DisksContacts {
   int count = 0;
   double depth_max_m = 0.0;
-  /// NaN where the contacts touch at the step's start; where none did and the step ended in one
-  /// (Simbody's compliant contact acts from the instant within the step the spheres meet), the
-  /// separation at the step's start: a contact the engine found ahead of the state queried.
+  /// NaN where the contacts touch at the step's start. Where none did and the tracker reports one
+  /// at the step's end (the compliant force acts from the instant within the step the spheres
+  /// meet), the separation at the step's start, both positions Simbody's: what the engine protocol
+  /// calls a speculative contact (made while the shapes were apart), judged as one, so that the
+  /// verdict is the same compiled in and over `liftcheck serve`.
   double distance_min_m = NAN;
 };
 class DisksSim {
