@@ -25,5 +25,6 @@ Command add_diff(CLI::App& app);      // cli/diff.cpp
 Command add_report(CLI::App& app);    // cli/report.cpp
 Command add_serve(CLI::App& app);     // cli/serve.cpp
 Command add_explain(CLI::App& app);   // cli/explain.cpp
+Command add_tune(CLI::App& app);      // cli/tune.cpp
 
 }  // namespace liftcheck::cli

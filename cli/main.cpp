@@ -111,7 +111,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string(LIFTCHECK_VERSION_STRING));
   const std::vector<Command> commands = {add_list(app),  add_engines(app), add_run(app),   add_validate(app),
                                          add_merge(app), add_worker(app),  add_path(app),  add_score(app),
-                                         add_diff(app),  add_report(app),  add_serve(app), add_explain(app)};
+                                         add_diff(app),  add_report(app),  add_serve(app), add_explain(app),
+                                         add_tune(app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -357,4 +357,38 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
   return files;
 }
 
+void write_tune_plot(const json& tune, const std::filesystem::path& out) {
+  std::filesystem::create_directories(out / "plots");
+  Script S;
+  S.begin("tune.svg",
+          fmt::format("{} on {}: the runs of the search", tune.value("scenario", ""), tune.value("engine", "")));
+  std::vector<std::vector<double>> pass, fail, dflt, answer;
+  const auto& walked = tune["walked"];
+  for (size_t i = 0; i < walked.size(); ++i) {
+    const json& st = walked[i];
+    if (!st["cost_ms_per_s"].is_number()) continue;
+    const double worst = st["worst_ratio"].is_number() ? std::max(st["worst_ratio"].get<double>(), 1e-6) : 1e6;
+    const std::vector<double> row{st["cost_ms_per_s"].get<double>(), worst};
+    (st["pass"].get<bool>() ? pass : fail).push_back(row);
+    if (i == 0) dflt.push_back(row);
+    if (tune["answer"].is_number() && tune["answer"].get<size_t>() == i) answer.push_back(row);
+  }
+  S.gp << "set logscale xy\nset xlabel 'cost [ms of the engine per simulated s]'\n"
+          "set ylabel 'worst error / its tolerance'\nset key below\n";
+  std::string cmd = "1 w l lw 1 dt 2 lc rgb '#555555' t 'tolerance', ";
+  if (!pass.empty()) cmd += S.block(pass) + " u 1:2 w p pt 7 ps 1.2 lc rgb '#2ca02c' t 'passes', ";
+  if (!fail.empty()) cmd += S.block(fail) + " u 1:2 w p pt 6 ps 1.2 lc rgb '#d62728' t 'fails', ";
+  if (!dflt.empty()) cmd += S.block(dflt) + " u 1:2 w p pt 4 ps 2.2 lw 2 lc rgb '#000000' t 'defaults', ";
+  if (!answer.empty()) cmd += S.block(answer) + " u 1:2 w p pt 8 ps 2.4 lw 2 lc rgb '#1f77b4' t 'cheapest pass', ";
+  S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
+  const auto script = out / "plots" / "plots.gp";
+  {
+    std::ofstream f(script);
+    f << S.gp.str();
+    f.close();
+    if (!f) throw std::runtime_error(fmt::format("cannot write '{}': {}", script.string(), std::strerror(errno)));
+  }
+  run_gnuplot(out / "plots");
+}
+
 }  // namespace liftcheck

@@ -19,6 +19,11 @@ struct PlotFile {
 /// std::runtime_error if gnuplot cannot be started or fails.
 std::vector<PlotFile> write_plots(const nlohmann::json& results, const std::filesystem::path& out_dir);
 
+/// The walk of `liftcheck tune` (its tune.json) as out_dir/plots/tune.svg: each run's worst error
+/// over its tolerance against its cost, passing runs apart from failing ones, the default and the
+/// answer marked. Throws std::runtime_error as write_plots.
+void write_tune_plot(const nlohmann::json& tune, const std::filesystem::path& out_dir);
+
 /// `s` as a gnuplot single-quoted string: ' doubled, control characters as spaces (no escapes,
 /// backquotes or macros are interpreted inside it).
 std::string gnuplot_quote(const std::string& s);

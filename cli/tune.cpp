@@ -1,0 +1,151 @@
+// liftcheck tune: the cheapest settings of one configuration that pass one scenario (harness/tune.hpp
+// searches; this prints the walk, the answer and writes them with a plot to --out).
+#include <cmath>
+#include <fmt/format.h>
+#include <iostream>
+#include <thread>
+
+#include "cli/command.hpp"
+#include "cli/interrupts.hpp"
+#include "cli/lookup.hpp"
+#include "cli/staged_output.hpp"
+#include "engines/protocol/outside.hpp"
+#include "harness/sweeps.hpp"
+#include "harness/tune.hpp"
+#include "input/atomic_file.hpp"
+#include "input/record_view.hpp"
+#include "reports/plots.hpp"
+
+namespace liftcheck::cli {
+
+namespace {
+
+/// Each batch of the walk as one plan, run in workers like every validate run (a hang or a crash
+/// of the engine is an error record).
+TuneRunner runner_for(const Scenario& s, const EngineInfo& e, const RunnerDef& runner) {
+  return [&s, &e, runner](const std::vector<Overrides>& changes) {
+    SuitePlan plan;
+    for (const Overrides& c : changes)
+      plan.items.push_back(
+          planned_item(SuiteItem::kRun, fmt::format("tune/{}/{}/{}", s.name, e.name, change_text(c)), s, e, c));
+    std::vector<size_t> all(plan.items.size());
+    for (size_t i = 0; i < all.size(); ++i) all[i] = i;
+    try {
+      return run_items(plan, all, runner, [](size_t, const nlohmann::json&, double) {});
+    } catch (const RunnerStopped& x) {
+      throw Interrupted(pending_signal(), x.what());
+    }
+  };
+}
+
+std::string worst_text(const TuneStep& st) {
+  if (st.record.value("status", "") == "error") return "error";
+  if (st.pass) return fmt::format("{:.2g}", st.worst_ratio);
+  std::string worst;
+  double w = -1.0;
+  const nlohmann::json metrics = st.record.value("metrics", nlohmann::json::object());
+  for (const auto& [name, m] : metrics.items())
+    if (const MetricView v(m); !v.pass() && v.counted() && v.ratio() > w) w = v.ratio(), worst = name;
+  return fmt::format("{:.2g} {}", st.worst_ratio, worst);
+}
+
+void print_walk(const TuneResult& r) {
+  const double base = r.walked.front().cost_ms_per_s;
+  std::cout << fmt::format("{:>3}  {:<8} {:<44} {:<5} {:<30} {:>10} {:>8}\n", "#", "phase", "settings", "pass",
+                           "worst x tol", "ms per s", "x dflt");
+  for (size_t i = 0; i < r.walked.size(); ++i) {
+    const TuneStep& st = r.walked[i];
+    std::cout << fmt::format("{:>3}  {:<8} {:<44} {:<5} {:<30} {:>10.3g} {:>8.2f}{}\n", i, st.phase,
+                             change_text(st.change), st.pass ? "yes" : "no", worst_text(st), st.cost_ms_per_s,
+                             st.cost_ms_per_s / base, r.answer && *r.answer == i ? "  <- cheapest pass" : "");
+  }
+}
+
+std::string answer_text(const Scenario& s, const EngineInfo& e, const TuneResult& r) {
+  const double base = r.walked.front().cost_ms_per_s;
+  if (r.answer) {
+    const TuneStep& a = r.walked[*r.answer];
+    return fmt::format("{} on {} passes at {}: {:.3g} ms per simulated second, {:.2f} times the default's {:.3g}",
+                       s.name, e.name, change_text(a.change), a.cost_ms_per_s, a.cost_ms_per_s / base, base);
+  }
+  const TuneStep& c = r.walked[r.closest];
+  return fmt::format(
+      "{} on {}: nothing in range passes ({} runs of a budget of {}); closest {}, its worst metric {:.3g} times its "
+      "tolerance, at {:.3g} ms per simulated second, {:.2f} times the default's {:.3g}",
+      s.name, e.name, r.walked.size(), r.budget_runs, change_text(c.change), c.worst_ratio, c.cost_ms_per_s,
+      c.cost_ms_per_s / base, base);
+}
+
+/// The car's masses are the scenario's, not settings: where a sweep varies one on this scenario,
+/// say so (its gate in validate tells whether the verdict depends on it).
+void print_mass_notes(const Scenario& s) {
+  for (const SweepDef& sw : sweep_catalogue())
+    if (sw.scenario == s.name && sw.param.find("mass") != std::string::npos)
+      std::cout << fmt::format(
+          "note: the car's masses are the scenario's and not searched; validate's sweep {} varies {} on this "
+          "scenario, and its gate shows whether this verdict depends on it\n",
+          sw.name, sw.param);
+}
+
+int cmd_tune(const std::string& scenario, const std::string& engine, int budget, int jobs, double timeout_s,
+             const std::string& out_dir, bool json) {
+  const Scenario& s = scenario_or_throw(scenario);
+  const EngineInfo& e = engine_or_throw(engine);
+  if (budget < 1 || budget > 1000) throw InputError(fmt::format("--budget {}: runs between 1 and 1000", budget));
+  if ((s.vehicle == Vehicle::kCar && !e.make_car) || (s.vehicle == Vehicle::kDisks && !e.make_disks))
+    throw InputError(fmt::format("{} does not build the vehicle {} drives", e.name, s.name));
+  std::optional<StagedOutput> out;
+  if (!out_dir.empty()) out.emplace(out_dir);
+  std::vector<std::string> left_out;
+  const std::vector<TuneDimension> dims = tune_dimensions(s, e, &left_out);
+  std::string names;
+  for (const auto& d : dims) names += (names.empty() ? "" : ", ") + d.key;
+  if (!json)
+    std::cout << fmt::format("tune: {} on {}, searching {} within at most {} runs\n", s.name, e.name, names, budget);
+  for (const auto& l : left_out)
+    if (!json) std::cout << "not searched: " << l << "\n";
+  close_idle_children();
+  const TuneResult r = tune(dims, TuneDef{.budget_runs = budget}, runner_for(s, e, runner_def(jobs, timeout_s)));
+  throw_if_interrupted("during tune");
+  nlohmann::json doc = r.to_json();
+  doc["scenario"] = s.name;
+  doc["engine"] = e.name;
+  doc["answer_text"] = answer_text(s, e, r);
+  if (out) {
+    write_file_atomic(out->stage() / "tune.json", doc.dump(1));
+    write_tune_plot(doc, out->stage());
+    out->publish();
+  }
+  if (json) {
+    std::cout << doc.dump() << "\n";
+  } else {
+    print_walk(r);
+    print_mass_notes(s);
+    std::cout << doc["answer_text"].get<std::string>() << "\n";
+  }
+  return r.answer ? 0 : 1;
+}
+
+}  // namespace
+
+Command add_tune(CLI::App& app) {
+  struct Options {
+    std::string scenario, engine, out;
+    int budget = 40, jobs = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    double timeout_s = 120.0;
+    bool json = false;
+  };
+  auto o = std::make_shared<Options>();
+  auto* tune = app.add_subcommand(
+      "tune", "search a configuration's settings and dt for the cheapest that pass a scenario (exit 0: one passes)");
+  tune->add_option("scenario", o->scenario, "scenario name (see 'liftcheck list')")->required();
+  tune->add_option("--engine", o->engine, "engine configuration (see 'liftcheck engines')")->required();
+  tune->add_option("--budget", o->budget, "runs at most, the default run's included")->capture_default_str();
+  tune->add_option("--jobs", o->jobs, "runs at once (default: the number of cores)")->capture_default_str();
+  tune->add_option("--timeout", o->timeout_s, "limit of each run's CPU time in seconds")->capture_default_str();
+  tune->add_option("--out", o->out, "a folder for tune.json (every run's record) and plots/tune.svg");
+  tune->add_flag("--json", o->json, "print the walk and the answer as one JSON object");
+  return {tune, [o] { return cmd_tune(o->scenario, o->engine, o->budget, o->jobs, o->timeout_s, o->out, o->json); }};
+}
+
+}  // namespace liftcheck::cli

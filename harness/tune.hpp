@@ -1,0 +1,75 @@
+// liftcheck tune: the cheapest settings of a configuration that pass a scenario. The search walks
+// the configuration's declared settings for the scenario's vehicle and the step dt (never the
+// scenario's other parameters: the car and the path stay as they are), one at a time on a
+// log-spaced ladder around each default, then refines between a passing and a failing neighbour,
+// then, where nothing passed, combines the settings that came closest. Which runs it makes
+// depends only on their verdicts and errors (deterministic); their costs are measured.
+#pragma once
+
+#include <functional>
+#include <limits>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "engines/engine.hpp"
+#include "scenarios/scenario.hpp"
+
+namespace liftcheck {
+
+struct TuneDef {
+  int budget_runs = 40;  ///< runs at most, the default's included
+  /// Two passing settings whose measured costs differ by less than this fraction are a tie, broken
+  /// by the fewest changed settings, then by the order of the walk (a measured cost moves by 10 to
+  /// 20% from one run to the next).
+  double cost_tie = 0.2;
+};
+
+/// One searched quantity: the step dt (a scenario parameter) or one of the engine's settings.
+struct TuneDimension {
+  std::string key;
+  ParamKind kind = ParamKind::kNumber;
+  std::string default_text;
+  double default_value = 0.0;       ///< numbers
+  std::vector<std::string> ladder;  ///< the values tried in the first phase, nearest the default first
+  double min = 0.0, max = std::numeric_limits<double>::infinity();
+  bool min_exclusive = false;
+  /// How the engine's cost moves with the value, where it is known: -1 for dt (fewer steps), +1 for
+  /// a solver iteration count (SettingRole::kSolverIterations), 0 otherwise. Along such a
+  /// dimension the cheapest pass is known from the verdicts alone (the longest step, the fewest
+  /// iterations that pass), not from measured costs.
+  int cost_direction = 0;
+};
+
+/// The dimensions searched for `s` on `e`, and a line for each declared setting left out (why).
+std::vector<TuneDimension> tune_dimensions(const Scenario& s, const EngineInfo& e, std::vector<std::string>* left_out);
+
+/// One run of the walk and what it showed.
+struct TuneStep {
+  std::string phase;  ///< "default", "ladder", "refine", "combine"
+  Overrides change;   ///< against the defaults (empty: the default run)
+  nlohmann::json record;
+  bool pass = false;
+  double worst_ratio = std::numeric_limits<double>::infinity();  ///< largest error over its tolerance
+  double cost_ms_per_s = NAN;  ///< the engine's own time (or the run's wall time) per simulated second
+};
+
+struct TuneResult {
+  std::vector<TuneStep> walked;  ///< in walk order; walked[0] is the default run
+  std::optional<size_t> answer;  ///< the cheapest passing step
+  size_t closest = 0;            ///< without an answer: the smallest worst_ratio
+  int budget_runs = 0;
+  nlohmann::json to_json() const;
+};
+
+/// Runs a batch of changes (each a run of the scenario on the engine) and returns their records,
+/// in order.
+using TuneRunner = std::function<std::vector<nlohmann::json>(const std::vector<Overrides>&)>;
+
+TuneResult tune(const std::vector<TuneDimension>& dims, const TuneDef& def, const TuneRunner& run);
+
+/// "dt=0.002, iterations=80", or "defaults".
+std::string change_text(const Overrides& change);
+
+}  // namespace liftcheck

@@ -1,0 +1,182 @@
+// The search of `liftcheck tune` (harness/tune.hpp) against engines made of formulas: which runs it
+// makes, the answer it picks, its budget and its determinism.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <functional>
+#include <map>
+
+#include "engines/engine.hpp"
+#include "harness/tune.hpp"
+#include "scenarios/scenario.hpp"
+
+namespace liftcheck {
+namespace {
+
+/// iterations (default 20, 1 to 10000) and dt (default 1 ms), as tune_dimensions makes them.
+std::vector<TuneDimension> two_dimensions() {
+  Scenario s;
+  s.vehicle = Vehicle::kCar;
+  s.params.push_back(
+      {.key = "dt", .default_text = "0.001", .unit = "s", .min = 0.0, .min_exclusive = true, .max = 0.1});
+  EngineInfo e;
+  SettingSpec it;
+  it.key = "iterations";
+  it.kind = ParamKind::kInteger;
+  it.default_text = "20";
+  it.min = 1;
+  it.max = 10000;
+  it.role = SettingRole::kSolverIterations;
+  e.knobs.push_back(it);
+  return tune_dimensions(s, e, nullptr);
+}
+
+/// A formula engine: its worst error over tolerance and its cost from the change, as a record.
+struct FormulaEngine {
+  std::function<double(double iterations, double dt)> worst;
+  /// The clock's error on a run's cost (1: none).
+  std::function<double(double iterations)> noise = [](double) { return 1.0; };
+  int runs = 0;
+  std::vector<nlohmann::json> operator()(const std::vector<Overrides>& changes) {
+    std::vector<nlohmann::json> out;
+    for (const Overrides& c : changes) {
+      std::map<std::string, double> v{{"iterations", 20.0}, {"dt", 1e-3}};
+      for (const auto& [k, x] : c) v[k] = std::stod(x);
+      const double w = worst(v["iterations"], v["dt"]);
+      // The cost: proportional to iterations per step and steps per second (8 s simulated).
+      out.push_back({{"status", w <= 1.0 ? "pass" : "fail"},
+                     {"worst_ratio", w},
+                     {"simulated_s", 8.0},
+                     {"wall_s", 8.0 * 1e-6 * v["iterations"] / v["dt"] * noise(v["iterations"])}});
+      ++runs;
+    }
+    return out;
+  }
+};
+
+TEST(Tune, DimensionsAreTheStepAndTheSettingsOnLadders) {
+  const auto dims = two_dimensions();
+  ASSERT_EQ(dims.size(), 2u);
+  EXPECT_EQ(dims[0].key, "dt");
+  EXPECT_EQ(dims[0].ladder, (std::vector<std::string>{"0.002", "0.0005", "0.004", "0.00025", "0.008"}));
+  EXPECT_EQ(dims[1].key, "iterations");
+  // 20 x {1/4, 4, 1/16, 16, 64}: 1.25 rounds to 1; 1280 within 10000.
+  EXPECT_EQ(dims[1].ladder, (std::vector<std::string>{"5", "80", "1", "320", "1280"}));
+}
+
+TEST(Tune, FindsTheCheapestIterationCountThatPasses) {
+  // Passes from 60 iterations on, whatever dt: the ladder brackets it between 20 and 80, the
+  // refinement tries 40, then 57 (both fail): 80 is the cheapest pass, 4 times the default's cost.
+  FormulaEngine eng{[](double it, double) { return 60.0 / it; }};
+  const TuneResult r = tune(two_dimensions(), TuneDef{}, std::ref(eng));
+  ASSERT_TRUE(r.answer);
+  const TuneStep& a = r.walked[*r.answer];
+  EXPECT_EQ(change_text(a.change), "iterations=80");
+  EXPECT_NEAR(a.cost_ms_per_s / r.walked[0].cost_ms_per_s, 4.0, 1e-12);
+  std::vector<std::string> refined;
+  for (const auto& s : r.walked)
+    if (s.phase == "refine") refined.push_back(change_text(s.change));
+  EXPECT_EQ(refined, (std::vector<std::string>{"iterations=40", "iterations=57"}));
+  EXPECT_EQ(eng.runs, static_cast<int>(r.walked.size()));
+}
+
+TEST(Tune, FewerIterationsThatPassWinWhateverTheClockSays) {
+  // Passes from 50 iterations on: 80 on the ladder, then 40 (fails) and 57 (passes). The clock
+  // measures 57 at twice its cost, above 80's: along the iteration count the verdicts decide.
+  FormulaEngine eng{[](double it, double) { return 50.0 / it; }, [](double it) { return it == 57.0 ? 2.0 : 1.0; }};
+  const TuneResult r = tune(two_dimensions(), TuneDef{}, std::ref(eng));
+  ASSERT_TRUE(r.answer);
+  EXPECT_EQ(change_text(r.walked[*r.answer].change), "iterations=57");
+}
+
+TEST(Tune, ALongerStepThatStillPassesIsCheaper) {
+  // Passes up to dt = 4.5 ms at 20 iterations, fewer iterations fail: the cheapest pass is the
+  // longest passing step on the ladder, 4 ms, at a quarter of the default's cost (the refinement
+  // between 4 and 8 ms tries 5.7 ms, which fails).
+  FormulaEngine eng{[](double it, double dt) { return dt / 4.5e-3 * (20.0 / it) * (20.0 / it); }};
+  const TuneResult r = tune(two_dimensions(), TuneDef{}, std::ref(eng));
+  ASSERT_TRUE(r.answer);
+  const TuneStep& a = r.walked[*r.answer];
+  EXPECT_EQ(change_text(a.change), "dt=0.004");
+  EXPECT_NEAR(a.cost_ms_per_s / r.walked[0].cost_ms_per_s, 0.25, 1e-12);
+  bool refined = false;
+  for (const auto& s : r.walked) refined = refined || change_text(s.change) == "dt=0.005657";
+  EXPECT_TRUE(refined);
+}
+
+TEST(Tune, NothingPassesGivesTheClosestAfterCombining) {
+  // Better with more iterations and a shorter step, never within tolerance.
+  FormulaEngine eng{[](double it, double dt) { return 2.0 + 1.0 / it + dt * 1e3; }};
+  const TuneResult r = tune(two_dimensions(), TuneDef{}, std::ref(eng));
+  EXPECT_FALSE(r.answer);
+  const TuneStep& c = r.walked[r.closest];
+  for (const TuneStep& s : r.walked) EXPECT_GE(s.worst_ratio, c.worst_ratio);
+  // The combination of the closest value of each dimension was tried and came closest.
+  EXPECT_EQ(c.phase, "combine");
+  EXPECT_EQ(change_text(c.change), "dt=0.00025, iterations=1280");
+}
+
+TEST(Tune, KeepsToItsBudget) {
+  FormulaEngine eng{[](double it, double) { return 60.0 / it; }};
+  const TuneResult r = tune(two_dimensions(), TuneDef{.budget_runs = 4}, std::ref(eng));
+  EXPECT_EQ(r.walked.size(), 4u);
+  EXPECT_EQ(eng.runs, 4);
+  EXPECT_EQ(r.walked[0].change.size(), 0u);  // the default first
+}
+
+TEST(Tune, TheSameRunsGiveTheSameWalk) {
+  FormulaEngine a{[](double it, double dt) { return 30.0 / it + dt * 100.0; }};
+  FormulaEngine b = a;
+  const TuneResult ra = tune(two_dimensions(), TuneDef{}, std::ref(a));
+  const TuneResult rb = tune(two_dimensions(), TuneDef{}, std::ref(b));
+  EXPECT_EQ(ra.to_json().dump(), rb.to_json().dump());
+}
+
+/// Two choices, each passing alone at the given costs (ms per simulated s; the default fails).
+TuneResult two_passes(double cost_a, double cost_b) {
+  const std::map<std::string, double> cost{{"a=1", cost_a}, {"b=1", cost_b}};
+  const TuneRunner run = [&](const std::vector<Overrides>& changes) {
+    std::vector<nlohmann::json> out;
+    for (const Overrides& c : changes) {
+      const bool dflt = c.empty();
+      out.push_back({{"status", dflt ? "fail" : "pass"},
+                     {"worst_ratio", dflt ? 2.0 : 0.5},
+                     {"simulated_s", 1.0},
+                     {"wall_s", dflt ? 1e-3 : cost.at(change_text(c)) * 1e-3}});
+    }
+    return out;
+  };
+  const TuneDimension a{.key = "a", .kind = ParamKind::kChoice, .default_text = "0", .ladder = {"1"}};
+  const TuneDimension b{.key = "b", .kind = ParamKind::kChoice, .default_text = "0", .ladder = {"1"}};
+  return tune({a, b}, TuneDef{}, run);
+}
+
+TEST(Tune, CostsWithinTheTieGoToTheWalksOrder) {
+  // 10% apart: a tie (TuneDef::cost_tie, 20%), the first of the walk; 2 times apart: the cheaper.
+  const TuneResult tie = two_passes(1.1, 1.0);
+  ASSERT_TRUE(tie.answer);
+  EXPECT_EQ(change_text(tie.walked[*tie.answer].change), "a=1");
+  const TuneResult apart = two_passes(1.0, 0.5);
+  ASSERT_TRUE(apart.answer);
+  EXPECT_EQ(change_text(apart.walked[*apart.answer].change), "b=1");
+}
+
+TEST(Tune, SearchesARealConfigurationsDeclaredSettings) {
+  const EngineInfo* e = find_engine("ode-quick");
+  ASSERT_NE(e, nullptr);
+  const Scenario* s = find_scenario("car.circle");
+  ASSERT_NE(s, nullptr);
+  std::vector<std::string> left_out;
+  const auto dims = tune_dimensions(*s, *e, &left_out);
+  std::vector<std::string> keys;
+  for (const auto& d : dims) keys.push_back(d.key);
+  EXPECT_EQ(keys.front(), "dt");
+  EXPECT_NE(std::find(keys.begin(), keys.end(), "iterations"), keys.end());
+  // Every declared car setting is searched or named as left out; none of the scenario's others.
+  size_t car_knobs = 0;
+  for (const auto& k : e->knobs) car_knobs += k.vehicle == Vehicle::kCar;
+  EXPECT_EQ(dims.size() - 1 + left_out.size(), car_knobs);
+}
+
+}  // namespace
+}  // namespace liftcheck
