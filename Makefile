@@ -31,7 +31,7 @@ OUTSIDE_DIR := engines/outside
 # into node_modules at the end of every install; it is redone when the lock file changes).
 NODE_STAMP := $(OUTSIDE_DIR)/node_modules/.package-lock.json
 
-.PHONY: all deps install-packages configure build validate test report-check bench clean sanitize fuzz npm-deps format
+.PHONY: all deps install-packages configure build validate test report-check bench clean sanitize fuzz npm-deps format tune-table
 
 all: build
 
@@ -111,6 +111,11 @@ format:
 
 # Every benchmark (analytic models, car steps per engine against its raw loop, rendering); the
 # results also go to $(BUILD_DIR)/bench.json.
+# liftcheck tune's answers for every configuration on the headline scenarios, written to
+# data/tune/table.json (about 20 minutes on 2 cores; the ctest tune_table says when it is stale).
+tune-table: build
+	python3 tests/tools/tune_table.py --liftcheck $(BUILD_DIR)/liftcheck --budget 16 --jobs $(JOBS)
+
 bench: build
 	./$(BUILD_DIR)/liftcheck_bench --benchmark_out=$(BUILD_DIR)/bench.json --benchmark_out_format=json
 

@@ -14,6 +14,7 @@
 #include "harness/tune.hpp"
 #include "input/atomic_file.hpp"
 #include "input/record_view.hpp"
+#include "input/trace.hpp"
 #include "reports/plots.hpp"
 
 namespace liftcheck::cli {
@@ -51,29 +52,35 @@ std::string worst_text(const TuneStep& st) {
 
 void print_walk(const TuneResult& r) {
   const double base = r.walked.front().cost_ms_per_s;
-  std::cout << fmt::format("{:>3}  {:<8} {:<44} {:<5} {:<30} {:>10} {:>8}\n", "#", "phase", "settings", "pass",
-                           "worst x tol", "ms per s", "x dflt");
+  std::cout << fmt::format("{:>3}  {:<8} {:<44} {:<5} {:<30} {:>8} {:>10} {:>8}\n", "#", "phase", "settings", "pass",
+                           "worst x tol", "model x", "ms per s", "x dflt");
   for (size_t i = 0; i < r.walked.size(); ++i) {
     const TuneStep& st = r.walked[i];
-    std::cout << fmt::format("{:>3}  {:<8} {:<44} {:<5} {:<30} {:>10.3g} {:>8.2f}{}\n", i, st.phase,
-                             change_text(st.change), st.pass ? "yes" : "no", worst_text(st), st.cost_ms_per_s,
-                             st.cost_ms_per_s / base, r.answer && *r.answer == i ? "  <- cheapest pass" : "");
+    std::cout << fmt::format("{:>3}  {:<8} {:<44} {:<5} {:<30} {:>8.3g} {:>10.3g} {:>8.2f}{}\n", i, st.phase,
+                             printable(change_text(st.change), 200), st.pass ? "yes" : "no", worst_text(st),
+                             st.model_cost, st.cost_ms_per_s, st.cost_ms_per_s / base,
+                             r.answer && *r.answer == i ? "  <- cheapest pass" : "");
   }
 }
 
 std::string answer_text(const Scenario& s, const EngineInfo& e, const TuneResult& r) {
   const double base = r.walked.front().cost_ms_per_s;
+  const std::string budget =
+      r.unmade > 0 ? fmt::format(" (the budget of {} runs left {} planned runs unmade)", r.budget_runs, r.unmade) : "";
   if (r.answer) {
     const TuneStep& a = r.walked[*r.answer];
-    return fmt::format("{} on {} passes at {}: {:.3g} ms per simulated second, {:.2f} times the default's {:.3g}",
-                       s.name, e.name, change_text(a.change), a.cost_ms_per_s, a.cost_ms_per_s / base, base);
+    return fmt::format(
+        "{} on {} passes at {}: {:.3g} ms per simulated second measured, {:.2f} times the default's {:.3g} (cost "
+        "model {:.3g} times){}",
+        s.name, printable(e.name), printable(change_text(a.change), 300), a.cost_ms_per_s, a.cost_ms_per_s / base, base,
+        a.model_cost, budget);
   }
   const TuneStep& c = r.walked[r.closest];
   return fmt::format(
-      "{} on {}: nothing in range passes ({} runs of a budget of {}); closest {}, its worst metric {:.3g} times its "
+      "{} on {}: nothing tried passes ({} runs){}; closest {}, its worst metric {:.3g} times the default run's "
       "tolerance, at {:.3g} ms per simulated second, {:.2f} times the default's {:.3g}",
-      s.name, e.name, r.walked.size(), r.budget_runs, change_text(c.change), c.worst_ratio, c.cost_ms_per_s,
-      c.cost_ms_per_s / base, base);
+      s.name, printable(e.name), r.walked.size(), budget, printable(change_text(c.change), 300), c.worst_ratio,
+      c.cost_ms_per_s, c.cost_ms_per_s / base, base);
 }
 
 /// The car's masses are the scenario's, not settings: where a sweep varies one on this scenario,
@@ -94,6 +101,7 @@ int cmd_tune(const std::string& scenario, const std::string& engine, int budget,
   if (budget < 1 || budget > 1000) throw InputError(fmt::format("--budget {}: runs between 1 and 1000", budget));
   if ((s.vehicle == Vehicle::kCar && !e.make_car) || (s.vehicle == Vehicle::kDisks && !e.make_disks))
     throw InputError(fmt::format("{} does not build the vehicle {} drives", e.name, s.name));
+  const RunnerDef runner = runner_def(jobs, timeout_s);
   std::optional<StagedOutput> out;
   if (!out_dir.empty()) out.emplace(out_dir);
   std::vector<std::string> left_out;
@@ -101,11 +109,12 @@ int cmd_tune(const std::string& scenario, const std::string& engine, int budget,
   std::string names;
   for (const auto& d : dims) names += (names.empty() ? "" : ", ") + d.key;
   if (!json)
-    std::cout << fmt::format("tune: {} on {}, searching {} within at most {} runs\n", s.name, e.name, names, budget);
+    std::cout << fmt::format("tune: {} on {}, searching {} within at most {} runs\n", s.name, printable(e.name),
+                             printable(names, 300), budget);
   for (const auto& l : left_out)
-    if (!json) std::cout << "not searched: " << l << "\n";
+    if (!json) std::cout << "not searched: " << printable(l, 300) << "\n";
   close_idle_children();
-  const TuneResult r = tune(dims, TuneDef{.budget_runs = budget}, runner_for(s, e, runner_def(jobs, timeout_s)));
+  const TuneResult r = tune(dims, TuneDef{.budget_runs = budget}, runner_for(s, e, runner));
   throw_if_interrupted("during tune");
   nlohmann::json doc = r.to_json();
   doc["scenario"] = s.name;

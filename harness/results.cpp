@@ -9,6 +9,7 @@
 #include <sys/utsname.h>
 
 #include "liftcheck_errata.hpp"
+#include "liftcheck_tune_table.hpp"
 #include "liftcheck_version.hpp"
 
 namespace liftcheck {
@@ -46,6 +47,13 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
                   {"settings", settings},
                   {"knobs", knobs}});
   }
+  // liftcheck tune's committed answers (data/tune/table.json) for the configurations of this run.
+  nlohmann::json tune_table = nlohmann::json::object();
+  const nlohmann::json table = nlohmann::json::parse(kTuneTableJson, nullptr, false);
+  if (table.is_object() && table.contains("entries"))
+    for (const auto& [pair, entry] : table["entries"].items())
+      for (const auto& e : es)
+        if (pair.substr(pair.find(' ') + 1) == e["name"].get<std::string>()) tune_table[pair] = entry;
   char host[256] = "unknown";
   gethostname(host, sizeof host - 1);
   utsname u{};
@@ -63,7 +71,8 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
             {"compiler", LIFTCHECK_COMPILER}}},
           {"engines", es},
           {"wall_s", wall_s},
-          {"errata", kErrataMarkdown}};
+          {"errata", kErrataMarkdown},
+          {"tune_table", tune_table}};
 }
 
 nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::json& context) {

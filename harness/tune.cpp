@@ -1,21 +1,25 @@
 #include "harness/tune.hpp"
 
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
 #include <set>
 #include <span>
 
+#include "input/record_view.hpp"
+
 namespace liftcheck {
 
 namespace {
 
 /// The first phase's multipliers of a default, nearest first: a setting's on powers of 4 (an
-/// iteration count from a sixteenth to 64 times, a stiffness or an accuracy two decades either
-/// way); the step's on powers of 2 (dt from a quarter to 8 times: a step 16 times shorter costs 16
-/// times the default and is no setting a user runs).
-constexpr double kSettingLadder[] = {0.25, 4.0, 1.0 / 16.0, 16.0, 64.0};
+/// iteration count from a sixteenth to 16 times, a stiffness or an accuracy a decade and more either
+/// way; 64 times an iteration count costs minutes a run on the costliest engines and is no setting a
+/// user runs); the step's on powers of 2 (dt from a quarter to 8 times: a step 16 times shorter
+/// costs 16 times the default).
+constexpr double kSettingLadder[] = {0.25, 4.0, 1.0 / 16.0, 16.0};
 constexpr double kStepLadder[] = {2.0, 0.5, 4.0, 0.25, 8.0};
 
 std::string value_text(const TuneDimension& d, double v) {
@@ -23,10 +27,18 @@ std::string value_text(const TuneDimension& d, double v) {
                                        : fmt::format("{:.4g}", v);
 }
 
-/// `v` within the dimension's range (an integer rounded), or nullopt outside it.
+/// `v` clamped into the dimension's range (an integer rounded); nullopt below an exclusive minimum.
 std::optional<double> in_range(const TuneDimension& d, double v) {
-  if (d.kind == ParamKind::kInteger) v = std::round(v);
-  if (!(v >= d.min && v <= d.max) || (d.min_exclusive && v <= d.min)) return std::nullopt;
+  v = std::min(v, d.max);
+  if (v < d.min) v = d.min;
+  if (d.kind == ParamKind::kInteger) v = std::clamp(std::round(v), std::ceil(d.min), std::floor(d.max));
+  if (d.min_exclusive && v <= d.min) return std::nullopt;
+  return v;
+}
+
+double number_of(const std::string& text) {
+  double v = NAN;
+  std::from_chars(text.data(), text.data() + text.size(), v);
   return v;
 }
 
@@ -37,15 +49,13 @@ TuneDimension numeric(const ParamSpec& p, std::span<const double> ladder) {
                   .min = p.min,
                   .max = p.max,
                   .min_exclusive = p.min_exclusive};
-  d.default_value = std::stod(p.default_text);
+  d.default_value = number_of(p.default_text);
   std::set<std::string> seen{value_text(d, d.default_value)};
   for (const double m : ladder)
     if (const auto v = in_range(d, d.default_value * m))
       if (seen.insert(value_text(d, *v)).second) d.ladder.push_back(value_text(d, *v));
   return d;
 }
-
-double number_of(const std::string& text) { return std::stod(text); }
 
 double cost_of(const nlohmann::json& r) {
   const double sim = r.value("simulated_s", 0.0);
@@ -55,12 +65,41 @@ double cost_of(const nlohmann::json& r) {
   return sim > 0.0 ? 1e3 * spent / sim : NAN;
 }
 
-TuneStep step_of(std::string phase, Overrides change, nlohmann::json record) {
+/// Each counted metric's tolerance in the default run: every run is judged against them, so a
+/// longer step cannot pass by the tolerances that scale with dt.
+using Tolerances = std::map<std::string, double>;
+Tolerances tolerances_of(const nlohmann::json& record) {
+  Tolerances t;
+  const nlohmann::json metrics = record.value("metrics", nlohmann::json::object());
+  for (const auto& [name, m] : metrics.items())
+    if (const MetricView v(m); v.counted() && v.tolerance() > 0.0) t[name] = v.tolerance();
+  return t;
+}
+
+/// The model of a step's cost against the default's, from its settings alone: steps per simulated
+/// second (dt) times a declared iteration count's ratio; a setting without a cost direction counts 1.
+double model_cost(const Overrides& change, const std::vector<TuneDimension>& dims) {
+  double c = 1.0;
+  for (const auto& [key, value] : change)
+    for (const TuneDimension& d : dims)
+      if (d.key == key && d.cost_direction != 0 && d.default_value > 0.0)
+        c *= std::pow(number_of(value) / d.default_value, d.cost_direction);
+  return c;
+}
+
+TuneStep step_of(std::string phase, Overrides change, nlohmann::json record, const Tolerances& at_default) {
   TuneStep s{.phase = std::move(phase), .change = std::move(change), .record = std::move(record)};
-  s.pass = s.record.value("status", "") == "pass";
+  const std::string status = s.record.value("status", "");
   if (s.record.contains("worst_ratio") && s.record["worst_ratio"].is_number())
     s.worst_ratio = s.record["worst_ratio"].get<double>();
-  if (s.record.value("status", "") == "error") s.worst_ratio = std::numeric_limits<double>::infinity();
+  if (status == "error") s.worst_ratio = std::numeric_limits<double>::infinity();
+  const nlohmann::json metrics = s.record.value("metrics", nlohmann::json::object());
+  for (const auto& [name, m] : metrics.items())
+    if (const auto it = at_default.find(name); it != at_default.end() && MetricView(m).counted()) {
+      const double e = MetricView(m).compared_error();
+      s.worst_ratio = std::max(s.worst_ratio, std::isnan(e) ? std::numeric_limits<double>::infinity() : e / it->second);
+    }
+  s.pass = status == "pass" && s.worst_ratio <= 1.0;
   s.cost_ms_per_s = cost_of(s.record);
   return s;
 }
@@ -69,19 +108,31 @@ TuneStep step_of(std::string phase, Overrides change, nlohmann::json record) {
 struct Walk {
   const TuneDef& def;
   const TuneRunner& run;
+  const std::vector<TuneDimension>& dims;
   std::vector<TuneStep> steps;
   std::set<std::string> tried;
+  int unmade = 0;  ///< runs planned and not made: the budget ran out
 
   int left() const { return def.budget_runs - static_cast<int>(steps.size()); }
   void batch(const std::string& phase, std::vector<Overrides> changes) {
     std::vector<Overrides> fresh;
     for (auto& c : changes) {
       std::sort(c.begin(), c.end());
-      if (static_cast<int>(fresh.size()) < left() && tried.insert(change_text(c)).second) fresh.push_back(c);
+      if (tried.count(change_text(c))) continue;
+      if (static_cast<int>(fresh.size()) >= left()) {
+        ++unmade;
+        continue;
+      }
+      tried.insert(change_text(c));
+      fresh.push_back(c);
     }
     if (fresh.empty()) return;
     std::vector<nlohmann::json> records = run(fresh);
-    for (size_t i = 0; i < fresh.size(); ++i) steps.push_back(step_of(phase, fresh[i], std::move(records.at(i))));
+    const Tolerances at_default = steps.empty() ? Tolerances{} : tolerances_of(steps.front().record);
+    for (size_t i = 0; i < fresh.size(); ++i) {
+      steps.push_back(step_of(phase, fresh[i], std::move(records.at(i)), at_default));
+      steps.back().model_cost = model_cost(steps.back().change, dims);
+    }
   }
   /// The steps that change only `key` (and the default run), by value.
   std::vector<std::pair<double, const TuneStep*>> line(const TuneDimension& d) const {
@@ -95,14 +146,23 @@ struct Walk {
   }
 };
 
-/// Phase 1: each dimension's ladder, one at a time, the nearest rungs of every dimension first.
+/// Phase 1: each dimension's ladder, one at a time: first the whole ladders of the dimensions with
+/// a known cost direction (the step, the solver's iteration count: the settings users turn first;
+/// where the default passes, only their cheaper side), then the nearest rungs of every other
+/// dimension before the further ones.
 void ladder_phase(Walk& w, const std::vector<TuneDimension>& dims) {
+  const bool default_passes = w.steps.front().pass;
   std::vector<Overrides> changes;
+  for (const auto& d : dims)
+    if (d.cost_direction != 0)
+      for (const auto& v : d.ladder)
+        if (!default_passes || (number_of(v) - d.default_value) * d.cost_direction < 0.0)
+          changes.push_back({{d.key, v}});
   size_t depth = 0;
   for (const auto& d : dims) depth = std::max(depth, d.ladder.size());
   for (size_t k = 0; k < depth; ++k)
     for (const auto& d : dims)
-      if (k < d.ladder.size()) changes.push_back({{d.key, d.ladder[k]}});
+      if (d.cost_direction == 0 && k < d.ladder.size()) changes.push_back({{d.key, d.ladder[k]}});
   w.batch("ladder", changes);
 }
 
@@ -127,8 +187,8 @@ void refine_phase(Walk& w, const std::vector<TuneDimension>& dims) {
   }
 }
 
-/// Phase 3, where nothing passed: the values that came closest in each dimension, combined two
-/// at a time (the two closest first) and all together.
+/// Phase 3, where nothing passed: the value that came closest in each dimension; the three
+/// closest combined two at a time, then all of them together.
 void combine_phase(Walk& w, const std::vector<TuneDimension>& dims) {
   std::vector<std::pair<double, std::pair<std::string, std::string>>> best;  // worst_ratio, (key, value)
   const double base = w.steps.front().worst_ratio;
@@ -152,38 +212,18 @@ void combine_phase(Walk& w, const std::vector<TuneDimension>& dims) {
   w.batch("combine", changes);
 }
 
-/// A passing step that changes one dimension with a known cost direction, beaten along it by
-/// another passing step (a longer step, fewer iterations): no candidate, whatever the clock said.
-bool dominated(const std::vector<TuneStep>& steps, size_t i, const std::vector<TuneDimension>& dims) {
-  const TuneStep& s = steps[i];
-  if (s.change.size() != 1) return false;
-  for (const TuneDimension& d : dims) {
-    if (d.key != s.change[0].first || d.cost_direction == 0) continue;
-    const double v = number_of(s.change[0].second);
-    for (const TuneStep& o : steps) {
-      const double ov = o.change.empty()                                     ? d.default_value
-                        : o.change.size() == 1 && o.change[0].first == d.key ? number_of(o.change[0].second)
-                                                                             : NAN;
-      if (o.pass && (ov - v) * d.cost_direction < 0.0) return true;
-    }
-  }
-  return false;
-}
-
-/// The cheapest passing step: along a dimension with a known cost direction the verdicts decide;
-/// between the candidates left, measured costs within def.cost_tie of the cheapest are a tie,
-/// broken by the fewest changes, then the walk's order.
-std::optional<size_t> cheapest_pass(const std::vector<TuneStep>& steps, const TuneDef& def,
-                                    const std::vector<TuneDimension>& dims) {
-  std::vector<size_t> candidates;
-  for (size_t i = 0; i < steps.size(); ++i)
-    if (steps[i].pass && !dominated(steps, i, dims)) candidates.push_back(i);
-  double least = std::numeric_limits<double>::infinity();
-  for (const size_t i : candidates) least = std::min(least, steps[i].cost_ms_per_s);
+/// The cheapest passing step by the cost model (deterministic: the verdicts and the settings decide,
+/// never the clock), then the fewest changes, then the walk's order.
+std::optional<size_t> cheapest_pass(const std::vector<TuneStep>& steps) {
   std::optional<size_t> pick;
-  for (const size_t i : candidates) {
-    const bool tie = steps[i].cost_ms_per_s <= least * (1.0 + def.cost_tie) || !std::isfinite(least);
-    if (tie && (!pick || steps[i].change.size() < steps[*pick].change.size())) pick = i;
+  for (size_t i = 0; i < steps.size(); ++i) {
+    if (!steps[i].pass) continue;
+    if (!pick) {
+      pick = i;
+      continue;
+    }
+    const TuneStep &s = steps[i], &p = steps[*pick];
+    if (s.model_cost < p.model_cost || (s.model_cost == p.model_cost && s.change.size() < p.change.size())) pick = i;
   }
   return pick;
 }
@@ -211,7 +251,8 @@ std::vector<TuneDimension> tune_dimensions(const Scenario& s, const EngineInfo& 
       for (const auto& c : k.choices)
         if (c != k.default_text) d.ladder.push_back(c);
       dims.push_back(d);
-    } else if (k.kind == ParamKind::kVec2 || !(std::stod(k.default_text) > 0.0)) {
+    } else if (k.kind == ParamKind::kVec2 || !(number_of(k.default_text) > 0.0) ||
+               !std::isfinite(number_of(k.default_text))) {
       if (left_out)
         left_out->push_back(
             fmt::format("{} (default {}: no scale to search on a ladder of multiples)", k.key, k.default_text));
@@ -224,19 +265,19 @@ std::vector<TuneDimension> tune_dimensions(const Scenario& s, const EngineInfo& 
 }
 
 TuneResult tune(const std::vector<TuneDimension>& dims, const TuneDef& def, const TuneRunner& run) {
-  Walk w{def, run, {}, {}};
+  Walk w{def, run, dims, {}, {}};
   w.batch("default", {Overrides{}});
   ladder_phase(w, dims);
   refine_phase(w, dims);
   TuneResult r{.budget_runs = def.budget_runs};
-  r.answer = cheapest_pass(w.steps, def, dims);
+  r.answer = cheapest_pass(w.steps);
   if (!r.answer) {
     combine_phase(w, dims);
-    refine_phase(w, dims);
-    r.answer = cheapest_pass(w.steps, def, dims);
+    r.answer = cheapest_pass(w.steps);
   }
   for (size_t i = 1; i < w.steps.size(); ++i)
     if (w.steps[i].worst_ratio < w.steps[r.closest].worst_ratio) r.closest = i;
+  r.unmade = w.unmade;
   r.walked = std::move(w.steps);
   return r;
 }
@@ -252,9 +293,11 @@ nlohmann::json TuneResult::to_json() const {
          {"pass", s.pass},
          {"worst_ratio", std::isfinite(s.worst_ratio) ? nlohmann::json(s.worst_ratio) : nlohmann::json()},
          {"cost_ms_per_s", std::isfinite(s.cost_ms_per_s) ? nlohmann::json(s.cost_ms_per_s) : nlohmann::json()},
+         {"model_cost", s.model_cost},
          {"record", s.record}});
   }
   return {{"budget_runs", budget_runs},
+          {"unmade", unmade},
           {"answer", answer ? nlohmann::json(*answer) : nlohmann::json()},
           {"closest", closest},
           {"walked", steps}};

@@ -2,10 +2,13 @@
 // the configuration's declared settings for the scenario's vehicle and the step dt (never the
 // scenario's other parameters: the car and the path stay as they are), one at a time on a
 // log-spaced ladder around each default, then refines between a passing and a failing neighbour,
-// then, where nothing passed, combines the settings that came closest. Which runs it makes
-// depends only on their verdicts and errors (deterministic); their costs are measured.
+// then, where nothing passed, combines the settings that came closest. Every run is judged against
+// the default run's tolerances. Which runs it makes and which pass it answers depend only on the
+// verdicts, the errors and a cost model of the settings (deterministic); the costs shown beside
+// are measured.
 #pragma once
 
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
@@ -20,10 +23,6 @@ namespace liftcheck {
 
 struct TuneDef {
   int budget_runs = 40;  ///< runs at most, the default's included
-  /// Two passing settings whose measured costs differ by less than this fraction are a tie, broken
-  /// by the fewest changed settings, then by the order of the walk (a measured cost moves by 10 to
-  /// 20% from one run to the next).
-  double cost_tie = 0.2;
 };
 
 /// One searched quantity: the step dt (a scenario parameter) or one of the engine's settings.
@@ -52,14 +51,19 @@ struct TuneStep {
   nlohmann::json record;
   bool pass = false;
   double worst_ratio = std::numeric_limits<double>::infinity();  ///< largest error over its tolerance
-  double cost_ms_per_s = NAN;  ///< the engine's own time (or the run's wall time) per simulated second
+  /// Judged against the default run's tolerances (a longer step loosens those that scale with dt).
+  double cost_ms_per_s = NAN;  ///< measured: the engine's own time (or the run's wall time) per simulated second
+  /// The cost model against the default's: (dt0 / dt) x (iterations / iterations0) for a declared
+  /// iteration count; what ranks the passes (measured costs move by 10 to 20% between runs).
+  double model_cost = 1.0;
 };
 
 struct TuneResult {
   std::vector<TuneStep> walked;  ///< in walk order; walked[0] is the default run
   std::optional<size_t> answer;  ///< the cheapest passing step
-  size_t closest = 0;            ///< without an answer: the smallest worst_ratio
+  size_t closest = 0;            ///< the smallest worst_ratio
   int budget_runs = 0;
+  int unmade = 0;  ///< runs the search planned and the budget did not allow
   nlohmann::json to_json() const;
 };
 

@@ -220,8 +220,10 @@ std::string contents_section(const json& results) {
   if (results.contains("baseline") && results["baseline"].is_object())
     h += "<li><a href=\"#baseline\">Against the baseline</a></li>";
   h += "<li><a href=\"#known\">Known failures</a></li><li><a href=\"#sweeps\">Sweeps and their gates</a></li>"
-       "<li><a href=\"#engines\">Engines and settings</a></li><li><a href=\"#errata\">Errata found in the "
-       "papers</a></li>";
+       "<li><a href=\"#engines\">Engines and settings</a></li>";
+  const json tune = results["context"].value("tune_table", json::object());
+  if (tune.is_object() && !tune.empty()) h += "<li><a href=\"#tune\">What it takes to pass</a></li>";
+  h += "<li><a href=\"#errata\">Errata found in the papers</a></li>";
   for (const auto& sc : scenario_order(results))
     h += fmt::format("<li><a href=\"{}\">{}</a></li>", scenario_page(sc), esc(sc));
   return h + "</ul>\n";
@@ -256,6 +258,61 @@ std::string known_section(const json& results) {
          rows + "</table>\n";
 }
 
+/// liftcheck tune's committed answers (context.tune_table): per configuration and headline
+/// scenario, the cheapest settings found that pass, or the closest approach, with its cost against
+/// the default's.
+std::string tune_section(const json& results) {
+  const json table = results["context"].value("tune_table", json::object());
+  if (!table.is_object() || table.empty()) return "";
+  std::vector<std::string> scenarios;
+  for (const auto& [pair, e] : table.items())
+    if (const std::string sc = pair.substr(0, pair.find(' '));
+        std::find(scenarios.begin(), scenarios.end(), sc) == scenarios.end())
+      scenarios.push_back(sc);
+  const auto number = [](const json& e, const char* key) {
+    const json v = e.value(key, json());
+    return v.is_number() ? v.get<double>() : NAN;
+  };
+  std::string h =
+      "<h2 id=\"tune\">What it takes to pass</h2>\n<p class=\"note\">From <code>liftcheck tune</code> (the "
+      "committed table, <code>make tune-table</code>; each configuration at its defaults but for the settings named): "
+      "the cheapest settings found that pass each scenario, judged against the default run's tolerances, with the "
+      "engine's measured cost against its defaults', or, where nothing tried passed, the closest run (its worst error "
+      "over its tolerance). Each search is bounded (the runs it took of its budget in the "
+      "tooltip).</p>\n<table class=\"tune\"><tr><th "
+      "class=\"l\">configuration</th>";
+  for (const auto& sc : scenarios) h += "<th class=\"l\">" + esc(sc) + "</th>";
+  h += "</tr>\n";
+  for (const auto& eng : engine_order(results)) {
+    std::string row;
+    bool any = false;
+    for (const auto& sc : scenarios) {
+      const std::string key = sc + " " + eng;
+      if (!table.contains(key) || !table[key].is_object()) {
+        row += "<td></td>";
+        continue;
+      }
+      any = true;
+      const json& e = table[key];
+      std::string change;
+      const json changes = e.value("change", json::object());
+      for (const auto& [k, v] : changes.items())
+        change += (change.empty() ? "" : ", ") + k + "=" + (v.is_string() ? v.get<std::string>() : v.dump());
+      if (change.empty()) change = "defaults";
+      const std::string tip = fmt::format("{} of {} runs; default {}", e.value("runs", 0), e.value("budget", 0),
+                                          e.value("default_passes", false) ? "passes" : "fails");
+      row += e.value("passes", false) ? fmt::format("<td class=\"l pass\" title=\"{}\">{} ({:.2g}&times; cost)</td>",
+                                                    esc(tip), esc(change), number(e, "cost_ratio"))
+                                      : fmt::format(
+                                            "<td class=\"l xfail\" title=\"{}\">none; closest {}: {:.2g}&times; tol. "
+                                            "({:.2g}&times; cost)</td>",
+                                            esc(tip), esc(change), number(e, "worst_ratio"), number(e, "cost_ratio"));
+    }
+    if (any) h += "<tr><td class=\"l\">" + esc(eng) + "</td>" + row + "</tr>\n";
+  }
+  return h + "</table>\n";
+}
+
 }  // namespace
 
 std::string sweeps_section(const json& results);
@@ -282,6 +339,7 @@ std::string index_html(const json& results) {
   h += known_section(results);
   h += sweeps_section(results);
   h += engines_section(results);
+  h += tune_section(results);
   h += "<h2 id=\"errata\">Errata found in the papers</h2>\n";
   h += markdown_html(ctx.value("errata", std::string()));
   h += "</body>\n</html>\n";

@@ -50,7 +50,8 @@ inline constexpr const char* kCss =
     "figure.wide img{max-width:100%;border:1px solid #ccc}figcaption{font-size:.85em;color:#555}"
     "img.plot{max-width:100%;border:1px solid #ddd}code{background:#f3f3f3;padding:0 .2em}"
     ".meta{color:#555;font-size:.85em}.note{font-size:.9em;color:#444}details summary{cursor:pointer}"
-    "ul.toc{columns:2;font-size:.95em}td ul{margin:0;padding-left:1.1em}";
+    "ul.toc{columns:2;font-size:.95em}td ul{margin:0;padding-left:1.1em}"
+    "table.tune{font-size:.8em;table-layout:fixed;width:100%}table.tune td{overflow-wrap:anywhere}";
 
 inline std::string head(const std::string& title) {
   return fmt::format(

@@ -119,6 +119,18 @@ void run_gnuplot(const std::filesystem::path& dir) {
 
 using ColorOf = std::function<std::string(const std::string&)>;
 
+/// `S` written to `dir`/plots.gp and run by gnuplot there.
+void render(const Script& S, const std::filesystem::path& dir) {
+  const auto script = dir / "plots.gp";
+  {
+    std::ofstream f(script);
+    f << S.gp.str();
+    f.close();
+    if (!f) throw std::runtime_error(fmt::format("cannot write '{}': {}", script.string(), std::strerror(errno)));
+  }
+  run_gnuplot(dir);
+}
+
 /// Distance at each sample of `trace` from `ref` at the same time (the nearest reference sample):
 /// the front-axle centre (x, y) for a car, c_M for the disks. Rows {t, distance}, floored at 1e-16
 /// for a log scale.
@@ -346,14 +358,7 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
   }
   for (const auto& map : results.value("maps", json::array())) plot_map(S, files, map, color_of);
 
-  const auto script = out / "plots" / "plots.gp";
-  {
-    std::ofstream f(script);
-    f << S.gp.str();
-    f.close();
-    if (!f) throw std::runtime_error(fmt::format("cannot write '{}': {}", script.string(), std::strerror(errno)));
-  }
-  run_gnuplot(out / "plots");
+  render(S, out / "plots");
   return files;
 }
 
@@ -381,14 +386,7 @@ void write_tune_plot(const json& tune, const std::filesystem::path& out) {
   if (!dflt.empty()) cmd += S.block(dflt) + " u 1:2 w p pt 4 ps 2.2 lw 2 lc rgb '#000000' t 'defaults', ";
   if (!answer.empty()) cmd += S.block(answer) + " u 1:2 w p pt 8 ps 2.4 lw 2 lc rgb '#1f77b4' t 'cheapest pass', ";
   S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
-  const auto script = out / "plots" / "plots.gp";
-  {
-    std::ofstream f(script);
-    f << S.gp.str();
-    f.close();
-    if (!f) throw std::runtime_error(fmt::format("cannot write '{}': {}", script.string(), std::strerror(errno)));
-  }
-  run_gnuplot(out / "plots");
+  render(S, out / "plots");
 }
 
 }  // namespace liftcheck
