@@ -7,7 +7,8 @@ the budget), so that tests/tune_table_check.py can tell a stale table. `make tun
 
     tune_table.py [--liftcheck build/liftcheck] [--budget 16] [--timeout 30] [--jobs 2] [--only SCEN:ENGINE,...] [--check] [--markdown]
 
-It writes docs/tune.md from the table too (--markdown: that only).
+It writes docs/tune.md and the README engine table's last column from the table too (--markdown:
+that only).
 
 --check writes nothing: it exits 1 naming every pair missing from the table or whose fingerprint
 changed (what the ctest tune_table runs).
@@ -16,6 +17,7 @@ import argparse
 import hashlib
 import json
 import os
+import re
 import subprocess
 import sys
 
@@ -81,6 +83,50 @@ def cell(e):
     return f"none; closest {change}: {num(e['worst_ratio'])}× tol. ({num(e['cost_ratio'])}×)"
 
 
+README = "README.md"
+README_HEADER = "tuned: car.circle passes at (cost); headline scenarios passing"
+
+
+def readme_cell(table, name):
+    """The README's engine table: what tune found for car.circle, and how many of the headline scenarios
+    pass at some setting tried (docs/tune.md has every cell)."""
+    mine = [table["entries"].get(f"{s} {name}") for s in SCENARIOS]
+    mine = [e for e in mine if e]
+    if not mine:
+        return "–"
+    circle = table["entries"].get(f"car.circle {name}")
+    head = "–" if circle is None else short_cell(circle)
+    return f"{head}; {sum(e['passes'] for e in mine)} of {len(mine)}"
+
+
+def short_cell(e):
+    change = ", ".join(f"{k}={v}" for k, v in sorted(e["change"].items())) or "defaults"
+    if e["passes"]:
+        return f"{change} ({num(e['cost_ratio'])}×)"
+    return f"none (closest {num(e['worst_ratio'])}× tol. at {change})"
+
+
+def readme_rows(table, text):
+    """README.md with its engine table's last column (README_HEADER) written from the table; the other
+    columns are left as they are. Returns the new text and the configurations whose cell changed."""
+    out, changed, in_table = [], [], False
+    for line in text.split("\n"):
+        if line.startswith("| configuration |") and README_HEADER in line:
+            in_table = True
+        elif in_table and not line.startswith("|"):
+            in_table = False
+        m = re.match(r"\| `([^`]+)` \|", line) if in_table else None
+        if m:
+            cells = line.rstrip(" |").split(" | ")
+            want = readme_cell(table, m.group(1))
+            if cells[-1] != want:
+                changed.append(m.group(1))
+                cells[-1] = want
+            line = " | ".join(cells) + " |"
+        out.append(line)
+    return "\n".join(out), changed
+
+
 def write_markdown(table, engines):
     """docs/tune.md: the table as a reader sees it, configurations as rows."""
     lines = ["# What it takes to pass", "",
@@ -88,7 +134,7 @@ def write_markdown(table, engines):
              "`dt` for the cheapest that pass (docs/cli.md says how). This is its committed table",
              f"([`{TABLE}`](../{TABLE}), written by `make tune-table` at a budget of "
              f"{next(iter(table['entries'].values()))['budget']} runs a pair; the ctest `tune_table` fails when",
-             "a configuration's settings or a scenario's parameters changed since). Each cell: the settings that",
+             "a configuration's settings or a scenario's parameters changed since, or the README's column differs). Each cell: the settings that",
              "pass, judged against the default run's tolerances, and their measured cost against the defaults'",
              "(the engine's time per simulated second), or, where nothing tried passed, the closest run, its",
              "worst error over the default run's tolerance and its cost. A search cut short by its budget is",
@@ -101,6 +147,9 @@ def write_markdown(table, engines):
         lines.append(f"| `{e['name']}` | " + " | ".join(cells) + " |")
     with open(DOC, "w") as f:
         f.write("\n".join(lines) + "\n")
+    text, _ = readme_rows(table, open(README).read())
+    with open(README, "w") as f:
+        f.write(text)
 
 
 def main():
@@ -128,6 +177,10 @@ def main():
             elif have["fingerprint"] != fingerprint(e, s, budget):
                 stale.append(f"{key}: its settings, their defaults or ranges, or the scenario's parameters changed")
         stale += [f"{k}: no such pair in the catalogue" for k in table["entries"] if k not in wanted]
+        readme = open(README).read()
+        if README_HEADER not in readme:
+            stale.append(f"{README}: its engine table has no column '{README_HEADER}'")
+        stale += [f"{README}: {n}'s cell '{README_HEADER}' differs from the table" for n in readme_rows(table, readme)[1]]
         for line in stale:
             print(line)
         print(f"{TABLE}: {len(wanted)} pairs, {len(stale)} stale (make tune-table writes them again)")
