@@ -247,8 +247,8 @@ void print_summary(const nlohmann::json& results, const OutputOptions& o, const 
   print_simulated(results);
   const auto& sum = results["summary"];
   std::cout << fmt::format(
-      "{}: {} runs and {} sweep gates, {} unexpected ({} pass, {} known failures, {} unexpected passes, {} fail, "
-      "{} error, {} skip; {} sweep gates failed); {}\n",
+      "{}: {} runs, {} sweep gates: {} unexpected ({} pass, {} known, {} unexpected pass, {} fail, {} error, "
+      "{} skip; {} gates failed)\n{}\n",
       results.contains("shard")
           ? fmt::format("shard {}/{}", results["shard"]["index"].get<int>(), results["shard"]["total"].get<int>())
           : "validate",

@@ -28,6 +28,7 @@ struct ValidateOptions {
   std::string engine_list, filter = "*", trace_dir, shard;
   std::vector<std::string> sets;
   bool no_sweeps = false, all_points = false, no_report = false;
+  bool verbose = false;  ///< each run's line whole (its reason, every failing metric), not fitted to 120 columns
   OutputOptions out{"build/report"};
   int jobs = 1;
   double timeout_s = 120.0;
@@ -59,32 +60,52 @@ struct Ran {
 /// What a failing run's line says: its three metrics furthest out of tolerance, each with its
 /// multiple of tolerance, and how many more fail ("slip_along_max 67x, slip_rms 4.2x, +2 more");
 /// the reason of a known failure is for `liftcheck explain`, the figures for the report.
-std::string failing_metrics_text(const nlohmann::json& r) {
+/// A run line's width unless --verbose: a terminal's 120 columns (the reasons are in the report).
+constexpr std::size_t kLineColumns = 120;
+
+/// Its failing metrics worst first with their multiples of tolerance, as many as fit in `width`
+/// columns (all with width 0), then how many more.
+std::string failing_metrics_text(const nlohmann::json& r, std::size_t width) {
   std::vector<std::pair<std::string, MetricView>> out;
   for (const auto& nm : RecordView(r).metrics_worst_first())
     if (!nm.second.pass() && nm.second.counted()) out.push_back(nm);
   if (out.empty()) return printable(r["message"].get<std::string>(), 1000);
   std::string text;
-  for (std::size_t i = 0; i < std::min<std::size_t>(3, out.size()); ++i) {
-    const double ratio = out[i].second.ratio();
-    text += fmt::format("{}{} {}", i ? ", " : "", out[i].first,
-                        std::isfinite(ratio) ? fmt::format("{:.3g}x", ratio) : "(tolerance 0)");
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const MetricView& m = out[i].second;
+    const std::string item =
+        fmt::format("{}{} {}", i ? ", " : "", out[i].first,
+                    std::isfinite(m.ratio()) ? fmt::format("{:.3g}x", m.ratio())
+                                             : fmt::format("{:.3g} (tolerance 0)", m.compared_error()));
+    const std::string more = fmt::format(", +{} more", out.size() - i - 1);
+    if (width > 0 && i > 0 && text.size() + item.size() + (i + 1 < out.size() ? more.size() : 0) > width)
+      return text + fmt::format(", +{} more", out.size() - i);
+    text += item;
   }
-  if (out.size() > 3) text += fmt::format(", +{} more", out.size() - 3);
   return text;
 }
 
-/// A run's line: its verdict, scenario, configuration, engine seconds and what failed (a run not
-/// as expected adds its whole message: those are the lines to read).
-void print_run_line(const nlohmann::json& r) {
+/// `text` cut to `width` columns (counted in bytes: the messages are ASCII but for a dash) with an ellipsis.
+std::string fitted(const std::string& text, std::size_t width) {
+  if (width == 0 || text.size() <= width) return text;
+  std::size_t cut = width - 3;
+  while (cut > 0 && (static_cast<unsigned char>(text[cut]) & 0xC0) == 0x80) --cut;  // not inside a UTF-8 character
+  return text.substr(0, cut) + "...";
+}
+
+/// A run's line: its verdict, scenario, configuration, engine seconds and what failed, in 120
+/// columns (with --verbose, the whole message: the reason of a known failure, every metric).
+void print_run_line(const nlohmann::json& r, bool verbose) {
   const std::string status = r["status"], message = printable(r["message"].get<std::string>(), 1000);
   const bool as_expected = r["as_expected"].get<bool>();
-  std::string what = status == "fail" ? failing_metrics_text(r) : status == "pass" ? "" : message;
-  if (!as_expected && status == "fail") what += " — " + message;
-  if (!as_expected && status == "pass") what = "passes, and is listed as a known failure (harness/expectations.json)";
-  std::cout << fmt::format("{} {:<22} {:<16} {:8.3f} s  {}\n", coloured_verdict(r["verdict"].get<std::string>(), 15),
-                           printable(r["scenario"].get<std::string>(), 200),
-                           printable(r["engine"].get<std::string>(), 200), r["wall_s"].get<double>(), what);
+  const std::string head = fmt::format("{:<15} {:<18} {:<18} {:7.3f} s  ", r["verdict"].get<std::string>(),
+                                       printable(r["scenario"].get<std::string>(), 200),
+                                       printable(r["engine"].get<std::string>(), 200), r["wall_s"].get<double>());
+  const std::size_t room = verbose || head.size() >= kLineColumns ? 0 : kLineColumns - head.size();
+  std::string what = status == "fail" ? failing_metrics_text(r, room) : status == "pass" ? "" : message;
+  if (!as_expected && status == "fail" && verbose) what += " — " + message;
+  if (!as_expected && status == "pass") what = "passes, and is listed as a known failure";
+  std::cout << coloured_verdict(r["verdict"].get<std::string>(), 15) << head.substr(15) << fitted(what, room) << "\n";
 }
 
 /// One line on stderr when an outside configuration of the default suite runs the adapters of the
@@ -103,7 +124,7 @@ void warn_if_outside_suite_is_the_source_trees(const std::vector<const EngineInf
 }
 
 /// One line per run as it ends (the points only count), the progress line between.
-Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner) {
+Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner, bool verbose) {
   Ran ran;
   const auto t0 = std::chrono::steady_clock::now();
   Progress progress;
@@ -113,8 +134,8 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
     ran.timing.count(it, r, held_s);
     if (it.kind != SuiteItem::kRun) return;
     progress.clear();
-    print_run_line(r);
-    for (const auto& [k, judged] : shared_records(plan, i, r)) print_run_line(judged);  // the same drive, judged again
+    print_run_line(r, verbose);
+    for (const auto& [k, judged] : shared_records(plan, i, r)) print_run_line(judged, verbose);  // judged again
   };
   try {
     records = run_items(plan, which, runner, done, [&](size_t n, size_t total) { progress.update(n, total); });
@@ -177,7 +198,7 @@ int cmd_validate(const ValidateOptions& v) {
   const std::vector<size_t> which =
       shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
   warn_if_outside_suite_is_the_source_trees(listed);
-  Ran ran = run_share(plan, which, runner);
+  Ran ran = run_share(plan, which, runner, v.verbose);
   const nlohmann::json context = suite_context(listed, ran.timing, runner, def.set);
   nlohmann::json results = shard_total > 0 ? shard_results(plan, which, ran, context, shard_index, shard_total)
                                            : suite_results(plan, ran.by_key, context);
@@ -209,6 +230,8 @@ Command add_validate(CLI::App& app) {
       "--trace-dir", v->trace_dir,
       "score every SCENARIO.csv (or .json) in this folder as a run of the configuration named after it");
   validate->add_flag("--no-sweeps", v->no_sweeps, "skip the parameter sweeps");
+  validate->add_flag("--verbose,-v", v->verbose,
+                     "print each run's line whole (every failing metric, a run's message) instead of 120 columns");
   validate->add_flag("--all-points", v->all_points,
                      "run the parameter sweeps, the outcome grid and the map's axes also on the configurations "
                      "registered for fewer points (\"points\": \"map\" or \"runs\")");

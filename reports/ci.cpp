@@ -52,6 +52,16 @@ std::string metrics_out(const json& r) {
   return out.empty() ? "" : "<system-out>" + xml(out) + "</system-out>";
 }
 
+/// A test case's verdict as structure, not only as a <skipped> element's type: a property
+/// "verdict" (pass, known failure, skip, fail, error, unexpected pass) and, where the run was
+/// judged, "worst_ratio" (its worst metric's multiple of tolerance).
+std::string case_properties(const json& r) {
+  std::string p = fmt::format("<property name=\"verdict\" value=\"{}\"/>", xml(r.value("verdict", "")));
+  if (r.contains("worst_ratio") && r["worst_ratio"].is_number())
+    p += fmt::format("<property name=\"worst_ratio\" value=\"{:.3g}\"/>", r["worst_ratio"].get<double>());
+  return "<properties>" + p + "</properties>";
+}
+
 /// The verdict element of a run's test case and the counter it adds to: a true skip and a listed
 /// known failure are both <skipped>, told apart by their type ("not-applicable", "known-failure");
 /// a run that is as expected is never an <error> or <failure>, so the counts are zero exactly
@@ -149,8 +159,8 @@ std::string junit_xml(const json& results) {
     std::string cases;
     for (const json* r : by[sc]) {
       const std::string verdict = verdict_element(*r, f, e, s);
-      cases += fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.6f}\">{}{}</testcase>\n", xml(sc),
-                           xml((*r)["engine"]), r->value("wall_s", 0.0), verdict, metrics_out(*r));
+      cases += fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.6f}\">{}{}{}</testcase>\n", xml(sc),
+                           xml((*r)["engine"]), r->value("wall_s", 0.0), case_properties(*r), verdict, metrics_out(*r));
     }
     tests += static_cast<int>(by[sc].size()), failures += f, errors += e;
     suites += fmt::format(
@@ -181,6 +191,23 @@ std::string junit_xml(const json& results) {
         "  <testsuite name=\"sweep.{}\" tests=\"{}\" failures=\"{}\" errors=\"0\" skipped=\"{}\">\n{}  </testsuite>\n",
         xml(sw["name"]), sw["engines"].size(), f, sk, cases);
   }
+  // What else makes validate exit 1: the baseline's regressions and a report that could not be built.
+  const json& sum = results.value("summary", json::object());
+  const int baseline = sum.value("baseline_problems", 0);
+  const json report_errors = results.value("report", json::object()).value("errors", json::array());
+  std::string report_msg;
+  for (const auto& e : report_errors) report_msg += (report_msg.empty() ? "" : "; ") + e.get<std::string>();
+  const int gate_failures = (baseline > 0) + !report_errors.empty();
+  suites += fmt::format(
+      "  <testsuite name=\"liftcheck\" tests=\"2\" failures=\"{}\" errors=\"0\" skipped=\"0\">\n"
+      "    <testcase classname=\"liftcheck\" name=\"baseline\" time=\"0\">{}</testcase>\n"
+      "    <testcase classname=\"liftcheck\" name=\"report\" time=\"0\">{}</testcase>\n  </testsuite>\n",
+      gate_failures,
+      baseline > 0
+          ? fmt::format("<failure message=\"{} regressions or metrics grown tenfold against the baseline\"/>", baseline)
+          : "",
+      report_errors.empty() ? "" : fmt::format("<failure message=\"{}\"/>", xml(report_msg)));
+  tests += 2, failures += gate_failures;
   // junit-10.xsd (Jenkins' xunit plugin) allows no "skipped" on <testsuites>: it is per suite.
   return fmt::format(
       "<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n<testsuites name=\"liftcheck\" tests=\"{}\" failures=\"{}\" "

@@ -201,13 +201,14 @@ std::string outcomes_table(const json& sw) {
 
 /// The sweeps: their plots, a row per sweep x configuration with its points, the outcome sweep.
 std::string sweeps_section(const json& results) {
-  std::string h = "<h2 id=\"sweeps\">Sweeps</h2>\n";
+  std::string h = "<h2 id=\"sweeps\">Sweeps</h2>\n<details class=\"fold\"><summary>the sweeps' plots</summary>\n";
   for (const auto& p : results.value("report", json::object()).value("plots", json::array()))
     if (p["group"] == "sweeps" && p["file"].get<std::string>().rfind("plots/map-", 0) != 0)
       h += fmt::format(
           "<figure class=\"wide\"><img class=\"plot\" src=\"{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>\n",
           esc(p["file"]), esc(p["caption"]), esc(p["caption"]));
-  h += "<h3>Sweep gates</h3>\n<table><tr><th class=\"l\">sweep</th><th class=\"l\">configuration</th><th>gate</th><th "
+  h += "</details>\n<h3>Sweep gates</h3>\n<details class=\"fold\"><summary>each sweep's gate per configuration, "
+       "its points</summary>\n<table><tr><th class=\"l\">sweep</th><th class=\"l\">configuration</th><th>gate</th><th "
        "class=\"l\">points "
        "(&#10003; pass, &#10007; known failure)</th><th class=\"l\">problems, known-failure reasons</th></tr>\n";
   for (const auto& sw : results.value("sweeps", json::array())) {
@@ -224,9 +225,10 @@ std::string sweeps_section(const json& results) {
       first = false;
     }
   }
-  h += "</table>\n";
+  h += "</table></details>\n";
   for (const auto& sw : results.value("sweeps", json::array()))
-    if (sw.value("kind", "") == "outcomes") h += outcomes_table(sw);
+    if (sw.value("kind", "") == "outcomes")
+      h += "<details class=\"fold\"><summary>the outcome sweep</summary>\n" + outcomes_table(sw) + "</details>\n";
   return h;
 }
 
@@ -235,7 +237,8 @@ std::string engines_section(const json& results) {
   const auto& ctx = results["context"];
   const json& rep = results.value("report", json::object());
   std::string h =
-      "<h2 id=\"engines\">Engines and settings</h2>\n<table><tr><th class=\"l\">engine</th><th "
+      "<h2 id=\"engines\">Engines and settings</h2>\n<details class=\"fold\"><summary>every configuration's "
+      "description and settings</summary>\n<table><tr><th class=\"l\">engine</th><th "
       "class=\"l\">version</th><th class=\"l\">settings</th></tr>\n";
   for (const auto& e : ctx["engines"]) {
     std::string settings = esc(e["description"]) + "<ul>";
@@ -247,7 +250,7 @@ std::string engines_section(const json& results) {
         "<tr id=\"engine-{0}\"><td class=\"l\">{0}</td><td class=\"l\">{1}</td><td class=\"l\">{2}</td></tr>\n",
         esc(e["name"]), esc(e["version"]), settings);
   }
-  h += "</table>\n";
+  h += "</table></details>\n";
   h += fmt::format("<p class=\"meta\">Machine: {} ({}), {} CPUs; renderer: {}.</p>\n", esc(ctx["machine"]["host"]),
                    esc(ctx["machine"]["os"]), ctx["machine"]["cpus"].get<int>(), esc(rep.value("gl_version", "none")));
   for (const auto& err : rep.value("errors", json::array()))

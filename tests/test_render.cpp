@@ -257,6 +257,27 @@ TEST(Junit, ErrorsAndFailuresOnlyWhereNotAsExpected) {
   EXPECT_NE(xml.find("b_large: expected 0, measured 30, absolute error 30, tolerance 1, 30 x tolerance OUT"),
             std::string::npos)
       << xml;
+  // Each case says its verdict as a property, so a known failure and a skip differ in structure.
+  EXPECT_NE(xml.find("name=\"e1\" time=\"0.000000\"><properties><property name=\"verdict\" value=\"known failure\"/>"),
+            std::string::npos)
+      << xml;
+  EXPECT_NE(xml.find("<property name=\"verdict\" value=\"skip\"/>"), std::string::npos) << xml;
+}
+
+// validate exits 1 on a baseline regression or a report it could not build: junit.xml fails a case
+// for each, so its root counts are zero exactly when validate exits 0.
+TEST(Junit, BaselineRegressionsAndReportErrorsAreFailures) {
+  nlohmann::json results = {{"runs", nlohmann::json::array()}, {"sweeps", nlohmann::json::array()}};
+  std::string xml = liftcheck::junit_xml(results);
+  EXPECT_NE(xml.find("<testsuites name=\"liftcheck\" tests=\"2\" failures=\"0\" errors=\"0\">"), std::string::npos)
+      << xml;
+  results["summary"] = {{"baseline_problems", 3}};
+  results["report"] = {{"errors", {"plots: gnuplot died"}}};
+  xml = liftcheck::junit_xml(results);
+  EXPECT_NE(xml.find("<testsuites name=\"liftcheck\" tests=\"2\" failures=\"2\" errors=\"0\">"), std::string::npos)
+      << xml;
+  EXPECT_NE(xml.find("name=\"baseline\" time=\"0\"><failure message=\"3 regressions"), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<failure message=\"plots: gnuplot died\"/>"), std::string::npos) << xml;
 }
 
 }  // namespace
