@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Reads the layout of a report's index.html in headless Chromium at 1366x768 and checks its first
 screen: the summary matrix is no wider than the window, the whole matrix and the verdict counts lie
-within the first screen, every configuration has a column and every scenario a row, and each
+within the first screen, the whole page is at most 8 screens tall, every configuration has a column and every scenario a row, and each
 cell's number is its scenario's headline metric, computed here from results.json. Element sizes
 come from the browser's DOM (getBoundingClientRect), measured by a script added to a copy of the
 page; a screenshot of the first screen is saved too.
@@ -176,6 +176,8 @@ def main():
         checks.append((mx["bottom"] <= h, f"matrix bottom at {mx['bottom']:.0f} px; first screen {h} px high (window {a.width}x{a.height})"))
         cb = layout["counts"]
         checks.append((cb is not None and cb["bottom"] <= h, f"counts bottom at {cb['bottom']:.0f} px" if cb else "no counts (#counts)"))
+        # The page a reader scrolls: at most 8 screens, the long tables folded (<details>), not dropped.
+        checks.append((layout["page_height"] <= 8 * h, f"page {layout['page_height']} px tall, {layout['page_height'] / h:.1f} screens (at most 8)"))
         problems, checked = check_cells(results, layout)
         checks.append((not problems, f"{checked} cells show their scenario's headline metric" + "".join("\n  " + p for p in problems[:20])))
         print(f"page height {layout['page_height']} px; {len(layout['headers'])} configurations, {len(layout['rows'])} scenarios")
