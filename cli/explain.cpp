@@ -13,6 +13,7 @@
 #include "harness/sweeps.hpp"
 #include "input/record_view.hpp"
 #include "input/read_file.hpp"
+#include "input/suggest.hpp"
 
 namespace liftcheck::cli {
 
@@ -138,11 +139,31 @@ std::vector<ListedReason> read_plan(const std::string& path) {
   return v;
 }
 
+/// A name given to explain is a scenario or sweep:NAME; a mistyped one is refused with the nearest
+/// name, and a configuration's name in its place with the --engine that was meant.
+void check_name(const std::string& name) {
+  if (name.rfind("sweep:", 0) == 0) {
+    std::vector<std::string> sweeps;
+    for (const SweepDef& d : sweep_catalogue()) sweeps.push_back("sweep:" + d.name);
+    if (std::find(sweeps.begin(), sweeps.end(), name) == sweeps.end())
+      throw InputError(fmt::format("unknown sweep '{}' (see 'liftcheck list'){}", printable(name.substr(6)),
+                                   did_you_mean(name, sweeps)));
+    return;
+  }
+  if (find_scenario(name)) return;
+  std::vector<std::string> configs;
+  for (const auto& e : engines()) configs.push_back(e.name);
+  const std::string engine = nearest_name(name, configs);
+  if (!engine.empty())
+    throw InputError(fmt::format("unknown scenario '{}' (see 'liftcheck list'); did you mean '--engine {}'?",
+                                 printable(name), engine));
+  (void)scenario_or_throw(name);
+}
+
 int cmd_explain(const std::vector<std::string>& names, const std::string& engine_names, bool compiled_in,
                 const std::string& plan_file, int jobs, double timeout_s, bool json) {
   const std::vector<std::string> configs = configurations(engine_names, compiled_in);
-  for (const auto& name : names)
-    if (name.rfind("sweep:", 0) != 0) (void)scenario_or_throw(name);
+  for (const auto& name : names) check_name(name);
   for (const auto& c : configs) (void)engine_or_throw(c);
   static std::vector<ListedReason> planned;  // the experiments point into it
   if (!plan_file.empty()) planned = read_plan(plan_file);

@@ -87,6 +87,44 @@ const MetricFigures* metric_named(const std::vector<MetricFigures>& metrics, con
   return it != metrics.end() && it->name == name ? &*it : nullptr;
 }
 
+/// The parameters and settings in which two records of a run differ: "key a -> b" (a key one
+/// lacks: "(none)"), so a change is not read as the engine's when the run itself changed.
+json settings_differ(const RunFigures& br, const RunFigures& hr) {
+  json out = json::array();
+  if (!br.settings || !hr.settings || *br.settings == *hr.settings) return out;
+  const auto pairs = [](const std::string& text) {
+    std::vector<std::pair<std::string, std::string>> kv;
+    for (std::size_t at = 0, end; (end = text.find('\x1e', at)) != std::string::npos; at = end + 1) {
+      const std::size_t sep = text.find('\x1f', at);
+      kv.emplace_back(text.substr(at, sep - at), text.substr(sep + 1, end - sep - 1));
+    }
+    return kv;
+  };
+  const auto bs = pairs(*br.settings), hs = pairs(*hr.settings);
+  auto b = bs.begin(), h = hs.begin();
+  const auto add = [&](const std::string& key, const std::string& from, const std::string& to) {
+    if (out.size() < 20) out.push_back(key + " " + from + " -> " + to);
+  };
+  while (b != bs.end() || h != hs.end()) {
+    if (h == hs.end() || (b != bs.end() && b->first < h->first)) {
+      add(b->first, b->second, "(none)"), ++b;
+    } else if (b == bs.end() || h->first < b->first) {
+      add(h->first, "(none)", h->second), ++h;
+    } else {
+      if (b->second != h->second) add(b->first, b->second, h->second);
+      ++b, ++h;
+    }
+  }
+  return out;
+}
+
+/// The id of a run's finding, with the settings that differ between its two records if any.
+json id_with(const RunKey& key, const RunFigures& br, const RunFigures& hr) {
+  json id = id_of(key);
+  if (json d = settings_differ(br, hr); !d.empty()) id["settings_differ"] = std::move(d);
+  return id;
+}
+
 /// The worse and better metrics of one run present in both files.
 void compare_metrics(const RunKey& key, const RunFigures& br, const RunFigures& hr, const DiffDef& def,
                      Findings& found) {
@@ -99,18 +137,29 @@ void compare_metrics(const RunKey& key, const RunFigures& br, const RunFigures& 
                better = !worse && rb > def.floor && rb > def.growth * rh;
     if (!worse && !better) continue;
     (worse ? found.worse : found.better)
-        .emplace_back(key, merged(id_of(key), {{"metric", hm.name},
-                                               {"base_ratio", rb},
-                                               {"head_ratio", rh},
-                                               {"base_measured", bm->measured},
-                                               {"head_measured", hm.measured}}));
+        .emplace_back(key, merged(id_with(key, br, hr), {{"metric", hm.name},
+                                                         {"base_ratio", rb},
+                                                         {"head_ratio", rh},
+                                                         {"base_measured", bm->measured},
+                                                         {"head_measured", hm.measured}}));
   }
 }
 
 }  // namespace
 
+std::shared_ptr<const std::string> interned_settings(std::vector<std::pair<std::string, std::string>> pairs,
+                                                     SettingsPool& pool) {
+  std::sort(pairs.begin(), pairs.end());
+  std::string text;
+  for (const auto& [key, value] : pairs) text += key + '\x1f' + value + '\x1e';
+  auto& shared = pool[text];
+  if (!shared) shared = std::make_shared<const std::string>(text);
+  return shared;
+}
+
 ResultsIndex index_of(const json& results) {
   ResultsIndex index;
+  SettingsPool pool;
   const json& runs = results.at("runs");
   index.runs.reserve(runs.size());
   for (const auto& r : runs) {
@@ -125,6 +174,12 @@ ResultsIndex index_of(const json& results) {
     if (f.has_metrics)
       for (const auto& [name, m] : ms->get_ref<const json::object_t&>())  // in name order
         f.metrics.push_back({name, MetricView(m).ratio(), !MetricView(m).counted(), MetricView(m).raw("measured")});
+    std::vector<std::pair<std::string, std::string>> kv;
+    for (const char* group : {"params", "settings"})
+      if (const auto g = r.find(group); g != r.end() && g->is_object())
+        for (const auto& [key, v] : g->items())
+          if (!v.is_structured()) kv.emplace_back(key, v.is_string() ? v.get<std::string>() : v.dump());
+    f.settings = interned_settings(std::move(kv), pool);
     index.runs.push_back(std::move(f));
   }
   return index;
@@ -173,9 +228,9 @@ json diff_results(const ResultsIndex& base, const ResultsIndex& head, const Diff
     const RunFigures &br = *b[at++].run, &hr = *he.run;
     if (br.as_expected && !hr.as_expected)
       found.regressions.emplace_back(
-          he.key, merged(id_of(he.key), {{"from", br.verdict}, {"to", hr.verdict}, {"message", hr.message}}));
+          he.key, merged(id_with(he.key, br, hr), {{"from", br.verdict}, {"to", hr.verdict}, {"message", hr.message}}));
     else if (!br.as_expected && hr.as_expected)
-      found.fixed.emplace_back(he.key, merged(id_of(he.key), {{"from", br.verdict}, {"to", hr.verdict}}));
+      found.fixed.emplace_back(he.key, merged(id_with(he.key, br, hr), {{"from", br.verdict}, {"to", hr.verdict}}));
     compare_metrics(he.key, br, hr, def, found);
   }
   for (; at < b.size(); ++at) found.removed.push_back(b[at].key);
@@ -194,21 +249,37 @@ json diff_results(const json& base, const json& head, const DiffDef& def) {
   return diff_results(index_of(base), index_of(head), def);
 }
 
+namespace {
+
+/// A measured value as a reader wants it: a number to 4 significant figures, else as written.
+std::string figure(const json& v) { return v.is_number() ? fmt::format("{:.4g}", v.get<double>()) : v.dump(); }
+
+/// " [settings differ: iterations 20 -> 5, ...]" when the two records of the run were not made alike.
+std::string differ_text(const json& r) {
+  if (!r.contains("settings_differ")) return "";
+  std::vector<std::string> items;
+  for (const auto& s : r["settings_differ"]) items.push_back(printable(s.get<std::string>(), 120));
+  return fmt::format(" [settings differ: {}]", fmt::join(items, ", "));
+}
+
+}  // namespace
+
 std::string diff_text(const json& d) {
   // Names and messages come from the files: one line each, whatever they hold.
   const auto name = [](const json& v) { return printable(v.get<std::string>(), 200); };
   std::string t;
   for (const auto& r : d["regressions"])
-    t += fmt::format("REGRESSION {} on {}: {} -> {} ({})\n", name(r["scenario"]), name(r["engine"]), name(r["from"]),
-                     name(r["to"]), printable(r["message"].get<std::string>(), 1000));
+    t += fmt::format("REGRESSION {} on {}: {} -> {} ({}){}\n", name(r["scenario"]), name(r["engine"]), name(r["from"]),
+                     name(r["to"]), printable(r["message"].get<std::string>(), 1000), differ_text(r));
   for (const auto& r : d["fixed"])
-    t += fmt::format("fixed      {} on {}: {} -> {}\n", name(r["scenario"]), name(r["engine"]), name(r["from"]),
-                     name(r["to"]));
+    t += fmt::format("fixed      {} on {}: {} -> {}{}\n", name(r["scenario"]), name(r["engine"]), name(r["from"]),
+                     name(r["to"]), differ_text(r));
   for (const char* kind : {"worse", "better"})
     for (const auto& r : d[kind])
-      t += fmt::format("{:<10} {} on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g})\n", kind,
-                       name(r["scenario"]), name(r["engine"]), name(r["metric"]), r["head_measured"].dump(),
-                       r["base_measured"].dump(), r["head_ratio"].get<double>(), r["base_ratio"].get<double>());
+      t += fmt::format("{:<10} {} on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g}){}\n", kind,
+                       name(r["scenario"]), name(r["engine"]), name(r["metric"]), figure(r["head_measured"]),
+                       figure(r["base_measured"]), r["head_ratio"].get<double>(), r["base_ratio"].get<double>(),
+                       differ_text(r));
   for (const char* kind : {"added", "removed"})
     for (const auto& r : d[kind]) t += fmt::format("{:<10} {} on {}\n", kind, name(r["scenario"]), name(r["engine"]));
   t += fmt::format("{} regressions, {} fixed, {} metrics worse, {} better, {} runs added, {} removed\n",

@@ -255,7 +255,7 @@ class IndexReader {
 
  private:
   /// What an open container is to the reader.
-  enum class Role { other, top, runs, run, metrics, metric };
+  enum class Role { other, top, runs, run, metrics, metric, settings };
   struct Level {
     bool array = false;
     Role role = Role::other;
@@ -306,6 +306,8 @@ class IndexReader {
       return s;
     } else
       take_key(p);
+    if (p.role == Role::run && type == json::value_t::object && (p.key == "params" || p.key == "settings"))
+      next_role_ = Role::settings;
     return in(p.role, p.key, type);
   }
   /// The slot that keeps the value of key `p.key` in object `p`, if it is kept.
@@ -324,7 +326,7 @@ class IndexReader {
         return nullptr;
       case Role::runs:
         run_.reset(type);
-        n_metrics_ = 0;
+        n_metrics_ = n_settings_ = 0;
         if (object)
           next_role_ = Role::run;
         else
@@ -340,6 +342,12 @@ class IndexReader {
         return nullptr;
       case Role::metric:
         return nullptr;
+      case Role::settings:  // a parameter's or a setting's value, kept as a scalar
+        if (object || type == json::value_t::array) return nullptr;
+        if (n_settings_ == settings_.size()) settings_.emplace_back();
+        settings_[n_settings_].first.assign(key);
+        settings_[n_settings_].second.type = type;
+        return &settings_[n_settings_++].second;
       case Role::other:
         break;
     }
@@ -399,7 +407,7 @@ class IndexReader {
     }
     out_.runs.push_back(figures());
   }
-  RunFigures figures() const {
+  RunFigures figures() {
     RunFigures f;
     const Slot& status = *run_.field("status");
     const Slot *verdict = run_.field("verdict"), *message = run_.field("message"),
@@ -410,6 +418,12 @@ class IndexReader {
     if (message) f.message = message->text;
     f.as_expected = as_expected ? as_expected->scalar.get<bool>() : status.text == "pass" || status.text == "skip";
     f.has_metrics = run_.field("metrics") != nullptr;
+    std::vector<std::pair<std::string, std::string>> kv;
+    for (std::size_t k = 0; k < n_settings_; ++k) {
+      const Slot& v = settings_[k].second;
+      kv.emplace_back(settings_[k].first, v.is_string() ? v.text : v.scalar.dump());
+    }
+    f.settings = interned_settings(std::move(kv), pool_);
     f.metrics.reserve(order_.size());
     for (const std::size_t k : order_) {
       const MetricSlots& m = metrics_[k].second;
@@ -434,6 +448,9 @@ class IndexReader {
   RunSlots run_;
   std::vector<std::pair<std::string, MetricSlots>> metrics_;  ///< the current run's, by name
   std::size_t n_metrics_ = 0;
+  std::vector<std::pair<std::string, Slot>> settings_;  ///< the current run's parameters and settings
+  std::size_t n_settings_ = 0;
+  SettingsPool pool_;
   std::vector<std::size_t> order_;  ///< metrics_ in name order
   std::exception_ptr failed_;
   ResultsIndex& out_;

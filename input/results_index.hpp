@@ -5,7 +5,9 @@
 #pragma once
 
 #include <nlohmann/json.hpp>
+#include <memory>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace liftcheck {
@@ -26,7 +28,18 @@ struct RunFigures {
   bool as_expected = false;
   bool has_metrics = false;            ///< a "metrics" object (an empty one included)
   std::vector<MetricFigures> metrics;  ///< in name order
+  /// Its parameters and settings as one text, key '\x1f' value '\x1e' in key order (a value as
+  /// written: a string's text, a number's JSON), shared by the runs made alike (a suite of a
+  /// million runs holds a few hundred distinct ones); the diff names those that differ.
+  std::shared_ptr<const std::string> settings;
 };
+
+/// The distinct settings texts of one file.
+using SettingsPool = std::unordered_map<std::string, std::shared_ptr<const std::string>>;
+
+/// `pairs` (key, value) sorted and joined into a settings text, the pool's copy if it has one.
+std::shared_ptr<const std::string> interned_settings(std::vector<std::pair<std::string, std::string>> pairs,
+                                                     SettingsPool& pool);
 
 /// The runs of one file, in the file's order (a later record of the same run wins).
 struct ResultsIndex {

@@ -52,16 +52,6 @@ std::string metrics_out(const json& r) {
   return out.empty() ? "" : "<system-out>" + xml(out) + "</system-out>";
 }
 
-/// A test case's verdict as structure, not only as a <skipped> element's type: a property
-/// "verdict" (pass, known failure, skip, fail, error, unexpected pass) and, where the run was
-/// judged, "worst_ratio" (its worst metric's multiple of tolerance).
-std::string case_properties(const json& r) {
-  std::string p = fmt::format("<property name=\"verdict\" value=\"{}\"/>", xml(r.value("verdict", "")));
-  if (r.contains("worst_ratio") && r["worst_ratio"].is_number())
-    p += fmt::format("<property name=\"worst_ratio\" value=\"{:.3g}\"/>", r["worst_ratio"].get<double>());
-  return "<properties>" + p + "</properties>";
-}
-
 /// The verdict element of a run's test case and the counter it adds to: a true skip and a listed
 /// known failure are both <skipped>, told apart by their type ("not-applicable", "known-failure");
 /// a run that is as expected is never an <error> or <failure>, so the counts are zero exactly
@@ -159,8 +149,8 @@ std::string junit_xml(const json& results) {
     std::string cases;
     for (const json* r : by[sc]) {
       const std::string verdict = verdict_element(*r, f, e, s);
-      cases += fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.6f}\">{}{}{}</testcase>\n", xml(sc),
-                           xml((*r)["engine"]), r->value("wall_s", 0.0), case_properties(*r), verdict, metrics_out(*r));
+      cases += fmt::format("    <testcase classname=\"{}\" name=\"{}\" time=\"{:.6f}\">{}{}</testcase>\n", xml(sc),
+                           xml((*r)["engine"]), r->value("wall_s", 0.0), verdict, metrics_out(*r));
     }
     tests += static_cast<int>(by[sc].size()), failures += f, errors += e;
     suites += fmt::format(

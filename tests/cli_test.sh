@@ -86,9 +86,10 @@ ls "$tmp/report" | grep -q '\.tmp$' && { echo "FAIL temporary files left"; fails
 python3 - "$tmp/report/junit.xml" <<'PY' && passes=$((passes + 1)) || { echo "FAIL junit.xml"; fails=$((fails + 1)); }
 import sys, xml.etree.ElementTree as ET
 root = ET.parse(sys.argv[1]).getroot()
-# 11 runs (car.slip, car.coulomb and car.beyond-grip skipped: no contact forces), and the 7 car sweeps' gates on the one engine
-assert root.tag == "testsuites" and root.get("tests") == "18" and root.get("failures") == "0", root.attrib
-assert len(root.findall("testsuite")) == 18
+# 11 runs (car.slip, car.coulomb and car.beyond-grip skipped: no contact forces), the 7 car sweeps' gates
+# on the one engine, and liftcheck's own two cases (the baseline, the report)
+assert root.tag == "testsuites" and root.get("tests") == "20" and root.get("failures") == "0", root.attrib
+assert len(root.findall("testsuite")) == 19
 assert len([s for s in root.findall("testsuite") if s.get("name").startswith("sweep.")]) == 7
 # every run's test case carries its own metrics, worst first; a true skip says so by its type
 case = next(c for c in root.iter("testcase") if c.get("classname") == "car.circle" and c.get("name") == "analytic")
@@ -420,6 +421,8 @@ bad_input suggest-param "unknown parameter 'speeed' for scenario 'car.circle'; d
 bad_input suggest-setting "did you mean 'iterations'?" run car.circle --engine ode-quick --set iteratons=5
 bad_input suggest-path-param "did you mean 'lambda'?" path disks.repel --set lamda=1
 bad_input suggest-command "did you mean 'run'?" runn car.circle
+bad_input suggest-explain-engine "unknown scenario 'odee' (see 'liftcheck list'); did you mean '--engine ode'?" explain odee
+bad_input suggest-explain-sweep "unknown sweep 'mass_rati' (see 'liftcheck list'); did you mean 'sweep:mass_ratio'?" explain sweep:mass_rati
 bad_input suggest-option "did you mean '--engine'?" run car.circle --engin ode
 bad_input suggest-command-option "did you mean '--engines'?" validate --engnes ode --out "$tmp/never"
 bad_input suggest-choice "parameter 'path' must be one of line|circle|figure8, got 'circel'; did you mean 'circle'?" run disks.copy --set path=circel
@@ -742,7 +745,7 @@ for line in lines:
     assert not line.startswith(("FAIL", "REGRESSION forged")), line
 assert any(l.startswith("baseline written: ") and l.endswith("x?FAIL forged ?[31m|.json") for l in lines), text
 assert any(l.startswith("against the baseline ") and l.endswith("x?FAIL forged ?[31m|.json:") for l in lines), text
-assert any(l.startswith("validate: ") and "x?FAIL forged ?[31m|?/results.json" in l for l in lines), text
+assert any(l.startswith("results: ") and l.endswith("x?FAIL forged ?[31m|?/results.json") for l in lines), text
 assert "REGRESSION disks.copy on e?REGRESSION forged ?[31m|: pass -> error (boom?FAIL forged ?[2J)" in lines, text
 PY
 # --- end of the issue 23 block (output folder) ------------------------------------------------

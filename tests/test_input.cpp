@@ -341,6 +341,43 @@ TEST(ResultsIndex, DiffsAsTheDocumentDoes) {
   EXPECT_FALSE(d["worse"].empty());
 }
 
+// A change between two records made with different parameters or settings says so, whichever
+// reader read them, and a measured figure prints to 4 significant digits, not 17.
+TEST(ResultsIndex, DiffNamesTheSettingsThatDiffer) {
+  const std::string metric =
+      R"("metrics": {"m": {"measured": %M, "abs_error": %E, "tolerance": 0.01, "tolerance_kind": "abs"}})";
+  const auto run = [&](const std::string& status, const std::string& params, const std::string& settings,
+                       const std::string& measured, const std::string& error) {
+    std::string m = metric;
+    m.replace(m.find("%M"), 2, measured);
+    m.replace(m.find("%E"), 2, error);
+    return fmt::format(R"({{"runs": [{{"scenario": "car.circle", "engine": "ode-quick", "status": "{}", )"
+                       R"("params": {}, "settings": {}, {}}}]}})",
+                       status, params, settings, m);
+  };
+  const std::string base =
+      run("pass", R"({"dt": 0.001, "speed": 2})", R"({"iterations": "20"})", "0.12345678901234567", "1e-5");
+  const std::string head =
+      run("fail", R"({"dt": 0.002, "speed": 2})", R"({"iterations": "5", "w": "1"})", "0.2345678901234567", "0.5");
+  const nlohmann::json from_documents = diff_results(parse_results(base, "b"), parse_results(head, "h"));
+  const nlohmann::json d = diff_results(parse_results_index(base, "b"), parse_results_index(head, "h"));
+  EXPECT_EQ(d.dump(), from_documents.dump());
+  ASSERT_EQ(d["regressions"].size(), 1u) << d.dump();
+  EXPECT_EQ(d["regressions"][0]["settings_differ"],
+            nlohmann::json({"dt 0.001 -> 0.002", "iterations 20 -> 5", "w (none) -> 1"}));
+  const std::string text = diff_text(d);
+  EXPECT_NE(text.find("REGRESSION car.circle on ode-quick: pass -> fail () [settings differ: dt 0.001 -> 0.002, "
+                      "iterations 20 -> 5, w (none) -> 1]"),
+            std::string::npos)
+      << text;
+  EXPECT_NE(text.find("m measured 0.2346 (was 0.1235), 50 of tolerance (was 0.001) [settings differ:"),
+            std::string::npos)
+      << text;
+  // The same run made alike on both sides names nothing.
+  const nlohmann::json same = diff_results(parse_results_index(base, "b"), parse_results_index(base, "b"));
+  EXPECT_EQ(diff_text(same).find("settings differ"), std::string::npos);
+}
+
 // The typed view every reader of a record goes through: the compared error by the tolerance's
 // kind, its ratio (floor included), a null figure as infinite, informational metrics not counted.
 TEST(RecordView, ComparedErrorRatioAndCounting) {
