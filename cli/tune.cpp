@@ -10,6 +10,7 @@
 #include "cli/lookup.hpp"
 #include "cli/staged_output.hpp"
 #include "engines/protocol/outside.hpp"
+#include "harness/expectations.hpp"
 #include "harness/sweeps.hpp"
 #include "harness/tune.hpp"
 #include "input/atomic_file.hpp"
@@ -64,6 +65,11 @@ void print_walk(const TuneResult& r) {
 }
 
 std::string answer_text(const Scenario& s, const EngineInfo& e, const TuneResult& r) {
+  if (r.stopped == "error")
+    return fmt::format(
+        "{} on {}: the default run is an error ({}); with no default verdict there is nothing to "
+        "judge other settings against",
+        s.name, printable(e.name), printable(r.walked.front().record.value("message", ""), 300));
   const double base = r.walked.front().cost_ms_per_s;
   const std::string budget =
       r.unmade > 0 ? fmt::format(" (the budget of {} runs left {} planned runs unmade)", r.budget_runs, r.unmade) : "";
@@ -83,15 +89,31 @@ std::string answer_text(const Scenario& s, const EngineInfo& e, const TuneResult
       c.cost_ms_per_s, c.cost_ms_per_s / base, base);
 }
 
-/// The car's masses are the scenario's, not settings: where a sweep varies one on this scenario,
-/// say so (its gate in validate tells whether the verdict depends on it).
-void print_mass_notes(const Scenario& s) {
-  for (const SweepDef& sw : sweep_catalogue())
-    if (sw.scenario == s.name && sw.param.find("mass") != std::string::npos)
-      std::cout << fmt::format(
-          "note: the car's masses are the scenario's and not searched; validate's sweep {} varies {} on this "
-          "scenario, and its gate shows whether this verdict depends on it\n",
-          sw.name, sw.param);
+/// The car's masses are the scenario's, not settings: for each sweep that varies one on this
+/// scenario, what its reviewed listing says of this configuration (where and why it fails), that it
+/// lists nothing, or that the configuration does not join the sweeps.
+std::vector<std::string> mass_notes(const Scenario& s, const EngineInfo& e) {
+  std::vector<std::string> notes;
+  for (const SweepDef& sw : sweep_catalogue()) {
+    if (sw.scenario != s.name || sw.param.find("mass") == std::string::npos) continue;
+    std::string listed;
+    for (const ListedReason& l : listed_reasons())
+      if (l.sweep && l.scenario == sw.name && l.engine == e.name) listed = l.reason;
+    if (e.points == SuitePoints::kRuns)
+      notes.push_back(
+          fmt::format("{} varies {} on this scenario; {} joins no sweep, so whether its verdict depends "
+                      "on the masses is not measured",
+                      sw.name, sw.param, e.name));
+    else if (listed.empty())
+      notes.push_back(
+          fmt::format("{} varies {} on this scenario and lists no failure of {}: its verdict holds over "
+                      "the swept masses",
+                      sw.name, sw.param, e.name));
+    else
+      notes.push_back(fmt::format("{} varies {} on this scenario and lists {} failing at some of its points: {}",
+                                  sw.name, sw.param, e.name, listed));
+  }
+  return notes;
 }
 
 int cmd_tune(const std::string& scenario, const std::string& engine, int budget, int jobs, double timeout_s,
@@ -101,6 +123,7 @@ int cmd_tune(const std::string& scenario, const std::string& engine, int budget,
   if (budget < 1 || budget > 1000) throw InputError(fmt::format("--budget {}: runs between 1 and 1000", budget));
   if ((s.vehicle == Vehicle::kCar && !e.make_car) || (s.vehicle == Vehicle::kDisks && !e.make_disks))
     throw InputError(fmt::format("{} does not build the vehicle {} drives", e.name, s.name));
+  if (e.is_reference) throw InputError(fmt::format("{} is the exact reference: it has no settings to tune", e.name));
   const RunnerDef runner = runner_def(jobs, timeout_s);
   std::optional<StagedOutput> out;
   if (!out_dir.empty()) out.emplace(out_dir);
@@ -116,10 +139,14 @@ int cmd_tune(const std::string& scenario, const std::string& engine, int budget,
   close_idle_children();
   const TuneResult r = tune(dims, TuneDef{.budget_runs = budget}, runner_for(s, e, runner));
   throw_if_interrupted("during tune");
+  if (r.stopped == "skip")
+    throw InputError(fmt::format("{} does not apply to {}: {}", s.name, printable(e.name),
+                                 printable(r.walked.front().record.value("message", ""), 300)));
   nlohmann::json doc = r.to_json();
   doc["scenario"] = s.name;
   doc["engine"] = e.name;
   doc["answer_text"] = answer_text(s, e, r);
+  doc["mass_notes"] = mass_notes(s, e);
   if (out) {
     write_file_atomic(out->stage() / "tune.json", doc.dump(1));
     write_tune_plot(doc, out->stage());
@@ -129,7 +156,8 @@ int cmd_tune(const std::string& scenario, const std::string& engine, int budget,
     std::cout << doc.dump() << "\n";
   } else {
     print_walk(r);
-    print_mass_notes(s);
+    for (const auto& note : doc["mass_notes"])
+      std::cout << "note: the car's masses are not searched; " << note.get<std::string>() << "\n";
     std::cout << doc["answer_text"].get<std::string>() << "\n";
   }
   return r.answer ? 0 : 1;

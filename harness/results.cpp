@@ -30,6 +30,8 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
                        {"default", k.default_text},
                        {"help", k.help},
                        {"kind", k.kind_name()}};
+      if (k.role == SettingRole::kSolverIterations) j["role"] = "solver_iterations";
+      if (k.role == SettingRole::kDamping) j["role"] = "damping";
       if (k.numeric())
         j["min"] = k.min, j["max"] = k.max, j["min_exclusive"] = k.min_exclusive;
       else

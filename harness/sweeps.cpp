@@ -219,10 +219,14 @@ std::vector<MapPoint> map_grid(const MapDef& map, const EngineInfo& e, bool all_
   std::vector<MapPoint> grid;
   if (e.is_reference || (e.points == SuitePoints::kRuns && !all_points)) return {{kMapDefault, 0.0, {}}};
   for (double dt : map.dt_s) grid.push_back({kMapDt, dt, {{"dt", fmt::format("{}", dt)}}});
-  for (const SettingSpec& k : e.knobs)
-    if (k.vehicle == Vehicle::kCar && k.role == SettingRole::kSolverIterations)
-      for (int n : map.iterations)
-        grid.push_back({kMapIterations, static_cast<double>(n), {{k.key, fmt::format("{}", n)}}});
+  // One ladder of iterations per configuration: its first declared count (an engine with two,
+  // position and velocity iterations, is mapped along the first; tune searches both).
+  const auto it = std::find_if(e.knobs.begin(), e.knobs.end(), [](const SettingSpec& k) {
+    return k.vehicle == Vehicle::kCar && k.role == SettingRole::kSolverIterations;
+  });
+  if (it != e.knobs.end())
+    for (int n : map.iterations)
+      grid.push_back({kMapIterations, static_cast<double>(n), {{it->key, fmt::format("{}", n)}}});
   return grid;
 }
 

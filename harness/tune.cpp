@@ -77,14 +77,22 @@ Tolerances tolerances_of(const nlohmann::json& record) {
 }
 
 /// The model of a step's cost against the default's, from its settings alone: steps per simulated
-/// second (dt) times a declared iteration count's ratio; a setting without a cost direction counts 1.
+/// second (dt) times the work of a step, one unit for the step itself plus one per solver
+/// iteration of every declared count (counts add: PhysX's and Jolt's position and velocity
+/// iterations are passes of their own), so no count, not even 0, makes a run free; a setting
+/// without a cost direction counts 1.
 double model_cost(const Overrides& change, const std::vector<TuneDimension>& dims) {
-  double c = 1.0;
-  for (const auto& [key, value] : change)
-    for (const TuneDimension& d : dims)
-      if (d.key == key && d.cost_direction != 0 && d.default_value > 0.0)
-        c *= std::pow(number_of(value) / d.default_value, d.cost_direction);
-  return c;
+  const auto value_of = [&](const TuneDimension& d) {
+    for (const auto& [key, value] : change)
+      if (key == d.key) return number_of(value);
+    return d.default_value;
+  };
+  double steps = 1.0, work = 1.0, work0 = 1.0;
+  for (const TuneDimension& d : dims) {
+    if (d.cost_direction < 0 && d.default_value > 0.0) steps *= d.default_value / value_of(d);
+    if (d.cost_direction > 0) work += std::max(0.0, value_of(d)), work0 += std::max(0.0, d.default_value);
+  }
+  return steps * work / work0;
 }
 
 TuneStep step_of(std::string phase, Overrides change, nlohmann::json record, const Tolerances& at_default) {
@@ -111,7 +119,8 @@ struct Walk {
   const std::vector<TuneDimension>& dims;
   std::vector<TuneStep> steps;
   std::set<std::string> tried;
-  int unmade = 0;  ///< runs planned and not made: the budget ran out
+  std::set<std::string> unmade_runs;  ///< runs planned and not made (the budget ran out), each once
+  int unmade = 0;                     ///< their number
 
   int left() const { return def.budget_runs - static_cast<int>(steps.size()); }
   void batch(const std::string& phase, std::vector<Overrides> changes) {
@@ -120,7 +129,7 @@ struct Walk {
       std::sort(c.begin(), c.end());
       if (tried.count(change_text(c))) continue;
       if (static_cast<int>(fresh.size()) >= left()) {
-        ++unmade;
+        if (unmade_runs.insert(change_text(c)).second) ++unmade;
         continue;
       }
       tried.insert(change_text(c));
@@ -267,6 +276,10 @@ std::vector<TuneDimension> tune_dimensions(const Scenario& s, const EngineInfo& 
 TuneResult tune(const std::vector<TuneDimension>& dims, const TuneDef& def, const TuneRunner& run) {
   Walk w{def, run, dims, {}, {}};
   w.batch("default", {Overrides{}});
+  if (const std::string st = w.steps.front().record.value("status", ""); st == "error" || st == "skip") {
+    TuneResult r{.walked = std::move(w.steps), .budget_runs = def.budget_runs, .stopped = st};
+    return r;
+  }
   ladder_phase(w, dims);
   refine_phase(w, dims);
   TuneResult r{.budget_runs = def.budget_runs};
@@ -296,11 +309,9 @@ nlohmann::json TuneResult::to_json() const {
          {"model_cost", s.model_cost},
          {"record", s.record}});
   }
-  return {{"budget_runs", budget_runs},
-          {"unmade", unmade},
-          {"answer", answer ? nlohmann::json(*answer) : nlohmann::json()},
-          {"closest", closest},
-          {"walked", steps}};
+  return {{"budget_runs", budget_runs}, {"unmade", unmade},
+          {"stopped", stopped},         {"answer", answer ? nlohmann::json(*answer) : nlohmann::json()},
+          {"closest", closest},         {"walked", steps}};
 }
 
 }  // namespace liftcheck

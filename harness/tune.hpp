@@ -64,6 +64,9 @@ struct TuneResult {
   size_t closest = 0;            ///< the smallest worst_ratio
   int budget_runs = 0;
   int unmade = 0;  ///< runs the search planned and the budget did not allow
+  /// The default run's status where it is not judged ("error", "skip"): the search stops there,
+  /// since there are no default tolerances to judge other settings against. Empty otherwise.
+  std::string stopped = {};
   nlohmann::json to_json() const;
 };
 

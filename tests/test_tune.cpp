@@ -181,16 +181,49 @@ TEST(Tune, EveryRunIsJudgedAgainstTheDefaultsTolerances) {
   std::vector<TuneDimension> dims = two_dimensions();
   dims.resize(1);  // dt only
   const TuneResult r = tune(dims, TuneDef{}, run);
-  for (const TuneStep& s : r.walked)
-    if (change_text(s.change) == "dt=0.002") {
-      EXPECT_EQ(s.record["status"], "pass");
-      EXPECT_FALSE(s.pass);
-      EXPECT_NEAR(s.worst_ratio, 1.5, 1e-12);
-    }
+  const auto at_2ms = std::find_if(r.walked.begin(), r.walked.end(),
+                                   [](const TuneStep& s) { return change_text(s.change) == "dt=0.002"; });
+  ASSERT_NE(at_2ms, r.walked.end()) << "the ladder tries dt = 2 ms";
+  EXPECT_EQ(at_2ms->record["status"], "pass");
+  EXPECT_FALSE(at_2ms->pass);
+  EXPECT_NEAR(at_2ms->worst_ratio, 1.5, 1e-12);
   // The default fails (2e-5 against 1e-5); 0.5 ms passes (2.5e-6 against its 5e-6), and the
   // refinement's 0.71 ms (7.07e-6 against its own 7.07e-6 and the default's 1e-5) is the answer.
   ASSERT_TRUE(r.answer);
   EXPECT_EQ(change_text(r.walked[*r.answer].change), "dt=0.0007071");
+}
+
+// Two iteration counts (Jolt's velocity and position steps, PhysX's position and velocity
+// iterations) add to a step's work, one unit for the step itself: no count makes a run free, not
+// even 0 position steps, and halving dt doubles the cost whatever the counts.
+TEST(Tune, IterationCountsAddAndNoneMakesARunFree) {
+  Scenario s;
+  s.vehicle = Vehicle::kCar;
+  s.params.push_back(
+      {.key = "dt", .default_text = "0.001", .unit = "s", .min = 0.0, .min_exclusive = true, .max = 0.1});
+  EngineInfo e;
+  for (const auto& [key, dflt, min] :
+       {std::tuple{"velocity_steps", "10", 1.0}, std::tuple{"position_steps", "2", 0.0}}) {
+    SettingSpec k;
+    k.key = key, k.kind = ParamKind::kInteger, k.default_text = dflt, k.min = min, k.max = 1000;
+    k.role = SettingRole::kSolverIterations;
+    e.knobs.push_back(k);
+  }
+  const TuneRunner run = [](const std::vector<Overrides>& changes) {
+    std::vector<nlohmann::json> out(changes.size(),
+                                    {{"status", "fail"}, {"worst_ratio", 2.0}, {"simulated_s", 1.0}, {"wall_s", 1.0}});
+    return out;
+  };
+  const TuneResult r = tune(tune_dimensions(s, e, nullptr), TuneDef{.budget_runs = 40}, run);
+  const auto model_of = [&](const std::string& text) {
+    for (const TuneStep& st : r.walked)
+      if (change_text(st.change) == text) return st.model_cost;
+    return -1.0;
+  };
+  EXPECT_NEAR(model_of("position_steps=0"), 11.0 / 13.0, 1e-12);
+  EXPECT_NEAR(model_of("dt=0.0005"), 2.0, 1e-12);
+  EXPECT_NEAR(model_of("velocity_steps=1"), 4.0 / 13.0, 1e-12);  // counts add: (1 + 1 + 2) / (1 + 10 + 2)
+  for (const TuneStep& st : r.walked) EXPECT_GT(st.model_cost, 0.0) << change_text(st.change);
 }
 
 TEST(Tune, ABudgetCutShort) {
@@ -220,8 +253,35 @@ TEST(Tune, AnErrorIsNoPassAndNoCloser) {
   const TuneResult r = tune(dims, TuneDef{}, run);
   EXPECT_FALSE(r.answer);
   EXPECT_EQ(change_text(r.walked[r.closest].change), "iterations=80");
-  for (const TuneStep& s : r.walked)
-    if (s.record["status"] == "error") EXPECT_TRUE(std::isinf(s.worst_ratio) && std::isnan(s.cost_ms_per_s));
+  int errors = 0;
+  for (const TuneStep& s : r.walked) {
+    const bool error = s.record["status"] == "error";
+    errors += error;
+    EXPECT_TRUE(!error || (std::isinf(s.worst_ratio) && std::isnan(s.cost_ms_per_s))) << change_text(s.change);
+  }
+  EXPECT_GT(errors, 0);
+}
+
+TEST(Tune, ADefaultRunThatErrorsStopsTheSearch) {
+  // The default run times out; a longer step would pass on its own (looser, dt-scaled) tolerances,
+  // but there are no default tolerances to judge it against: the walk stops at the default.
+  int runs = 0;
+  const TuneRunner run = [&runs](const std::vector<Overrides>& changes) {
+    std::vector<nlohmann::json> out;
+    for (const Overrides& c : changes) {
+      ++runs;
+      if (c.empty())
+        out.push_back({{"status", "error"}, {"message", "timed out"}, {"simulated_s", 0.0}, {"wall_s", 30.0}});
+      else
+        out.push_back({{"status", "pass"}, {"worst_ratio", 0.5}, {"simulated_s", 1.0}, {"wall_s", 1e-3}});
+    }
+    return out;
+  };
+  const TuneResult r = tune(two_dimensions(), TuneDef{}, run);
+  EXPECT_EQ(runs, 1);
+  EXPECT_EQ(r.stopped, "error");
+  EXPECT_FALSE(r.answer);
+  EXPECT_EQ(r.walked.size(), 1U);
 }
 
 TEST(Tune, LaddersKeepToTheDeclaredRanges) {

@@ -49,15 +49,27 @@ with tempfile.TemporaryDirectory() as tmp:
     again = json.loads(r.stdout)
     check(again["status"] == "pass", f"run --set iterations={a['change']['iterations']} passes")
     check(again["worst_ratio"] == rec["worst_ratio"], f"with the same worst ratio ({again['worst_ratio']} and {rec['worst_ratio']})")
-    cost = 1e3 * again["wall_s"] / again["simulated_s"]
+    own = 1e3 * rec.get("engine_s", rec["wall_s"]) / rec["simulated_s"]
+    check(abs(a["cost_ms_per_s"] - own) <= 1e-9 * own, f"its reported cost {a['cost_ms_per_s']:.6g} ms/s is its record's {own:.6g}")
+    cost = 1e3 * again.get("engine_s", again["wall_s"]) / again["simulated_s"]
     check(cost / 3 <= a["cost_ms_per_s"] <= 3 * cost, f"its reported cost {a['cost_ms_per_s']:.3g} ms/s is that run's {cost:.3g} within 3x")
     p2 = subprocess.run([exe, "tune", "car.circle", "--engine", "ode-quick", "--budget", "30", "--jobs", "2", "--json"],
                         capture_output=True, text=True, timeout=900)
     doc2 = json.loads(p2.stdout)
     same = [(s["change"], s["pass"]) for s in doc2["walked"]] == [(s["change"], s["pass"]) for s in walked]
     check(same and doc2["answer"] == doc["answer"], "a second search makes the same runs with the same verdicts and answer")
-    bad = subprocess.run([exe, "tune", "car.circle", "--engine", "ode-quick", "--budget", "0"], capture_output=True, text=True)
-    check(bad.returncode == 2 and bad.stderr.count("\n") == 1, "--budget 0 is one line of error and exit 2")
+    for args, what in [(["car.circle", "--engine", "ode-quick", "--budget", "0"], "--budget 0"),
+                       (["car.circle", "--engine", "analytic"], "the reference"),
+                       (["car.coulomb", "--engine", "ode", "--set-nothing"], "an unknown option")]:
+        bad = subprocess.run([exe, "tune"] + args, capture_output=True, text=True, timeout=120)
+        check(bad.returncode == 2 and bad.stderr.count("\n") == 1, f"{what}: one line of error and exit 2 ({bad.stderr.strip()})")
+    # A default run that errors (here: out of CPU time) stops the search: no other setting can be judged
+    # against tolerances it never had, so no longer step "passes" on its own looser ones.
+    p3 = subprocess.run([exe, "tune", "car.circle", "--engine", "ode", "--timeout", "0.01", "--json"],
+                        capture_output=True, text=True, timeout=300)
+    doc3 = json.loads(p3.stdout)
+    check(p3.returncode == 1 and doc3["stopped"] == "error" and len(doc3["walked"]) == 1 and doc3["answer"] is None,
+          f"a default run that errors stops the search (exit {p3.returncode}, {len(doc3['walked'])} runs)")
 
 print(f"{len(failures)} failed")
 sys.exit(1 if failures else 0)

@@ -23,7 +23,7 @@ const VERSION = createRequire(import.meta.url)('cannon-es/package.json').version
 const CONFIGS = { default: 10, accurate: 100 };  // Gauss-Seidel iterations (cannon-es's default: 10)
 const opts = C.parseArgs(process.argv.slice(2), CONFIGS, ['stale-pose', 'late-contact']);
 const ITERATIONS = CONFIGS[opts.config];
-const KNOBS = [{ key: 'iterations', vehicle: 'car', kind: 'integer', min: 1, max: 10000, default: String(ITERATIONS),
+const KNOBS = [{ key: 'iterations', vehicle: 'car', kind: 'integer', role: 'solver_iterations', min: 1, max: 10000, default: String(ITERATIONS),
   help: 'Gauss-Seidel solver iterations per step (world.solver.iterations)' }];
 
 const vec = (a) => new CANNON.Vec3(a[0], a[1], a[2]);

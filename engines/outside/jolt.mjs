@@ -45,9 +45,9 @@ const CONFIG = (() => {
 function knobs(vehicle) {
   const p = PRESETS[CONFIG];
   return [
-    { key: 'velocity_steps', vehicle, kind: 'integer', min: 2, max: 1000, default: String(p.velocity_steps),
+    { key: 'velocity_steps', vehicle, kind: 'integer', role: 'solver_iterations', min: 2, max: 1000, default: String(p.velocity_steps),
       help: 'PhysicsSettings::mNumVelocitySteps, solver velocity iterations per step (Jolt needs >= 2 for friction)' },
-    { key: 'position_steps', vehicle, kind: 'integer', min: 0, max: 1000, default: String(p.position_steps),
+    { key: 'position_steps', vehicle, kind: 'integer', role: 'solver_iterations', min: 0, max: 1000, default: String(p.position_steps),
       help: 'PhysicsSettings::mNumPositionSteps, position (drift) iterations per step' },
     { key: 'penetration_slop_m', vehicle, kind: 'real', min: 0, max: 0.1, default: String(p.penetration_slop_m),
       help: 'PhysicsSettings::mPenetrationSlop, m: how far bodies may sink into each other before the position solver pushes them out' },

@@ -71,12 +71,12 @@ const ARTICULATION_DRIVE_DAMPING = 1e5;
 const MAX_ANGULAR_VELOCITY = 1e4;
 
 const KNOBS = [
-  { key: 'position_iterations', vehicle: 'car', kind: 'integer', min: 1, max: 255, default: String(PRESET.position_iterations),
+  { key: 'position_iterations', vehicle: 'car', kind: 'integer', role: 'solver_iterations', min: 1, max: 255, default: String(PRESET.position_iterations),
     help: PRESET.articulation ? 'PxArticulationReducedCoordinate::setSolverIterationCounts, position iterations (TGS: substeps)'
       : `PxRigidDynamic::setSolverIterationCounts on every body, position iterations${PRESET.solver === 'TGS' ? ' (TGS: substeps)' : ''}` },
   // From 1: PhysX accepts 0, but the jointed car's figures at 0 equal those at 1 to every digit
   // (car.circle, PGS), so 0 is not a setting of its own.
-  { key: 'velocity_iterations', vehicle: 'car', kind: 'integer', min: 1, max: 255, default: String(PRESET.velocity_iterations),
+  { key: 'velocity_iterations', vehicle: 'car', kind: 'integer', role: 'solver_iterations', min: 1, max: 255, default: String(PRESET.velocity_iterations),
     help: 'the same call, velocity iterations' },
   { key: 'solver', vehicle: 'car', kind: 'choice', choices: ['PGS', 'TGS'], default: PRESET.solver,
     help: 'PxSceneDesc::solverType: PGS (projected Gauss-Seidel, the scene default) or TGS (temporal Gauss-Seidel)' },

@@ -27,9 +27,9 @@ const CONFIGS = { default: { solver: 4, pgs: 1 }, accurate: { solver: 16, pgs: 1
 const opts = C.parseArgs(process.argv.slice(2), CONFIGS);
 const CONFIG = CONFIGS[opts.config];
 const KNOBS = [
-  { key: 'iterations', vehicle: 'car', kind: 'integer', min: 1, max: 1000, default: String(CONFIG.solver),
+  { key: 'iterations', vehicle: 'car', kind: 'integer', role: 'solver_iterations', min: 1, max: 1000, default: String(CONFIG.solver),
     help: 'solver iterations (substeps) per step (World.numSolverIterations)' },
-  { key: 'pgs_iterations', vehicle: 'car', kind: 'integer', min: 1, max: 1000, default: String(CONFIG.pgs),
+  { key: 'pgs_iterations', vehicle: 'car', kind: 'integer', role: 'solver_iterations', min: 1, max: 1000, default: String(CONFIG.pgs),
     help: 'internal PGS iterations per solver iteration (World.numInternalPgsIterations)' },
 ];
 // A velocity motor as a stiff damper: AccelerationBased, factor 100/dt (the constraint's

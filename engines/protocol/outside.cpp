@@ -377,6 +377,17 @@ std::string text_field(ProtocolChild& c, const json& j, const char* key, const s
   return printable(it->get<std::string>(), 300);  // what an engine says is shown on one line
 }
 
+/// A setting's optional "role": "solver_iterations" (an iteration count: its cost grows with it; tune
+/// ranks by it) or "damping" (a velocity damping the gravity check turns off).
+SettingRole knob_role(ProtocolChild& c, const json& j, const std::string& where) {
+  const auto r = j.find("role");
+  if (r == j.end()) return SettingRole::kNone;
+  if (r->is_string() && *r == "solver_iterations") return SettingRole::kSolverIterations;
+  if (r->is_string() && *r == "damping") return SettingRole::kDamping;
+  c.fail(fmt::format("hello: {}role must be 'solver_iterations' or 'damping'", where));
+  return SettingRole::kNone;
+}
+
 SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
   const std::string where = fmt::format("settings[{}].", i);
   if (!j.is_object()) c.fail(fmt::format("hello: settings[{}] is not an object", i));
@@ -395,6 +406,7 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
   if (d == j.end() || !(d->is_string() || d->is_number())) c.fail(fmt::format("hello: {}default is missing", where));
   k.default_text = d->is_string() ? printable(d->get<std::string>(), 300) : fmt::format("{:g}", d->get<double>());
   k.help = text_field(c, j, "help", where, false);
+  k.role = knob_role(c, j, where);
   if (k.numeric()) {
     k.min = c.number(j, "min", where.c_str()), k.max = c.number(j, "max", where.c_str());
     if (j.contains("min_exclusive") && !j["min_exclusive"].is_boolean())
@@ -417,6 +429,12 @@ SettingSpec knob(ProtocolChild& c, const json& j, size_t i) {
     if (std::find(k.choices.begin(), k.choices.end(), k.default_text) == k.choices.end())
       c.fail(fmt::format("hello: {}default '{}' is not one of its choices", where, k.default_text));
   }
+  // A role the harness acts on must fit what it does with it: tune counts an iteration count's
+  // passes, the gravity check sets a damping to 0.
+  if (k.role == SettingRole::kSolverIterations && (k.kind != ParamKind::kInteger || k.min < 0.0))
+    c.fail(fmt::format("hello: {}role 'solver_iterations' needs an integer setting whose min is at least 0", where));
+  if (k.role == SettingRole::kDamping && (!k.numeric() || k.min > 0.0 || (k.min == 0.0 && k.min_exclusive)))
+    c.fail(fmt::format("hello: {}role 'damping' needs a number setting whose range includes 0", where));
   return k;
 }
 
@@ -654,7 +672,7 @@ EngineInfo outside_engine(const std::string& name, const std::vector<std::string
   e.name = name;
   e.outside.command = command;
   e.outside.registration = (std::filesystem::path(dir) / (name + ".json")).string();
-  e.color = "#7f7f7f";
+  e.color = "#e7298a";
   e.contact_dynamics = true;
   e.outside.described = false;
   describe_outside(e);

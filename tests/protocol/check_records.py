@@ -46,6 +46,7 @@ EXPECT = {
     "fake-die": "exited with status 7",
     "fake-hang": "no reply within",
     "fake-flood": "longer than 1 MiB",
+    "fake-badrole": "role 'solver_iterations' needs an integer setting",
 }
 
 

@@ -9,7 +9,8 @@ request's number, "id", as protocol 2 and later require):
   missing    a reply without the field x_m
   die        exits with status 7, a last word on stderr
   hang       never replies (liftcheck's --timeout must end it)
-  flood      a line longer than 1 MiB"""
+  flood      a line longer than 1 MiB
+  badrole    hello declares a real-valued setting as a solver iteration count"""
 import json
 import sys
 import time
@@ -36,7 +37,9 @@ for line in sys.stdin:
     op = req["op"]
     if op == "hello":
         out({"ok": True, "protocol": 1 if mode == "version" else req["protocol"], "engine": "Fake", "version": "0", "precision": "float64",
-             "vehicles": ["car", "disks"], "settings": [], "fixed": [["lies", mode]]})
+             "vehicles": ["car", "disks"], "fixed": [["lies", mode]],
+             "settings": [{"key": "relax", "vehicle": "car", "kind": "real", "default": 0.5, "min": 0, "max": 1,
+                           "role": "solver_iterations"}] if mode == "badrole" else []})
     elif op == "car":
         built = car_state(req)
         out(built)
