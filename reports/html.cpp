@@ -258,7 +258,7 @@ std::string known_section(const json& results) {
          "class=\"l\">scenario</th><th class=\"l\">configuration</th>"
          "<th>verdict</th><th class=\"l\">metrics that may fail, error ceilings</th><th "
          "class=\"l\">reason</th></tr>\n" +
-         rows + "</table>\n";
+         rows + "</table></details>\n";
 }
 
 /// liftcheck tune's committed answers (context.tune_table): per configuration and headline
@@ -282,7 +282,8 @@ std::string tune_section(const json& results) {
       "the cheapest settings found that pass each scenario, judged against the default run's tolerances, with the "
       "engine's measured cost against its defaults', or, where nothing tried passed, the closest run (its worst error "
       "over its tolerance). Each search is bounded (the runs it took of its budget in the "
-      "tooltip).</p>\n<table class=\"tune\"><tr><th "
+      "tooltip).</p>\n<details class=\"fold\"><summary>each configuration's cheapest passing settings or closest "
+      "run, per headline scenario</summary>\n<table class=\"tune\"><tr><th "
       "class=\"l\">configuration</th>";
   for (const auto& sc : scenarios) h += "<th class=\"l\">" + esc(sc) + "</th>";
   h += "</tr>\n";
@@ -306,7 +307,7 @@ std::string tune_section(const json& results) {
                                           e.value("default_passes", false) ? "passes" : "fails");
       // A search its budget cut short says so in the cell: a cheaper pass, or any pass, may lie there.
       const int unmade = e.value("unmade", 0);
-      const std::string cut = unmade > 0 ? fmt::format(" [{} runs unmade]", unmade) : "";
+      const std::string cut = unmade > 0 ? fmt::format(" [{} run{} unmade]", unmade, unmade == 1 ? "" : "s") : "";
       row += e.value("passes", false)
                  ? fmt::format("<td class=\"l pass\" title=\"{}\">{} ({:.2g}&times; cost){}</td>", esc(tip),
                                esc(change), number(e, "cost_ratio"), cut)
@@ -317,7 +318,7 @@ std::string tune_section(const json& results) {
     }
     if (any) h += "<tr><td class=\"l\">" + esc(eng) + "</td>" + row + "</tr>\n";
   }
-  return h + "</table>\n";
+  return h + "</table></details>\n";
 }
 
 }  // namespace
@@ -347,8 +348,9 @@ std::string index_html(const json& results) {
   h += sweeps_section(results);
   h += engines_section(results);
   h += tune_section(results);
-  h += "<h2 id=\"errata\">Errata found in the papers</h2>\n";
-  h += markdown_html(ctx.value("errata", std::string()));
+  h += "<h2 id=\"errata\">Errata found in the papers</h2>\n<details class=\"fold\"><summary>where the printed "
+       "formulas and an independent check differ, and what the code follows</summary>\n";
+  h += markdown_html(ctx.value("errata", std::string())) + "</details>\n";
   h += "</body>\n</html>\n";
   return h;
 }

@@ -4,6 +4,7 @@
 #include "input/record_view.hpp"
 #include "input/vehicle.hpp"
 #include "scenarios/details.hpp"
+#include "reports/scene_build.hpp"
 
 #include <algorithm>
 #include <cerrno>
@@ -74,13 +75,17 @@ struct Script {
     gp << "EOD\n";
     return name;
   }
-  /// `svg` is a file name inside the plots folder, where gnuplot runs.
-  void begin(const std::string& svg, const std::string& title, int w = 760, int h = 440) {
-    gp << fmt::format("reset\nset terminal svg size {},{} dynamic font 'DejaVu Sans,12' background '#ffffff'\n", w, h)
-       << fmt::format(
-              "set output {}\nset title {} font ',11'\nset grid lc rgb '#dddddd'\nset key outside right top "
-              "noenhanced\n",
-              gnuplot_quote(svg), gnuplot_quote(title));
+  /// `svg` is a file name inside the plots folder, where gnuplot runs. A plot of `entries` lines
+  /// keeps its key below the data, four entries a row, and grows by its rows, so the data take
+  /// the plot's whole width however many configurations it draws.
+  void begin(const std::string& svg, const std::string& title, int w = 760, int h = 440, int entries = 0) {
+    const int key_rows = (entries + 3) / 4;
+    gp << fmt::format("reset\nset terminal svg size {},{} dynamic font 'DejaVu Sans,12' background '#ffffff'\n", w,
+                      h + 16 * key_rows)
+       << fmt::format("set output {}\nset title {} font ',11'\nset grid lc rgb '#dddddd'\n", gnuplot_quote(svg),
+                      gnuplot_quote(title))
+       << (entries > 0 ? "set key below center horizontal maxcols 4 font ',9' noenhanced\n"
+                       : "set key outside right top noenhanced\n");
   }
 };
 
@@ -120,7 +125,7 @@ void run_gnuplot(const std::filesystem::path& dir) {
 using ColorOf = std::function<std::string(const std::string&)>;
 
 /// `S` written to `dir`/plots.gp and run by gnuplot there.
-void render(const Script& S, const std::filesystem::path& dir) {
+void run_script(const Script& S, const std::filesystem::path& dir) {
   const auto script = dir / "plots.gp";
   {
     std::ofstream f(script);
@@ -164,7 +169,8 @@ void plot_runs(Script& S, std::vector<PlotFile>& files, const json& results, con
   for (const auto& sc : order) {
     const bool disks = parse_vehicle(by_scenario[sc].front()->value("vehicle", "")) == Vehicle::kDisks;
     const std::string file = fmt::format("plots/{}-error.svg", safe(sc));
-    std::string cmd;
+    std::string cmd, label = "the exact lift (4.1)";
+    int entries = 0;
     for (const json* r : by_scenario[sc]) {
       const auto& d = (*r)["details"];
       if (!d.is_object() || !d.contains(detail_key::kTrace) || !d.contains(detail_key::kReference) ||
@@ -172,18 +178,22 @@ void plot_runs(Script& S, std::vector<PlotFile>& files, const json& results, con
         continue;
       const std::string eng = (*r)["engine"];
       cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb {} t {} noenhanced, ",
-                         S.block(error_rows(d[detail_key::kTrace], d[detail_key::kReference])),
+                         S.block(error_rows(d[detail_key::kTrace], render::own_reference(d))),
                          gnuplot_quote(color_of(eng)), gnuplot_quote(eng));
+      ++entries;
+      if (d.contains(detail_key::kReferenceLabel)) label = d[detail_key::kReferenceLabel].get<std::string>();
     }
     if (cmd.empty()) continue;
     S.begin(file_name(file),
-            sc + (disks ? ": c_M against the exact lift (21)" : ": front-axle centre against the exact lift (4.1)"));
+            sc + (disks ? ": c_M against the exact lift (21), after contact the exact response"
+                        : ": front-axle centre against " + label),
+            760, 440, entries);
     S.gp << "set xlabel 'time [s]'\nset ylabel 'distance [m]'\nset logscale y\nset format y '10^{%T}'\n";
     S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
     files.push_back({sc, file,
-                     disks ? "each engine's c_M against the exact lift at the same time (log scale)"
-                           : "each engine's front-axle centre against the exact lift of the commanded path at the same "
-                             "time (log scale)"});
+                     disks ? "each engine's c_M against the exact lift at the same time, after its first contact "
+                             "against the exact inelastic response from that contact (log scale)"
+                           : "each engine's front-axle centre against " + label + " at the same time (log scale)"});
   }
 }
 
@@ -226,8 +236,9 @@ void plot_outcomes(Script& S, const json& sw, const std::string& file) {
 bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorOf& color_of) {
   const std::string param = sw["param"];
   const auto& rec = sw["record"];
-  S.begin(file_name(file), sw["title"]);
+  const std::string before = S.gp.str();  // the script so far: this plot's header goes after it
   std::string cmd;
+  int entries = 0;
   // The sweep says how it is plotted (its catalogue entry): measured values over exact curves,
   // measured against exact sizes, or relative errors.
   const json plot = sw.value("plot", json::object());
@@ -261,8 +272,10 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
       if (values) {  // the error of each value, not the value: every engine's radius would overlap
         const double f = MetricView(pt[rec[0].get<std::string>()]).rel_error(),
                      r = MetricView(pt[rec[1].get<std::string>()]).rel_error();
-        if (!std::isnan(f)) a.push_back({x, std::max(f, 1e-16)});
-        if (!std::isnan(r)) b2.push_back({x, std::max(r, 1e-16)});
+        // An exact zero (the reference itself) has no place on a log axis: drawn at 1e-16 it
+        // would stretch the axis over eight empty decades.
+        if (f > 0) a.push_back({x, f});
+        if (r > 0) b2.push_back({x, r});
       } else if (holonomy) {
         const auto& ex = pt[detail_field(detail_key::kHolonomySize)];
         const auto& me = pt[detail_field(detail_key::kMeasuredSize)];
@@ -284,10 +297,19 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
       title += fmt::format(" (slope {:.2f})", e["fit"]["slope"].get<double>());
     cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb {} t {} noenhanced, ", S.block(a),
                        gnuplot_quote(color_of(eng)), gnuplot_quote(title + (values ? " front" : "")));
-    if (!b2.empty())
+    ++entries;
+    if (!b2.empty()) {
       cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb {} t {} noenhanced, ", S.block(b2),
                          gnuplot_quote(color_of(eng)), gnuplot_quote(eng + " rear"));
+      ++entries;
+    }
   }
+  // The header goes before the plot's body: its size depends on its key's entries.
+  Script head;
+  if (!cmd.empty()) head.begin(file_name(file), sw["title"], 760, 440, entries + shade + (exact_done ? 1 : 0));
+  const std::string body = cmd.empty() ? "" : S.gp.str().substr(before.size());
+  S.gp.str(before + head.gp.str() + body);
+  S.gp.seekp(0, std::ios::end);
   if (cmd.empty()) return false;
   S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
   return true;
@@ -358,7 +380,7 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
   }
   for (const auto& map : results.value("maps", json::array())) plot_map(S, files, map, color_of);
 
-  render(S, out / "plots");
+  run_script(S, out / "plots");
   return files;
 }
 
@@ -386,7 +408,7 @@ void write_tune_plot(const json& tune, const std::filesystem::path& out) {
   if (!dflt.empty()) cmd += S.block(dflt) + " u 1:2 w p pt 4 ps 2.2 lw 2 lc rgb '#000000' t 'defaults', ";
   if (!answer.empty()) cmd += S.block(answer) + " u 1:2 w p pt 8 ps 2.4 lw 2 lc rgb '#1f77b4' t 'cheapest pass', ";
   S.gp << "plot " << cmd.substr(0, cmd.size() - 2) << "\n";
-  render(S, out / "plots");
+  run_script(S, out / "plots");
 }
 
 }  // namespace liftcheck

@@ -181,9 +181,14 @@ Scene disk_scene(const json& run, const Color& ink, double t, const std::string&
     b.add(cN(row), 1.0), b.add(cM(row), 1.0);
   }
   if (d.contains(detail_key::kReference)) {
+    const json exact = own_reference(d);
     Polyline ref{{}, Color{0.55f, 0.55f, 0.55f, 0.55f}, 7.0f};
-    for (const auto& row : d[detail_key::kReference]) ref.points.push_back(cM(row));
+    for (const auto& row : exact) ref.points.push_back(cM(row));
     s.lines.push_back(ref);
+    // Where the exact answer has M at this moment: an outline the engine's M should fill.
+    if (!exact.empty())
+      s.circles.push_back(
+          {cM(exact[row_at(exact, t)]), 1.0, Color{0.35f, 0.35f, 0.35f, 0.9f}, Color{0, 0, 0, 0}, 2.0f, true});
   }
   if (d.contains(detail_key::kCollisionCentre) && d[detail_key::kCollisionCentre].is_array()) {
     const Vec2 c(d[detail_key::kCollisionCentre][0].get<double>(), d[detail_key::kCollisionCentre][1].get<double>());
@@ -210,7 +215,9 @@ Scene disk_scene(const json& run, const Color& ink, double t, const std::string&
   add_legend(s,
              fmt::format("{} · {} · {} t = {:.2f} s", run["scenario"].get<std::string>(),
                          run["engine"].get<std::string>(), moment, tr[k][0].get<double>()),
-             run["engine"], ink, "exact lift (21)");
+             run["engine"], ink,
+             d.contains("after_contact") ? "exact lift (21), after contact the exact response; dashed: exact M"
+                                         : "exact lift (21); dashed: exact M");
   return s;
 }
 
@@ -252,6 +259,24 @@ void add_pose_marks(Scene& s, const json& row, double half_m, const Color& c, fl
 
 }  // namespace
 
+/// What a run is measured against, as rows like its trace: the scenario's reference (the exact
+/// lift, or what kReferenceLabel names), and for the disks after the engine's first contact the
+/// exact inelastic response from that contact on (after_contact.reference), which the verdict
+/// compares M's path with; the lift's path through N would not apply there.
+json own_reference(const json& d) {
+  const json& ref = d[detail_key::kReference];
+  const auto ac = d.find("after_contact");
+  if (ac == d.end() || !ac->is_object() || !ac->contains("reference") || !(*ac)["reference"].is_array() ||
+      (*ac)["reference"].empty() || !(*ac)["from_t_s"].is_number())
+    return ref;
+  const double from = (*ac)["from_t_s"].get<double>();
+  json rows = json::array();
+  for (const auto& r : ref)
+    if (r[0].get<double>() < from) rows.push_back(r);
+  for (const auto& r : (*ac)["reference"]) rows.push_back(r);
+  return rows;
+}
+
 Inset end_pose_inset(const json& run, const Color& ink, const Scene& main) {
   Inset in;
   Scene& s = in.scene;
@@ -261,8 +286,7 @@ Inset end_pose_inset(const json& run, const Color& ink, const Scene& main) {
   const json& ref = run["details"].contains(detail_key::kReference) ? run["details"][detail_key::kReference] : tr;
   const Vec2 fe = front_of(tr.back()), fx = front_of(ref.back());
   const double offset = (fe - fx).norm();
-  // The offset spans a third of the height: 1 mm is then 225 / 6 = 37 px (at least 1 µm shown).
-  const double half = std::max(1.5 * offset, 1e-6);
+  const double half = inset_half_height_m(offset, s.height_px);
   s.camera.kind = Camera::Kind::kTopDown;
   s.camera.centre = 0.5 * (fe + fx);
   s.camera.half_height_m = half;
@@ -279,8 +303,14 @@ Inset end_pose_inset(const json& run, const Color& ink, const Scene& main) {
   s.labels.push_back({fmt::format("end pose, offset {}", offset >= 1e-3 ? fmt::format("{:.3g} mm", offset * 1e3)
                                                                         : fmt::format("{:.3g} µm", offset * 1e6)),
                       Vec2(8, 6), true, 13.0f});
-  s.labels.push_back({"grey: exact, colour: engine", Vec2(8, 24), true, 11.0f});
+  s.labels.push_back({"grey: exact, colour: engine; +20 px a decade", Vec2(8, 24), true, 11.0f});
   return in;
+}
+
+double inset_half_height_m(double offset_m, int height_px) {
+  const double offset = std::max(offset_m, 1e-6);
+  const double drawn_px = std::clamp(12.0 + 20.0 * std::log10(offset / 1e-6), 12.0, 0.5 * height_px);
+  return offset * 0.5 * height_px / drawn_px;  // the view spans 2 half over height_px
 }
 
 std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {

@@ -25,8 +25,19 @@ struct Snapshot {
 
 /// The inset of a car's end snapshot: the engine's end pose over the exact one (front-axle centre,
 /// tie rod, front wheel's heading), magnified about the exact front-axle centre so that the offset
-/// between them spans about a third of the inset's height, with its own scale bar.
+/// between them is drawn at a length that grows with its decade (inset_half_height_m), with its
+/// own scale bar.
 Inset end_pose_inset(const nlohmann::json& run, const Color& ink, const Scene& main);
+
+/// What a run is measured against, as rows like its trace (kReference; for the disks, after the
+/// engine's first contact, the exact inelastic response from that contact on).
+nlohmann::json own_reference(const nlohmann::json& details);
+
+/// The end-pose inset's half-height [m] for an offset of `offset_m` in an inset `height_px` tall:
+/// the offset is drawn 12 px long at 1 µm (and below) and 20 px longer per decade, at most half
+/// the inset's height, so a larger offset always looks larger (1 mm 72 px, 3 cm 102 px) and
+/// the scale is the same for every engine.
+double inset_half_height_m(double offset_m, int height_px);
 
 struct Strip {
   std::string caption;

@@ -12,6 +12,9 @@ namespace liftcheck::detail_key {
 inline constexpr char kTrace[] = "trace";
 /// The exact lift's rows at the same times, columns as kTrace (grey in the pictures).
 inline constexpr char kReference[] = "reference";
+/// What kReference is when it is not the exact lift, for the pictures' titles ("the exact
+/// Coulomb slide"); absent: the exact lift.
+inline constexpr char kReferenceLabel[] = "reference_label";
 
 // ---- car ------------------------------------------------------------------------------------
 /// The end-pose split {kCommandedLiftEnd, "realized_lift_end", "engine_end", kActuationError,

@@ -120,11 +120,13 @@ TEST(Render, FourWheelRunDrawsFourWheels) {
   EXPECT_EQ(snapshots_for(run, Color{0, 0, 1, 1}).front().scene.wheels.size(), 3u);
 }
 
-// The end snapshot's inset shows an end pose 1 mm off the exact one across at least 20 pixels: its
-// scale is read from the inset's scene (pixels over the metres its camera spans), and the offset
-// is measured between the two front-axle crosses it draws.
+// The end snapshot's inset shows an end pose 1 mm off the exact one across at least 20 pixels, and
+// a larger offset across more (3 cm at least 25 px more than 1 mm, 31 µm and 33.7 mm as unlike):
+// its scale is read from the inset's scene (pixels over the metres its camera spans), and the
+// offset is measured between the two front-axle crosses it draws.
 TEST(Render, EndInsetShowsAMillimetreOffset) {
-  for (const double offset_m : {1e-3, 4e-3, 0.05}) {
+  std::vector<double> shown;
+  for (const double offset_m : {31e-6, 1e-3, 4e-3, 0.03, 0.0337, 0.05}) {
     const nlohmann::json reference = {{0.0, 0.0, 0.3, 0.0, 0.0, 0.0}, {1.0, 1.0, 0.3, 0.3, 0.0, 0.0}};
     const nlohmann::json trace = {{0.0, 0.0, 0.3, 0.0, 0.0, 0.0}, {1.0, 1.0, 0.3, 0.3, offset_m, 0.0}};
     const nlohmann::json run = {{"scenario", "car.circle"},
@@ -148,7 +150,44 @@ TEST(Render, EndInsetShowsAMillimetreOffset) {
     // Pasted inside the snapshot.
     EXPECT_GE(end->insets.front().x_px, 0);
     EXPECT_LE(end->insets.front().x_px + in.width_px, end->scene.width_px);
+    shown.push_back(shown_px);
   }
+  ASSERT_EQ(shown.size(), 6u);
+  for (std::size_t i = 1; i < shown.size(); ++i) EXPECT_GT(shown[i], shown[i - 1]) << "larger offsets look larger";
+  EXPECT_NEAR(shown[1], 72.0, 0.5);      // 1 mm: 12 px + 3 decades of 20 px
+  EXPECT_GE(shown[3] - shown[1], 25.0);  // 3 cm against 1 mm
+  EXPECT_GE(shown[4] - shown[0], 60.0);  // 33.7 mm against 31 µm
+}
+
+// A disk run is drawn and plotted against what its verdict measures: the exact lift before the
+// engine's first contact and, from that contact on, the exact inelastic response
+// (after_contact.reference), not the lift's path through N; the snapshot marks where that
+// response has M at the moment shown.
+TEST(Render, DisksAfterContactAgainstTheExactResponse) {
+  const nlohmann::json lift = {
+      {0.0, 0.0, 0.0, 5.0, 0.0}, {1.0, 1.0, 0.0, 5.0, 0.0}, {2.0, 2.0, 0.0, 5.0, 0.0}, {3.0, 3.0, 0.0, 5.0, 0.0}};
+  const nlohmann::json response = {{1.5, 1.5, 0.0, 5.0, 0.0}, {2.0, 1.5, 0.4, 5.0, 0.0}, {3.0, 1.5, 1.4, 5.0, 0.0}};
+  const nlohmann::json trace = {
+      {0.0, 0.0, 0.0, 5.0, 0.0}, {1.0, 1.0, 0.0, 5.0, 0.0}, {2.0, 1.5, 0.41, 5.0, 0.0}, {3.0, 1.5, 1.39, 5.0, 0.0}};
+  const nlohmann::json details = {{"trace", trace},
+                                  {"reference", lift},
+                                  {"after_contact", {{"from_t_s", 1.5}, {"reference", response}}},
+                                  {"t_contact_measured_s", 1.5}};
+  const nlohmann::json exact = own_reference(details);
+  ASSERT_EQ(exact.size(), 5u);  // the lift's rows before 1.5 s, then the response's
+  EXPECT_EQ(exact[1], lift[1]);
+  EXPECT_EQ(exact[2], response[0]);
+  EXPECT_EQ(exact[4], response[2]);
+  EXPECT_EQ(own_reference({{"reference", lift}}), lift);  // no contact: the lift
+  const nlohmann::json run = {
+      {"scenario", "disks.oblique"}, {"engine", "ode"}, {"vehicle", "disks"}, {"details", details}};
+  const auto shots = snapshots_for(run, Color{0, 0, 1, 1});
+  const auto end = std::find_if(shots.begin(), shots.end(), [](const Snapshot& s) { return s.tag == "end"; });
+  ASSERT_NE(end, shots.end());
+  const auto exact_m = std::find_if(end->scene.circles.begin(), end->scene.circles.end(), [](const auto& c) {
+    return std::abs(c.radius_m - 1.0) < 1e-12 && (c.centre - Vec2(1.5, 1.4)).norm() < 1e-12;
+  });
+  EXPECT_NE(exact_m, end->scene.circles.end()) << "the exact response's M at the end, outlined";
 }
 
 // A renderer leaves no destroyed context current on its thread.
@@ -257,11 +296,10 @@ TEST(Junit, ErrorsAndFailuresOnlyWhereNotAsExpected) {
   EXPECT_NE(xml.find("b_large: expected 0, measured 30, absolute error 30, tolerance 1, 30 x tolerance OUT"),
             std::string::npos)
       << xml;
-  // Each case says its verdict as a property, so a known failure and a skip differ in structure.
-  EXPECT_NE(xml.find("name=\"e1\" time=\"0.000000\"><properties><property name=\"verdict\" value=\"known failure\"/>"),
-            std::string::npos)
-      << xml;
-  EXPECT_NE(xml.find("<property name=\"verdict\" value=\"skip\"/>"), std::string::npos) << xml;
+  // A known failure and a true skip differ in structure: the <skipped> element's type, which
+  // Jenkins' schema allows (it has no properties on a test case).
+  EXPECT_NE(xml.find("name=\"e1\" time=\"0.000000\"><skipped type=\"known-failure\""), std::string::npos) << xml;
+  EXPECT_NE(xml.find("<skipped type=\"not-applicable\""), std::string::npos) << xml;
 }
 
 // validate exits 1 on a baseline regression or a report it could not build: junit.xml fails a case

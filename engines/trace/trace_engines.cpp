@@ -192,7 +192,7 @@ EngineInfo outside_engine(const std::string& name, const std::string& descriptio
   e.library = "external";
   e.version = "-";
   e.description = description;
-  e.color = "#7f7f7f";
+  e.color = "#e7298a";
   // Its contact forces are unknown to liftcheck (no wheel states, no contact log): scenarios that
   // need contact dynamics (the negative control) are skipped for it.
   e.contact_dynamics = false;
