@@ -201,7 +201,7 @@ std::string unexpected_section(const json& results) {
          "<table><tr><th class=\"l\">scenario</th><th class=\"l\">configuration</th><th>verdict</th><th "
          "class=\"l\">failing metrics, worst first</th>"
          "<th class=\"l\">settings applied</th></tr>\n" +
-         rows + "</table></details>\n";
+         rows + "</table>\n";
 }
 
 /// The speed-accuracy map, the one picture worth seeing first.

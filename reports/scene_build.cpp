@@ -267,7 +267,7 @@ json own_reference(const json& d) {
   const json& ref = d[detail_key::kReference];
   const auto ac = d.find("after_contact");
   if (ac == d.end() || !ac->is_object() || !ac->contains("reference") || !(*ac)["reference"].is_array() ||
-      (*ac)["reference"].empty() || !(*ac)["from_t_s"].is_number())
+      (*ac)["reference"].empty() || !ac->value("from_t_s", json()).is_number())
     return ref;
   const double from = (*ac)["from_t_s"].get<double>();
   json rows = json::array();

@@ -35,8 +35,9 @@ nlohmann::json own_reference(const nlohmann::json& details);
 
 /// The end-pose inset's half-height [m] for an offset of `offset_m` in an inset `height_px` tall:
 /// the offset is drawn 12 px long at 1 µm (and below) and 20 px longer per decade, at most half
-/// the inset's height, so a larger offset always looks larger (1 mm 72 px, 3 cm 102 px) and
-/// the scale is the same for every engine.
+/// the inset's height (reached at about 10 cm; beyond, only the scale bar and the label tell), so
+/// up to there a larger offset looks larger (1 mm 72 px, 3 cm 102 px) on the same scale for
+/// every engine.
 double inset_half_height_m(double offset_m, int height_px);
 
 struct Strip {

@@ -1,9 +1,9 @@
 // The car on a slope: parked and circling where grip holds (3.3), sliding where it cannot (Coulomb).
-#include <numeric>
 #include <cmath>
 #include <fmt/format.h>
 #include <map>
 
+#include "engines/rigid_car.hpp"
 #include "models/holonomy.hpp"
 #include "models/lift.hpp"
 #include "scenarios/car_common.hpp"
@@ -123,29 +123,20 @@ double fit_accel(const std::vector<double>& t, const std::vector<double>& s) {
 }
 
 /// The exact slide as a trace at the engine's sample times, what the pictures draw car.coulomb
-/// against (the lift (4.1) does not apply to a sliding car): the centre of mass at
-/// s0 + v0 t + a t^2 / 2 down the fall line with a exact (s0, v0 fitted to the engine's own
-/// samples, as the slide's start is the settle's), at the engine's mean offset across it (Coulomb
-/// friction pushes nothing across), heading and steering as at the start.
-std::vector<car::TimedConfig> exact_slide(const std::vector<car::TimedConfig>& trace, const std::vector<double>& ts,
-                                          const std::vector<double>& s_down, const std::vector<double>& s_across,
-                                          double a_exact, const Eigen::Vector2d& downhill, const Eigen::Vector2d& cB) {
-  Eigen::MatrixXd A(ts.size(), 2);
-  Eigen::VectorXd b(ts.size());
-  for (std::size_t i = 0; i < ts.size(); ++i) {
-    A.row(i) << 1.0, ts[i];
-    b[i] = s_down[i] - 0.5 * a_exact * ts[i] * ts[i];
-  }
-  const Eigen::Vector2d s0v0 = A.colPivHouseholderQr().solve(b);
-  const double across = std::accumulate(s_across.begin(), s_across.end(), 0.0) / static_cast<double>(s_across.size());
-  const Eigen::Vector2d side(downhill.y(), -downhill.x());  // s_across = com x downhill
-  const car::Config& q0 = trace.front().q;
+/// against (the lift (4.1) does not apply to a sliding car): the car released at rest in the
+/// scenario's start pose q0 when its settle begins (`settle_s` before t = 0), its centre of mass
+/// at a (t + settle_s)^2 / 2 down the fall line with a exact (constant from the first contact),
+/// not moving across it (Coulomb friction pushes nothing across), heading and steering held.
+std::vector<car::TimedConfig> exact_slide(const std::vector<car::TimedConfig>& trace, const car::Config& q0,
+                                          double settle_s, double a_exact, const Eigen::Vector2d& downhill,
+                                          const Eigen::Vector2d& cB) {
   const Eigen::Vector2d com_to_ref = -(Eigen::Rotation2Dd(q0.phi_rad) * cB);
+  const Eigen::Vector2d com0 = Eigen::Vector2d(q0.x_m, q0.y_m) - com_to_ref;
   std::vector<car::TimedConfig> out;
   for (const auto& smp : trace) {
-    const double t = smp.t_s, s = s0v0[0] + s0v0[1] * t + 0.5 * a_exact * t * t;
-    const Eigen::Vector2d p = s * downhill + across * side + com_to_ref;
-    out.push_back({t, {q0.alpha_rad, q0.beta_rad, p.x(), p.y(), q0.phi_rad}});
+    const double t = smp.t_s + settle_s;
+    const Eigen::Vector2d p = com0 + 0.5 * a_exact * t * t * downhill + com_to_ref;
+    out.push_back({smp.t_s, {q0.alpha_rad, q0.beta_rad, p.x(), p.y(), q0.phi_rad}});
   }
   return out;
 }
@@ -194,7 +185,7 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
   o.values["slide_accel_across"] = {.expected = 0.0, .measured = a_across, .scale = a_exact};
   o.values["heading_change"] = {0.0, std::abs(e2::wrap_angle(trace.back().q.phi_rad - trace.front().q.phi_rad))};
   o.details = {{detail_key::kTrace, trace_json(trace)},
-               {detail_key::kReference, trace_json(exact_slide(trace, ts, s_down, s_across, a_exact, downhill, cB))},
+               {detail_key::kReference, trace_json(exact_slide(trace, q0, ServoDef{}.settle_s, a_exact, downhill, cB))},
                {detail_key::kReferenceLabel, "the exact Coulomb slide"},
                {"gravity_W_mps2", {setup.gravity_W().x(), setup.gravity_W().y(), setup.gravity_W().z()}},
                {"effective_mu", (g * std::sin(slope) - a) / (g * std::cos(slope))},
