@@ -7,7 +7,7 @@
 
 PACKAGES := cmake g++ make pkg-config git python3 \
             libeigen3-dev libboost-dev nlohmann-json3-dev libcli11-dev libfmt-dev libgtest-dev \
-            libbullet-dev libode-dev libosmesa6-dev libpng-dev libstb-dev fonts-dejavu-core gnuplot-nox \
+            libbullet-dev libode-dev libosmesa6-dev libpng-dev libimagequant-dev libstb-dev fonts-dejavu-core gnuplot-nox \
             libbenchmark-dev libmujoco-dev libqhull-dev libdart-dev libdart-external-ikfast-dev libsimbody-dev libxml2-utils \
             libmd4c-dev libmd4c-html0-dev libsimdjson-dev clang-format
 # Node and npm run the outside engines (engines/outside): Debian's packages, unless a node with its

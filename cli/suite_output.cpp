@@ -20,6 +20,7 @@
 #include "harness/suite_results.hpp"
 #include "harness/worker_pool.hpp"  // set_memory_limit
 #include "input/atomic_file.hpp"
+#include "input/results_file.hpp"
 #include "input/params.hpp"  // InputError
 #include "input/trace.hpp"   // printable
 #include "reports/ci.hpp"
@@ -193,7 +194,10 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
     write_file_atomic(out / "junit.xml", junit_xml(results));
     write_file_atomic(out / "summary.md",
                       summary_markdown(results, o.report && index_written(out) ? report_link() : ""));
-    write_file_atomic(out / "results.json", results.dump(1));
+    share_references(results);  // compact and each exact lift once: 12 MB, was 48
+    const std::string text = results.dump();
+    expand_references(results, "results");
+    write_file_atomic(out / "results.json", text);
     throw_if_interrupted("while writing the outputs");
     const std::string pending = o.baseline_path + ".new";
     if (o.update_baseline) {

@@ -495,7 +495,53 @@ std::pair<ResultsIndex, ResultsIndex> read_results_index_pair(const std::string&
 json parse_results(const std::string& text, const std::string& name) {
   json j = parse_json_text(text, name);
   check_results(j, name);
+  expand_references(j, name);
   return j;
+}
+
+namespace {
+
+constexpr char kShared[] = "shared_references";
+
+/// The run's details.reference, or null when it has none.
+json* reference_of(json& run) {
+  if (!run.is_object() || !run.contains("details") || !run["details"].is_object()) return nullptr;
+  json& d = run["details"];
+  return d.contains("reference") ? &d["reference"] : nullptr;
+}
+
+}  // namespace
+
+void share_references(json& results) {
+  if (!results.contains("runs") || !results["runs"].is_array()) return;
+  std::map<std::string, std::size_t> index;
+  json shared = json::array();
+  for (auto& run : results["runs"]) {
+    json* ref = reference_of(run);
+    if (!ref || !ref->is_array()) continue;
+    const auto [it, added] = index.emplace(ref->dump(), shared.size());
+    if (added) shared.push_back(std::move(*ref));
+    *ref = json{{"shared", it->second}};
+  }
+  if (!shared.empty()) results[kShared] = std::move(shared);
+}
+
+void expand_references(json& results, const std::string& name) {
+  if (!results.contains(kShared)) return;
+  json shared = std::move(results[kShared]);
+  results.erase(kShared);
+  if (!shared.is_array()) throw InputError(fmt::format("{}: '{}' must be an array", name, kShared));
+  std::size_t i = 0;
+  for (auto& run : results["runs"]) {
+    json* ref = reference_of(run);
+    ++i;
+    if (!ref || !ref->is_object()) continue;
+    const json k = ref->value("shared", json());
+    if (!k.is_number_unsigned() || k.get<std::size_t>() >= shared.size())
+      throw InputError(fmt::format("{}: runs[{}].details.reference: 'shared' must be an index into '{}' (below {}), not {}",
+                                   name, i - 1, kShared, shared.size(), printable(k.dump(), 40)));
+    *ref = shared[k.get<std::size_t>()];
+  }
 }
 
 json read_results(const std::string& path) {

@@ -16,6 +16,13 @@ namespace liftcheck {
 /// 'rel_error'" and the like.
 nlohmann::json read_results(const std::string& path);
 
+/// The runs' details.reference traces kept once each: results["shared_references"] holds every
+/// distinct one and a run's reference becomes {"shared": k} (the exact lift is the same for every
+/// configuration of a scenario: 19 traces for 467 runs). expand_references undoes it; read_results
+/// expands what it reads, so only results.json on disk holds the shared form.
+void share_references(nlohmann::json& results);
+void expand_references(nlohmann::json& results, const std::string& name);
+
 /// Both files of a diff, read and checked at once (each in a thread of its own); the first
 /// file's error is reported when both have one.
 std::pair<nlohmann::json, nlohmann::json> read_results_pair(const std::string& base, const std::string& head);

@@ -5,6 +5,7 @@
 #define GL_GLEXT_PROTOTYPES
 #include <GL/osmesa.h>
 #include <GL/gl.h>
+#include <libimagequant.h>
 #include <png.h>
 #include <stb_truetype.h>
 
@@ -532,7 +533,47 @@ Image tile(const std::vector<Image>& frames, int per_row) {
   return out;
 }
 
+namespace {
+
+/// The image reduced to at most 256 colours by libimagequant (no dithering: the scenes are flat
+/// colours with antialiased edges), as palette indices and the palette.
+struct Indexed {
+  std::vector<std::uint8_t> index;
+  std::vector<png_color> rgb;
+  std::vector<png_byte> alpha;
+};
+
+Indexed quantize(const Image& image) {
+  liq_attr* attr = liq_attr_create();
+  if (!attr) throw std::bad_alloc();
+  liq_set_speed(attr, 8);  // 8: a palette as good as the default 4 at twice its speed; 10 doubles the files
+  liq_image* img = liq_image_create_rgba(attr, image.rgba.data(), image.width, image.height, 0);
+  liq_result* res = nullptr;
+  const bool ok = img && liq_image_quantize(img, attr, &res) == LIQ_OK;
+  Indexed out;
+  if (ok) {
+    liq_set_dithering_level(res, 0.0f);
+    out.index.resize(static_cast<std::size_t>(image.width) * image.height);
+    if (liq_write_remapped_image(res, img, out.index.data(), out.index.size()) == LIQ_OK) {
+      const liq_palette* pal = liq_get_palette(res);
+      for (unsigned i = 0; i < pal->count; ++i) {
+        out.rgb.push_back({pal->entries[i].r, pal->entries[i].g, pal->entries[i].b});
+        out.alpha.push_back(pal->entries[i].a);
+      }
+    }
+    liq_result_destroy(res);
+  }
+  if (img) liq_image_destroy(img);
+  liq_attr_destroy(attr);
+  if (out.rgb.empty()) throw std::runtime_error("cannot reduce the image to 256 colours");
+  while (!out.alpha.empty() && out.alpha.back() == 255) out.alpha.pop_back();  // tRNS lists the translucent only
+  return out;
+}
+
+}  // namespace
+
 void write_png(const std::filesystem::path& path, const Image& image) {
+  const Indexed q = quantize(image);
   const std::string tmp = path.string() + ".tmp";
   FILE* fp = std::fopen(tmp.c_str(), "wb");
   if (!fp) throw std::runtime_error(fmt::format("cannot write '{}': {}", path.string(), std::strerror(errno)));
@@ -545,12 +586,16 @@ void write_png(const std::filesystem::path& path, const Image& image) {
     throw std::runtime_error(fmt::format("cannot encode '{}'", path.string()));
   }
   png_init_io(png, fp);
-  png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_RGBA, PNG_INTERLACE_NONE,
+  png_set_IHDR(png, info, image.width, image.height, 8, PNG_COLOR_TYPE_PALETTE, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
-  png_set_compression_level(png, 1);
-  png_set_filter(png, 0, PNG_FILTER_SUB);
+  png_set_PLTE(png, info, q.rgb.data(), static_cast<int>(q.rgb.size()));
+  if (!q.alpha.empty()) png_set_tRNS(png, info, q.alpha.data(), static_cast<int>(q.alpha.size()), nullptr);
+  png_set_compression_level(png, 8);  // 8: within 2% of 9 at half its time
+  png_set_compression_mem_level(png, 9);
+  png_set_filter(png, 0, PNG_FILTER_NONE);  // palette indices: filters do not help
   png_write_info(png, info);
-  for (int y = 0; y < image.height; ++y) png_write_row(png, image.pixel(0, y));
+  for (int y = 0; y < image.height; ++y)
+    png_write_row(png, q.index.data() + static_cast<std::size_t>(y) * image.width);
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
   if (std::fclose(fp) != 0) {

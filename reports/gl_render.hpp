@@ -39,7 +39,8 @@ class Renderer {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Writes an RGBA PNG (fast compression). Throws std::runtime_error naming the path.
+/// Writes the image as a PNG of at most 256 colours (libimagequant's palette, a quarter of the
+/// RGBA file). Throws std::runtime_error naming the path.
 void write_png(const std::filesystem::path& path, const Image& image);
 
 /// Pastes images side by side in rows of `per_row`, on white.

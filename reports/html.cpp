@@ -61,82 +61,6 @@ std::string baseline_section(const json& results) {
   return h;
 }
 
-/// The short mark of a verdict in the matrix: quiet symbols for what was expected, loud words for
-/// what was not.
-std::string mark_of(const std::string& cls, const std::string& word) {
-  if (cls == "pass") return "&#10003;";   // ✓
-  if (cls == "xfail") return "&#10007;";  // ✗ (reviewed known failure)
-  if (cls == "skip") return "&ndash;";
-  if (word == "UNEXPECTED PASS") return "UNEXP. PASS";
-  return word;
-}
-
-/// One cell of the matrix: the verdict's mark and the headline figure, a link to the engine's
-/// section of the scenario page; the verdict, the figure's metric and any reason in its tooltip.
-std::string matrix_cell(const json& r, const json& def) {
-  const auto [cls, word] = status_of(r);
-  const std::string sc = r["scenario"], eng = r["engine"];
-  const auto fig = cls == "skip" || cls == "error" ? std::nullopt : headline_figure(r, def);
-  std::string tip = word;
-  if (fig)
-    tip +=
-        fmt::format(": {} {} ({}, {:.2g} of tolerance)", def.value("label", ""), fig->text(), fig->metric, fig->ratio);
-  if (has_expectation(r)) tip += "\nknown failure: " + r["expectation"].value("reason", "");
-  if (!r.value("message", "").empty()) tip += "\n" + r["message"].get<std::string>();
-  std::string body = mark_of(cls, word);
-  std::string attrs;
-  if (fig) {
-    body += "&nbsp;" + short_number(fig->value);
-    attrs = fmt::format(" data-metric=\"{}\" data-value=\"{:.17g}\"", esc(fig->metric), fig->value);
-  }
-  if (!r.value("as_expected", true))
-    if (const auto w = worst_failing(r))
-      body += fmt::format("<br><small>{} {:.2g}&times;tol</small>", esc(w->metric), w->ratio);
-  return fmt::format("<td class=\"c {}\"{}><a href=\"{}#{}\" title=\"{}\">{}</a></td>", cls, attrs, scenario_page(sc),
-                     esc(eng), esc(tip), body);
-}
-
-/// The break points of a configuration's name in a narrow header: after each hyphen.
-std::string header_name(const std::string& e) {
-  std::string o;
-  for (char c : e) o += c == '-' ? std::string("-<wbr>") : esc(std::string(1, c));
-  return o;
-}
-
-/// The summary matrix: a row per scenario, a column per configuration.
-std::string matrix_section(const json& results) {
-  const auto engines = engine_order(results);
-  std::string h =
-      "<table id=\"matrix\" class=\"matrix\"><tr><th class=\"l\">scenario</th><th class=\"l\">headline</th>";
-  for (const auto& e : engines) h += "<th class=\"eng\">" + header_name(e) + "</th>";
-  h += "</tr>\n";
-  for (const auto& sc : scenario_order(results)) {
-    const json* info = scenario_info(results, sc);
-    const json def = headline_def(results, sc);
-    std::string label = def.is_object() ? def.value("label", "") : "";
-    if (def.is_object() && !def.value("unit", "").empty())
-      label += ", " + def["unit"].get<std::string>();
-    else if (def.is_object())
-      label += " (rel.)";
-    h += fmt::format("<tr><th class=\"l\"><a href=\"{}\" title=\"{}\">{}</a></th><td class=\"l hl\">{}</td>",
-                     scenario_page(sc), info ? esc((*info).value("equations", "")) : "", esc(sc), esc(label));
-    for (const auto& e : engines) {
-      const json* r = find_run(results, sc, e);
-      h += r ? matrix_cell(*r, def) : "<td class=\"c\"></td>";
-    }
-    h += "</tr>\n";
-  }
-  h += "</table>\n<p class=\"legend\">&#10003; pass &middot; <span class=\"xfail\">&#10007;</span> known failure "
-       "(reviewed; its reason in the "
-       "tooltip and on the scenario page) &middot; <span class=\"fail\">FAIL</span>, <span "
-       "class=\"error\">ERROR</span>, "
-       "<span class=\"fail\">UNEXP. PASS</span>: not as expected (below) &middot; &ndash; not run. The number is the "
-       "scenario's headline: the "
-       "engine's own error on what the scenario is about. Each cell links to the engine's section of the scenario "
-       "page.</p>\n";
-  return h;
-}
-
 /// The counts at the top: runs by verdict, sweep gates, the settings of the run.
 std::string counts_line(const json& results) {
   const auto& sum = results["summary"];
@@ -324,6 +248,7 @@ std::string tune_section(const json& results) {
 }  // namespace
 
 std::string sweeps_section(const json& results);
+std::string matrix_section(const json& results);
 std::string engines_section(const json& results);
 
 std::string index_html(const json& results) {

@@ -72,7 +72,7 @@ std::string params_table(const json& r, const json* info) {
 std::string cross_engine_table(const json& results, const std::string& sc, const json& def) {
   std::string h = fmt::format(
       "<h2 id=\"engines\">Every configuration</h2>\n<table><tr><th class=\"l\">configuration</th><th>verdict</th>"
-      "<th>{}{}</th><th>of tolerance</th><th class=\"l\">failing metrics (error / tolerance)</th><th "
+      "<th>{}{}</th><th>error / tolerance</th><th class=\"l\">failing metrics (error / tolerance)</th><th "
       "class=\"l\">settings applied</th>"
       "<th class=\"l\">known failure: reason</th></tr>\n",
       esc(def.is_object() ? def.value("label", "headline") : "headline"),
@@ -126,7 +126,7 @@ std::string engine_section(const json& results, const json& r, const json& def) 
   }
   h += "<div class=\"shots\">\n";
   for (const auto& s : rep.value("snapshots", json::array()))
-    if (s["scenario"] == sc && s["engine"] == e)
+    if (s["scenario"] == sc && s["engine"] == e && s.value("tag", "") != "start")
       h += fmt::format(
           "<figure><a href=\"{0}\"><img src=\"{0}\" alt=\"{1}\"></a><figcaption>{1}</figcaption></figure>\n",
           esc(s["file"]), esc(s["caption"]));
@@ -258,6 +258,29 @@ std::string engines_section(const json& results) {
   return h;
 }
 
+namespace {
+
+/// The scenario's start, drawn once: every configuration starts from the same pose.
+std::string start_figure(const json& results, const std::string& sc) {
+  for (const auto& s : results.value("report", json::object()).value("snapshots", json::array()))
+    if (s["scenario"] == sc && s.value("tag", "") == "start")
+      return fmt::format(
+          "<div class=\"shots\"><figure><a href=\"{0}\"><img src=\"{0}\" alt=\"start\"></a><figcaption>the start, "
+          "the same for every configuration (drawn from {1}'s record)</figcaption></figure></div>\n",
+          esc(s["file"]), esc(s["engine"]));
+  return "";
+}
+
+/// A list of names as prose: "a", "a and b", "a, b and c".
+std::string names_text(const json& names) {
+  std::string out;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    out += (i == 0 ? "" : i + 1 == names.size() ? " and " : ", ") + names[i].get<std::string>();
+  return out;
+}
+
+}  // namespace
+
 std::string scenario_html(const json& results, const std::string& sc) {
   const json* info = scenario_info(results, sc);
   const json def = headline_def(results, sc);
@@ -273,7 +296,7 @@ std::string scenario_html(const json& results, const std::string& sc) {
   }
   if (def.is_object())
     h += fmt::format("<p class=\"meta\">Headline: {} (the largest of {}).</p>\n", esc(def.value("label", "")),
-                     esc(def["metrics"].dump()));
+                     esc(names_text(def["metrics"])));
   if (const std::string set = settings_text(results["context"].value("set", json::object())); !set.empty())
     h += "<p>Settings of this run (<code>--set</code>): <code>" + esc(set) + "</code>.</p>\n";
   h += cross_engine_table(results, sc, def);
@@ -282,6 +305,7 @@ std::string scenario_html(const json& results, const std::string& sc) {
       h += fmt::format(
           "<figure class=\"wide\"><img class=\"plot\" src=\"{}\" alt=\"{}\"><figcaption>{}</figcaption></figure>\n",
           esc(p["file"]), esc(p["caption"]), esc(p["caption"]));
+  h += start_figure(results, sc);
   bool params_done = false;
   for (const auto& e : engine_order(results)) {
     const json* r = find_run(results, sc, e);

@@ -124,7 +124,7 @@ void run_gnuplot(const std::filesystem::path& dir) {
 
 using ColorOf = std::function<std::string(const std::string&)>;
 
-/// `S` written to `dir`/plots.gp and run by gnuplot there.
+/// `S` written to `dir`/plots.gp and run by gnuplot there; the script and log are removed when it succeeds.
 void run_script(const Script& S, const std::filesystem::path& dir) {
   const auto script = dir / "plots.gp";
   {
@@ -134,6 +134,10 @@ void run_script(const Script& S, const std::filesystem::path& dir) {
     if (!f) throw std::runtime_error(fmt::format("cannot write '{}': {}", script.string(), std::strerror(errno)));
   }
   run_gnuplot(dir);
+  // The script holds every plotted number (3 MB): kept only when gnuplot fails, with its log.
+  std::error_code ec;
+  std::filesystem::remove(script, ec);
+  std::filesystem::remove(dir / "gnuplot.log", ec);
 }
 
 /// Distance at each sample of `trace` from `ref` at the same time (the nearest reference sample):

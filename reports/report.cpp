@@ -3,6 +3,7 @@
 #include <chrono>
 #include <fmt/format.h>
 #include <mutex>
+#include <set>
 #include <thread>
 
 #include "input/atomic_file.hpp"
@@ -43,6 +44,11 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
     const auto it = ink.find(r["engine"].get<std::string>());
     return it == ink.end() ? render::colors::kUnknown : it->second;
   };
+  // The start is the scenario's: every configuration starts from the same pose, so it is drawn once,
+  // from the scenario's first run.
+  std::set<std::string> seen;
+  std::vector<bool> draw_start(runs.size(), false);
+  for (std::size_t i = 0; i < runs.size(); ++i) draw_start[i] = seen.insert(runs[i]["scenario"].get<std::string>()).second;
   const int threads = std::max(1, def.threads);  // 0 or fewer: one thread (a stride of 0 never ends)
   const auto draw = [&](int id) {
     render::Renderer renderer;
@@ -51,6 +57,7 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
       const std::string base = fmt::format("snapshots/{}__{}", file_safe(r["scenario"]), file_safe(r["engine"]));
       try {
         for (const auto& s : render::snapshots_for(r, ink_of(r))) {
+          if (s.tag == "start" && !draw_start[i]) continue;
           const std::string file = fmt::format("{}__{}.png", base, s.tag);
           render::Image img = renderer.render(s.scene);
           for (const auto& in : s.insets) render::paste(img, renderer.render(in.scene), in.x_px, in.y_px);

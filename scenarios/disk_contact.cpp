@@ -141,8 +141,8 @@ std::vector<Scenario> contact_disk_scenarios() {
   return {
       {.name = "disks.repel",
        .vehicle = Vehicle::kDisks,
-       .summary = "Repel/attract: d(t) = e^{lambda t} d(0) with constant direction for any motion of N; "
-                  "for lambda < 0 the disks touch at ln(2/d(0))/lambda.",
+       .summary = "Repel/attract: d(t) = exp(λ t) d(0) with constant direction for any motion of N; "
+                  "for λ < 0 the disks touch at ln(2/d(0))/λ.",
        .equations = "(38), (39), Lemma 5.1",
        .params = with(disk_params("0,0", "5,0", "1,0", "line", "4"),
                       {number("lambda", "-0.5", "1/s", "rate lambda of (38)", -100.0, false, 100.0)}),

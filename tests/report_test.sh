@@ -16,9 +16,13 @@ grep -q 'id="matrix"' "$tmp/report/index.html" || { echo "FAIL no summary matrix
 layout="${3:-}"
 if [ -n "$layout" ] && command -v chromium >/dev/null; then
   python3 "$layout" "$tmp/report" "$tmp/shot.png" >"$tmp/layout" || { cat "$tmp/layout"; echo "FAIL layout"; exit 1; }
-  python3 "$layout" "$tmp/report" "$tmp/shot2.png" --inject-css 'table.matrix td{min-width:160px}' >"$tmp/layout2" \
+  python3 "$layout" "$tmp/report" "$tmp/shot2.png" --inject-css 'table.matrix td{min-width:500px}' >"$tmp/layout2" \
     && { cat "$tmp/layout2"; echo "FAIL a matrix wider than the window passed the layout check"; exit 1; }
   grep -q "^FAIL matrix .* px wide" "$tmp/layout2" || { cat "$tmp/layout2"; echo "FAIL the wide matrix was not named"; exit 1; }
+  # Every failure painted one colour whatever its multiple fails the colour scale's check.
+  python3 "$layout" "$tmp/report" "$tmp/shot3.png" --inject-css 'table.matrix td.c{background:#fc8 !important}' >"$tmp/layout3" \
+    && { cat "$tmp/layout3"; echo "FAIL a matrix of one colour passed the layout check"; exit 1; }
+  grep -q "look alike" "$tmp/layout3" || { cat "$tmp/layout3"; echo "FAIL one colour for every multiple was not named"; exit 1; }
 fi
 # A run that fails on purpose (3 solver iterations) names its failing metric with its figure in
 # its cell, in "not as expected" at the top and on its scenario page, with the setting applied.
@@ -33,7 +37,7 @@ failing = sorted((m["rel_error" if m["tolerance_kind"] == "rel" else "abs_error"
 assert r["verdict"] == "fail" and failing, r["verdict"]
 worst = failing[-1][1]
 index = open(d + "/index.html").read()
-cell = re.search(r'<td class="c fail"[^>]*>.*?</td>', index, re.S).group(0)
+cell = re.search(r'<td class="c fail[^"]*"[^>]*>.*?</td>', index, re.S).group(0)
 assert worst in cell, ("the cell does not name", worst, cell)
 # its figure: the failing metric's error as a multiple of its tolerance, as results.json has it
 shown = re.search(re.escape(worst) + r"\s*([0-9.]+(?:e[+-]?[0-9]+)?)\s*×\s*tol", html.unescape(re.sub(r"<[^>]+>", " ", cell)))

@@ -1,8 +1,11 @@
 #!/usr/bin/env python3
 """Reads the layout of a report's index.html in headless Chromium at 1366x768 and checks its first
 screen: the summary matrix is no wider than the window, the whole matrix and the verdict counts lie
-within the first screen, the whole page is at most 8 screens tall, every configuration has a column and every scenario a row, and each
-cell's number is its scenario's headline metric, computed here from results.json. Element sizes
+within the first screen, the whole page is at most 8 screens tall, every configuration has a row
+with its counts and standing (its worst known failure) and every scenario a column, and each cell
+shows the figure that decided it (the headline, or the failing metric's multiple of tolerance),
+its multiple, a colour that darkens with the multiple on a log scale, and the negative control's
+hatching, all computed here from results.json. Element sizes
 come from the browser's DOM (getBoundingClientRect), measured by a script added to a copy of the
 page; a screenshot of the first screen is saved too.
 Usage: screenshot_check.py REPORT_DIR OUT_PNG [--width W] [--height H] [--inject-css CSS]"""
@@ -26,15 +29,19 @@ MEASURE = r"""<script>
     matrix: box(m), counts: box(document.getElementById('counts')), headers: [], rows: []};
   if (m) {
     var ths = m.rows[0].cells;
-    for (var i = 2; i < ths.length; ++i) out.headers.push(ths[i].textContent);
+    for (var i = 2; i < ths.length; ++i) out.headers.push(ths[i].querySelector('a').textContent);
     for (var r = 1; r < m.rows.length; ++r) {
       var row = m.rows[r], cells = [];
       for (var c = 2; c < row.cells.length; ++c) {
         var td = row.cells[c], a = td.querySelector('a');
-        cells.push({metric: td.getAttribute('data-metric'), value: td.getAttribute('data-value'),
-                    text: td.textContent, href: a ? a.getAttribute('href') : null, box: box(td)});
+        cells.push({metric: td.getAttribute('data-metric'), headline: td.getAttribute('data-headline'),
+                    ratio: td.getAttribute('data-ratio'), cls: td.className,
+                    background: getComputedStyle(td).backgroundColor, text: td.textContent,
+                    href: a ? a.getAttribute('href') : null, box: box(td)});
       }
-      out.rows.push({scenario: row.cells[0].textContent, cells: cells});
+      out.rows.push({configuration: row.cells[0].textContent, standing: row.cells[1].textContent,
+                     standing_box: box(row.cells[1]), standing_scroll: row.cells[1].scrollWidth,
+                     standing_client: row.cells[1].clientWidth, cells: cells});
     }
   }
   var pre = document.createElement('pre'); pre.id = 'layout-measure'; pre.textContent = JSON.stringify(out);
@@ -77,7 +84,7 @@ def measure(folder, width, height, css, out_png):
     found = re.search(r'<pre id="layout-measure">(.*?)</pre>', dom, re.S)
     if not found:
         return None
-    text = found.group(1).replace("&quot;", '"').replace("&lt;", "<").replace("&gt;", ">").replace("&amp;", "&")
+    text = found.group(1).replace("&nbsp;", "\u00a0").replace("&quot;", '"').replace("&lt;", "<").replace("&gt;", ">").replace("&amp;", "&")
     return json.loads(text)
 
 
@@ -105,50 +112,157 @@ def headline_value(run, headline):
     return best
 
 
-def cell_number(text):
-    found = re.search(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?|inf|nan", text.replace("\u2212", "-"))
-    return float(found.group(0)) if found else None
+def cell_numbers(text):
+    """The numbers a cell shows, each with whether it is a multiple ("42x")."""
+    out = []
+    for found in re.finditer(r"([-+]?(?:\d+\.?\d*|\.\d+)(?:e[-+]?\d+)?|inf|nan)(\u00d7?)", text.replace("\u2212", "-")):
+        out.append((float(found.group(1)), found.group(2) == "\u00d7"))
+    return out
+
+
+def multiple(run):
+    """The run's worst error over its tolerance, as results.json records it (null: infinite)."""
+    w = run.get("worst_ratio")
+    if isinstance(w, (int, float)):
+        return float(w)
+    return math.inf if run["status"] in ("fail", "error") else 0.0
+
+
+def ratio_of(m):
+    tol, err = m.get("tolerance"), compared_error(m)
+    if not isinstance(tol, (int, float)) or tol <= 0:
+        return math.inf if err > 0 else 0.0
+    return err / tol
+
+
+def worst_failing(run):
+    """The counted metric out of tolerance by the largest multiple: (name, multiple)."""
+    worst = None
+    for name, m in run.get("metrics", {}).items():
+        if m.get("pass", True) or m.get("informational"):
+            continue
+        r = ratio_of(m)
+        if math.isnan(r):
+            r = math.inf
+        if worst is None or r > worst[1]:
+            worst = (name, r)
+    return worst
+
+
+def luminance(css):
+    found = re.match(r"rgba?\((\d+), (\d+), (\d+)", css or "")
+    if not found:
+        return None
+    r, g, b = (int(v) / 255 for v in found.groups())
+    return 0.2126 * r + 0.7152 * g + 0.0722 * b
+
+
+def verdict(run):
+    return run.get("verdict", run["status"])
 
 
 def check_cells(results, layout):
-    problems, checked = [], 0
+    """Each cell against results.json: the figure that decided it, its multiple, its colour."""
+    problems, checked, shaded = [], 0, []
     heads = {s["name"]: s.get("headline") for s in results.get("scenarios", [])}
+    controls = {s["name"] for s in results.get("scenarios", []) if s.get("negative_control")}
     runs = {(r["scenario"], r["engine"]): r for r in results["runs"]}
     engines = [e["name"] for e in results["context"]["engines"]]
-    if [h.replace("\u00ad", "") for h in layout["headers"]] != engines:
-        problems.append(f"the matrix's columns {layout['headers']} are not the configurations {engines}")
     scenarios = list(dict.fromkeys(r["scenario"] for r in results["runs"]))
-    if [row["scenario"] for row in layout["rows"]] != scenarios:
-        problems.append(f"the matrix's rows are not the scenarios {scenarios}")
+    if [h.replace("\u00ad", "") for h in layout["headers"]] != scenarios:
+        problems.append(f"the matrix's columns {layout['headers']} are not the scenarios {scenarios}")
+    if [row["configuration"].strip() for row in layout["rows"]] != engines:
+        problems.append(f"the matrix's rows are not the configurations {engines}")
     for row in layout["rows"]:
-        sc = row["scenario"]
-        head = heads.get(sc)
-        if not head or not head.get("metrics"):
-            problems.append(f"results.json declares no headline metric for {sc}")
-            continue
-        if any(n.startswith("lo_") for n in head["metrics"]):
-            problems.append(f"{sc}: the headline names a check of the paper's approximation ({head['metrics']})")
-        for eng, cell in zip(engines, row["cells"]):
-            run = runs.get((sc, eng))
+        eng = row["configuration"].strip()
+        for sc, cell in zip(scenarios, row["cells"]):
+            run, head = runs.get((sc, eng)), heads.get(sc)
             if run is None:
                 continue
-            want = None if run["status"] in ("skip", "error") else headline_value(run, head)
-            if want is None:
-                if cell["value"] is not None:
-                    problems.append(f"{sc} on {eng}: the cell shows {cell['value']} where the run has no headline figure")
+            if not head or not head.get("metrics"):
+                problems.append(f"results.json declares no headline metric for {sc}")
                 continue
             checked += 1
-            if cell["metric"] not in head["metrics"]:
-                problems.append(f"{sc} on {eng}: the cell's metric {cell['metric']} is not a headline metric {head['metrics']}")
-            shown = cell_number(cell["text"])
-            got = float(cell["value"]) if cell["value"] is not None else None
-            if got is None or not math.isclose(got, want, rel_tol=1e-9, abs_tol=1e-300):
-                problems.append(f"{sc} on {eng}: the cell's value {got} is not the headline {want}")
-            elif shown is None or not math.isclose(shown, want, rel_tol=0.06, abs_tol=1e-300):
-                problems.append(f"{sc} on {eng}: the cell shows {cell['text']!r}, the headline is {want:.3g}")
+            where = f"{sc} on {eng}"
+            want_ratio = multiple(run)
+            got_ratio = float(cell["ratio"]) if cell["ratio"] is not None else None
+            if got_ratio is None or not (math.isclose(got_ratio, want_ratio, rel_tol=1e-9, abs_tol=1e-300) or
+                                         (math.isinf(want_ratio) and got_ratio > 1e300)):
+                problems.append(f"{where}: the cell's multiple {cell['ratio']} is not the run's worst {want_ratio}")
+            shown = cell_numbers(cell["text"])
+            status = verdict(run)
+            want_head = None if run["status"] in ("skip", "error") else headline_value(run, head)
+            if want_head is not None and (cell["headline"] is None or
+                                          not math.isclose(float(cell["headline"]), want_head, rel_tol=1e-9, abs_tol=1e-300)):
+                problems.append(f"{where}: the cell's headline {cell['headline']} is not {want_head}")
+            worst = worst_failing(run) if status in ("known failure", "fail", "unexpected pass") else None
+            if worst and worst[0] not in head["metrics"]:
+                # Another metric decided the verdict: the cell shows its multiple of tolerance.
+                if cell["metric"] != worst[0]:
+                    problems.append(f"{where}: the cell names {cell['metric']}, the failing metric is {worst[0]}")
+                if not any(is_mult and (math.isclose(v, worst[1], rel_tol=0.06) or (math.isinf(worst[1]) and math.isinf(v)))
+                           for v, is_mult in shown):
+                    problems.append(f"{where}: the cell shows {cell['text']!r}, the deciding multiple is {worst[1]:.3g}x")
+            elif want_head is not None:
+                if cell["metric"] not in head["metrics"]:
+                    problems.append(f"{where}: the cell's metric {cell['metric']} is not a headline metric {head['metrics']}")
+                if not any(not is_mult and math.isclose(v, want_head, rel_tol=0.06, abs_tol=1e-300) for v, is_mult in shown):
+                    problems.append(f"{where}: the cell shows {cell['text']!r}, the headline is {want_head:.3g}")
+            is_control = sc in controls and run.get("as_expected", True)
+            if is_control != ("neg" in cell["cls"].split()):
+                problems.append(f"{where}: {'a negative control not' if is_control else 'hatched as a negative control but not'} marked as one")
+            if (not run.get("as_expected", True)) != ("unexp" in cell["cls"].split()):
+                problems.append(f"{where}: the cell's 'not as expected' mark disagrees with the run")
+            if status == "known failure" and not is_control:
+                shaded.append((want_ratio, luminance(cell["background"]), where))
             if not (cell["href"] or "").endswith("#" + eng):
-                problems.append(f"{sc} on {eng}: the cell links to {cell['href']}, not the engine's section")
+                problems.append(f"{where}: the cell links to {cell['href']}, not the engine's section")
+    # The colour grows with the multiple on a log scale: darker for a larger multiple, and a decade
+    # apart visibly so (1x to 1e4x spans the scale).
+    shaded.sort(key=lambda s: s[0])
+    for (r0, l0, w0), (r1, l1, w1) in zip(shaded, shaded[1:]):
+        if l0 is None or l1 is None:
+            problems.append(f"{w0}: no background colour")
+        elif l1 > l0 + 1e-6:
+            problems.append(f"{w1} ({r1:.3g}x) is lighter than {w0} ({r0:.3g}x)")
+    for (r0, l0, w0) in shaded:
+        for (r1, l1, w1) in shaded:
+            if 1 <= r0 and r1 >= 100 * r0 and r1 <= 1e4 and l0 is not None and l1 is not None and l0 - l1 < 0.08:
+                problems.append(f"{w0} ({r0:.3g}x) and {w1} ({r1:.3g}x) look alike (luminance {l0:.2f}, {l1:.2f})")
+                break
     return problems, checked
+
+
+def check_standing(results, layout):
+    """Each configuration's row: its counts and where it is furthest off, from results.json."""
+    problems = []
+    controls = {s["name"] for s in results.get("scenarios", []) if s.get("negative_control")}
+    for row in layout["rows"]:
+        eng = row["configuration"].strip()
+        runs = [r for r in results["runs"] if r["engine"] == eng]
+        expected = [r for r in runs if r.get("as_expected", True)]
+        n_pass = sum(verdict(r) == "pass" for r in expected)
+        n_known = sum(verdict(r) == "known failure" for r in expected)
+        n_skip = sum(verdict(r) == "skip" for r in expected)
+        text = row["standing"].replace("\u00a0", " ")
+        unexpected = [r["scenario"] for r in runs if not r.get("as_expected", True)]
+        if unexpected:
+            if f"{len(unexpected)} not as expected" not in text or any(sc not in text for sc in unexpected):
+                problems.append(f"{eng}: the standing {text!r} does not name its {len(unexpected)} unexpected runs")
+            continue
+        want = f"\u2713{n_pass} \u2717{n_known}" + (f" \u2013{n_skip}" if n_skip else "")
+        if not text.startswith(want):
+            problems.append(f"{eng}: the standing {text!r} does not start with its counts {want!r}")
+        off = [r for r in expected if verdict(r) == "known failure" and r["scenario"] not in controls]
+        if off:
+            worst = max(off, key=multiple)
+            shown = [v for v, is_mult in cell_numbers(text.split("worst", 1)[-1]) if is_mult]
+            if worst["scenario"] not in text or not shown or not (
+                    math.isclose(shown[0], multiple(worst), rel_tol=0.06) or math.isinf(multiple(worst))):
+                problems.append(f"{eng}: the standing {text!r} is not its worst, {worst['scenario']} {multiple(worst):.3g}x")
+        if row["standing_scroll"] > row["standing_client"] + 1:
+            problems.append(f"{eng}: the standing is cut off ({row['standing_scroll']} px of text in {row['standing_client']} px)")
+    return problems
 
 
 def main():
@@ -179,8 +293,10 @@ def main():
         # The page a reader scrolls: at most 8 screens, the long tables folded (<details>), not dropped.
         checks.append((layout["page_height"] <= 8 * h, f"page {layout['page_height']} px tall, {layout['page_height'] / h:.1f} screens (at most 8)"))
         problems, checked = check_cells(results, layout)
-        checks.append((not problems, f"{checked} cells show their scenario's headline metric" + "".join("\n  " + p for p in problems[:20])))
-        print(f"page height {layout['page_height']} px; {len(layout['headers'])} configurations, {len(layout['rows'])} scenarios")
+        checks.append((not problems, f"{checked} cells show the figure that decided them, coloured by their multiple of tolerance" + "".join("\n  " + p for p in problems[:20])))
+        problems = check_standing(results, layout)
+        checks.append((not problems, f"{len(layout['rows'])} configurations show their counts and standing" + "".join("\n  " + p for p in problems[:20])))
+        print(f"page height {layout['page_height']} px; {len(layout['rows'])} configurations, {len(layout['headers'])} scenarios")
     for ok, what in checks:
         print(("PASS " if ok else "FAIL ") + what)
     failed = sum(not ok for ok, _ in checks)

@@ -87,6 +87,30 @@ TEST(ResultsFile, AcceptsWhatDiffReads) {
   EXPECT_EQ(results_error(R"({"runs": []})"), "");
 }
 
+// results.json keeps each distinct reference trace once; reading it back gives every run its own.
+TEST(ResultsFile, SharedReferencesReadBackAsWritten) {
+  const nlohmann::json lift = nlohmann::json::array({{0.0, 1.0}, {0.5, 1.25}}), slide = {{0.0, 2.0}};
+  nlohmann::json doc = nlohmann::json::parse(results_with(kMetric));
+  nlohmann::json run = doc["runs"][0];
+  doc["runs"] = nlohmann::json::array();
+  for (const nlohmann::json* ref : {&lift, &slide, &lift}) {
+    run["details"] = {{"reference", *ref}, {"trace", *ref}};
+    doc["runs"].push_back(run);
+  }
+  run.erase("details");
+  doc["runs"].push_back(run);  // a run without details
+  const nlohmann::json written = doc;
+  share_references(doc);
+  ASSERT_EQ(doc["shared_references"].size(), 2u);
+  EXPECT_EQ(doc["runs"][2]["details"]["reference"], (nlohmann::json{{"shared", 0}}));
+  EXPECT_EQ(doc["runs"][1]["details"]["reference"], (nlohmann::json{{"shared", 1}}));
+  EXPECT_EQ(doc["runs"][2]["details"]["trace"], lift);  // only the reference is shared
+  EXPECT_EQ(parse_results(doc.dump(), "r.json"), written);
+  doc["runs"][1]["details"]["reference"]["shared"] = 2;
+  EXPECT_EQ(error_of([&] { parse_results(doc.dump(), "r.json"); }),
+            "r.json: runs[1].details.reference: 'shared' must be an index into 'shared_references' (below 2), not 2");
+}
+
 TEST(ResultsFile, NamesFileFieldAndProblem) {
   EXPECT_EQ(results_error("{").find('\n'), std::string::npos);  // one line
   EXPECT_EQ(results_error("{").rfind("base.json: is not JSON (parse error at line 1, column 2", 0), 0u)

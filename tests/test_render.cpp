@@ -1,5 +1,6 @@
 // The renderer draws a known scene: pixel colours at known places, text, PNG output.
 #include <gtest/gtest.h>
+#include <png.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -92,6 +93,25 @@ TEST(Render, WritesAPng) {
   EXPECT_EQ(std::string(sig + 1, 3), "PNG");
   EXPECT_GT(std::filesystem::file_size(path), 500u);
   EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
+  // Read back by libpng: the 256-colour file is the rendered image to within a few levels.
+  const Image want = r.render(known_scene());
+  png_image read{};
+  read.version = PNG_IMAGE_VERSION;
+  ASSERT_TRUE(png_image_begin_read_from_file(&read, path.c_str()));
+  read.format = PNG_FORMAT_RGBA;
+  ASSERT_EQ(static_cast<int>(read.width), want.width);
+  ASSERT_EQ(static_cast<int>(read.height), want.height);
+  std::vector<std::uint8_t> got(PNG_IMAGE_SIZE(read));
+  ASSERT_TRUE(png_image_finish_read(&read, nullptr, got.data(), 0, nullptr));
+  double sum = 0;
+  int worst = 0;
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const int d = std::abs(int(got[i]) - int(want.rgba[i]));
+    sum += d, worst = std::max(worst, d);
+  }
+  EXPECT_LT(sum / got.size(), 1.0);  // mean level error
+  EXPECT_LT(worst, 48);              // no colour replaced by a far one
+  EXPECT_GT(worst, 0);               // it was reduced (a scene with antialiasing has more than 256 colours)
   std::filesystem::remove(path);
   EXPECT_THROW(write_png("/nonexistent-dir/x.png", r.render(known_scene())), std::runtime_error);
 }
