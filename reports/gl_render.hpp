@@ -39,7 +39,7 @@ class Renderer {
   std::unique_ptr<Impl> impl_;
 };
 
-/// Writes the image as a PNG of at most 256 colours (libimagequant's palette, a quarter of the
+/// Writes the image as a PNG of at most 64 colours (libimagequant's palette, a quarter of the
 /// RGBA file). Throws std::runtime_error naming the path.
 void write_png(const std::filesystem::path& path, const Image& image);
 

@@ -50,7 +50,7 @@ inline constexpr const char* kCss =
     ".unexp{outline:2px solid #8a0010;outline-offset:-2px;font-weight:bold}"
     ".key{padding:0 .35em;margin:0 .1em;border:1px solid #ccc}"
     ".legend{font-size:.8em;color:#444;margin:.1em 0}"
-    ".shots{display:flex;flex-wrap:wrap;gap:10px}.shots figure{margin:0;width:380px}.shots img{width:380px;border:1px "
+    ".shots{display:flex;flex-wrap:wrap;gap:10px}.shots figure{margin:0;width:480px}.shots img{width:480px;border:1px "
     "solid #ccc}"
     "figure.wide img{max-width:100%;border:1px solid #ccc}figcaption{font-size:.85em;color:#555}"
     "img.plot{max-width:100%;border:1px solid #ddd}code{background:#f3f3f3;padding:0 .2em}"

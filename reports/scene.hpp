@@ -98,7 +98,7 @@ struct Camera {
 };
 
 struct Scene {
-  int width_px = 800, height_px = 600;
+  int width_px = 720, height_px = 540;
   Camera camera;
   double grid_step_m = 1.0;  ///< 0: no grid
   bool scale_bar = true;     ///< top-down only

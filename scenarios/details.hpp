@@ -14,8 +14,9 @@ namespace liftcheck::detail_key {
 /// At most kTraceRows rows (and the last) of the engine's trace: a car's [t, alpha, beta, x, y, phi] (s, rad, m), the
 /// disks' [t, cMx, cMy, cNx, cNy] (s, m). Snapshots, frame strips and the error plots draw it.
 inline constexpr char kTrace[] = "trace";
-/// The most rows a drawn trace keeps: plots and pictures are under 1000 px wide.
-inline constexpr std::size_t kTraceRows = 200;
+/// The most rows a drawn trace keeps: plots and pictures are under 1000 px wide, and a circle of
+/// 120 chords is 0.1 px from the arc at 300 px radius.
+inline constexpr std::size_t kTraceRows = 120;
 /// A number of a drawn trace, to 9 significant digits (10 nm at 10 m: below a pixel of the end
 /// inset's 1 um scale). The metrics are measured on the full-precision trace, never on this.
 inline double drawn(double v) {

@@ -5,7 +5,7 @@ within the first screen, the whole page is at most 8 screens tall, every configu
 with its counts and standing (its worst known failure) and every scenario a column, and each cell
 shows the figure that decided it (the headline, or the failing metric's multiple of tolerance),
 its multiple, a colour that darkens with the multiple on a log scale, and the negative control's
-hatching, all computed here from results.json. Element sizes
+hatching, all computed here from results.json; and the whole report folder is at most 20 MB. Element sizes
 come from the browser's DOM (getBoundingClientRect), measured by a script added to a copy of the
 page; a screenshot of the first screen is saved too.
 Usage: screenshot_check.py REPORT_DIR OUT_PNG [--width W] [--height H] [--inject-css CSS]"""
@@ -297,6 +297,9 @@ def main():
         problems = check_standing(results, layout)
         checks.append((not problems, f"{len(layout['rows'])} configurations show their counts and standing" + "".join("\n  " + p for p in problems[:20])))
         print(f"page height {layout['page_height']} px; {len(layout['rows'])} configurations, {len(layout['headers'])} scenarios")
+    # The whole report folder (pages, snapshots, plots, results.json): at most 20 MB.
+    size = sum(os.path.getsize(os.path.join(d, f)) for d, _, files in os.walk(a.folder) for f in files)
+    checks.append((size <= 20_000_000, f"report {size / 1e6:.1f} MB (at most 20)"))
     for ok, what in checks:
         print(("PASS " if ok else "FAIL ") + what)
     failed = sum(not ok for ok, _ in checks)
