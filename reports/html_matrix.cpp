@@ -46,7 +46,7 @@ std::pair<std::string, std::string> deciding_figure(const json& r, const json& d
   bool in_headline = false;  // a failing headline metric: the headline shows it (the largest of them)
   for (const auto& n : def.value("metrics", json::array())) in_headline = in_headline || n == worst->metric;
   if (head && in_headline) return {short_number(head->value), head->metric};
-  return {short_number(worst->ratio) + "&times;", worst->metric};
+  return {(std::isinf(worst->ratio) ? "&infin;" : short_number(worst->ratio)) + "&times;", worst->metric};
 }
 
 /// One cell: its mark and deciding figure, coloured by the multiple; the whole verdict in the
@@ -87,6 +87,7 @@ struct Standing {
   std::vector<std::string> unexpected_in;
   double worst = 0;  ///< the worst multiple among the known failures, negative controls aside
   std::string worst_in;
+  double worst_error = NAN;  ///< its worst failing metric's error (shown when the multiple is infinite)
 };
 
 Standing standing_of(const json& results, const std::string& eng) {
@@ -107,7 +108,10 @@ Standing standing_of(const json& results, const std::string& eng) {
       ++s.control;
       continue;
     }
-    if (const double m = multiple_of(r); m > s.worst || s.worst_in.empty()) s.worst = m, s.worst_in = sc;
+    if (const double m = multiple_of(r); m > s.worst || s.worst_in.empty()) {
+      const auto w = worst_failing(r);
+      s.worst = m, s.worst_in = sc, s.worst_error = w ? w->value : NAN;
+    }
   }
   return s;
 }
@@ -129,6 +133,9 @@ std::string standing_line(const Standing& s, bool reference) {
   }
   const std::string counts = counts_text(s);
   if (s.known == s.control) return counts + (reference ? " &middot; the reference" : " &middot; passes all it runs");
+  if (std::isinf(s.worst))  // a metric with a zero tolerance failed: its error in the tooltip
+    return fmt::format("{} &middot; worst <span title=\"{} against a zero tolerance\">&infin;&times;</span> {}",
+                       counts, short_number(s.worst_error), esc(s.worst_in));
   return fmt::format("{} &middot; worst {}&times; {}", counts, short_number(s.worst), esc(s.worst_in));
 }
 
@@ -170,7 +177,7 @@ std::string matrix_section(const json& results) {
   h += "</table>\n<p class=\"legend\">A row per configuration. &#10003; pass, with the scenario's headline (the "
        "engine's own error on what the scenario is about) &middot; &#10007; reviewed known failure, with the figure "
        "that decided it: the headline, or <i>k</i>&times; when another metric failed, by <i>k</i> times its "
-       "tolerance &middot; colour: the worst error's multiple of its tolerance, <span class=\"key\" "
+       "tolerance (&infin;&times;: a tolerance of zero) &middot; colour: the worst error's multiple of its tolerance, <span class=\"key\" "
        "style=\"background:" +
        failure_shade(1.5) + "\">1&times;</span><span class=\"key\" style=\"background:" + failure_shade(30) +
        "\">10&times;</span><span class=\"key\" style=\"background:" + failure_shade(300) +
