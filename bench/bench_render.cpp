@@ -1,5 +1,5 @@
-// Render and encode an 800 x 600 snapshot (target: 30 ms or less), and its parts. Each checks its
-// result: an 800 x 600 frame that is not blank, a PNG file whose header says 800 x 600.
+// Render and encode an 720 x 540 snapshot (target: 30 ms or less), and its parts. Each checks its
+// result: an 720 x 540 frame that is not blank, a PNG file whose header says 720 x 540.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -29,9 +29,9 @@ render::Scene end_scene() {
   return {};
 }
 
-/// Empty when the frame is 800 x 600 and shows something (not every pixel the same).
+/// Empty when the frame is 720 x 540 and shows something (not every pixel the same).
 std::string frame_problem(const render::Image& img) {
-  if (img.width != 800 || img.height != 600 || img.rgba.size() != 800u * 600u * 4u)
+  if (img.width != 720 || img.height != 540 || img.rgba.size() != 720u * 540u * 4u)
     return fmt::format("the frame is {} x {} ({} bytes)", img.width, img.height, img.rgba.size());
   const std::uint8_t* first = img.pixel(0, 0);
   for (int y = 0; y < img.height; ++y)
@@ -40,7 +40,7 @@ std::string frame_problem(const render::Image& img) {
   return "the frame is blank";
 }
 
-/// Empty when `path` is a PNG file whose IHDR chunk says 800 x 600 and that holds image data.
+/// Empty when `path` is a PNG file whose IHDR chunk says 720 x 540 and that holds image data.
 std::string png_problem(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   std::string head(24, '\0');
@@ -50,22 +50,22 @@ std::string png_problem(const std::filesystem::path& path) {
            (std::uint32_t(std::uint8_t(head[at + 2])) << 8) | std::uint32_t(std::uint8_t(head[at + 3]));
   };
   if (head.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0 || head.compare(12, 4, "IHDR") != 0) return "not a PNG file";
-  if (be32(16) != 800 || be32(20) != 600) return fmt::format("the PNG is {} x {}", be32(16), be32(20));
+  if (be32(16) != 720 || be32(20) != 540) return fmt::format("the PNG is {} x {}", be32(16), be32(20));
   if (std::filesystem::file_size(path) < 1000)
     return fmt::format("the PNG has only {} bytes", std::filesystem::file_size(path));
   return "";
 }
 
-void BM_Render800x600(benchmark::State& state) {
+void BM_Render720x540(benchmark::State& state) {
   render::Renderer r;
   const render::Scene scene = end_scene();
   r.render(scene);  // context creation and shader compilation happen once
   for (auto _ : state) benchmark::DoNotOptimize(r.render(scene));
   if (const std::string p = frame_problem(r.render(scene)); !p.empty()) state.SkipWithError(p.c_str());
 }
-BENCHMARK(BM_Render800x600)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Render720x540)->Unit(benchmark::kMillisecond);
 
-void BM_EncodePng800x600(benchmark::State& state) {
+void BM_EncodePng720x540(benchmark::State& state) {
   render::Renderer r;
   const render::Image img = r.render(end_scene());
   const auto path = std::filesystem::temp_directory_path() / "liftcheck_bench.png";
@@ -77,9 +77,9 @@ void BM_EncodePng800x600(benchmark::State& state) {
     state.counters["png_bytes"] = static_cast<double>(std::filesystem::file_size(path));
   std::filesystem::remove(path);
 }
-BENCHMARK(BM_EncodePng800x600)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_EncodePng720x540)->Unit(benchmark::kMillisecond);
 
-void BM_RenderAndEncode800x600(benchmark::State& state) {
+void BM_RenderAndEncode720x540(benchmark::State& state) {
   render::Renderer r;
   const render::Scene scene = end_scene();
   r.render(scene);
@@ -93,6 +93,6 @@ void BM_RenderAndEncode800x600(benchmark::State& state) {
     state.counters["png_bytes"] = static_cast<double>(std::filesystem::file_size(path));
   std::filesystem::remove(path);
 }
-BENCHMARK(BM_RenderAndEncode800x600)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RenderAndEncode720x540)->Unit(benchmark::kMillisecond);
 
 }  // namespace
