@@ -177,6 +177,7 @@ bool index_written(const std::filesystem::path& dir) {
 /// each failure says truthfully what was written.
 void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput& staged) {
   const std::filesystem::path out = staged.stage();
+  thin_drawn_traces(results);  // the report draws what results.json keeps
   try {
     if (o.report) {
       ReportDef def;

@@ -6,7 +6,9 @@
 #include <exception>
 #include <fmt/format.h>
 #include <fstream>
+#include <cstdlib>
 #include <future>
+#include <map>
 #include <numeric>
 #include <sstream>
 #include <unordered_set>
@@ -526,6 +528,49 @@ void share_references(json& results) {
   if (!shared.empty()) results[kShared] = std::move(shared);
 }
 
+namespace {
+
+/// 9 significant digits: the shortest text nlohmann writes for the double is then at most 9 digits.
+double nine_digits(double v) {
+  char buf[40];
+  const auto end = fmt::format_to_n(buf, sizeof buf - 1, "{:.9g}", v).out;
+  *end = '\0';
+  return std::strtod(buf, nullptr);
+}
+
+/// A trace's rows, every stride-th and the last, each number to 9 digits; anything else untouched.
+void thin_rows(json& rows) {
+  if (!rows.is_array() || rows.empty()) return;
+  const std::size_t stride = (rows.size() + kDrawnRows - 1) / kDrawnRows;
+  json kept = json::array();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (i % stride != 0 && i + 1 != rows.size()) continue;
+    json row = std::move(rows[i]);
+    if (row.is_array())
+      for (auto& v : row)
+        if (v.is_number_float()) v = nine_digits(v.get<double>());
+    kept.push_back(std::move(row));
+  }
+  rows = std::move(kept);
+}
+
+}  // namespace
+
+void thin_drawn_traces(json& results) {
+  if (!results.contains("runs") || !results["runs"].is_array()) return;
+  for (auto& run : results["runs"]) {
+    if (!run.is_object() || !run.contains("details") || !run["details"].is_object()) continue;
+    json& d = run["details"];
+    for (const char* key : {"trace", "reference"})
+      if (d.contains(key)) thin_rows(d[key]);
+    if (d.contains("runs") && d["runs"].is_array())
+      for (auto& r : d["runs"])
+        if (r.is_object() && r.contains("trace")) thin_rows(r["trace"]);
+    if (d.contains("after_contact") && d["after_contact"].is_object() && d["after_contact"].contains("reference"))
+      thin_rows(d["after_contact"]["reference"]);
+  }
+}
+
 void expand_references(json& results, const std::string& name) {
   if (!results.contains(kShared)) return;
   json shared = std::move(results[kShared]);
@@ -538,8 +583,9 @@ void expand_references(json& results, const std::string& name) {
     if (!ref || !ref->is_object()) continue;
     const json k = ref->value("shared", json());
     if (!k.is_number_unsigned() || k.get<std::size_t>() >= shared.size())
-      throw InputError(fmt::format("{}: runs[{}].details.reference: 'shared' must be an index into '{}' (below {}), not {}",
-                                   name, i - 1, kShared, shared.size(), printable(k.dump(), 40)));
+      throw InputError(
+          fmt::format("{}: runs[{}].details.reference: 'shared' must be an index into '{}' (below {}), not {}", name,
+                      i - 1, kShared, shared.size(), printable(k.dump(), 40)));
     *ref = shared[k.get<std::size_t>()];
   }
 }

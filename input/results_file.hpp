@@ -23,6 +23,13 @@ nlohmann::json read_results(const std::string& path);
 void share_references(nlohmann::json& results);
 void expand_references(nlohmann::json& results, const std::string& name);
 
+/// The traces results.json keeps for drawing (details.trace, details.reference, each of
+/// details.runs' trace, details.after_contact.reference), thinned to at most kDrawnRows rows and
+/// their last, every number to 9 significant digits (10 nm at 10 m). The metrics are measured
+/// before, on the engine's full trace; `run --json` keeps the trace as the scenario recorded it.
+inline constexpr std::size_t kDrawnRows = 120;
+void thin_drawn_traces(nlohmann::json& results);
+
 /// Both files of a diff, read and checked at once (each in a thread of its own); the first
 /// file's error is reported when both have one.
 std::pair<nlohmann::json, nlohmann::json> read_results_pair(const std::string& base, const std::string& head);

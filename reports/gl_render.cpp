@@ -595,8 +595,7 @@ void write_png(const std::filesystem::path& path, const Image& image) {
   png_set_compression_mem_level(png, 9);
   png_set_filter(png, 0, PNG_FILTER_NONE);  // palette indices: filters do not help
   png_write_info(png, info);
-  for (int y = 0; y < image.height; ++y)
-    png_write_row(png, q.index.data() + static_cast<std::size_t>(y) * image.width);
+  for (int y = 0; y < image.height; ++y) png_write_row(png, q.index.data() + static_cast<std::size_t>(y) * image.width);
   png_write_end(png, nullptr);
   png_destroy_write_struct(&png, &info);
   if (std::fclose(fp) != 0) {

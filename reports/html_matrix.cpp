@@ -15,14 +15,35 @@ using namespace html;
 
 namespace {
 
-/// The run's worst error over its tolerance (results.json's worst_ratio; written null when
-/// infinite, and an error run has none: both infinite).
-double multiple_of(const json& r) {
-  const json w = r.value("worst_ratio", json());
-  if (w.is_number()) return w.get<double>();
-  const std::string st = r.value("status", "");
-  return st == "fail" || st == "error" ? std::numeric_limits<double>::infinity() : 0.0;
+/// A run's errors against their tolerances, as the matrix shows them: the largest finite multiple
+/// among its counted metrics, and the failing metric that decided the verdict (the one with the
+/// largest finite multiple; a metric with a zero tolerance, whose multiple is infinite, only when
+/// no other failed). A zero tolerance says "any error fails", not how far off the engine is.
+struct Multiple {
+  double finite = 0;            ///< largest finite multiple of tolerance among the counted metrics
+  std::string deciding;         ///< the failing metric that decided it ("" when none failed)
+  double deciding_ratio = 0;    ///< its multiple (infinite for a zero tolerance)
+  double deciding_error = 0;    ///< its compared error
+  bool zero_tolerance = false;  ///< a metric with a zero tolerance (or no finite error) failed
+};
+
+Multiple multiple_of(const json& r) {
+  Multiple m;
+  RecordView(r).each_metric([&](const std::string& name, const MetricView& v) {
+    if (!v.counted()) return;
+    const double ratio = v.ratio();
+    if (std::isfinite(ratio)) m.finite = std::max(m.finite, ratio);
+    if (v.pass()) return;
+    if (!std::isfinite(ratio)) m.zero_tolerance = true;
+    const bool better =
+        m.deciding.empty() || (std::isfinite(ratio) && (!std::isfinite(m.deciding_ratio) || ratio > m.deciding_ratio));
+    if (better) m.deciding = name, m.deciding_ratio = ratio, m.deciding_error = v.compared_error();
+  });
+  return m;
 }
+
+/// "42×", or "∞×" for a zero tolerance.
+std::string times(double ratio) { return (std::isinf(ratio) ? "&infin;" : short_number(ratio)) + "&times;"; }
 
 bool negative_control(const json& results, const std::string& sc) {
   const json* info = scenario_info(results, sc);
@@ -36,17 +57,15 @@ std::string failure_shade(double multiple) {
   return fmt::format("hsl({:.0f},95%,{:.0f}%)", 55.0 * (1.0 - t), 88.0 - 36.0 * t);
 }
 
-/// "4.5e-6" (the headline, when it decided the verdict) or "42×" (the multiple of tolerance of the
-/// failing metric that did); the metric that decided it.
-std::pair<std::string, std::string> deciding_figure(const json& r, const json& def, const std::string& cls) {
+/// "4.5e-6" (the headline, when its metric decided the verdict or the run passed) or "42×" (the
+/// multiple of tolerance of the failing metric that decided it); the metric shown.
+std::pair<std::string, std::string> deciding_figure(const json& r, const json& def, const std::string& cls,
+                                                    const Multiple& m) {
   const auto head = headline_figure(r, def);
-  if (cls == "pass" || cls == "skip" || cls == "error") return {head ? short_number(head->value) : "", head ? head->metric : ""};
-  const auto worst = worst_failing(r);
-  if (!worst) return {head ? short_number(head->value) : "", head ? head->metric : ""};
-  bool in_headline = false;  // a failing headline metric: the headline shows it (the largest of them)
-  for (const auto& n : def.value("metrics", json::array())) in_headline = in_headline || n == worst->metric;
-  if (head && in_headline) return {short_number(head->value), head->metric};
-  return {(std::isinf(worst->ratio) ? "&infin;" : short_number(worst->ratio)) + "&times;", worst->metric};
+  if (cls == "pass" || cls == "skip" || cls == "error" || m.deciding.empty())
+    return {head ? short_number(head->value) : "", head ? head->metric : ""};
+  if (head && head->metric == m.deciding) return {short_number(head->value), head->metric};
+  return {times(m.deciding_ratio), m.deciding};
 }
 
 /// One cell: its mark and deciding figure, coloured by the multiple; the whole verdict in the
@@ -55,8 +74,8 @@ std::string cell(const json& results, const json& r, const json& def) {
   const auto [cls, word] = status_of(r);
   const std::string sc = r["scenario"], eng = r["engine"];
   const bool control = negative_control(results, sc);
-  const double multiple = multiple_of(r);
-  const auto [figure, metric] = deciding_figure(r, def, cls);
+  const Multiple multiple = multiple_of(r);
+  const auto [figure, metric] = deciding_figure(r, def, cls, multiple);
   const bool unexpected = !r.value("as_expected", true);
   std::string mark = cls == "pass" ? "&#10003;" : cls == "skip" ? "&ndash;" : cls == "error" ? "ERROR" : "&#10007;";
   if (unexpected) mark = word == "UNEXPECTED PASS" ? "UNEXP. PASS" : word;
@@ -64,20 +83,27 @@ std::string cell(const json& results, const json& r, const json& def) {
   if (control && !unexpected)
     klass += " neg";
   else if (cls != "pass" && cls != "skip" && cls != "error")
-    style = " style=\"background:" + failure_shade(multiple) + "\"";
+    style = " style=\"background:" + failure_shade(multiple.finite) + "\"";
   if (unexpected) klass += " unexp";
-  std::string tip = word + (metric.empty() ? "" : fmt::format(": decided by {}, worst {:.2g}&times; tolerance", metric, multiple));
+  std::string tip = word;
+  if (!multiple.deciding.empty())
+    tip += std::isinf(multiple.deciding_ratio)
+               ? fmt::format(": decided by {}, {:.3g} against a zero tolerance", multiple.deciding,
+                             multiple.deciding_error)
+               : fmt::format(": decided by {}, {:.3g}× its tolerance", multiple.deciding, multiple.deciding_ratio);
+  else if (!metric.empty())
+    tip += fmt::format(": {}, {:.3g}× its tolerance at most", metric, multiple.finite);
   if (control) tip += "\nnegative control: must fail";
   if (has_expectation(r)) tip += "\nknown failure: " + r["expectation"].value("reason", "");
   if (!r.value("message", "").empty()) tip += "\n" + r["message"].get<std::string>();
   const auto head = cls == "skip" || cls == "error" ? std::nullopt : headline_figure(r, def);
-  const std::string data =
-      fmt::format(" data-ratio=\"{:.17g}\" data-metric=\"{}\"{}", multiple, esc(metric),
-                  head ? fmt::format(" data-headline=\"{:.17g}\"", head->value) : std::string());
+  const std::string data = fmt::format(" data-ratio=\"{:.17g}\" data-metric=\"{}\"{}", multiple.finite, esc(metric),
+                                       head ? fmt::format(" data-headline=\"{:.17g}\"", head->value) : std::string());
   std::string body = mark + (figure.empty() ? "" : "&nbsp;" + figure);
-  if (unexpected)  // rare and loud: the failing metric named in the cell itself
-    if (const auto w = worst_failing(r))
-      body += fmt::format("<br><small>{} {:.2g}&times;tol</small>", esc(w->metric), w->ratio);
+  if (unexpected && !multiple.deciding.empty())  // rare and loud: the failing metric named in the cell itself
+    body += fmt::format(
+        "<br><small>{} {}tol</small>", esc(multiple.deciding),
+        std::isinf(multiple.deciding_ratio) ? "&infin;&times;" : fmt::format("{:.2g}&times;", multiple.deciding_ratio));
   return fmt::format("<td class=\"{}\"{}{}><a href=\"{}#{}\" title=\"{}\">{}</a></td>", klass, style, data,
                      scenario_page(sc), esc(eng), esc(tip), body);
 }
@@ -87,7 +113,8 @@ struct Standing {
   std::vector<std::string> unexpected_in;
   double worst = 0;  ///< the worst multiple among the known failures, negative controls aside
   std::string worst_in;
-  double worst_error = NAN;  ///< its worst failing metric's error (shown when the multiple is infinite)
+  double worst_error = NAN;  ///< its deciding metric's error (shown when only a zero tolerance failed)
+  bool worst_zero = false;   ///< the worst is off only against a zero tolerance
 };
 
 Standing standing_of(const json& results, const std::string& eng) {
@@ -108,9 +135,12 @@ Standing standing_of(const json& results, const std::string& eng) {
       ++s.control;
       continue;
     }
-    if (const double m = multiple_of(r); m > s.worst || s.worst_in.empty()) {
-      const auto w = worst_failing(r);
-      s.worst = m, s.worst_in = sc, s.worst_error = w ? w->value : NAN;
+    // Ranked by the finite multiple; a run off only against a zero tolerance ranks last (∞×).
+    const Multiple m = multiple_of(r);
+    const double rank = m.finite > 1.0 || !m.zero_tolerance ? m.finite : 0.0;
+    if (s.worst_in.empty() || rank > s.worst) {
+      s.worst = rank, s.worst_in = sc;
+      s.worst_zero = rank == 0.0 && m.zero_tolerance, s.worst_error = m.deciding_error;
     }
   }
   return s;
@@ -133,9 +163,9 @@ std::string standing_line(const Standing& s, bool reference) {
   }
   const std::string counts = counts_text(s);
   if (s.known == s.control) return counts + (reference ? " &middot; the reference" : " &middot; passes all it runs");
-  if (std::isinf(s.worst))  // a metric with a zero tolerance failed: its error in the tooltip
-    return fmt::format("{} &middot; worst <span title=\"{} against a zero tolerance\">&infin;&times;</span> {}",
-                       counts, short_number(s.worst_error), esc(s.worst_in));
+  if (s.worst_zero)  // only a metric with a zero tolerance failed: its error in the tooltip
+    return fmt::format("{} &middot; worst <span title=\"{} against a zero tolerance\">&infin;&times;</span> {}", counts,
+                       short_number(s.worst_error), esc(s.worst_in));
   return fmt::format("{} &middot; worst {}&times; {}", counts, short_number(s.worst), esc(s.worst_in));
 }
 
@@ -177,7 +207,9 @@ std::string matrix_section(const json& results) {
   h += "</table>\n<p class=\"legend\">A row per configuration. &#10003; pass, with the scenario's headline (the "
        "engine's own error on what the scenario is about) &middot; &#10007; reviewed known failure, with the figure "
        "that decided it: the headline, or <i>k</i>&times; when another metric failed, by <i>k</i> times its "
-       "tolerance (&infin;&times;: a tolerance of zero) &middot; colour: the worst error's multiple of its tolerance, <span class=\"key\" "
+       "tolerance (&infin;&times;: a tolerance of zero, which any error fails) &middot; colour: the largest finite "
+       "multiple of a tolerance, "
+       "<span class=\"key\" "
        "style=\"background:" +
        failure_shade(1.5) + "\">1&times;</span><span class=\"key\" style=\"background:" + failure_shade(30) +
        "\">10&times;</span><span class=\"key\" style=\"background:" + failure_shade(300) +

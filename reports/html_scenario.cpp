@@ -266,7 +266,8 @@ std::string start_figure(const json& results, const std::string& sc) {
     if (s["scenario"] == sc && s.value("tag", "") == "start")
       return fmt::format(
           "<div class=\"shots\"><figure><a href=\"{0}\"><img src=\"{0}\" alt=\"start\"></a><figcaption>the start, "
-          "the same for every configuration (drawn from {1}'s record)</figcaption></figure></div>\n",
+          "as every configuration starts (drawn from {1}'s record; a car settling on its wheels moves a few "
+          "mm)</figcaption></figure></div>\n",
           esc(s["file"]), esc(s["engine"]));
   return "";
 }

@@ -140,22 +140,26 @@ void run_script(const Script& S, const std::filesystem::path& dir) {
   std::filesystem::remove(dir / "gnuplot.log", ec);
 }
 
-/// Distance at each sample of `trace` from `ref` at the same time (the nearest reference sample):
-/// the front-axle centre (x, y) for a car, c_M for the disks. Rows {t, distance}, floored at 1e-16
-/// for a log scale.
+/// Distance at each sample of `trace` from `ref` at the same time (linear between the reference's
+/// samples, its last row beyond its end: the two may be kept at different strides): the front-axle
+/// centre (x, y) for a car, c_M for the disks. Rows {t, distance}, floored at 1e-16 for a log scale.
 std::vector<std::vector<double>> error_rows(const json& trace, const json& ref) {
   std::vector<std::vector<double>> rows;
+  if (ref.empty()) return rows;
   std::size_t j = 0;
   for (const auto& row : trace) {
     const double t = row[0].get<double>();
-    while (j + 1 < ref.size() && std::abs(ref[j + 1][0].get<double>() - t) <= std::abs(ref[j][0].get<double>() - t))
-      ++j;
-    if (ref.empty()) break;
+    while (j + 1 < ref.size() && ref[j + 1][0].get<double>() <= t) ++j;
     const bool car = row.size() >= 6;
     const int ix = car ? 3 : 1, iy = car ? 4 : 2;
-    const double d =
-        std::hypot(row[ix].get<double>() - ref[j][ix].get<double>(), row[iy].get<double>() - ref[j][iy].get<double>());
-    rows.push_back({t, std::max(d, 1e-16)});
+    double rx = ref[j][ix].get<double>(), ry = ref[j][iy].get<double>();
+    if (j + 1 < ref.size()) {
+      const double t0 = ref[j][0].get<double>(), t1 = ref[j + 1][0].get<double>();
+      const double w = t1 > t0 ? std::clamp((t - t0) / (t1 - t0), 0.0, 1.0) : 0.0;
+      rx += w * (ref[j + 1][ix].get<double>() - rx);
+      ry += w * (ref[j + 1][iy].get<double>() - ry);
+    }
+    rows.push_back({t, std::max(std::hypot(row[ix].get<double>() - rx, row[iy].get<double>() - ry), 1e-16)});
   }
   return rows;
 }

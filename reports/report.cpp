@@ -44,11 +44,15 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
     const auto it = ink.find(r["engine"].get<std::string>());
     return it == ink.end() ? render::colors::kUnknown : it->second;
   };
-  // The start is the scenario's: every configuration starts from the same pose, so it is drawn once,
-  // from the scenario's first run.
+  // The start is the scenario's: every configuration starts from the same pose (to a few mm where
+  // the car settles on its wheels), so it is drawn once, from the scenario's first run with a trace.
   std::set<std::string> seen;
   std::vector<bool> draw_start(runs.size(), false);
-  for (std::size_t i = 0; i < runs.size(); ++i) draw_start[i] = seen.insert(runs[i]["scenario"].get<std::string>()).second;
+  for (std::size_t i = 0; i < runs.size(); ++i) {
+    const json& d = runs[i].value("details", json::object());
+    const bool traced = d.is_object() && d.contains("trace") && d["trace"].is_array() && d["trace"].size() >= 2;
+    draw_start[i] = traced && seen.insert(runs[i]["scenario"].get<std::string>()).second;
+  }
   const int threads = std::max(1, def.threads);  // 0 or fewer: one thread (a stride of 0 never ends)
   const auto draw = [&](int id) {
     render::Renderer renderer;

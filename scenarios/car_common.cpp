@@ -5,7 +5,6 @@
 #include "models/holonomy.hpp"
 #include "models/lift.hpp"
 #include "scenarios/car_common.hpp"
-#include "scenarios/details.hpp"
 #include "scenarios/fit.hpp"
 
 namespace liftcheck::car_common {
@@ -148,14 +147,15 @@ void add_trace_check(Outcome& o, const CarEngine& engine, const CarSetup& setup,
 /// At most ~400 rows [t, alpha, beta, x, y, phi] for plots and snapshots.
 nlohmann::json trace_json(const std::vector<car::TimedConfig>& trace) {
   nlohmann::json rows = nlohmann::json::array();
-  using detail_key::drawn;
-  const std::size_t stride = std::max<std::size_t>(1, (trace.size() + detail_key::kTraceRows - 1) / detail_key::kTraceRows);
-  const auto row = [&](const car::TimedConfig& s) {
-    rows.push_back({drawn(s.t_s), drawn(s.q.alpha_rad), drawn(s.q.beta_rad), drawn(s.q.x_m), drawn(s.q.y_m),
-                    drawn(s.q.phi_rad)});
-  };
-  for (std::size_t i = 0; i < trace.size(); i += stride) row(trace[i]);
-  if (!trace.empty() && (trace.size() - 1) % stride != 0) row(trace.back());
+  const std::size_t stride = std::max<std::size_t>(1, (trace.size() + 399) / 400);  // at most about 400 rows
+  for (std::size_t i = 0; i < trace.size(); i += stride) {
+    const auto& s = trace[i];
+    rows.push_back({s.t_s, s.q.alpha_rad, s.q.beta_rad, s.q.x_m, s.q.y_m, s.q.phi_rad});
+  }
+  if ((trace.size() - 1) % stride != 0) {
+    const auto& s = trace.back();
+    rows.push_back({s.t_s, s.q.alpha_rad, s.q.beta_rad, s.q.x_m, s.q.y_m, s.q.phi_rad});
+  }
   return rows;
 }
 

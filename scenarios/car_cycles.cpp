@@ -47,7 +47,7 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
     seen.push_back(local);
     worst = std::max(worst, std::hypot(local.x_m - exact.x_m, local.y_m - exact.y_m));
     nlohmann::json tr = trace_json(trace), thin = nlohmann::json::array();
-    for (std::size_t i = 0; i < tr.size(); i += 2) thin.push_back(tr[i]);
+    for (std::size_t i = 0; i < tr.size(); i += 4) thin.push_back(tr[i]);
     thin.push_back(tr.back());
     rows.push_back({{"theta_rad", theta},
                     {"start", {start.x_m, start.y_m, start.phi_rad}},

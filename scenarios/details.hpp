@@ -4,27 +4,12 @@
 // detail is free-form, kept in the record for a reader of results.json.
 #pragma once
 
-#include <cstddef>
-#include <cstdlib>
-#include <fmt/format.h>
-
 namespace liftcheck::detail_key {
 
 // ---- a run's trace (both vehicles) ----------------------------------------------------------
-/// At most kTraceRows rows (and the last) of the engine's trace: a car's [t, alpha, beta, x, y, phi] (s, rad, m), the
+/// At most ~400 rows of the engine's trace: a car's [t, alpha, beta, x, y, phi] (s, rad, m), the
 /// disks' [t, cMx, cMy, cNx, cNy] (s, m). Snapshots, frame strips and the error plots draw it.
 inline constexpr char kTrace[] = "trace";
-/// The most rows a drawn trace keeps: plots and pictures are under 1000 px wide, and a circle of
-/// 120 chords is 0.1 px from the arc at 300 px radius.
-inline constexpr std::size_t kTraceRows = 120;
-/// A number of a drawn trace, to 9 significant digits (10 nm at 10 m: below a pixel of the end
-/// inset's 1 um scale). The metrics are measured on the full-precision trace, never on this.
-inline double drawn(double v) {
-  char buf[32];
-  const auto end = fmt::format_to_n(buf, sizeof buf - 1, "{:.9g}", v).out;
-  *end = '\0';
-  return std::strtod(buf, nullptr);
-}
 /// The exact lift's rows at the same times, columns as kTrace (grey in the pictures).
 inline constexpr char kReference[] = "reference";
 /// What kReference is when it is not the exact lift, for the pictures' titles ("the exact

@@ -91,13 +91,9 @@ DiskRun run_checked(DiskEngine& engine, const DiskSetup& setup, const DiskProble
 
 nlohmann::json trace_json(const std::vector<disks::Sample>& trace) {
   nlohmann::json rows = nlohmann::json::array();
-  using detail_key::drawn;
-  const std::size_t stride = std::max<std::size_t>(1, (trace.size() + detail_key::kTraceRows - 1) / detail_key::kTraceRows);
-  const auto row = [&](const disks::Sample& s) {
-    rows.push_back({drawn(s.t_s), drawn(s.cM.x()), drawn(s.cM.y()), drawn(s.cN.x()), drawn(s.cN.y())});
-  };
-  for (std::size_t i = 0; i < trace.size(); i += stride) row(trace[i]);
-  if (!trace.empty() && (trace.size() - 1) % stride != 0) row(trace.back());
+  const std::size_t stride = std::max<std::size_t>(1, trace.size() / 400);
+  for (std::size_t i = 0; i < trace.size(); i += stride)
+    rows.push_back({trace[i].t_s, trace[i].cM.x(), trace[i].cM.y(), trace[i].cN.x(), trace[i].cN.y()});
   return rows;
 }
 

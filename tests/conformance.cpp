@@ -310,9 +310,9 @@ std::vector<std::string> other_values(const SettingSpec& k) {
 
 // Honest settings: every setting the engine declares changes some result when changed (a setting
 // the engine ignores must not be declared): the first of other_values(k) the engine accepts whose
-// run differs from the default's, on car.circle (3 m) for a car setting and disks.forced (M pushed
-// into N, the contact held) for a disk setting. A value the range refuses (an open bound) is bad
-// input; an error record is a failure, never a change.
+// run differs from the default's (its trace or its metrics), on car.circle (3 m) for a car setting and disks.forced (M
+// pushed into N, the contact held) for a disk setting. A value the range refuses (an open bound) is bad input; an error
+// record is a failure, never a change.
 TEST_P(AnyConfiguration, EveryDeclaredSettingChangesAResult) {
   const EngineInfo* e = find_engine(GetParam());
   ASSERT_NE(e, nullptr);
@@ -344,7 +344,8 @@ TEST_P(AnyConfiguration, EveryDeclaredSettingChangesAResult) {
       const nlohmann::json b = rb->to_json();
       EXPECT_EQ(b["settings"][k.key], other);
       tried.append(" ").append(other);
-      if (a["details"]["trace"] != b["details"]["trace"]) {
+      // The drawn trace (9 digits) or any metric's measured figure (full precision).
+      if (a["details"]["trace"] != b["details"]["trace"] || a["metrics"] != b["metrics"]) {
         changed_by = other;
         break;
       }

@@ -36,7 +36,12 @@ MEASURE = r"""<script>
         var td = row.cells[c], a = td.querySelector('a');
         cells.push({metric: td.getAttribute('data-metric'), headline: td.getAttribute('data-headline'),
                     ratio: td.getAttribute('data-ratio'), cls: td.className,
-                    background: getComputedStyle(td).backgroundColor, text: td.textContent,
+                    background: getComputedStyle(td).backgroundColor,
+                    background_image: getComputedStyle(td).backgroundImage,
+                    ink: a ? getComputedStyle(a).color : null, visible: a ? getComputedStyle(a).visibility : null,
+                    filter: [getComputedStyle(td).filter, a ? getComputedStyle(a).filter : 'none',
+                             getComputedStyle(m).filter, a ? getComputedStyle(a).opacity : '1', getComputedStyle(td).opacity],
+                    text: td.textContent,
                     href: a ? a.getAttribute('href') : null, box: box(td)});
       }
       out.rows.push({configuration: row.cells[0].textContent, standing: row.cells[1].textContent,
@@ -112,6 +117,21 @@ def headline_value(run, headline):
     return best
 
 
+def headline_metric(run, headline):
+    """The headline metric whose figure the cell shows: the largest compared error among the
+    headline's metrics the run measured (counted ones)."""
+    best, best_err = None, -1.0
+    for name in headline.get("metrics", []):
+        m = run.get("metrics", {}).get(name)
+        if m is None or m.get("informational"):
+            continue
+        err = compared_error(m)
+        if best is not None and not err > best_err:
+            continue
+        best, best_err = name, err
+    return best
+
+
 def cell_numbers(text):
     """The numbers a cell shows, each with whether it is a multiple ("42x")."""
     out = []
@@ -121,40 +141,52 @@ def cell_numbers(text):
     return out
 
 
-def multiple(run):
-    """The run's worst error over its tolerance, as results.json records it (null: infinite)."""
-    w = run.get("worst_ratio")
-    if isinstance(w, (int, float)):
-        return float(w)
-    return math.inf if run["status"] in ("fail", "error") else 0.0
-
-
 def ratio_of(m):
-    tol, err = m.get("tolerance"), compared_error(m)
-    if not isinstance(tol, (int, float)) or tol <= 0:
-        return math.inf if err > 0 else 0.0
-    return err / tol
+    """A metric's error over its tolerance, at most its error over its floor (RecordView's ratio);
+    a missing error (NaN) is infinite."""
+    err, tol = compared_error(m), m.get("tolerance")
+    if math.isnan(err):
+        err = math.inf
+    tol = tol if isinstance(tol, (int, float)) else math.inf
+    r = err / tol if tol > 0 else (math.inf if err > 0 else 0.0)
+    floor = m.get("floor") or 0
+    if floor > 0:
+        a = m.get("abs_error")
+        r = min(r, (a if isinstance(a, (int, float)) else math.inf) / floor)
+    return r
 
 
-def worst_failing(run):
-    """The counted metric out of tolerance by the largest multiple: (name, multiple)."""
-    worst = None
+def multiple(run):
+    """The largest finite multiple of tolerance among the run's counted metrics, and the failing
+    metric that decided its verdict (largest finite multiple; a zero tolerance only when no other
+    failed): (finite, (name, ratio) or None)."""
+    finite, deciding = 0.0, None
     for name, m in run.get("metrics", {}).items():
-        if m.get("pass", True) or m.get("informational"):
+        if m.get("informational"):
             continue
         r = ratio_of(m)
-        if math.isnan(r):
-            r = math.inf
-        if worst is None or r > worst[1]:
-            worst = (name, r)
-    return worst
+        if math.isfinite(r):
+            finite = max(finite, r)
+        if m.get("pass", True):
+            continue
+        if deciding is None or (math.isfinite(r) and (not math.isfinite(deciding[1]) or r > deciding[1])):
+            deciding = (name, r)
+    return finite, deciding
+
+
+MARKS = {"pass": "\u2713", "known failure": "\u2717", "skip": "\u2013", "fail": "FAIL", "error": "ERROR",
+         "unexpected pass": "UNEXP. PASS"}
 
 
 def luminance(css):
+    """The colour's darkness towards red: its luminance, or None when it is not a warm colour (a
+    failure's scale runs from pale yellow to red: green or blue is off the scale)."""
     found = re.match(r"rgba?\((\d+), (\d+), (\d+)", css or "")
     if not found:
         return None
     r, g, b = (int(v) / 255 for v in found.groups())
+    if not (r >= g >= b and r > 0.5):
+        return None
     return 0.2126 * r + 0.7152 * g + 0.0722 * b
 
 
@@ -185,33 +217,40 @@ def check_cells(results, layout):
                 continue
             checked += 1
             where = f"{sc} on {eng}"
-            want_ratio = multiple(run)
+            want_ratio, deciding = multiple(run)
             got_ratio = float(cell["ratio"]) if cell["ratio"] is not None else None
-            if got_ratio is None or not (math.isclose(got_ratio, want_ratio, rel_tol=1e-9, abs_tol=1e-300) or
-                                         (math.isinf(want_ratio) and got_ratio > 1e300)):
-                problems.append(f"{where}: the cell's multiple {cell['ratio']} is not the run's worst {want_ratio}")
+            if got_ratio is None or not math.isclose(got_ratio, want_ratio, rel_tol=1e-9, abs_tol=1e-300):
+                problems.append(f"{where}: the cell's multiple {cell['ratio']} is not the run's largest finite one {want_ratio}")
             shown = cell_numbers(cell["text"])
             status = verdict(run)
+            mark = MARKS.get(status if run.get("as_expected", True) or status != "known failure" else "fail")
+            if not cell["text"].replace("\u00a0", " ").startswith(mark):
+                problems.append(f"{where}: the cell reads {cell['text']!r}, its verdict is {status} ({mark})")
+            if cell["ink"] in (None, "rgba(0, 0, 0, 0)") or cell["visible"] != "visible" or \
+                    (cell["ink"] == cell["background"]) or cell["filter"] != ["none", "none", "none", "1", "1"]:
+                problems.append(f"{where}: the cell cannot be seen as drawn (colour {cell['ink']}, {cell['visible']}, filter and opacity {cell['filter']})")
             want_head = None if run["status"] in ("skip", "error") else headline_value(run, head)
             if want_head is not None and (cell["headline"] is None or
                                           not math.isclose(float(cell["headline"]), want_head, rel_tol=1e-9, abs_tol=1e-300)):
                 problems.append(f"{where}: the cell's headline {cell['headline']} is not {want_head}")
-            worst = worst_failing(run) if status in ("known failure", "fail", "unexpected pass") else None
-            if worst and worst[0] not in head["metrics"]:
+            failing = status in ("known failure", "fail", "unexpected pass") and deciding
+            head_metric = headline_metric(run, head)
+            if failing and deciding[0] != head_metric:
                 # Another metric decided the verdict: the cell shows its multiple of tolerance.
-                if cell["metric"] != worst[0]:
-                    problems.append(f"{where}: the cell names {cell['metric']}, the failing metric is {worst[0]}")
-                if not any(is_mult and (math.isclose(v, worst[1], rel_tol=0.06) or (math.isinf(worst[1]) and math.isinf(v)))
+                if cell["metric"] != deciding[0]:
+                    problems.append(f"{where}: the cell names {cell['metric']}, the deciding metric is {deciding[0]}")
+                if not any(is_mult and (math.isclose(v, deciding[1], rel_tol=0.06) or (math.isinf(deciding[1]) and math.isinf(v)))
                            for v, is_mult in shown):
-                    problems.append(f"{where}: the cell shows {cell['text']!r}, the deciding multiple is {worst[1]:.3g}x")
+                    problems.append(f"{where}: the cell shows {cell['text']!r}, the deciding multiple is {deciding[1]:.3g}x")
             elif want_head is not None:
-                if cell["metric"] not in head["metrics"]:
-                    problems.append(f"{where}: the cell's metric {cell['metric']} is not a headline metric {head['metrics']}")
+                if cell["metric"] != head_metric:
+                    problems.append(f"{where}: the cell's metric {cell['metric']} is not the headline's {head_metric}")
                 if not any(not is_mult and math.isclose(v, want_head, rel_tol=0.06, abs_tol=1e-300) for v, is_mult in shown):
                     problems.append(f"{where}: the cell shows {cell['text']!r}, the headline is {want_head:.3g}")
             is_control = sc in controls and run.get("as_expected", True)
-            if is_control != ("neg" in cell["cls"].split()):
-                problems.append(f"{where}: {'a negative control not' if is_control else 'hatched as a negative control but not'} marked as one")
+            hatched = "repeating-linear-gradient" in (cell["background_image"] or "")
+            if is_control != ("neg" in cell["cls"].split()) or is_control != hatched:
+                problems.append(f"{where}: {'a negative control not' if is_control else 'hatched as a negative control but not'} hatched as one")
             if (not run.get("as_expected", True)) != ("unexp" in cell["cls"].split()):
                 problems.append(f"{where}: the cell's 'not as expected' mark disagrees with the run")
             if status == "known failure" and not is_control:
@@ -256,13 +295,16 @@ def check_standing(results, layout):
             problems.append(f"{eng}: the standing {text!r} does not start with its counts {want!r}")
         off = [r for r in expected if verdict(r) == "known failure" and r["scenario"] not in controls]
         if off:
-            worst = max(off, key=multiple)
+            def rank(r):  # a run off only against a zero tolerance ranks last
+                finite, deciding = multiple(r)
+                return 0.0 if finite <= 1 and deciding and math.isinf(deciding[1]) else finite
+            worst = max(off, key=rank)  # the first of equals, as the report takes it
             tail = text.split("worst", 1)[-1]
             shown = [v for v, is_mult in cell_numbers(tail) if is_mult]
-            good = bool(shown) and (math.isclose(shown[0], multiple(worst), rel_tol=0.06) or
-                                    math.isinf(shown[0]) and math.isinf(multiple(worst)))
+            want = rank(worst)
+            good = bool(shown) and (math.isclose(shown[0], want, rel_tol=0.06) or (want == 0 and math.isinf(shown[0])))
             if worst["scenario"] not in text or not good:
-                problems.append(f"{eng}: the standing {text!r} is not its worst, {worst['scenario']} {multiple(worst):.3g}x")
+                problems.append(f"{eng}: the standing {text!r} is not its worst, {worst['scenario']} {want:.3g}x")
         if row["standing_scroll"] > row["standing_client"] + 1:
             problems.append(f"{eng}: the standing is cut off ({row['standing_scroll']} px of text in {row['standing_client']} px)")
     return problems

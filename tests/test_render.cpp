@@ -93,7 +93,7 @@ TEST(Render, WritesAPng) {
   EXPECT_EQ(std::string(sig + 1, 3), "PNG");
   EXPECT_GT(std::filesystem::file_size(path), 500u);
   EXPECT_FALSE(std::filesystem::exists(path.string() + ".tmp"));
-  // Read back by libpng: the 256-colour file is the rendered image to within a few levels.
+  // Read back by libpng: the 64-colour file is the rendered image to within a few levels.
   const Image want = r.render(known_scene());
   png_image read{};
   read.version = PNG_IMAGE_VERSION;

@@ -40,8 +40,19 @@ def first_difference(a, b, where):
     return None if a == b else f"{where}: {a!r} against {b!r}"
 
 
+def expand_references(results):
+    """A run's details.reference {"shared": k} as the trace shared_references[k] (how results.json
+    keeps each exact lift once)."""
+    shared = results.pop("shared_references", [])
+    for run in results.get("runs", []):
+        ref = run.get("details", {}).get("reference") if isinstance(run.get("details"), dict) else None
+        if isinstance(ref, dict) and "shared" in ref:
+            run["details"]["reference"] = shared[ref["shared"]]
+    return results
+
+
 def main():
-    a, b = (json.load(open(p)) for p in sys.argv[1:3])
+    a, b = (expand_references(json.load(open(p))) for p in sys.argv[1:3])
     parts = sys.argv[3].split(",") if len(sys.argv) > 3 else ["runs", "sweeps", "maps", "summary", "scenarios"]
     for part in parts:
         d = first_difference(strip(a.get(part)), strip(b.get(part)), part)
