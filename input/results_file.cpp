@@ -541,7 +541,10 @@ double nine_digits(double v) {
 /// A trace's rows, every stride-th and the last, each number to 9 digits; anything else untouched.
 void thin_rows(json& rows) {
   if (!rows.is_array() || rows.empty()) return;
-  const std::size_t stride = (rows.size() + kDrawnRows - 1) / kDrawnRows;
+  // Every stride-th row from the first, and the last: at most kDrawnRows in all, so that thinning
+  // what was thinned keeps it as it is (merge and report write what validate wrote).
+  const std::size_t n = rows.size();
+  const std::size_t stride = n <= kDrawnRows ? 1 : (n - 1 + kDrawnRows - 2) / (kDrawnRows - 1);
   json kept = json::array();
   for (std::size_t i = 0; i < rows.size(); ++i) {
     if (i % stride != 0 && i + 1 != rows.size()) continue;

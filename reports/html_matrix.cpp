@@ -87,7 +87,9 @@ std::string cell(const json& results, const json& r, const json& def) {
   if (unexpected) klass += " unexp";
   std::string tip = word;
   if (!multiple.deciding.empty())
-    tip += std::isinf(multiple.deciding_ratio)
+    tip += std::isnan(multiple.deciding_error)
+               ? fmt::format(": decided by {}, not measured (no finite error)", multiple.deciding)
+           : std::isinf(multiple.deciding_ratio)
                ? fmt::format(": decided by {}, {:.3g} against a zero tolerance", multiple.deciding,
                              multiple.deciding_error)
                : fmt::format(": decided by {}, {:.3g}× its tolerance", multiple.deciding, multiple.deciding_ratio);
@@ -113,8 +115,9 @@ struct Standing {
   std::vector<std::string> unexpected_in;
   double worst = 0;  ///< the worst multiple among the known failures, negative controls aside
   std::string worst_in;
-  double worst_error = NAN;  ///< its deciding metric's error (shown when only a zero tolerance failed)
-  bool worst_zero = false;   ///< the worst is off only against a zero tolerance
+  double worst_error = NAN;     ///< its deciding metric's error (shown when only a zero tolerance failed)
+  bool worst_zero = false;      ///< the worst is off only against a zero tolerance
+  bool worst_is_error = false;  ///< the worst is a listed error (no metrics)
 };
 
 Standing standing_of(const json& results, const std::string& eng) {
@@ -141,6 +144,7 @@ Standing standing_of(const json& results, const std::string& eng) {
     if (s.worst_in.empty() || rank > s.worst) {
       s.worst = rank, s.worst_in = sc;
       s.worst_zero = rank == 0.0 && m.zero_tolerance, s.worst_error = m.deciding_error;
+      s.worst_is_error = rank == 0.0 && r.value("status", "") == "error";
     }
   }
   return s;
@@ -163,6 +167,7 @@ std::string standing_line(const Standing& s, bool reference) {
   }
   const std::string counts = counts_text(s);
   if (s.known == s.control) return counts + (reference ? " &middot; the reference" : " &middot; passes all it runs");
+  if (s.worst_is_error) return fmt::format("{} &middot; worst {}: an error (listed)", counts, esc(s.worst_in));
   if (s.worst_zero)  // only a metric with a zero tolerance failed: its error in the tooltip
     return fmt::format("{} &middot; worst <span title=\"{} against a zero tolerance\">&infin;&times;</span> {}", counts,
                        short_number(s.worst_error), esc(s.worst_in));
@@ -207,7 +212,8 @@ std::string matrix_section(const json& results) {
   h += "</table>\n<p class=\"legend\">A row per configuration. &#10003; pass, with the scenario's headline (the "
        "engine's own error on what the scenario is about) &middot; &#10007; reviewed known failure, with the figure "
        "that decided it: the headline, or <i>k</i>&times; when another metric failed, by <i>k</i> times its "
-       "tolerance (&infin;&times;: a tolerance of zero, which any error fails) &middot; colour: the largest finite "
+       "tolerance (&infin;&times;: a tolerance of zero, which any error fails, or an error not measured) &middot; "
+       "colour: the largest finite "
        "multiple of a tolerance, "
        "<span class=\"key\" "
        "style=\"background:" +

@@ -48,7 +48,7 @@ Outcome run_covariance(const Params& p, CarEngine& engine) {
     worst = std::max(worst, std::hypot(local.x_m - exact.x_m, local.y_m - exact.y_m));
     nlohmann::json tr = trace_json(trace), thin = nlohmann::json::array();
     for (std::size_t i = 0; i < tr.size(); i += 4) thin.push_back(tr[i]);
-    thin.push_back(tr.back());
+    if ((tr.size() - 1) % 4 != 0) thin.push_back(tr.back());
     rows.push_back({{"theta_rad", theta},
                     {"start", {start.x_m, start.y_m, start.phi_rad}},
                     {"end_in_start_frame", {local.x_m, local.y_m, local.phi_rad}},

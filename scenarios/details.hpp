@@ -7,7 +7,8 @@
 namespace liftcheck::detail_key {
 
 // ---- a run's trace (both vehicles) ----------------------------------------------------------
-/// At most ~400 rows of the engine's trace: a car's [t, alpha, beta, x, y, phi] (s, rad, m), the
+/// At most ~400 rows (and the last) of the engine's trace (results.json keeps 120 of them, at 9
+/// digits: thin_drawn_traces): a car's [t, alpha, beta, x, y, phi] (s, rad, m), the
 /// disks' [t, cMx, cMy, cNx, cNy] (s, m). Snapshots, frame strips and the error plots draw it.
 inline constexpr char kTrace[] = "trace";
 /// The exact lift's rows at the same times, columns as kTrace (grey in the pictures).

@@ -111,6 +111,28 @@ TEST(ResultsFile, SharedReferencesReadBackAsWritten) {
             "r.json: runs[1].details.reference: 'shared' must be an index into 'shared_references' (below 2), not 2");
 }
 
+// The drawn traces: at most kDrawnRows rows with the first and the last, 9 digits, and thinning
+// what was thinned changes nothing (merge and report write what validate wrote).
+TEST(ResultsFile, DrawnTracesThinOnce) {
+  for (const std::size_t n : {std::size_t{5}, kDrawnRows, kDrawnRows + 1, std::size_t{240}, std::size_t{359},
+                              std::size_t{480}, std::size_t{4001}}) {
+    nlohmann::json rows = nlohmann::json::array();
+    for (std::size_t i = 0; i < n; ++i) rows.push_back({0.001 * i, 1.0 / 3.0 + i, 2.0});
+    nlohmann::json doc = {{"runs", {{{"details", {{"trace", rows}, {"runs", {{{"trace", rows}}}}}}}}}};
+    thin_drawn_traces(doc);
+    const nlohmann::json& kept = doc["runs"][0]["details"]["trace"];
+    EXPECT_LE(kept.size(), kDrawnRows) << n;
+    EXPECT_EQ(kept.size(), n <= kDrawnRows ? n : kept.size()) << n;
+    EXPECT_EQ(kept.front()[0], 0.0);
+    EXPECT_DOUBLE_EQ(kept.back()[0].get<double>(), 0.001 * (n - 1)) << n;
+    EXPECT_EQ(kept.front()[1], 0.333333333);  // 9 significant digits
+    EXPECT_EQ(doc["runs"][0]["details"]["runs"][0]["trace"], kept);
+    const nlohmann::json once = doc;
+    thin_drawn_traces(doc);
+    EXPECT_EQ(doc, once) << n;
+  }
+}
+
 TEST(ResultsFile, NamesFileFieldAndProblem) {
   EXPECT_EQ(results_error("{").find('\n'), std::string::npos);  // one line
   EXPECT_EQ(results_error("{").rfind("base.json: is not JSON (parse error at line 1, column 2", 0), 0u)

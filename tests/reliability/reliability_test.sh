@@ -69,8 +69,8 @@ ode_unchanged() {  # ode_unchanged NAME RESULTS REFERENCE
   if python3 - "$tools" "$2" "$3" >"$tmp/why" 2>&1 <<'PY'
 import json, sys
 sys.path.insert(0, sys.argv[1])
-from same_records import first_difference, strip
-a, b = (sorted((r for r in json.load(open(p))["runs"] if r["engine"] == "ode"), key=lambda r: r["scenario"]) for p in sys.argv[2:4])
+from same_records import expand_references, first_difference, strip
+a, b = (sorted((r for r in expand_references(json.load(open(p)))["runs"] if r["engine"] == "ode"), key=lambda r: r["scenario"]) for p in sys.argv[2:4])
 assert a, "no runs of ode"
 d = first_difference(strip(a), strip(b), "ode runs")
 assert d is None, d
