@@ -12,14 +12,14 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tools"))
-from same_records import first_difference  # noqa: E402  (the one comparison of records)
+from same_records import expand_references, first_difference  # noqa: E402  (the one comparison of records)
 
 NAMED = {"engine", "verdict", "as_expected", "expectation"}
 TIMING = {"wall_s", "engine_s"}
 
 
 def same(results, a, b):
-    runs = json.load(open(results))["runs"]
+    runs = expand_references(json.load(open(results)))["runs"]
     by = {(r["scenario"], r["engine"]): r for r in runs}
     scenarios = sorted({r["scenario"] for r in runs})
     cars = disks = 0
@@ -51,7 +51,7 @@ EXPECT = {
 
 
 def lies(results):
-    runs = json.load(open(results))["runs"]
+    runs = expand_references(json.load(open(results)))["runs"]
     seen = set()
     for r in runs:
         e = r["engine"]

@@ -128,9 +128,9 @@ if [ -s "$tmp/framing-out/results.json" ]; then
   python3 - "$tmp/framing-out/results.json" "$tmp/ref/results.json" "$tools" >"$tmp/why" 2>&1 <<'PY' && pass framing-ode-unchanged || fail framing-ode-unchanged "$(tail -c 400 "$tmp/why")"
 import json, sys
 sys.path.insert(0, sys.argv[3])
-from same_records import first_difference, strip
-a = {r["scenario"]: r for r in json.load(open(sys.argv[1]))["runs"] if r["engine"] == "ode"}
-b = {r["scenario"]: r for r in json.load(open(sys.argv[2]))["runs"] if r["engine"] == "ode"}
+from same_records import expand_references, first_difference, strip
+a = {r["scenario"]: r for r in expand_references(json.load(open(sys.argv[1])))["runs"] if r["engine"] == "ode"}
+b = {r["scenario"]: r for r in expand_references(json.load(open(sys.argv[2])))["runs"] if r["engine"] == "ode"}
 for s in b:
     d = first_difference(strip(a[s]), strip(b[s]), s)
     assert d is None, d
