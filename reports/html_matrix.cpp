@@ -59,9 +59,8 @@ std::string failure_shade(double multiple) {
 
 /// "4.5e-6" (the headline, when its metric decided the verdict or the run passed) or "42×" (the
 /// multiple of tolerance of the failing metric that decided it); the metric shown.
-std::pair<std::string, std::string> deciding_figure(const json& r, const json& def, const std::string& cls,
+std::pair<std::string, std::string> deciding_figure(const std::optional<Figure>& head, const std::string& cls,
                                                     const Multiple& m) {
-  const auto head = headline_figure(r, def);
   if (cls == "pass" || cls == "skip" || cls == "error" || m.deciding.empty())
     return {head ? short_number(head->value) : "", head ? head->metric : ""};
   if (head && head->metric == m.deciding) return {short_number(head->value), head->metric};
@@ -75,7 +74,8 @@ std::string cell(const json& results, const json& r, const json& def) {
   const std::string sc = r["scenario"], eng = r["engine"];
   const bool control = negative_control(results, sc);
   const Multiple multiple = multiple_of(r);
-  const auto [figure, metric] = deciding_figure(r, def, cls, multiple);
+  const std::optional<Figure> headline = headline_figure(r, def);
+  const auto [figure, metric] = deciding_figure(headline, cls, multiple);
   const bool unexpected = !r.value("as_expected", true);
   std::string mark = cls == "pass" ? "&#10003;" : cls == "skip" ? "&ndash;" : cls == "error" ? "ERROR" : "&#10007;";
   if (unexpected) mark = word == "UNEXPECTED PASS" ? "UNEXP. PASS" : word;
@@ -98,7 +98,7 @@ std::string cell(const json& results, const json& r, const json& def) {
   if (control) tip += "\nnegative control: must fail";
   if (has_expectation(r)) tip += "\nknown failure: " + r["expectation"].value("reason", "");
   if (!r.value("message", "").empty()) tip += "\n" + r["message"].get<std::string>();
-  const auto head = cls == "skip" || cls == "error" ? std::nullopt : headline_figure(r, def);
+  const auto head = cls == "skip" || cls == "error" ? std::nullopt : headline;
   const std::string data = fmt::format(" data-ratio=\"{:.17g}\" data-metric=\"{}\"{}", multiple.finite, esc(metric),
                                        head ? fmt::format(" data-headline=\"{:.17g}\"", head->value) : std::string());
   std::string body = mark + (figure.empty() ? "" : "&nbsp;" + figure);
@@ -194,7 +194,8 @@ std::string matrix_section(const json& results) {
   std::string h =
       "<table id=\"matrix\" class=\"matrix\"><tr><th class=\"l\">configuration</th><th class=\"l\">standing: "
       "&#10003; &#10007; &ndash;, worst</th>";
-  for (const auto& sc : scenarios) h += column_head(results, sc);
+  std::vector<json> defs;  // each scenario's headline, looked up once
+  for (const auto& sc : scenarios) h += column_head(results, sc), defs.push_back(headline_def(results, sc));
   h += "</tr>\n";
   for (const auto& e : results["context"]["engines"]) {
     const std::string eng = e["name"];
@@ -203,9 +204,9 @@ std::string matrix_section(const json& results) {
         "<tr><th class=\"l cfg\"><span class=\"sw\" style=\"background:{}\"></span><a href=\"#engine-{}\">{}</a></th>"
         "<td class=\"l standing\">{}</td>",
         esc(e.value("color", "#888")), esc(eng), esc(eng), standing_line(s, e.value("is_reference", false)));
-    for (const auto& sc : scenarios) {
-      const json* r = find_run(results, sc, eng);
-      h += r ? cell(results, *r, headline_def(results, sc)) : "<td class=\"c\"></td>";
+    for (std::size_t i = 0; i < scenarios.size(); ++i) {
+      const json* r = find_run(results, scenarios[i], eng);
+      h += r ? cell(results, *r, defs[i]) : "<td class=\"c\"></td>";
     }
     h += "</tr>\n";
   }

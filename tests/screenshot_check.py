@@ -113,28 +113,9 @@ def compared_error(m):
     return e if isinstance(e, (int, float)) else float("nan")
 
 
-def headline_value(run, headline):
-    """The largest compared error among the headline's metrics the run measured (counted ones),
-    scaled as declared; None when it measured none."""
-    best, best_err = None, -1.0
-    for name in headline.get("metrics", []):
-        m = run.get("metrics", {}).get(name)
-        if m is None or m.get("informational"):
-            continue
-        err = compared_error(m)
-        if best is not None and not err > best_err:
-            continue
-        best_err = err
-        if headline.get("per_step"):
-            best = m["abs_error"] / run["params"]["dt"]
-        else:
-            best = err * headline.get("scale", 1.0)
-    return best
-
-
 def headline_metric(run, headline):
     """The headline metric whose figure the cell shows: the largest compared error among the
-    headline's metrics the run measured (counted ones)."""
+    headline's metrics the run measured (counted ones); None when it measured none."""
     best, best_err = None, -1.0
     for name in headline.get("metrics", []):
         m = run.get("metrics", {}).get(name)
@@ -145,6 +126,15 @@ def headline_metric(run, headline):
             continue
         best, best_err = name, err
     return best
+
+
+def headline_value(run, headline):
+    """The headline metric's figure, scaled as declared; None when the run measured none."""
+    name = headline_metric(run, headline)
+    if name is None:
+        return None
+    m = run["metrics"][name]
+    return m["abs_error"] / run["params"]["dt"] if headline.get("per_step") else compared_error(m) * headline.get("scale", 1.0)
 
 
 def cell_numbers(text):
