@@ -24,6 +24,11 @@ TricycleDef TricycleDef::from(const CarSetup& setup) {
   return d;
 }
 
+double car_mass_kg(const TricycleDef& car) {
+  const int n_front = car.wheels == 4 ? 2 : 1;
+  return car.chassis_mass_kg + car.wheels * car.wheel_mass_kg + n_front * car.knuckle_mass_kg;
+}
+
 double ServoDef::front_wheel_load_N(const CarSetup& setup, const TricycleDef& car) {
   const int n_front = car.wheels == 4 ? 2 : 1;
   const double front_kg = 0.5 * car.chassis_mass_kg + n_front * (car.wheel_mass_kg + car.knuckle_mass_kg);
@@ -129,8 +134,25 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
                         z, def_.R_m, t_end));
   };
 
+  // The ground's normal force (the plane z = 0), summed over the engine's own contact report.
+  load_ = GroundLoad{};
+  load_.weight_normal_N = car_mass_kg(def_) * setup_.gravity_mps2 * -setup_.gravity_dir_W.z();
+  const auto normal_N = [&]() -> std::optional<double> {
+    const std::optional<Eigen::Vector3d> f = ground_force_W();
+    return f ? std::optional<double>(f->z()) : std::nullopt;
+  };
+  const long rest_steps = std::min(settle_steps, std::lround(GroundLoad::kRestWindow_s / dt));
+  double rest_sum_N = 0.0, drive_sum_N = 0.0;
+  bool forces = true;
+
   // Settle on the wheels: the contacts load up while the servos hold alpha = 0 and beta = beta0.
-  for (long k = 0; k < settle_steps; ++k) advance(-(settle_steps - k - 1) * dt, 0.0, q0_.beta_rad, 0.0, 0.0);
+  for (long k = 0; k < settle_steps; ++k) {
+    advance(-(settle_steps - k - 1) * dt, 0.0, q0_.beta_rad, 0.0, 0.0);
+    if (k < settle_steps - rest_steps) continue;
+    const std::optional<double> n = normal_N();
+    forces = forces && n.has_value();
+    rest_sum_N += n.value_or(0.0);
+  }
   alpha = 0.0;  // the drive starts at alpha = 0
 
   // Contact-point slip of each wheel, every step of the drive: the contact point of a sphere (or an
@@ -160,6 +182,10 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
                           steer_mid = tb == ta ? drive_mid : path.at(tb + 0.5 * dt);
     advance(t1, drive.alpha_rad, steer.beta_rad, drive_mid.alpha_rate_radps, steer_mid.beta_rate_radps);
     book_slip();
+    if (const std::optional<double> n = normal_N())
+      drive_sum_N += *n;
+    else
+      forces = false;
     if ((k + 1) % sample_every == 0 || k + 1 == steps) sample(t1);
   }
   for (int w = 0; w < n_wheels; ++w) {
@@ -167,6 +193,9 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
     slip_[w].rms_mps = steps > 0 ? std::sqrt(sum_sq[w] / steps) : 0.0;
     slip_[w].along_measured = wheels_spin();
   }
+  if (!forces) load_.absent_why = ground_force_absent_why();
+  if (forces && rest_steps > 0) load_.rest_normal_N = rest_sum_N / rest_steps;
+  if (forces && steps > 0) load_.drive_normal_N = drive_sum_N / steps;
   return trace;
 }
 

@@ -3,6 +3,7 @@
 // realized (alpha, beta, x, y, phi). Each engine implements only build, actuate, step and read.
 #pragma once
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,9 @@ struct TricycleDef {
 
   static TricycleDef from(const CarSetup& setup);
 };
+
+/// The car's whole mass as declared, kg: chassis, every wheel, every steering knuckle.
+double car_mass_kg(const TricycleDef& car);
 
 /// Servo gains: rate command = commanded rate + gain * (commanded angle - realized angle).
 /// Before t = 0 the car settles on its wheels with the servos holding alpha and beta; after the
@@ -97,6 +101,7 @@ class RigidCar : public CarEngine {
   std::vector<car::TimedConfig> drive(const car::BasePath& path) final;
   std::vector<WheelSlip> slip() const final { return slip_; }
   double simulated_s() const final { return stepped_s_; }
+  GroundLoad ground_load() const final { return load_; }
 
  protected:
   /// Builds the world with the car at q0 (steering at q0.beta), at rest on the ground.
@@ -109,6 +114,13 @@ class RigidCar : public CarEngine {
   virtual RigidCarState read() const = 0;
   /// False where a wheel has no spin state of its own (WheelSlip::along_measured).
   virtual bool wheels_spin() const { return true; }
+  /// The force the ground exerted on the wheels during the last step, world frame, N: the sum of
+  /// the engine's own wheel-ground contact forces as its contact report gives them. Empty where the
+  /// engine reports none (then ground_force_absent_why says why).
+  virtual std::optional<Eigen::Vector3d> ground_force_W() const { return std::nullopt; }
+  virtual std::string ground_force_absent_why() const {
+    return "liftcheck does not yet read this engine's contact forces";
+  }
   /// The instant whose command the servo aims the steering (`steering`) or the drive at during the
   /// step from t_s: t_s itself. Only the fault-injection suite shifts it (a servo a step early or late).
   virtual double servo_instant_s(double t_s, bool /*steering*/) const { return t_s; }
@@ -120,6 +132,7 @@ class RigidCar : public CarEngine {
   ServoDef servo_;
   car::Config q0_;
   std::vector<WheelSlip> slip_;
+  GroundLoad load_;
   double stepped_s_ = 0.0;
 };
 

@@ -62,6 +62,19 @@ struct WheelSlip {
   bool along_measured = true;
 };
 
+/// What the ground carried over the last drive, from the engine's own wheel-ground contact forces
+/// summed over every wheel (the force the ground exerts on the car, world frame). Newton: their
+/// normal components carry the car's weight m g cos(theta) while it rests, and on average over a
+/// drive that starts and ends at rest on the plane (the vertical momentum then does not change).
+struct GroundLoad {
+  /// Non-empty where the engine gives no contact forces: why (the checks are then skipped, saying so).
+  std::string absent_why;
+  double weight_normal_N = NAN;  ///< m g cos(theta): the car's declared mass, gravity's component normal to the ground
+  double rest_normal_N = NAN;    ///< mean normal contact force over the settle's last kRestWindow_s, at rest
+  double drive_normal_N = NAN;   ///< mean normal contact force over every step of the drive, t = 0 to its end
+  static constexpr double kRestWindow_s = 0.2;
+};
+
 /// A car in an engine: reset to a configuration, drive a base path, report (alpha, beta, x, y, phi).
 class CarEngine {
  public:
@@ -89,6 +102,8 @@ class CarEngine {
   /// (docs/protocol.md, `engine_s`): the cost per simulated second without the protocol's round
   /// trip. NaN for an engine in liftcheck's process, whose run's wall clock is its cost.
   virtual double reported_engine_s() const { return NAN; }
+  /// The contact forces that carried the car over the last drive (GroundLoad).
+  virtual GroundLoad ground_load() const { return {.absent_why = "this engine reports no contact forces"}; }
 };
 
 /// Two unit disks: N moves along a known path, M's velocity is commanded from a reaction rule.

@@ -184,7 +184,22 @@ nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedCon
 /// Contact-point slip measured by the engine every step (engines with wheels): the worst wheel's
 /// largest speed along and across its rolling direction and its RMS slip speed. The analytic lift
 /// rolls without slipping by construction and reports none.
+/// The ground's load checks (LOAD_REST, LOAD_DRIVE) from the engine's own contact forces, or the
+/// reason they are not measured (details "ground_load").
+void add_load(Outcome& o, const CarEngine& engine) {
+  const GroundLoad g = engine.ground_load();
+  if (!g.absent_why.empty()) {
+    o.details["ground_load"] = {{"not_measured", g.absent_why}};
+    return;
+  }
+  o.values["load_at_rest"] = {.expected = g.weight_normal_N, .measured = g.rest_normal_N};
+  o.values["load_over_drive"] = {.expected = g.weight_normal_N, .measured = g.drive_normal_N};
+  o.details["ground_load"] = {
+      {"weight_normal_N", g.weight_normal_N}, {"rest_normal_N", g.rest_normal_N}, {"drive_normal_N", g.drive_normal_N}};
+}
+
 void add_slip(Outcome& o, const CarEngine& engine) {
+  add_load(o, engine);
   const std::vector<WheelSlip> slip = engine.slip();
   if (slip.empty()) return;
   double along = 0.0, across = 0.0, rms = 0.0;
@@ -323,6 +338,8 @@ std::vector<MetricDef> cycle_metrics() {
       SLIP_ALONG,
       SLIP_ACROSS,
       SLIP_RMS,
+      LOAD_REST,
+      LOAD_DRIVE,
       TRACE_PATH,
       TRACE_SHAPE,
       STEER_LAG,

@@ -115,6 +115,15 @@ inline const MetricDef SLIP_ACROSS =
     abs_("slip_across_max", "m/s", 0.0, 1e-4, "largest contact-point speed along a wheel's axle (worst wheel)");
 inline const MetricDef SLIP_RMS =
     abs_("slip_rms", "m/s", 0.0, 1e-4, "RMS contact-point speed over the drive (worst wheel)");
+// Newton's third law at the ground: the normal components of the engine's own wheel-ground contact
+// forces carry the car's weight, m g cos(theta), at rest and on average over a drive that starts
+// and ends at rest. 1% of the weight: gravity 5% weak fails it five times over.
+inline const MetricDef LOAD_REST = rel("load_at_rest", "N", 0.0, 1e-2,
+                                       "mean normal contact force over the last 0.2 s of the settle, at rest, against "
+                                       "the car's weight m g cos(theta)");
+inline const MetricDef LOAD_DRIVE = rel("load_over_drive", "N", 0.0, 1e-2,
+                                        "mean normal contact force over every step of the drive against the car's "
+                                        "weight m g cos(theta)");
 // Every sample of the trace (an engine's, or an outside simulator's from liftcheck score) against
 // the exact lift and the command.
 inline const MetricDef TRACE_PATH =

@@ -193,6 +193,7 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
   add_slip(o, engine);
   for (const char* k : {"slip_along_max", "slip_across_max", "slip_rms"})
     if (o.values.count(k)) o.values[k].informational = true;  // the car slides: that is the point here
+  o.values.erase("load_at_rest");                             // it slides from the start of the settle: never at rest
   return o;
 }
 
@@ -233,7 +234,8 @@ std::vector<Scenario> slope_scenarios() {
                         "the exact lift's (none over whole laps), per lap"),
                    abs_("final_offset", "m", 1e-9, 1e-3,
                         "front-axle centre at the end against the exact lift (no creep, whole laps)"),
-                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, TRACE_PATH, TRACE_SHAPE, STEER_LAG, DRIVE_LAG},
+                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, TRACE_PATH, TRACE_SHAPE, STEER_LAG,
+                   DRIVE_LAG},
        .run_car = run_slope,
        .headline = {.metrics = {"creep_speed"}, .label = "creep", .unit = "µm/s", .scale = 1e6}},
       // Default: a 0.5 rad slope (tan 0.546) with mu = 0.3 (friction angle 0.29 rad): a = 2.12 m/s^2;
@@ -263,7 +265,7 @@ std::vector<Scenario> slope_scenarios() {
             rel("slide_accel_across", "m/s^2", 1e-9, 5e-3,
                 "acceleration across the slope, relative to the exact downhill one (0: the slide goes straight down)"),
             abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
-            SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
+            SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_DRIVE},
        .run_car = run_coulomb,
        .needs_contact_dynamics = true,
        .headline = {.metrics = {"slide_accel"}, .label = "slide acceleration"}}};

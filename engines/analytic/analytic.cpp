@@ -19,6 +19,9 @@ class AnalyticCar final : public CarEngine {
     return car::lift(setup_.car, path, q0_, def);
   }
   bool exact_by_construction() const override { return true; }
+  GroundLoad ground_load() const override {
+    return {.absent_why = "the exact lift (4.1) is kinematics: it has no contact forces"};
+  }
   std::vector<WheelSlip> slip() const override { return {}; }  // rolls without slipping by construction
   double simulated_s() const override { return simulated_s_; }
 

@@ -194,7 +194,12 @@ class BulletCar final : public RigidCar {
 
   bool four_wheels() const override { return true; }
 
-  void step(double dt_s) override { world_->stepSimulation(dt_s, 1, dt_s); }
+  void step(double dt_s) override {
+    world_->stepSimulation(dt_s, 1, dt_s);
+    ground_force_W_ = impulse_from_ground(*world_->getDispatcher(), ground_) / dt_s;
+  }
+
+  std::optional<Eigen::Vector3d> ground_force_W() const override { return ground_force_W_; }
 
   RigidCarState read() const override {
     const btMatrix3x3& Rc = chassis_->getWorldTransform().getBasis();
@@ -265,6 +270,7 @@ class BulletCar final : public RigidCar {
   std::vector<std::unique_ptr<btRigidBody>> bodies_;
   std::unique_ptr<btHinge2Constraint> hinge2_[2];  ///< one per front wheel
   std::unique_ptr<btHingeConstraint> rear_hinge_[2];
+  Eigen::Vector3d ground_force_W_ = Eigen::Vector3d::Zero();
   btRigidBody *ground_ = nullptr, *chassis_ = nullptr, *front_[2] = {nullptr, nullptr}, *rear_[2] = {nullptr, nullptr};
   int n_front_ = 1;               ///< front wheels: 1 (tricycle) or 2 (left, right)
   double beta0_[2] = {0.0, 0.0};  ///< each front wheel's start steering angle

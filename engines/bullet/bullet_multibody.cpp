@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "engines/driven_disks.hpp"
+#include "engines/bullet/bullet_core.hpp"
 #include "engines/rigid_car.hpp"
 #include "models/e2.hpp"
 
@@ -171,8 +172,8 @@ class MultiBodyCar final : public RigidCar {
     dt_s_ = setup.dt_s;
 
     // Ground plane z = 0; Bullet multiplies both bodies' friction coefficients: mu x 1.
-    scene_->fixed(scene_->shape<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0), btTransform::getIdentity(), setup.mu,
-                  kGroupGround, kGroupWheel);
+    ground_ = scene_->fixed(scene_->shape<btStaticPlaneShape>(btVector3(0, 0, 1), 0.0), btTransform::getIdentity(),
+                            setup.mu, kGroupGround, kGroupWheel);
 
     btVector3 box_inertia(0, 0, 0);
     btBoxShape(btVector3(0.5 * d.l_m, 0.5 * d.track_m, 0.5 * d.chassis_height_m))
@@ -229,7 +230,13 @@ class MultiBodyCar final : public RigidCar {
     steer_motor_->setMaxAppliedImpulse(servo.steer_torque_max_Nm * dt_s_);
   }
 
-  void step(double dt_s) override { scene_->world().stepSimulation(dt_s, 1, dt_s); }
+  void step(double dt_s) override {
+    scene_->world().stepSimulation(dt_s, 1, dt_s);
+    ground_force_W_ = impulse_from_ground(*scene_->world().getDispatcher(), ground_) / dt_s;
+  }
+
+  /// btMultiBodyConstraintSolver's contact impulses, written back into the manifold points.
+  std::optional<Eigen::Vector3d> ground_force_W() const override { return ground_force_W_; }
 
   RigidCarState read() const override {
     // Link velocities in each link's own frame (origin at its centre of mass, here the wheel
@@ -260,6 +267,8 @@ class MultiBodyCar final : public RigidCar {
   }
 
  private:
+  const btCollisionObject* ground_ = nullptr;
+  Eigen::Vector3d ground_force_W_ = Eigen::Vector3d::Zero();
   std::unique_ptr<MultiBodyScene> scene_;
   btMultiBody* mb_ = nullptr;
   btMultiBodyJointMotor *steer_motor_ = nullptr, *spin_motor_ = nullptr;

@@ -136,6 +136,7 @@ class DartCar final : public RigidCar {
         setup.mu);
     ground->setMobile(false);
     world_->addSkeleton(ground);
+    ground_body_ = gb;
 
     car_ = Skeleton::create("car");
     // Chassis: frame at the front-axle centre, box centre of mass l/2 behind it.
@@ -211,7 +212,24 @@ class DartCar final : public RigidCar {
     steer_->setCommand(0, steer_radps);
   }
 
-  void step(double) override { world_->step(); }
+  void step(double) override {
+    world_->step();
+    ground_force_W_.setZero();
+    for (const dart::collision::Contact& c : world_->getLastCollisionResult().getContacts()) {
+      const bool ground1 = on_ground(c.collisionObject1), ground2 = on_ground(c.collisionObject2);
+      if (ground1 == ground2) continue;
+      ground_force_W_ += ground1 ? -c.force : c.force;  // Contact::force acts on the first object's body
+    }
+  }
+
+  /// The force of the step just taken that DART's contact constraints wrote into the last
+  /// collision result's contacts (Contact::force, on the first object's body, world frame).
+  std::optional<Eigen::Vector3d> ground_force_W() const override { return ground_force_W_; }
+
+  bool on_ground(const dart::collision::CollisionObject* o) const {
+    const dart::dynamics::ShapeNode* n = o->getShapeFrame()->asShapeNode();
+    return n && n->getBodyNodePtr() == ground_body_;
+  }
 
   RigidCarState read() const override {
     const Eigen::Isometry3d Tc = chassis_->getWorldTransform();
@@ -238,6 +256,8 @@ class DartCar final : public RigidCar {
  private:
   Detector det_;
   std::shared_ptr<dart::simulation::World> world_;
+  const dart::dynamics::BodyNode* ground_body_ = nullptr;
+  Eigen::Vector3d ground_force_W_ = Eigen::Vector3d::Zero();
   SkeletonPtr car_;
   BodyNode* chassis_ = nullptr;
   BodyNode* wheels_[3] = {nullptr, nullptr, nullptr};

@@ -260,6 +260,7 @@ class MujocoCar final : public RigidCar {
     steer_qpos_ = m->jnt_qposadr[sim_->id(mjOBJ_JOINT, "steer")];
     spin_act_ = sim_->id(mjOBJ_ACTUATOR, "spin");
     steer_act_ = sim_->id(mjOBJ_ACTUATOR, "steer");
+    ground_ = sim_->id(mjOBJ_GEOM, "ground");
     sim_->start();
   }
 
@@ -271,7 +272,30 @@ class MujocoCar final : public RigidCar {
 
   void step(double) override {
     sim_->step();
+    // Between mj_step2 and mj_step1 the contacts and their solved forces (efc_force) are those that
+    // acted during the step just taken; mj_step1 then builds the new state's.
+    ground_force_W_ = ground_force(sim_->m(), sim_->d());
     sim_->finish_step();
+  }
+
+  std::optional<Eigen::Vector3d> ground_force_W() const override { return ground_force_W_; }
+
+  /// The ground plane's contacts' forces on the wheels (mj_contactForce: normal then tangential
+  /// components in the contact frame, whose first row is the normal from geom1 towards geom2, the
+  /// force acting on geom2).
+  Eigen::Vector3d ground_force(const mjModel* m, const mjData* d) const {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int i = 0; i < d->ncon; ++i) {
+      const mjContact& c = d->contact[i];
+      if (c.geom1 != ground_ && c.geom2 != ground_) continue;
+      mjtNum f[6];
+      mj_contactForce(m, d, i, f);
+      const Eigen::Vector3d f_W = f[0] * Eigen::Vector3d(c.frame[0], c.frame[1], c.frame[2]) +
+                                  f[1] * Eigen::Vector3d(c.frame[3], c.frame[4], c.frame[5]) +
+                                  f[2] * Eigen::Vector3d(c.frame[6], c.frame[7], c.frame[8]);
+      sum += c.geom2 == ground_ ? -f_W : f_W;
+    }
+    return sum;
   }
 
   RigidCarState read() const override {
@@ -304,7 +328,8 @@ class MujocoCar final : public RigidCar {
   std::unique_ptr<Sim> sim_;
   double beta0_ = 0.0;
   int chassis_ = -1, wheel_[3] = {-1, -1, -1};
-  int spin_qpos_ = -1, steer_qpos_ = -1, spin_act_ = -1, steer_act_ = -1;
+  int spin_qpos_ = -1, steer_qpos_ = -1, spin_act_ = -1, steer_act_ = -1, ground_ = -1;
+  Eigen::Vector3d ground_force_W_ = Eigen::Vector3d::Zero();
 };
 
 class MujocoDisks final : public DrivenDisks {

@@ -148,10 +148,20 @@ class OdeCar : public RigidCar {
   }
 
   void step(double dt_s) override {
+    n_feedback_ = 0;
     dSpaceCollide(space_, this, &OdeCar::near_callback);
     sim_->step(dt_s);
+    // Each contact joint's feedback (dJointSetFeedback): the force it applied to each body in
+    // the step; the wheel is whichever of the two bodies is not the ground's (none).
+    ground_force_W_.setZero();
+    for (int i = 0; i < n_feedback_; ++i) {
+      const dReal* f = dJointGetBody(feedback_joint_[i], 0) == feedback_wheel_[i] ? feedback_[i].f1 : feedback_[i].f2;
+      ground_force_W_ += Eigen::Vector3d(f[0], f[1], f[2]);
+    }
     dJointGroupEmpty(contacts_);
   }
+
+  std::optional<Eigen::Vector3d> ground_force_W() const override { return ground_force_W_; }
 
   RigidCarState read() const override {
     const dReal* Rc = dBodyGetRotation(chassis_);  // row-major 3x4
@@ -224,6 +234,10 @@ class OdeCar : public RigidCar {
       self->contact_surface(contact[i], body);
       dJointID j = dJointCreateContact(self->world_, self->contacts_, &contact[i]);
       dJointAttach(j, dGeomGetBody(contact[i].geom.g1), dGeomGetBody(contact[i].geom.g2));
+      if (self->n_feedback_ >= kMaxContacts) continue;  // dCollide gives at most 4 a wheel: never
+      dJointSetFeedback(j, &self->feedback_[self->n_feedback_]);
+      self->feedback_joint_[self->n_feedback_] = j;
+      self->feedback_wheel_[self->n_feedback_++] = body;
     }
   }
 
@@ -236,6 +250,12 @@ class OdeCar : public RigidCar {
     world_ = nullptr;
   }
 
+  static constexpr int kMaxContacts = 16;  ///< 4 a wheel (dCollide's limit above), 4 wheels
+  std::array<dJointFeedback, kMaxContacts> feedback_{};
+  std::array<dJointID, kMaxContacts> feedback_joint_{};
+  std::array<dBodyID, kMaxContacts> feedback_wheel_{};
+  int n_feedback_ = 0;
+  Eigen::Vector3d ground_force_W_ = Eigen::Vector3d::Zero();
   std::unique_ptr<OdeWorld> sim_;
   dWorldID world_ = nullptr;  ///< sim_'s world
   dSpaceID space_ = nullptr;

@@ -179,7 +179,8 @@ std::vector<FlatReply::Slot> car_slots(int wheels) {
       for (int i = 0; i < 3; ++i) s.push_back({fmt::format("wheels/{}/{}/{}", k, v, i)});
     s.push_back({fmt::format("wheels/{}/hub_z_m", k)});
   }
-  s.push_back({"id", true, true});  // the request's number, last (car_id_slot)
+  s.push_back({"id", true, true});  // the request's number (car_id_slot)
+  for (int i = 0; i < 3; ++i) s.push_back({fmt::format("ground_force_W/{}", i), false});  // optional, after it
   return s;
 }
 
@@ -255,11 +256,22 @@ class ProtocolCar final : public RigidCar {
         reply_->value(car_id_slot(def_.wheels)) == static_cast<double>(c.request_id())) {
       engine_s_ += reply_->value(0);
       state_ = car_state_of(*reply_, def_.wheels);
+      const size_t f = car_id_slot(def_.wheels) + 1;
+      force_.reset();
+      if (reply_->given(f) && reply_->given(f + 1) && reply_->given(f + 2))
+        force_ = Eigen::Vector3d(reply_->value(f), reply_->value(f + 1), reply_->value(f + 2));
       return;
     }
     const json r = c.checked_reply(line);
     engine_s_ += engine_seconds(c, r);
     state_ = car_state(c, r, def_.wheels);
+    force_.reset();
+    if (r.contains("ground_force_W")) force_ = vec3(c, r, "ground_force_W", "ground_force_W");
+  }
+  /// The optional "ground_force_W" of the step's reply (docs/protocol.md): absent, not measured.
+  std::optional<Eigen::Vector3d> ground_force_W() const override { return force_; }
+  std::string ground_force_absent_why() const override {
+    return "its adapter's step replies carry no contact forces (the protocol's optional ground_force_W)";
   }
   bool four_wheels() const override { return lease_.outside().four_wheels; }
   RigidCarState read() const override { return state_; }
@@ -269,6 +281,7 @@ class ProtocolCar final : public RigidCar {
   std::string wheel_shape_;  ///< the "wheel" setting, read once (sphere when the engine has none)
   FrontRates rates_;
   RigidCarState state_{};
+  std::optional<Eigen::Vector3d> force_;
   double engine_s_ = 0.0;
   std::string request_;
   std::optional<FlatReply> reply_;

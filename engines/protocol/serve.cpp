@@ -155,6 +155,7 @@ class ProtocolServer {
     const double engine_s = seconds_since(t0);
     json r = car_state();
     r["engine_s"] = engine_s;
+    if (const std::optional<Eigen::Vector3d> f = car_->ground_force_W()) r["ground_force_W"] = vec(*f);
     return r;
   }
 

@@ -286,6 +286,19 @@ class UprightGravityCar final : public OdeCar {
   }
 };
 
+/// Gravity 5% weak: the engine builds its world with 0.95 g.
+class WeakGravityCar final : public OdeCar {
+ public:
+  WeakGravityCar() : OdeCar(ode_defaults()) {}
+
+ protected:
+  void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
+    CarSetup weak = setup;
+    weak.gravity_mps2 *= 0.95;
+    OdeCar::build(weak, d, q0);
+  }
+};
+
 /// Friction `factor` times the scenario's mu (a combine rule or a unit slip): 0.8 is an effective
 /// friction 20% below the stated one; 10 a car that keeps its grip past the limit.
 class ScaledFrictionCar final : public OdeCar {
@@ -531,6 +544,18 @@ TEST(Faults, GravityNotTilted) {
   expect_flagged(car_fault(
                      "upright-gravity", [] { return std::make_unique<UprightGravityCar>(); }, "ode"),
                  "car.coulomb", "slide_accel");
+}
+
+// Gravity 5% weak: the slide's g (sin - mu cos) is 5% short, and the ground carries 5% less than
+// the car's weight in every car scenario, at rest and over the drive (Newton's third law, from
+// ODE's own contact joint feedback).
+TEST(Faults, GravityFivePercentWeak) {
+  const EngineInfo e = car_fault(
+      "weak-gravity", [] { return std::make_unique<WeakGravityCar>(); }, "ode");
+  expect_flagged(e, "car.coulomb", "slide_accel");
+  expect_flagged(e, "car.circle", "load_at_rest");
+  expect_flagged(e, "car.circle", "load_over_drive");
+  expect_flagged(e, "car.cycle", "load_over_drive");
 }
 
 // mu 0.24 for 0.3 on the 0.5 rad slope: the slide accelerates 24% faster.
