@@ -151,13 +151,12 @@ class OdeCar : public RigidCar {
     n_feedback_ = 0;
     dSpaceCollide(space_, this, &OdeCar::near_callback);
     sim_->step(dt_s);
-    // Each contact joint's feedback (dJointSetFeedback): the force it applied to each body in
-    // the step; the wheel is whichever of the two bodies is not the ground's (none).
+    // Each contact joint's feedback (dJointSetFeedback): f1, the force on the joint's first body,
+    // which is always the wheel: dJointAttach moves the ground's null body to the second place
+    // (and the stepper writes f2 only for a second body that exists).
     ground_force_W_.setZero();
-    for (int i = 0; i < n_feedback_; ++i) {
-      const dReal* f = dJointGetBody(feedback_joint_[i], 0) == feedback_wheel_[i] ? feedback_[i].f1 : feedback_[i].f2;
-      ground_force_W_ += Eigen::Vector3d(f[0], f[1], f[2]);
-    }
+    for (int i = 0; i < n_feedback_; ++i)
+      ground_force_W_ += Eigen::Vector3d(feedback_[i].f1[0], feedback_[i].f1[1], feedback_[i].f1[2]);
     dJointGroupEmpty(contacts_);
   }
 
@@ -235,9 +234,7 @@ class OdeCar : public RigidCar {
       dJointID j = dJointCreateContact(self->world_, self->contacts_, &contact[i]);
       dJointAttach(j, dGeomGetBody(contact[i].geom.g1), dGeomGetBody(contact[i].geom.g2));
       if (self->n_feedback_ >= kMaxContacts) continue;  // dCollide gives at most 4 a wheel: never
-      dJointSetFeedback(j, &self->feedback_[self->n_feedback_]);
-      self->feedback_joint_[self->n_feedback_] = j;
-      self->feedback_wheel_[self->n_feedback_++] = body;
+      dJointSetFeedback(j, &self->feedback_[self->n_feedback_++]);
     }
   }
 
@@ -252,8 +249,6 @@ class OdeCar : public RigidCar {
 
   static constexpr int kMaxContacts = 16;  ///< 4 a wheel (dCollide's limit above), 4 wheels
   std::array<dJointFeedback, kMaxContacts> feedback_{};
-  std::array<dJointID, kMaxContacts> feedback_joint_{};
-  std::array<dBodyID, kMaxContacts> feedback_wheel_{};
   int n_feedback_ = 0;
   Eigen::Vector3d ground_force_W_ = Eigen::Vector3d::Zero();
   std::unique_ptr<OdeWorld> sim_;

@@ -252,14 +252,14 @@ class ProtocolCar final : public RigidCar {
     ProtocolChild& c = lease_.get();
     const std::string& line = c.exchange("step", request_, lease_.seconds_left());
     if (!reply_ || reply_wheels_ != def_.wheels) reply_.emplace(car_slots(def_.wheels)), reply_wheels_ = def_.wheels;
-    if (reply_->read(line) && reply_->value(0) >= 0.0 &&
+    const size_t f = car_id_slot(def_.wheels) + 1;  // ground_force_W: all three numbers or none
+    const int forces = reply_->read(line) ? reply_->given(f) + reply_->given(f + 1) + reply_->given(f + 2) : -1;
+    if ((forces == 0 || forces == 3) && reply_->value(0) >= 0.0 &&
         reply_->value(car_id_slot(def_.wheels)) == static_cast<double>(c.request_id())) {
       engine_s_ += reply_->value(0);
       state_ = car_state_of(*reply_, def_.wheels);
-      const size_t f = car_id_slot(def_.wheels) + 1;
       force_.reset();
-      if (reply_->given(f) && reply_->given(f + 1) && reply_->given(f + 2))
-        force_ = Eigen::Vector3d(reply_->value(f), reply_->value(f + 1), reply_->value(f + 2));
+      if (forces == 3) force_ = Eigen::Vector3d(reply_->value(f), reply_->value(f + 1), reply_->value(f + 2));
       return;
     }
     const json r = c.checked_reply(line);

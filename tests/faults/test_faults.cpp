@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <deque>
+#include <functional>
 #include <iostream>
 
 #include "engines/driven_disks.hpp"
@@ -273,31 +274,33 @@ class LongStepCar final : public OdeCar {
   void step(double dt_s) override { OdeCar::step(1.01 * dt_s); }
 };
 
+/// ODE's car built from a setup or a car that `edit` has changed: what an adapter that misreads its
+/// request builds.
+class MisbuiltCar final : public OdeCar {
+ public:
+  using Edit = std::function<void(CarSetup&, TricycleDef&)>;
+  explicit MisbuiltCar(Edit edit) : OdeCar(ode_defaults()), edit_(std::move(edit)) {}
+
+ protected:
+  void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
+    CarSetup s = setup;
+    TricycleDef built = d;
+    edit_(s, built);
+    OdeCar::build(s, built, q0);
+  }
+
+ private:
+  Edit edit_;
+};
+
 /// Gravity not tilted: the engine keeps (0, 0, -g) whatever direction the scenario gives.
-class UprightGravityCar final : public OdeCar {
- public:
-  UprightGravityCar() : OdeCar(ode_defaults()) {}
-
- protected:
-  void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    CarSetup upright = setup;
-    upright.gravity_dir_W = -Eigen::Vector3d::UnitZ();
-    OdeCar::build(upright, d, q0);
-  }
-};
-
+void upright_gravity(CarSetup& s, TricycleDef&) { s.gravity_dir_W = -Eigen::Vector3d::UnitZ(); }
 /// Gravity 5% weak: the engine builds its world with 0.95 g.
-class WeakGravityCar final : public OdeCar {
- public:
-  WeakGravityCar() : OdeCar(ode_defaults()) {}
-
- protected:
-  void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
-    CarSetup weak = setup;
-    weak.gravity_mps2 *= 0.95;
-    OdeCar::build(weak, d, q0);
-  }
-};
+void weak_gravity(CarSetup& s, TricycleDef&) { s.gravity_mps2 *= 0.95; }
+/// A body's mass left out: the steering knuckle (2 kg of the car's 48) built with a milligram (ODE's
+/// mass functions want a positive mass), as an adapter that forgot it would build it. Coulomb's
+/// slide does not depend on the mass; the load the ground carries does.
+void knuckle_mass_left_out(CarSetup&, TricycleDef& d) { d.knuckle_mass_kg = 1e-6; }
 
 /// Friction `factor` times the scenario's mu (a combine rule or a unit slip): 0.8 is an effective
 /// friction 20% below the stated one; 10 a car that keeps its grip past the limit.
@@ -542,7 +545,7 @@ TEST(Faults, EngineStepOnePercentLongerThanDt) {
 
 TEST(Faults, GravityNotTilted) {
   expect_flagged(car_fault(
-                     "upright-gravity", [] { return std::make_unique<UprightGravityCar>(); }, "ode"),
+                     "upright-gravity", [] { return std::make_unique<MisbuiltCar>(upright_gravity); }, "ode"),
                  "car.coulomb", "slide_accel");
 }
 
@@ -551,11 +554,19 @@ TEST(Faults, GravityNotTilted) {
 // ODE's own contact joint feedback).
 TEST(Faults, GravityFivePercentWeak) {
   const EngineInfo e = car_fault(
-      "weak-gravity", [] { return std::make_unique<WeakGravityCar>(); }, "ode");
+      "weak-gravity", [] { return std::make_unique<MisbuiltCar>(weak_gravity); }, "ode");
   expect_flagged(e, "car.coulomb", "slide_accel");
   expect_flagged(e, "car.circle", "load_at_rest");
   expect_flagged(e, "car.circle", "load_over_drive");
   expect_flagged(e, "car.cycle", "load_over_drive");
+}
+
+// 2 kg of 48 left out: the ground carries 4.2% less than the declared weight.
+TEST(Faults, KnuckleMassLeftOut) {
+  const EngineInfo e = car_fault(
+      "knuckle-massless", [] { return std::make_unique<MisbuiltCar>(knuckle_mass_left_out); }, "ode");
+  expect_flagged(e, "car.circle", "load_at_rest");
+  expect_flagged(e, "car.slope", "load_over_drive");
 }
 
 // mu 0.24 for 0.3 on the 0.5 rad slope: the slide accelerates 24% faster.
