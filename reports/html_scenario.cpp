@@ -117,6 +117,10 @@ std::string engine_section(const json& results, const json& r, const json& def) 
     h += "<p class=\"meta\">Settings applied: <code>" + esc(s) + "</code></p>\n";
   if (!r["metrics"].empty()) h += metric_table(r, def);
   const auto& d = r["details"];
+  if (d.is_object() && d.contains("ground_load") && d["ground_load"].contains("not_measured"))
+    h += "<p class=\"note\">Not measured here: the ground's load (<code>load_at_rest</code>, "
+         "<code>load_over_drive</code>): " +
+         esc(d["ground_load"]["not_measured"].get<std::string>()) + ".</p>\n";
   if (d.is_object() && d.contains(detail_key::kErrors)) {
     const auto& er = d[detail_key::kErrors];
     h += fmt::format(
