@@ -42,6 +42,81 @@ ServoDef ServoDef::for_car(const CarSetup& setup, const TricycleDef& car) {
   return s;
 }
 
+namespace {
+
+/// The car's momentum along the ground, N s, from the velocities the engine reports: the chassis
+/// (its centre of mass midway between the axle centres, each the mean of its axle's hubs, the
+/// hubs being fixed in the chassis), every wheel and every steering knuckle (centred on its hub).
+Eigen::Vector2d plane_momentum_Ns(const TricycleDef& d, const RigidCarState& s) {
+  const int n_front = d.wheels == 4 ? 2 : 1, n_wheels = d.wheels == 4 ? 4 : 3;
+  Eigen::Vector3d front = Eigen::Vector3d::Zero(), rear = Eigen::Vector3d::Zero(), p = Eigen::Vector3d::Zero();
+  for (int w = 0; w < n_wheels; ++w) {
+    const Eigen::Vector3d& v = s.wheels[w].v_hub_W;
+    (w < n_front ? front : rear) += v / (w < n_front ? n_front : 2);
+    p += (d.wheel_mass_kg + (w < n_front ? d.knuckle_mass_kg : 0.0)) * v;
+  }
+  p += d.chassis_mass_kg * 0.5 * (front + rear);
+  return p.head<2>();
+}
+
+/// The ground's load (GroundLoad), booked step by step from the engine's own contact forces:
+/// the normal and in-plane force at rest, the normal force and the in-plane momentum balance over
+/// the drive. Any step without forces leaves every figure unmeasured.
+class LoadBook {
+ public:
+  LoadBook(const TricycleDef& d, const CarSetup& setup)
+      : def_(d), m_kg_(car_mass_kg(d)), cruise_mps_(setup.drive.speed_mps), g_plane_(setup.gravity_W().head<2>()) {
+    load_.weight_normal_N = m_kg_ * -setup.gravity_W().z();
+    load_.plane_weight_N = m_kg_ * g_plane_.norm();
+  }
+  /// One step of the rest window.
+  void rest(const std::optional<Eigen::Vector3d>& f_W) {
+    if (!book(f_W)) return;
+    rest_sum_ += *f_W, ++rest_steps_;
+  }
+  /// The drive starts from state s.
+  void start_drive(const RigidCarState& s) { p0_ = plane_momentum_Ns(def_, s); }
+  /// One step of the drive, dt long, ending in state s.
+  void drive(const std::optional<Eigen::Vector3d>& f_W, const RigidCarState& s, double dt_s) {
+    if (!book(f_W)) return;
+    drive_normal_sum_N_ += f_W->z(), ++drive_steps_;
+    impulse_ += (f_W->head<2>() + m_kg_ * g_plane_) * dt_s;  // Newton II along the ground
+    const Eigen::Vector2d dp = plane_momentum_Ns(def_, s) - p0_;
+    gap_ = std::max(gap_, (dp - impulse_).norm());
+    change_ = std::max(change_, dp.norm());
+  }
+  GroundLoad finish(const std::string& absent_why) {
+    if (!forces_) {
+      load_.absent_why = absent_why;
+      return load_;
+    }
+    if (rest_steps_ > 0) {
+      load_.rest_normal_N = rest_sum_.z() / rest_steps_;
+      load_.rest_hold_gap_N = (rest_sum_.head<2>() / rest_steps_ + m_kg_ * g_plane_).norm();
+    }
+    if (drive_steps_ > 0) {
+      load_.drive_normal_N = drive_normal_sum_N_ / drive_steps_;
+      load_.momentum_gap_Ns = gap_, load_.momentum_change_Ns = change_;
+      load_.momentum_scale_Ns = std::max(change_, m_kg_ * cruise_mps_);
+    }
+    return load_;
+  }
+
+ private:
+  bool book(const std::optional<Eigen::Vector3d>& f_W) { return forces_ = forces_ && f_W.has_value(); }
+  TricycleDef def_;
+  double m_kg_, cruise_mps_;
+  Eigen::Vector2d g_plane_;
+  GroundLoad load_;
+  bool forces_ = true;
+  Eigen::Vector3d rest_sum_ = Eigen::Vector3d::Zero();
+  long rest_steps_ = 0, drive_steps_ = 0;
+  double drive_normal_sum_N_ = 0.0, gap_ = 0.0, change_ = 0.0;
+  Eigen::Vector2d p0_ = Eigen::Vector2d::Zero(), impulse_ = Eigen::Vector2d::Zero();
+};
+
+}  // namespace
+
 void RigidCar::reset(const CarSetup& setup, const car::Config& q0) {
   setup_ = setup;
   def_ = TricycleDef::from(setup);
@@ -134,25 +209,16 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
                         z, def_.R_m, t_end));
   };
 
-  // The ground's normal force (the plane z = 0), summed over the engine's own contact report.
-  load_ = GroundLoad{};
-  load_.weight_normal_N = car_mass_kg(def_) * setup_.gravity_mps2 * -setup_.gravity_dir_W.z();
-  const auto normal_N = [&]() -> std::optional<double> {
-    const std::optional<Eigen::Vector3d> f = ground_force_W();
-    return f ? std::optional<double>(f->z()) : std::nullopt;
-  };
+  // The ground's load (the plane z = 0), from the engine's own contact report.
+  LoadBook load(def_, setup_);
   const long rest_steps = std::min(settle_steps, std::lround(GroundLoad::kRestWindow_s / dt));
-  double rest_sum_N = 0.0, drive_sum_N = 0.0;
-  bool forces = true;
 
   // Settle on the wheels: the contacts load up while the servos hold alpha = 0 and beta = beta0.
   for (long k = 0; k < settle_steps; ++k) {
     advance(-(settle_steps - k - 1) * dt, 0.0, q0_.beta_rad, 0.0, 0.0);
-    if (k < settle_steps - rest_steps) continue;
-    const std::optional<double> n = normal_N();
-    forces = forces && n.has_value();
-    rest_sum_N += n.value_or(0.0);
+    if (k >= settle_steps - rest_steps) load.rest(ground_force_W());
   }
+  load.start_drive(s);
   alpha = 0.0;  // the drive starts at alpha = 0
 
   // Contact-point slip of each wheel, every step of the drive: the contact point of a sphere (or an
@@ -182,10 +248,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
                           steer_mid = tb == ta ? drive_mid : path.at(tb + 0.5 * dt);
     advance(t1, drive.alpha_rad, steer.beta_rad, drive_mid.alpha_rate_radps, steer_mid.beta_rate_radps);
     book_slip();
-    if (const std::optional<double> n = normal_N())
-      drive_sum_N += *n;
-    else
-      forces = false;
+    load.drive(ground_force_W(), s, dt);
     if ((k + 1) % sample_every == 0 || k + 1 == steps) sample(t1);
   }
   for (int w = 0; w < n_wheels; ++w) {
@@ -193,9 +256,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
     slip_[w].rms_mps = steps > 0 ? std::sqrt(sum_sq[w] / steps) : 0.0;
     slip_[w].along_measured = wheels_spin();
   }
-  if (!forces) load_.absent_why = ground_force_absent_why();
-  if (forces && rest_steps > 0) load_.rest_normal_N = rest_sum_N / rest_steps;
-  if (forces && steps > 0) load_.drive_normal_N = drive_sum_N / steps;
+  load_ = load.finish(ground_force_absent_why());
   return trace;
 }
 

@@ -72,6 +72,19 @@ struct GroundLoad {
   double weight_normal_N = NAN;  ///< m g cos(theta): the car's declared mass, gravity's component normal to the ground
   double rest_normal_N = NAN;    ///< mean normal contact force over the settle's last kRestWindow_s, at rest
   double drive_normal_N = NAN;   ///< mean normal contact force over every step of the drive, t = 0 to its end
+  /// m |g_plane|: gravity's pull along the ground (m g sin(theta); 0 on the level).
+  double plane_weight_N = NAN;
+  /// |mean in-plane contact force over the rest window + m g_plane|: what the ground's grip does
+  /// not hold of gravity's pull along it while the car rests (0 by Newton: it does not move).
+  double rest_hold_gap_N = NAN;
+  /// Newton's second law along the ground: the largest |p(t) - p(0) - integral of (F_plane + m
+  /// g_plane) dt| over the drive, p the car's in-plane momentum (every body's, from its velocity
+  /// as the engine reports it), F_plane the in-plane contact forces. N s.
+  double momentum_gap_Ns = NAN;
+  double momentum_change_Ns = NAN;  ///< the largest |p(t) - p(0)| over the drive, N s
+  /// The gap's scale, N s: the largest momentum change, or the car's momentum at the drive's cruise
+  /// speed where that is larger (a car steering in place hardly moves).
+  double momentum_scale_Ns = NAN;
   static constexpr double kRestWindow_s = 0.2;
 };
 

@@ -154,7 +154,7 @@ std::vector<Scenario> circle_scenarios() {
                        abs_("heading_residual", "rad", 1e-9, 1e-5,
                             "largest difference between the heading and the one the exact circle gives at the sampled "
                             "position (tolerance at dt = 1 ms, x dt / 1 ms)"),
-                       REALIZED_LIFT, COM_ACCEL, SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, TRACE_PATH,
+                       REALIZED_LIFT, COM_ACCEL, SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, MOMENTUM, TRACE_PATH,
                        TRACE_SHAPE, STEER_LAG, DRIVE_LAG},
            .run_car = run_circle,
            .headline = {.metrics = {"front_radius", "rear_radius"}, .label = "radius"}}};
@@ -177,7 +177,7 @@ std::vector<Scenario> grip_scenarios() {
                    abs_("slide_shortfall", "1", 1e-9, 0.0,
                         "1 - (front circle's opening)/(1%), or 0 when it opened by 1% or more: the car kept grip the "
                         "friction cannot give"),
-                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE},
+                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, MOMENTUM},
        .run_car =
            [](const Params& p, CarEngine& engine) {
              beyond_grip_need(p);  // before the drive: a --set that leaves the grip is bad input
@@ -201,7 +201,7 @@ std::vector<Scenario> grip_scenarios() {
        .metrics = {rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path"),
                    rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path"),
                    abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact arc"),
-                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, TRACE_PATH, TRACE_SHAPE, STEER_LAG,
+                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, MOMENTUM, TRACE_PATH, TRACE_SHAPE, STEER_LAG,
                    DRIVE_LAG},
        .run_car = [](const Params& p, CarEngine& engine) { return judge_slip(p, run_circle(p, engine)); },
        .shared_drive = SharedDrive{kPastGripDrive, run_circle, judge_slip},

@@ -184,8 +184,8 @@ nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedCon
 /// Contact-point slip measured by the engine every step (engines with wheels): the worst wheel's
 /// largest speed along and across its rolling direction and its RMS slip speed. The analytic lift
 /// rolls without slipping by construction and reports none.
-/// The ground's load checks (LOAD_REST, LOAD_DRIVE) from the engine's own contact forces, or the
-/// reason they are not measured (details "ground_load").
+/// The ground's load checks (LOAD_REST, LOAD_DRIVE, MOMENTUM, and HOLD_REST on a slope) from the
+/// engine's own contact forces, or the reason they are not measured (details "ground_load").
 void add_load(Outcome& o, const CarEngine& engine) {
   const GroundLoad g = engine.ground_load();
   if (!g.absent_why.empty()) {
@@ -194,8 +194,13 @@ void add_load(Outcome& o, const CarEngine& engine) {
   }
   o.values["load_at_rest"] = {.expected = g.weight_normal_N, .measured = g.rest_normal_N};
   o.values["load_over_drive"] = {.expected = g.weight_normal_N, .measured = g.drive_normal_N};
-  o.details["ground_load"] = {
-      {"weight_normal_N", g.weight_normal_N}, {"rest_normal_N", g.rest_normal_N}, {"drive_normal_N", g.drive_normal_N}};
+  o.values["momentum_balance"] = {.expected = 0.0, .measured = g.momentum_gap_Ns, .scale = g.momentum_scale_Ns};
+  if (g.plane_weight_N > 1e-6 * g.weight_normal_N)  // on a slope: the grip holds gravity's pull
+    o.values["hold_at_rest"] = {.expected = 0.0, .measured = g.rest_hold_gap_N, .scale = g.plane_weight_N};
+  o.details["ground_load"] = {{"weight_normal_N", g.weight_normal_N}, {"rest_normal_N", g.rest_normal_N},
+                              {"drive_normal_N", g.drive_normal_N},   {"plane_weight_N", g.plane_weight_N},
+                              {"rest_hold_gap_N", g.rest_hold_gap_N}, {"momentum_gap_Ns", g.momentum_gap_Ns},
+                              {"momentum_change_Ns", g.momentum_change_Ns}, {"momentum_scale_Ns", g.momentum_scale_Ns}};
 }
 
 void add_slip(Outcome& o, const CarEngine& engine) {
@@ -340,6 +345,7 @@ std::vector<MetricDef> cycle_metrics() {
       SLIP_RMS,
       LOAD_REST,
       LOAD_DRIVE,
+      MOMENTUM,
       TRACE_PATH,
       TRACE_SHAPE,
       STEER_LAG,

@@ -273,7 +273,7 @@ std::vector<Scenario> lift_property_scenarios() {
        .metrics = {abs_("front_shift", "m", 1e-12, 1e-4, "largest displacement of the front-axle centre"),
                    abs_("dphi", "rad", 1e-12, 1e-3, "heading change"),
                    abs_("beta_reached", "rad", 1e-12, 1e-3, "realized steering angle at the end"), SLIP_ALONG,
-                   SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, TRACE_PATH, TRACE_SHAPE, STEER_LAG, DRIVE_LAG},
+                   SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, MOMENTUM, TRACE_PATH, TRACE_SHAPE, STEER_LAG, DRIVE_LAG},
        .run_car = run_steer_in_place,
        .headline = {.metrics = {"front_shift"}, .label = "front-axle shift", .unit = "mm", .scale = 1e3}},
       {.name = "car.reparam",

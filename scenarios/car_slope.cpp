@@ -195,10 +195,9 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
     if (o.values.count(k)) o.values[k].informational = true;  // the car slides: that is the point here
   // The car slides from the start of the settle and is still sliding when the drive ends: it is
   // never at rest, and the mean normal force over the drive also holds the change of its vertical
-  // momentum, which this run does not measure. No load checks here.
-  o.values.erase("load_at_rest");
-  o.values.erase("load_over_drive");
-  o.details.erase("ground_load");
+  // momentum, which this run does not measure. No load checks here; Newton's second law along the
+  // ground (momentum_balance) holds sliding or not: the friction force makes the slide.
+  for (const char* k : {"load_at_rest", "load_over_drive", "hold_at_rest"}) o.values.erase(k);
   return o;
 }
 
@@ -239,7 +238,7 @@ std::vector<Scenario> slope_scenarios() {
                         "the exact lift's (none over whole laps), per lap"),
                    abs_("final_offset", "m", 1e-9, 1e-3,
                         "front-axle centre at the end against the exact lift (no creep, whole laps)"),
-                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, TRACE_PATH, TRACE_SHAPE, STEER_LAG,
+                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, HOLD_REST, MOMENTUM, TRACE_PATH, TRACE_SHAPE, STEER_LAG,
                    DRIVE_LAG},
        .run_car = run_slope,
        .headline = {.metrics = {"creep_speed"}, .label = "creep", .unit = "µm/s", .scale = 1e6}},
@@ -270,7 +269,7 @@ std::vector<Scenario> slope_scenarios() {
             rel("slide_accel_across", "m/s^2", 1e-9, 5e-3,
                 "acceleration across the slope, relative to the exact downhill one (0: the slide goes straight down)"),
             abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
-            SLIP_ALONG, SLIP_ACROSS, SLIP_RMS},
+            SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, MOMENTUM},
        .run_car = run_coulomb,
        .needs_contact_dynamics = true,
        .headline = {.metrics = {"slide_accel"}, .label = "slide acceleration"}}};

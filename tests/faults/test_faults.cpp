@@ -13,6 +13,7 @@
 #include "engines/ode/ode_car_model.hpp"
 #include "engines/ode/ode_disks.hpp"
 #include "harness/runner.hpp"
+#include "models/e2.hpp"
 #include "models/lift.hpp"
 
 using namespace liftcheck;
@@ -354,6 +355,92 @@ class KinematicCar final : public CarEngine {
   double simulated_s_ = 0.0;
 };
 
+/// A car placed kinematically, as an engine that switches a vehicle to a kinematic body where it
+/// expects no sliding: the commanded wheel rates move it along the exact flows of the no-slip
+/// connection (H_beta half a step, H_alpha, H_beta half a step), so its wheels roll without
+/// slipping and its pose is the lift of its shape. A kinematic body on static ground makes no
+/// contact constraint: its contact report holds no force.
+class PlacedCar final : public RigidCar {
+ public:
+  PlacedCar() : RigidCar(Settings{}) {}
+
+ protected:
+  void build(const CarSetup& setup, const TricycleDef&, const car::Config& q0) override {
+    car_ = setup.car, q_ = q0, spin_rad_ = 0.0, spin_radps_ = steer_radps_ = 0.0;
+  }
+  void actuate(const FrontRates& rates, const ServoDef&) override {
+    spin_radps_ = rates.spin_radps[0], steer_radps_ = rates.steer_radps[0];
+  }
+  void step(double dt_s) override {
+    q_ = car::flow_beta(car::flow_alpha(car_, car::flow_beta(q_, 0.5 * steer_radps_ * dt_s), spin_radps_ * dt_s),
+                        0.5 * steer_radps_ * dt_s);
+    spin_rad_ += spin_radps_ * dt_s;
+  }
+  RigidCarState read() const override {
+    RigidCarState s{};
+    s.spin_joint_rad[0] = e2::wrap_angle(spin_rad_), s.steer_rad[0] = q_.beta_rad;
+    s.x_m = q_.x_m, s.y_m = q_.y_m, s.z_m = s.rear_z_m = car_.R_m, s.phi_rad = q_.phi_rad;
+    const double R = car_.R_m, phi = q_.phi_rad, phi_rate = R * spin_radps_ * std::sin(q_.beta_rad) / car_.l_m;
+    const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+    const auto heading = [](double a) { return Eigen::Vector3d(std::cos(a), std::sin(a), 0.0); };
+    const auto axle = [](double a) { return Eigen::Vector3d(-std::sin(a), std::cos(a), 0.0); };
+    // (3.3): the front wheel rolls at R alpha' along its heading phi + beta; the rear-axle centre
+    // moves along phi at R alpha' cos(beta), each rear hub -+ (track/2) phi' beside it.
+    const double front_mps = R * spin_radps_, rear_mps = front_mps * std::cos(q_.beta_rad);
+    s.wheels[0] = {front_mps * heading(phi + q_.beta_rad),
+                   spin_radps_ * axle(phi + q_.beta_rad) + (phi_rate + steer_radps_) * z, axle(phi + q_.beta_rad), R};
+    for (int side : {1, 2}) {
+      const double v = rear_mps - (side == 1 ? 1.0 : -1.0) * 0.5 * def_.track_m * phi_rate;
+      s.wheels[side] = {v * heading(phi), v / R * axle(phi) + phi_rate * z, axle(phi), R};
+    }
+    return s;
+  }
+  std::optional<Eigen::Vector3d> ground_force_W() const override { return Eigen::Vector3d::Zero(); }
+
+ private:
+  car::CarDef car_;
+  car::Config q_;
+  double spin_rad_ = 0.0, spin_radps_ = 0.0, steer_radps_ = 0.0;
+};
+
+/// Placed kinematically (PlacedCar) wherever the path's exact lift asks less than half the grip
+/// (the front-axle centre's largest acceleration below mu g / 2), and ODE's car elsewhere and for
+/// four wheels.
+class KinematicAtLowGripCar final : public CarEngine {
+ public:
+  void reset(const CarSetup& setup, const car::Config& q0) override { setup_ = setup, q0_ = q0; }
+  std::vector<car::TimedConfig> drive(const car::BasePath& path) override {
+    used_ = setup_.wheels == 3 && grip_use(path) < 0.5 ? static_cast<CarEngine*>(&placed_) : &ode_;
+    used_->reset(setup_, q0_);
+    return used_->drive(path);
+  }
+  std::vector<WheelSlip> slip() const override { return used_->slip(); }
+  double simulated_s() const override { return placed_.simulated_s() + ode_.simulated_s(); }
+  GroundLoad ground_load() const override { return used_->ground_load(); }
+
+ private:
+  /// The largest acceleration of the front-axle centre along the exact lift, over mu g (second
+  /// differences at 10 ms).
+  double grip_use(const car::BasePath& path) const {
+    car::LiftDef def;
+    def.sample_dt_s = 0.01;
+    const std::vector<car::TimedConfig> q = car::lift(setup_.car, path, q0_, def);
+    double a_max = 0.0;
+    for (size_t k = 1; k + 1 < q.size(); ++k) {
+      const double h = q[k + 1].t_s - q[k].t_s;
+      const Eigen::Vector2d a(q[k + 1].q.x_m - 2 * q[k].q.x_m + q[k - 1].q.x_m,
+                              q[k + 1].q.y_m - 2 * q[k].q.y_m + q[k - 1].q.y_m);
+      a_max = std::max(a_max, a.norm() / (h * h));
+    }
+    return a_max / (setup_.mu * setup_.gravity_mps2);
+  }
+  CarSetup setup_;
+  car::Config q0_;
+  PlacedCar placed_;
+  OdeCar ode_{ode_defaults()};
+  CarEngine* used_ = &ode_;
+};
+
 /// A broken engine that claims contact dynamics, like the rigid-body engines it imitates.
 EngineInfo fault(const std::string& name) {
   EngineInfo e;
@@ -549,9 +636,9 @@ TEST(Faults, GravityNotTilted) {
                  "car.coulomb", "slide_accel");
 }
 
-// Gravity 5% weak: the slide's g (sin - mu cos) is 5% short, and the ground carries 5% less than
-// the car's weight in every car scenario, at rest and over the drive (Newton's third law, from
-// ODE's own contact joint feedback).
+// Gravity 5% weak: the slide's g (sin - mu cos) is 5% short, the ground carries 5% less than the
+// car's weight in every car scenario, at rest and over the drive (Newton's third law, from ODE's
+// own contact joint feedback), and the parked car's grip holds 5% less than m g sin(theta).
 TEST(Faults, GravityFivePercentWeak) {
   const EngineInfo e = car_fault(
       "weak-gravity", [] { return std::make_unique<MisbuiltCar>(weak_gravity); }, "ode");
@@ -559,6 +646,7 @@ TEST(Faults, GravityFivePercentWeak) {
   expect_flagged(e, "car.circle", "load_at_rest");
   expect_flagged(e, "car.circle", "load_over_drive");
   expect_flagged(e, "car.cycle", "load_over_drive");
+  expect_flagged(e, "car.slope", "hold_at_rest");
 }
 
 // 2 kg of 48 left out: the ground carries 4.2% less than the declared weight.
@@ -582,6 +670,17 @@ TEST(Faults, KinematicCarOnTheExactLift) {
   const EngineInfo e = car_fault("kinematic", [] { return std::make_unique<KinematicCar>(); });
   expect_flagged(e, "car.beyond-grip", "com_accel_excess");
   expect_flagged(e, "car.coulomb", "slide_accel");
+}
+
+// Placed on the lift wherever it needs less than half the grip (car.circle asks 0.45 mu g): its pose
+// and its wheels are exact, but the ground carries nothing, neither its weight nor the force that
+// turns it.
+TEST(Faults, KinematicCarAtLowGripUse) {
+  const EngineInfo e = car_fault(
+      "kinematic-at-low-grip", [] { return std::make_unique<KinematicAtLowGripCar>(); }, "ode");
+  expect_flagged(e, "car.circle", "load_over_drive");
+  expect_flagged(e, "car.circle", "momentum_balance");
+  expect_flagged(e, "car.cycle", "momentum_balance");
 }
 
 // Ten times the stated friction: the car holds the lift's circle past the grip limit.
