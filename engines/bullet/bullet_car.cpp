@@ -328,6 +328,9 @@ EngineInfo bullet_engine() {
             "knuckle body: the knuckle's mass and inertia ride on the wheel body"},
            {"rear wheels", "btHingeConstraint each"},
            {"contact", "friction = mu x 1 (Bullet multiplies both bodies' coefficients)"},
+           {"contact forces",
+            "read each step from the wheel-ground manifold points: m_appliedImpulse along the normal and the two "
+            "lateral impulses along their directions, over dt (the load and momentum checks)"},
            {"friction directions",
             "SOLVER_USE_2_FRICTION_DIRECTIONS; wheel: first direction set along the rolling direction before each "
             "solve, kept with SOLVER_ENABLE_FRICTION_DIRECTION_CACHING; world: plane-space axes of the normal"},

@@ -432,6 +432,9 @@ EngineInfo bullet_multibody_engine() {
            {"contact",
             "btMultiBodyLinkCollider spheres on a static plane; friction = mu x 1 (Bullet multiplies both bodies' "
             "coefficients); other btContactSolverInfo fields at Bullet's defaults"},
+           {"contact forces",
+            "read each step from the wheel-ground manifold points, where btMultiBodyConstraintSolver writes the normal "
+            "and both friction impulses back, over dt (the load and momentum checks)"},
            {"friction directions",
             "two (SOLVER_USE_2_FRICTION_DIRECTIONS, set by btMultiBodyDynamicsWorld): world plane-space axes of the "
             "contact normal; custom directions are ignored by btMultiBodyConstraintSolver, so they cannot follow the "

@@ -88,6 +88,11 @@ struct RaycastKnobs {
   }
 };
 
+/// Why the ground's forces are not booked on the raycast vehicle (its facts say so too).
+constexpr const char* kContactForcesNotRead =
+    "none to read: btRaycastVehicle's wheels are rays with no contact points; it applies their suspension forces and "
+    "side impulses to the chassis itself (the load and momentum checks are skipped, saying so)";
+
 class BulletRaycastCar final : public RigidCar {
   friend class RawRaycastCar;  // the benchmarks' raw loop on this vehicle
 
@@ -99,6 +104,7 @@ class BulletRaycastCar final : public RigidCar {
   ~BulletRaycastCar() override { teardown(); }
 
   bool wheels_spin() const override { return false; }
+  std::string ground_force_absent_why() const override { return kContactForcesNotRead; }
 
  protected:
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
@@ -372,6 +378,7 @@ EngineInfo bullet_raycast_engine() {
           {{"precision", "double (bullet-float64)"},
            {"stepper",
             "btDiscreteDynamicsWorld, stepSimulation(dt, 1, dt); the vehicle is an action run after integration"},
+           {"contact forces", kContactForcesNotRead},
            {"vehicle",
             "btRaycastVehicle with btDefaultVehicleRaycaster, setCoordinateSystem(1, 2, 0); 3 wheels: front (steered, "
             "driven) at the front-axle centre, rear (passive) at the rear axle +-track/2; wheel direction -z, axle -y"},

@@ -386,6 +386,10 @@ std::vector<std::pair<std::string, std::string>> settings_for(Detector det) {
        "N holds its commanded velocity along N's surface: friction between the disks (mu 0.5, disks.oblique) moves "
        "M's end by 4.9e-5 m (FCL) and 5.7e-4 m (DART's detector), against 2.7 m on ODE, so with this actuation a "
        "friction fault hardly shows in M's path; M's spin is held by its TranslationalJoint"},
+      {"contact forces",
+       "Contact::force of every wheel-ground contact in World::getLastCollisionResult(), which DART's contact "
+       "constraints write (the normal and friction impulses over dt), summed each step (the load and momentum "
+       "checks)"},
   };
 }
 

@@ -442,6 +442,9 @@ std::vector<std::pair<std::string, std::string>> common_settings(const std::stri
            "ground plane, friction mu (MuJoCo takes the larger)"},
           {"contact", contact},
           {"friction cone", cone},
+          {"contact forces",
+           "mj_contactForce on every wheel-ground contact of the step just solved (read between mj_step2 and "
+           "mj_step1), turned to the world frame (the load and momentum checks)"},
           {"servo", kServo},
           {"disks", kDisks}};
 }

@@ -198,6 +198,9 @@ EngineInfo ode_quick_engine() {
                        {"friction directions",
                         "world (Gazebo's default, no fdir1): ODE's axes from the normal; wheel: dContactFDir1 along "
                         "the rolling direction"},
+                       {"contact forces",
+                        "dJointSetFeedback on every wheel-ground contact joint, f1 (the force on the wheel) summed "
+                        "each step (the load and momentum checks)"},
                        {"servo", kServo},
                        {"disks", kDisks},
                        {"threads",
@@ -235,7 +238,10 @@ EngineInfo ode_engine() {
             "(default 0.2), soft_cfm --set contact_cfm (default 1e-9)"},
            {"friction directions",
             "wheel: dContactFDir1 along the rolling direction (axle x up); world: ODE's default axes from the normal"},
-           {"servo", kServo},
+           {"contact forces",
+                        "dJointSetFeedback on every wheel-ground contact joint, f1 (the force on the wheel) summed "
+                        "each step (the load and momentum checks)"},
+                       {"servo", kServo},
            {"iterations", "none: dWorldStep is a direct solver (a setting 'iterations' is rejected)"},
            {"disks", kDisks},
            {"threads",

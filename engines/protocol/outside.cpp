@@ -490,6 +490,11 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
   }
   e.settings.insert(e.settings.begin(), {"protocol", fmt::format("{} (docs/protocol.md), precision {}",
                                                                  fmt::join(e.outside.command, " "), e.precision)});
+  if (std::none_of(e.settings.begin(), e.settings.end(), [](const auto& f) { return f.first == "contact forces"; }))
+    e.settings.emplace_back("contact forces",
+                            "not declared by its adapter: liftcheck books the step replies' optional ground_force_W "
+                            "where they carry it (docs/protocol.md); a run without it skips the load and momentum "
+                            "checks and says so in details.ground_load");
   if (vehicles.count(Vehicle::kCar))
     e.make_car = [o](const Settings& s) { return std::make_unique<ProtocolCar>(o, s); };
   if (vehicles.count(Vehicle::kDisks))

@@ -73,11 +73,18 @@ auto guarded(F f) {
   }
 }
 
+/// Why the ground's forces are not booked on Simbody (its facts say so too).
+constexpr const char* kContactForcesNotRead =
+    "not read: Simbody's compliant contact gives the force at an instant (CompliantContactSubsystem::getContactForce), "
+    "while the error-controlled integrator takes each step in substeps of its own, so the impulse the load and "
+    "momentum checks book over a step is not the instant's force times dt (the checks are skipped, saying so)";
+
 class SimbodyCar final : public RigidCar {
  public:
   explicit SimbodyCar(Settings settings) : RigidCar(std::move(settings)) {}
 
  protected:
+  std::string ground_force_absent_why() const override { return kContactForcesNotRead; }
   void build(const CarSetup& setup, const TricycleDef& d, const car::Config& q0) override {
     const simbody::CarDef def{.R_m = d.R_m,
                               .l_m = d.l_m,
@@ -227,6 +234,7 @@ std::vector<std::pair<std::string, std::string>> settings_for(const SimbodyPrese
        "no contact surface); MobilizedBody::Pin knuckle about the chassis z; Pin front wheel about the knuckle's y; "
        "Pin rear wheels about the chassis y; solid sphere wheels of wheel_mass"},
       {"ground", "a ContactGeometry::HalfSpace on Ground, turned to fill z < 0 (as Gazebo's plane)"},
+      {"contact forces", kContactForcesNotRead},
       {"servo",
        "Motion::Steady on the spin and on the steering mobility (Simbody's prescribed motion), its rate set each step "
        "to commanded rate + 40/s x angle error and written into the state (System::prescribeU); the torque it takes "
