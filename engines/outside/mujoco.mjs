@@ -47,7 +47,7 @@ const KNOBS = CONFIG.stiff
 const DIR = '/liftcheck';
 mj.FS.mkdir(DIR);
 const num = (x) => x.toPrecision(17);
-const OBJ = { body: mj.mjtObj.mjOBJ_BODY.value, joint: mj.mjtObj.mjOBJ_JOINT.value, actuator: mj.mjtObj.mjOBJ_ACTUATOR.value };
+const OBJ = { geom: mj.mjtObj.mjOBJ_GEOM.value, body: mj.mjtObj.mjOBJ_BODY.value, joint: mj.mjtObj.mjOBJ_JOINT.value, actuator: mj.mjtObj.mjOBJ_ACTUATOR.value };
 const BAD = [['qpos', mj.mjtWarning.mjWARN_BADQPOS], ['qvel', mj.mjtWarning.mjWARN_BADQVEL], ['qacc', mj.mjtWarning.mjWARN_BADQACC]];
 let sim = null, car = null, disks = null;
 
@@ -156,9 +156,11 @@ function buildCar(req) {
     return { beta0: f.beta0_rad, body: id('body', `front${sfx}`), spin_q: m.jnt_qposadr[id('joint', `spin${sfx}`)],
       steer_q: m.jnt_qposadr[id('joint', `steer${sfx}`)], spin_a: id('actuator', `spin${sfx}`), steer_a: id('actuator', `steer${sfx}`) };
   });
-  car = { dt_s: r.dt_s, chassis: id('body', 'chassis'), fronts, rears: ['rear_left', 'rear_right'].map((n) => id('body', n)) };
+  car = { dt_s: r.dt_s, ground: id('geom', 'ground'), chassis: id('body', 'chassis'), fronts, rears: ['rear_left', 'rear_right'].map((n) => id('body', n)) };
   return carState(0);
 }
+
+const forceBuf = new mj.DoubleBuffer(6);  // mj_contactForce's six numbers, reused
 
 const at3 = (a, i) => [a[3 * i], a[3 * i + 1], a[3 * i + 2]];
 
@@ -193,12 +195,30 @@ function stepCar(req) {
     d.ctrl[f.spin_a] = spin[k];
     d.ctrl[f.steer_a] = steer[k];
   });
-  const engine_s = timed(() => {
-    mj.mj_step2(m, d);
-    mj.mj_step1(m, d);
-  });
+  let engine_s = timed(() => mj.mj_step2(m, d));
+  const ground_force_W = groundForce();  // the step just solved: its contacts and efc_force
+  engine_s += timed(() => mj.mj_step1(m, d));
   check();
-  return carState(engine_s);
+  return { ...carState(engine_s), ground_force_W };
+}
+
+/// The force the ground plane's contacts exerted on the wheels in the step just solved, world
+/// frame, N: mj_contactForce gives the normal and tangential components in the contact frame,
+/// whose first row is the normal from geom1 towards geom2, the force acting on geom2 (as the
+/// compiled-in adapter reads it).
+function groundForce() {
+  const { m, d } = sim;
+  const sum = [0, 0, 0];
+  for (let i = 0; i < d.ncon; i++) {
+    const c = d.contact.get(i);
+    if (c.geom1 === car.ground || c.geom2 === car.ground) {
+      mj.mj_contactForce(m, d, i, forceBuf);
+      const f = forceBuf.GetView(), fr = c.frame, sign = c.geom2 === car.ground ? -1 : 1;
+      for (let k = 0; k < 3; k++) sum[k] += sign * (f[0] * fr[k] + f[1] * fr[3 + k] + f[2] * fr[6 + k]);
+    }
+    c.delete?.();
+  }
+  return sum;
 }
 
 function disksXml({ radius_m, dt_s, cM0, cN0, mu_MN }, knob) {
@@ -285,6 +305,7 @@ serve({
       ['joints', 'free-joint chassis at the front-axle centre (box l/2 behind it, no collision); knuckle hinged about the chassis z (inertia m x 2e-3 m^2); front wheel hinged about the knuckle y; rear wheels hinged about the chassis y; four wheels: two knuckles at (0, +-track/2), each at its Ackermann angle'],
       ['actuators', 'velocity actuators on spin and steering, kv = the joint\'s own inertia / dt, forcerange the request\'s torque limit'],
       ['friction', 'wheels and ground friction mu (MuJoCo takes the larger of the two geoms\'), condim 3'],
+      ['contact forces', 'mj_contactForce on every wheel-ground contact of the step just solved (between mj_step2 and mj_step1), turned to the world frame: each step reply\'s ground_force_W (the load and momentum checks)'],
       ['disks', 'M sphere 1 kg on slide joints x, y, velocity actuators kv = 1 kg / dt; N mocap sphere placed on cN_next after mj_step2; condim 1, no gravity; contacts: those mj_step1 generated on the state the step starts from'],
     ],
   }),
