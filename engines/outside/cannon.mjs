@@ -92,7 +92,7 @@ function buildCar(req) {
   world.solver.iterations = iterations;
   const groundMat = new CANNON.Material('ground'), wheelMat = new CANNON.Material('wheel');
   world.addContactMaterial(new CANNON.ContactMaterial(groundMat, wheelMat, { friction: mu, restitution: 0 }));
-  body(world, { mass: 0, shape: new CANNON.Plane(), p: [0, 0, 0], q: [0, 0, 0, 1], group: GROUND, mask: WHEEL, material: groundMat });
+  const ground = body(world, { mass: 0, shape: new CANNON.Plane(), p: [0, 0, 0], q: [0, 0, 0, 1], group: GROUND, mask: WHEEL, material: groundMat });
 
   const R = d.R_m, l = d.l_m, w = d.track_m;
   const yaw = C.yawQuat(q0.phi_rad);
@@ -115,7 +115,7 @@ function buildCar(req) {
     return b;
   });
   spookFor(world, dt_s);
-  car = { world, dt_s, chassis, fronts, rears, previous: null };
+  car = { world, dt_s, ground, chassis, fronts, rears, previous: null };
   return { ...carState(0), constraint_spook: spookOf(world) };
 }
 
@@ -145,7 +145,25 @@ function stepCar(req) {
     limitMotor(f.spin, dt_s);
     limitMotor(f.steer, dt_s);
   });
-  return carState(timed(() => car.world.step(dt_s)));
+  const engine_s = timed(() => car.world.step(dt_s));
+  return { ...carState(engine_s), ground_force_W: groundForce() };
+}
+
+/// The force the ground exerted on the wheels in the step just taken, world frame, N: each
+/// ground contact's normal row and its friction rows, as the solver left them. A row's Jacobian is
+/// (-d, -ri x d) on bi and (d, rj x d) on bj (d the normal ni or the tangent t), and its
+/// `multiplier` is the impulse it applied over the step's dt (GSSolver: lambda / h), so it pushes
+/// bj by +d multiplier and bi by -d multiplier.
+function groundForce() {
+  const sum = [0, 0, 0];
+  const add = (eq, d) => {
+    if (eq.bi !== car.ground && eq.bj !== car.ground) return;
+    const f = (eq.bj === car.ground ? -1 : 1) * eq.multiplier;
+    sum[0] += f * d.x, sum[1] += f * d.y, sum[2] += f * d.z;
+  };
+  for (const eq of car.world.contacts) add(eq, eq.ni);
+  for (const eq of car.world.frictionEquations) add(eq, eq.t);
+  return sum;
 }
 
 function buildDisks(req) {
@@ -216,6 +234,7 @@ serve({
       ['bodies', 'chassis box (collides with nothing), knuckle (no shape, inertia m x 2e-3 m^2), sphere wheels; exact solid inertias set (cannon-es estimates a world-aligned bounding box); damping 0 (default 0.01)'],
       ['friction', 'ContactMaterial(ground, wheel) friction mu, restitution 0 (the materials have no coefficients, so the pair\'s apply); cannon-es clamps each friction row\'s impulse over the step at mu g times the pair\'s reduced mass (the wheel\'s mass), not at mu times the normal impulse: at dt = 1 ms a force of mu g m / dt, a thousand times the wheel\'s weight'],
       ['ground', 'CANNON.Plane z = 0'],
+      ['contact forces', 'each ground contact\'s normal and friction rows after the step (world.contacts, world.frictionEquations): their direction times the solver\'s multiplier (the row\'s impulse over dt), summed: each step reply\'s ground_force_W (the load and momentum checks)'],
       ['disks', `M sphere 1 kg, velocity set before each step, linearFactor (1, 1, 0), fixedRotation with no inverse inertia; frictionGravity 9.81 m/s^2 (friction mu_MN between the disks, 0 in every scenario); N kinematic sphere, velocity that lands it on cN_next; frictionless, restitution 0; ${ITERATIONS} iterations; contacts: the step's ContactEquations (narrow phase on the start state), signed distance n . (x_j + r_j - x_i - r_i)`],
     ],
   }),
