@@ -44,24 +44,20 @@ ServoDef ServoDef::for_car(const CarSetup& setup, const TricycleDef& car) {
 
 namespace {
 
-/// The car's momentum along the ground, N s, from the velocities the engine reports: the chassis
-/// (its centre of mass midway between the axle centres, each the mean of its axle's hubs, the
-/// hubs being fixed in the chassis), every wheel and every steering knuckle (centred on its hub).
+/// The car's momentum along the ground, N s, from the velocities the engine reports: the chassis's
+/// centre of mass, every wheel's hub and every steering knuckle (centred on its wheel's hub), with
+/// their declared masses. NaN where the engine reports no chassis velocity.
 Eigen::Vector2d plane_momentum_Ns(const TricycleDef& d, const RigidCarState& s) {
   const int n_front = d.wheels == 4 ? 2 : 1, n_wheels = d.wheels == 4 ? 4 : 3;
-  Eigen::Vector3d front = Eigen::Vector3d::Zero(), rear = Eigen::Vector3d::Zero(), p = Eigen::Vector3d::Zero();
-  for (int w = 0; w < n_wheels; ++w) {
-    const Eigen::Vector3d& v = s.wheels[w].v_hub_W;
-    (w < n_front ? front : rear) += v / (w < n_front ? n_front : 2);
-    p += (d.wheel_mass_kg + (w < n_front ? d.knuckle_mass_kg : 0.0)) * v;
-  }
-  p += d.chassis_mass_kg * 0.5 * (front + rear);
+  Eigen::Vector3d p = d.chassis_mass_kg * s.v_chassis_W;
+  for (int w = 0; w < n_wheels; ++w) p += (d.wheel_mass_kg + (w < n_front ? d.knuckle_mass_kg : 0.0)) * s.wheels[w].v_hub_W;
   return p.head<2>();
 }
 
 /// The ground's load (GroundLoad), booked step by step from the engine's own contact forces:
 /// the normal and in-plane force at rest, the normal force and the in-plane momentum balance over
-/// the drive. Any step without forces leaves every figure unmeasured.
+/// the drive. An engine that reports no forces leaves every figure unmeasured; one that reports
+/// them on some steps only, or reports a non-finite one, is an error.
 class LoadBook {
  public:
   LoadBook(const TricycleDef& d, const CarSetup& setup)
@@ -69,24 +65,29 @@ class LoadBook {
     load_.weight_normal_N = m_kg_ * -setup.gravity_W().z();
     load_.plane_weight_N = m_kg_ * g_plane_.norm();
   }
-  /// One step of the rest window.
-  void rest(const std::optional<Eigen::Vector3d>& f_W) {
-    if (!book(f_W)) return;
+  /// One step of the rest window, ending at t_s.
+  void rest(const std::optional<Eigen::Vector3d>& f_W, double t_s) {
+    if (!book(f_W, t_s)) return;
     rest_sum_ += *f_W, ++rest_steps_;
   }
   /// The drive starts from state s.
-  void start_drive(const RigidCarState& s) { p0_ = plane_momentum_Ns(def_, s); }
-  /// One step of the drive, dt long, ending in state s.
-  void drive(const std::optional<Eigen::Vector3d>& f_W, const RigidCarState& s, double dt_s) {
-    if (!book(f_W)) return;
+  void start_drive(const RigidCarState& s) {
+    p0_ = plane_momentum_Ns(def_, s);
+    momentum_ = p0_.allFinite();
+  }
+  /// One step of the drive, dt long, ending at t_s in state s.
+  void drive(const std::optional<Eigen::Vector3d>& f_W, const RigidCarState& s, double t_s, double dt_s) {
+    if (!book(f_W, t_s)) return;
     drive_normal_sum_N_ += f_W->z(), ++drive_steps_;
     impulse_ += (f_W->head<2>() + m_kg_ * g_plane_) * dt_s;  // Newton II along the ground
     const Eigen::Vector2d dp = plane_momentum_Ns(def_, s) - p0_;
+    momentum_ = momentum_ && dp.allFinite();
+    if (!momentum_) return;
     gap_ = std::max(gap_, (dp - impulse_).norm());
     change_ = std::max(change_, dp.norm());
   }
   GroundLoad finish(const std::string& absent_why) {
-    if (!forces_) {
+    if (given_ == 0) {
       load_.absent_why = absent_why;
       return load_;
     }
@@ -94,21 +95,32 @@ class LoadBook {
       load_.rest_normal_N = rest_sum_.z() / rest_steps_;
       load_.rest_hold_gap_N = (rest_sum_.head<2>() / rest_steps_ + m_kg_ * g_plane_).norm();
     }
-    if (drive_steps_ > 0) {
-      load_.drive_normal_N = drive_normal_sum_N_ / drive_steps_;
+    if (drive_steps_ > 0) load_.drive_normal_N = drive_normal_sum_N_ / drive_steps_;
+    if (drive_steps_ > 0 && momentum_) {
       load_.momentum_gap_Ns = gap_, load_.momentum_change_Ns = change_;
-      load_.momentum_scale_Ns = std::max(change_, m_kg_ * cruise_mps_);
+      load_.momentum_scale_Ns = std::max(change_, GroundLoad::kCruiseShare * m_kg_ * cruise_mps_);
     }
+    if (!momentum_) load_.momentum_absent_why = "the engine reports no chassis velocity (the protocol's optional v_chassis_W)";
     return load_;
   }
 
  private:
-  bool book(const std::optional<Eigen::Vector3d>& f_W) { return forces_ = forces_ && f_W.has_value(); }
+  /// True where the step's force is booked; an error where the report is partial or not finite.
+  bool book(const std::optional<Eigen::Vector3d>& f_W, double t_s) {
+    if (f_W && !f_W->allFinite())
+      throw EngineError(fmt::format("the engine's contact report gave a non-finite force ({}, {}, {}) N at t = {:.4f} s",
+                                    f_W->x(), f_W->y(), f_W->z(), t_s));
+    (f_W ? given_ : missing_) += 1;
+    if (given_ > 0 && missing_ > 0)
+      throw EngineError(fmt::format("the engine's contact report gave forces on some steps and none on others (t = {:.4f} s)", t_s));
+    return f_W.has_value();
+  }
   TricycleDef def_;
   double m_kg_, cruise_mps_;
   Eigen::Vector2d g_plane_;
   GroundLoad load_;
-  bool forces_ = true;
+  long given_ = 0, missing_ = 0;
+  bool momentum_ = false;
   Eigen::Vector3d rest_sum_ = Eigen::Vector3d::Zero();
   long rest_steps_ = 0, drive_steps_ = 0;
   double drive_normal_sum_N_ = 0.0, gap_ = 0.0, change_ = 0.0;
@@ -216,7 +228,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   // Settle on the wheels: the contacts load up while the servos hold alpha = 0 and beta = beta0.
   for (long k = 0; k < settle_steps; ++k) {
     advance(-(settle_steps - k - 1) * dt, 0.0, q0_.beta_rad, 0.0, 0.0);
-    if (k >= settle_steps - rest_steps) load.rest(ground_force_W());
+    if (k >= settle_steps - rest_steps) load.rest(ground_force_W(), -(settle_steps - k - 1) * dt);
   }
   load.start_drive(s);
   alpha = 0.0;  // the drive starts at alpha = 0
@@ -248,7 +260,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
                           steer_mid = tb == ta ? drive_mid : path.at(tb + 0.5 * dt);
     advance(t1, drive.alpha_rad, steer.beta_rad, drive_mid.alpha_rate_radps, steer_mid.beta_rate_radps);
     book_slip();
-    load.drive(ground_force_W(), s, dt);
+    load.drive(ground_force_W(), s, t1, dt);
     if ((k + 1) % sample_every == 0 || k + 1 == steps) sample(t1);
   }
   for (int w = 0; w < n_wheels; ++w) {

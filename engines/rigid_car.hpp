@@ -90,6 +90,9 @@ struct RigidCarState {
   double rear_z_m;      ///< lowest rear wheel centre height
   /// Tricycle: front, rear left, rear right; four wheels: front left, front right, rear left, rear right.
   WheelState wheels[4];
+  /// The chassis body's centre-of-mass velocity, world frame, m/s, as the engine reports it (NaN
+  /// where it gives none): with the hubs', the car's momentum that momentum_balance books.
+  Eigen::Vector3d v_chassis_W = Eigen::Vector3d::Constant(NAN);
 };
 
 class RigidCar : public CarEngine {

@@ -82,9 +82,12 @@ struct GroundLoad {
   /// as the engine reports it), F_plane the in-plane contact forces. N s.
   double momentum_gap_Ns = NAN;
   double momentum_change_Ns = NAN;  ///< the largest |p(t) - p(0)| over the drive, N s
-  /// The gap's scale, N s: the largest momentum change, or the car's momentum at the drive's cruise
-  /// speed where that is larger (a car steering in place hardly moves).
+  /// The gap's scale, N s: the largest momentum change, or kCruiseShare of the car's momentum at
+  /// the drive's cruise speed where that is larger (a car steering in place hardly moves).
   double momentum_scale_Ns = NAN;
+  /// Non-empty where the engine gives forces but not the velocities the momentum needs: why.
+  std::string momentum_absent_why;
+  static constexpr double kCruiseShare = 0.1;
   static constexpr double kRestWindow_s = 0.2;
 };
 

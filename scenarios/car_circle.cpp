@@ -118,7 +118,7 @@ Outcome judge_beyond_grip(const Params& p, const Outcome& o) {
   b.details["lift_needs_mu_g"] = need;
   for (const char* k : {"slip_along_max", "slip_across_max", "slip_rms"})
     if (o.values.count(k)) b.values[k] = o.values.at(k), b.values[k].informational = true;  // sliding is the point here
-  for (const char* k : {"load_at_rest", "load_over_drive"})  // sliding or not, the ground carries the car
+  for (const char* k : {"load_at_rest", "load_over_drive", "momentum_balance"})  // sliding or not: Newton
     if (o.values.count(k)) b.values[k] = o.values.at(k);
   return b;
 }

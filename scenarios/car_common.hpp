@@ -127,14 +127,15 @@ inline const MetricDef LOAD_DRIVE = rel("load_over_drive", "N", 0.0, 1e-2,
 // Newton's second law along the ground: the in-plane contact forces hold the parked car against
 // gravity's pull down the slope (1% of m g sin(theta): a third measure of gravity), and over the
 // drive their impulse with gravity's makes the change of the car's momentum (Sigma F = m a of its
-// centre of mass, booked every step; 1% of the largest momentum change, or of the car's momentum at
-// cruise speed where that is larger).
+// centre of mass, booked every step; 1% of the largest momentum change, or of a tenth of the car's
+// momentum at cruise speed where that is larger: a car steering in place hardly moves).
 inline const MetricDef HOLD_REST = rel("hold_at_rest", "N", 0.0, 1e-2,
                                        "|mean in-plane contact force over the last 0.2 s of the settle + m g_plane| "
                                        "against gravity's pull along the ground, m g sin(theta)");
 inline const MetricDef MOMENTUM = rel("momentum_balance", "N s", 0.0, 1e-2,
                                       "largest |p(t) - p(0) - integral of (F_plane + m g_plane) dt| over the drive "
-                                      "(p the car's in-plane momentum) against the largest |p(t) - p(0)|, or m times the cruise speed if larger");
+                                      "(p the car's in-plane momentum) against the largest |p(t) - p(0)|, or a tenth of m times the cruise speed if "
+                                      "larger");
 // Every sample of the trace (an engine's, or an outside simulator's from liftcheck score) against
 // the exact lift and the command.
 inline const MetricDef TRACE_PATH =

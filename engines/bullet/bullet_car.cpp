@@ -227,6 +227,8 @@ class BulletCar final : public RigidCar {
                      {axle.x(), axle.y(), axle.z()},
                      bodies[w]->getWorldTransform().getOrigin().z()};
     }
+    const btVector3 vc = chassis_->getLinearVelocity();  // at the centre of mass
+    s.v_chassis_W = {vc.x(), vc.y(), vc.z()};
     return s;
   }
 

@@ -263,6 +263,7 @@ class MultiBodyCar final : public RigidCar {
                       eig(mb_->localDirToWorld(i, btVector3(0, 1, 0)).normalized()),  // the revolute axis
                       mb_->localPosToWorld(i, btVector3(0, 0, 0)).z()};
     }
+    st.v_chassis_W = eig(mb_->getBaseVel());  // the base's centre of mass, world frame
     return st;
   }
 

@@ -250,6 +250,7 @@ class DartCar final : public RigidCar {
       st.wheels[w] = {b->getLinearVelocity(), b->getAngularVelocity(),
                       (T.linear() * Eigen::Vector3d::UnitY()).normalized(), T.translation().z()};
     }
+    st.v_chassis_W = chassis_->getCOMLinearVelocity();
     return st;
   }
 

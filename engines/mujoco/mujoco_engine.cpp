@@ -320,6 +320,9 @@ class MujocoCar final : public RigidCar {
                       Eigen::Vector3d(r[1], r[4], r[7]).normalized(),  // the body's y axis: the hinge axis
                       d->xpos[3 * b + 2]};
     }
+    mjtNum vc[6];  // mjOBJ_BODY: at the chassis's centre of mass (xipos), world axes
+    mj_objectVelocity(m, d, mjOBJ_BODY, chassis_, vc, 0);
+    st.v_chassis_W = {vc[3], vc[4], vc[5]};
     return st;
   }
 

@@ -190,6 +190,8 @@ class OdeCar : public RigidCar {
       s.wheels[w] = {
           {v[0], v[1], v[2]}, {o[0], o[1], o[2]}, {axle[0], axle[1], axle[2]}, dBodyGetPosition(bodies[w])[2]};
     }
+    const dReal* vc = dBodyGetLinearVel(chassis_);  // ODE's body origin is its centre of mass
+    s.v_chassis_W = {vc[0], vc[1], vc[2]};
     return s;
   }
 

@@ -146,7 +146,7 @@ function stepCar(req) {
     limitMotor(f.steer, dt_s);
   });
   const engine_s = timed(() => car.world.step(dt_s));
-  return { ...carState(engine_s), ground_force_W: groundForce() };
+  return { ...carState(engine_s), ground_force_W: groundForce(), v_chassis_W: arr(car.chassis.velocity) };
 }
 
 /// The force the ground exerted on the wheels in the step just taken, world frame, N: each
@@ -234,7 +234,7 @@ serve({
       ['bodies', 'chassis box (collides with nothing), knuckle (no shape, inertia m x 2e-3 m^2), sphere wheels; exact solid inertias set (cannon-es estimates a world-aligned bounding box); damping 0 (default 0.01)'],
       ['friction', 'ContactMaterial(ground, wheel) friction mu, restitution 0 (the materials have no coefficients, so the pair\'s apply); cannon-es clamps each friction row\'s impulse over the step at mu g times the pair\'s reduced mass (the wheel\'s mass), not at mu times the normal impulse: at dt = 1 ms a force of mu g m / dt, a thousand times the wheel\'s weight'],
       ['ground', 'CANNON.Plane z = 0'],
-      ['contact forces', 'each ground contact\'s normal and friction rows after the step (world.contacts, world.frictionEquations): their direction times the solver\'s multiplier (the row\'s impulse over dt), summed: each step reply\'s ground_force_W (the load and momentum checks)'],
+      ['contact forces', 'each ground contact\'s normal and friction rows after the step (world.contacts, world.frictionEquations): their direction times the solver\'s multiplier (the row\'s impulse over dt), summed: each step reply\'s ground_force_W, with the chassis\'s centre-of-mass velocity v_chassis_W (the load and momentum checks)'],
       ['disks', `M sphere 1 kg, velocity set before each step, linearFactor (1, 1, 0), fixedRotation with no inverse inertia; frictionGravity 9.81 m/s^2 (friction mu_MN between the disks, 0 in every scenario); N kinematic sphere, velocity that lands it on cN_next; frictionless, restitution 0; ${ITERATIONS} iterations; contacts: the step's ContactEquations (narrow phase on the start state), signed distance n . (x_j + r_j - x_i - r_i)`],
     ],
   }),

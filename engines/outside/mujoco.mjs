@@ -199,7 +199,7 @@ function stepCar(req) {
   const ground_force_W = groundForce();  // the step just solved: its contacts and efc_force
   engine_s += timed(() => mj.mj_step1(m, d));
   check();
-  return { ...carState(engine_s), ground_force_W };
+  return { ...carState(engine_s), ground_force_W, v_chassis_W: bodyState(car.chassis).v };
 }
 
 /// The force the ground plane's contacts exerted on the wheels in the step just solved, world
@@ -305,7 +305,7 @@ serve({
       ['joints', 'free-joint chassis at the front-axle centre (box l/2 behind it, no collision); knuckle hinged about the chassis z (inertia m x 2e-3 m^2); front wheel hinged about the knuckle y; rear wheels hinged about the chassis y; four wheels: two knuckles at (0, +-track/2), each at its Ackermann angle'],
       ['actuators', 'velocity actuators on spin and steering, kv = the joint\'s own inertia / dt, forcerange the request\'s torque limit'],
       ['friction', 'wheels and ground friction mu (MuJoCo takes the larger of the two geoms\'), condim 3'],
-      ['contact forces', 'mj_contactForce on every wheel-ground contact of the step just solved (between mj_step2 and mj_step1), turned to the world frame: each step reply\'s ground_force_W (the load and momentum checks)'],
+      ['contact forces', 'mj_contactForce on every wheel-ground contact of the step just solved (between mj_step2 and mj_step1), turned to the world frame: each step reply\'s ground_force_W, with the chassis\'s centre-of-mass velocity v_chassis_W (the load and momentum checks)'],
       ['disks', 'M sphere 1 kg on slide joints x, y, velocity actuators kv = 1 kg / dt; N mocap sphere placed on cN_next after mj_step2; condim 1, no gravity; contacts: those mj_step1 generated on the state the step starts from'],
     ],
   }),

@@ -146,6 +146,7 @@ RigidCarState car_state(ProtocolChild& c, const json& r, int wheels) {
     s.wheels[k].axle_W = vec3(c, ws, "axle_W", where.c_str());
     s.wheels[k].hub_z_m = c.number(ws, "hub_z_m", where.c_str());
   }
+  if (r.contains("v_chassis_W")) s.v_chassis_W = vec3(c, r, "v_chassis_W", "v_chassis_W");
   return s;
 }
 
@@ -181,6 +182,7 @@ std::vector<FlatReply::Slot> car_slots(int wheels) {
   }
   s.push_back({"id", true, true});  // the request's number (car_id_slot)
   for (int i = 0; i < 3; ++i) s.push_back({fmt::format("ground_force_W/{}", i), false});  // optional, after it
+  for (int i = 0; i < 3; ++i) s.push_back({fmt::format("v_chassis_W/{}", i), false});     // optional
   return s;
 }
 
@@ -253,11 +255,14 @@ class ProtocolCar final : public RigidCar {
     const std::string& line = c.exchange("step", request_, lease_.seconds_left());
     if (!reply_ || reply_wheels_ != def_.wheels) reply_.emplace(car_slots(def_.wheels)), reply_wheels_ = def_.wheels;
     const size_t f = car_id_slot(def_.wheels) + 1;  // ground_force_W: all three numbers or none
+    const size_t v = f + 3;  // v_chassis_W: all three numbers or none
     const int forces = reply_->read(line) ? reply_->given(f) + reply_->given(f + 1) + reply_->given(f + 2) : -1;
-    if ((forces == 0 || forces == 3) && reply_->value(0) >= 0.0 &&
+    const int chassis = forces >= 0 ? reply_->given(v) + reply_->given(v + 1) + reply_->given(v + 2) : -1;
+    if ((forces == 0 || forces == 3) && (chassis == 0 || chassis == 3) && reply_->value(0) >= 0.0 &&
         reply_->value(car_id_slot(def_.wheels)) == static_cast<double>(c.request_id())) {
       engine_s_ += reply_->value(0);
       state_ = car_state_of(*reply_, def_.wheels);
+      if (chassis == 3) state_.v_chassis_W = {reply_->value(v), reply_->value(v + 1), reply_->value(v + 2)};
       force_.reset();
       if (forces == 3) force_ = Eigen::Vector3d(reply_->value(f), reply_->value(f + 1), reply_->value(f + 2));
       return;

@@ -156,6 +156,7 @@ class ProtocolServer {
     json r = car_state();
     r["engine_s"] = engine_s;
     if (const std::optional<Eigen::Vector3d> f = car_->ground_force_W()) r["ground_force_W"] = vec(*f);
+    if (const Eigen::Vector3d v = car_->read().v_chassis_W; v.allFinite()) r["v_chassis_W"] = vec(v);
     return r;
   }
 

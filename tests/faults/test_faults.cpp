@@ -358,8 +358,8 @@ class KinematicCar final : public CarEngine {
 /// A car placed kinematically, as an engine that switches a vehicle to a kinematic body where it
 /// expects no sliding: the commanded wheel rates move it along the exact flows of the no-slip
 /// connection (H_beta half a step, H_alpha, H_beta half a step), so its wheels roll without
-/// slipping and its pose is the lift of its shape. A kinematic body on static ground makes no
-/// contact constraint: its contact report holds no force.
+/// slipping and its pose is the lift of its shape. Its contact report holds the static load its
+/// suspension would carry, the car's weight, and no force along the ground.
 class PlacedCar final : public RigidCar {
  public:
   PlacedCar() : RigidCar(Settings{}) {}
@@ -393,9 +393,12 @@ class PlacedCar final : public RigidCar {
       const double v = rear_mps - (side == 1 ? 1.0 : -1.0) * 0.5 * def_.track_m * phi_rate;
       s.wheels[side] = {v * heading(phi), v / R * axle(phi) + phi_rate * z, axle(phi), R};
     }
+    s.v_chassis_W = 0.5 * (front_mps * heading(phi + q_.beta_rad) + rear_mps * heading(phi));  // midway
     return s;
   }
-  std::optional<Eigen::Vector3d> ground_force_W() const override { return Eigen::Vector3d::Zero(); }
+  std::optional<Eigen::Vector3d> ground_force_W() const override {
+    return Eigen::Vector3d(0.0, 0.0, -car_mass_kg(def_) * setup_.gravity_W().z());
+  }
 
  private:
   car::CarDef car_;
@@ -439,6 +442,25 @@ class KinematicAtLowGripCar final : public CarEngine {
   PlacedCar placed_;
   OdeCar ode_{ode_defaults()};
   CarEngine* used_ = &ode_;
+};
+
+/// ODE's car whose contact report breaks after 1 s of stepping: a NaN in its x component, or no
+/// forces at all.
+class BrokenReportCar final : public OdeCar {
+ public:
+  explicit BrokenReportCar(bool nan) : OdeCar(ode_defaults()), nan_(nan) {}
+
+ protected:
+  std::optional<Eigen::Vector3d> ground_force_W() const override {
+    std::optional<Eigen::Vector3d> f = OdeCar::ground_force_W();
+    if (stepped_s_ < 1.0) return f;
+    if (!nan_) return std::nullopt;
+    f->x() = NAN;
+    return f;
+  }
+
+ private:
+  bool nan_;
 };
 
 /// A broken engine that claims contact dynamics, like the rigid-body engines it imitates.
@@ -672,15 +694,15 @@ TEST(Faults, KinematicCarOnTheExactLift) {
   expect_flagged(e, "car.coulomb", "slide_accel");
 }
 
-// Placed on the lift wherever it needs less than half the grip (car.circle asks 0.45 mu g): its pose
-// and its wheels are exact, but the ground carries nothing, neither its weight nor the force that
-// turns it.
+// Placed on the lift wherever it needs less than half the grip (car.circle asks 0.12 mu g): its
+// pose and its wheels are exact and the ground carries its weight, but no force along the ground
+// turns or drives it, nor holds it on the slope.
 TEST(Faults, KinematicCarAtLowGripUse) {
   const EngineInfo e = car_fault(
       "kinematic-at-low-grip", [] { return std::make_unique<KinematicAtLowGripCar>(); }, "ode");
-  expect_flagged(e, "car.circle", "load_over_drive");
   expect_flagged(e, "car.circle", "momentum_balance");
   expect_flagged(e, "car.cycle", "momentum_balance");
+  expect_flagged(e, "car.slope", "hold_at_rest");
 }
 
 // Ten times the stated friction: the car holds the lift's circle past the grip limit.
@@ -717,6 +739,17 @@ TEST(Faults, ABlowUpIsAnErrorSayingWhatAndWhen) {
       *find_scenario("disks.repel"), disk_fault("exploding", [] { return std::make_unique<ExplodingContactDisks>(); }));
   EXPECT_EQ(disks.status, Status::kError) << disks.message;
   EXPECT_NE(disks.message.find("disk M speed"), std::string::npos) << disks.message;
+}
+
+// A contact report that breaks mid-run (a NaN along the ground, or forces that stop) ends the run as
+// an error naming it, never a check silently dropped or frozen.
+TEST(Faults, AContactReportThatBreaksIsAnError) {
+  for (const bool nan : {true, false}) {
+    const RunRecord r = run_scenario(*find_scenario("car.circle"),
+                                     car_fault("broken-report", [nan] { return std::make_unique<BrokenReportCar>(nan); }));
+    EXPECT_EQ(r.status, Status::kError) << r.message;
+    EXPECT_NE(r.message.find(nan ? "non-finite force" : "some steps and none on others"), std::string::npos) << r.message;
+  }
 }
 
 // The unbroken engine passes the same judgement: the faults, not the suite, are what fail.
