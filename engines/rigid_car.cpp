@@ -50,7 +50,8 @@ namespace {
 Eigen::Vector2d plane_momentum_Ns(const TricycleDef& d, const RigidCarState& s) {
   const int n_front = d.wheels == 4 ? 2 : 1, n_wheels = d.wheels == 4 ? 4 : 3;
   Eigen::Vector3d p = d.chassis_mass_kg * s.v_chassis_W;
-  for (int w = 0; w < n_wheels; ++w) p += (d.wheel_mass_kg + (w < n_front ? d.knuckle_mass_kg : 0.0)) * s.wheels[w].v_hub_W;
+  for (int w = 0; w < n_wheels; ++w)
+    p += (d.wheel_mass_kg + (w < n_front ? d.knuckle_mass_kg : 0.0)) * s.wheels[w].v_hub_W;
   return p.head<2>();
 }
 
@@ -100,7 +101,8 @@ class LoadBook {
       load_.momentum_gap_Ns = gap_, load_.momentum_change_Ns = change_;
       load_.momentum_scale_Ns = std::max(change_, GroundLoad::kCruiseShare * m_kg_ * cruise_mps_);
     }
-    if (!momentum_) load_.momentum_absent_why = "the engine reports no chassis velocity (the protocol's optional v_chassis_W)";
+    if (!momentum_)
+      load_.momentum_absent_why = "the engine reports no chassis velocity (the protocol's optional v_chassis_W)";
     return load_;
   }
 
@@ -108,11 +110,13 @@ class LoadBook {
   /// True where the step's force is booked; an error where the report is partial or not finite.
   bool book(const std::optional<Eigen::Vector3d>& f_W, double t_s) {
     if (f_W && !f_W->allFinite())
-      throw EngineError(fmt::format("the engine's contact report gave a non-finite force ({}, {}, {}) N at t = {:.4f} s",
-                                    f_W->x(), f_W->y(), f_W->z(), t_s));
+      throw EngineError(
+          fmt::format("the engine's contact report gave a non-finite force ({}, {}, {}) N at t = {:.4f} s", f_W->x(),
+                      f_W->y(), f_W->z(), t_s));
     (f_W ? given_ : missing_) += 1;
     if (given_ > 0 && missing_ > 0)
-      throw EngineError(fmt::format("the engine's contact report gave forces on some steps and none on others (t = {:.4f} s)", t_s));
+      throw EngineError(
+          fmt::format("the engine's contact report gave forces on some steps and none on others (t = {:.4f} s)", t_s));
     return f_W.has_value();
   }
   TricycleDef def_;

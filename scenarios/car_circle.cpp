@@ -118,7 +118,7 @@ Outcome judge_beyond_grip(const Params& p, const Outcome& o) {
   b.details["lift_needs_mu_g"] = need;
   for (const char* k : {"slip_along_max", "slip_across_max", "slip_rms"})
     if (o.values.count(k)) b.values[k] = o.values.at(k), b.values[k].informational = true;  // sliding is the point here
-  for (const char* k : {"load_at_rest", "load_over_drive", "momentum_balance"})  // sliding or not: Newton
+  for (const char* k : {"load_at_rest", "load_over_drive", "momentum_balance"})             // sliding or not: Newton
     if (o.values.count(k)) b.values[k] = o.values.at(k);
   return b;
 }
@@ -154,8 +154,8 @@ std::vector<Scenario> circle_scenarios() {
                        abs_("heading_residual", "rad", 1e-9, 1e-5,
                             "largest difference between the heading and the one the exact circle gives at the sampled "
                             "position (tolerance at dt = 1 ms, x dt / 1 ms)"),
-                       REALIZED_LIFT, COM_ACCEL, SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, MOMENTUM, TRACE_PATH,
-                       TRACE_SHAPE, STEER_LAG, DRIVE_LAG},
+                       REALIZED_LIFT, COM_ACCEL, SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, MOMENTUM,
+                       TRACE_PATH, TRACE_SHAPE, STEER_LAG, DRIVE_LAG},
            .run_car = run_circle,
            .headline = {.metrics = {"front_radius", "rear_radius"}, .label = "radius"}}};
 }
@@ -201,8 +201,8 @@ std::vector<Scenario> grip_scenarios() {
        .metrics = {rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path"),
                    rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path"),
                    abs_("final_offset", "m", 1e-9, 1e-3, "front-axle centre at the end against the exact arc"),
-                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, MOMENTUM, TRACE_PATH, TRACE_SHAPE, STEER_LAG,
-                   DRIVE_LAG},
+                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, MOMENTUM, TRACE_PATH, TRACE_SHAPE,
+                   STEER_LAG, DRIVE_LAG},
        .run_car = [](const Params& p, CarEngine& engine) { return judge_slip(p, run_circle(p, engine)); },
        .shared_drive = SharedDrive{kPastGripDrive, run_circle, judge_slip},
        .needs_contact_dynamics = true,

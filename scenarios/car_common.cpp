@@ -198,9 +198,9 @@ void add_load(Outcome& o, const CarEngine& engine) {
     o.values["momentum_balance"] = {.expected = 0.0, .measured = g.momentum_gap_Ns, .scale = g.momentum_scale_Ns};
   if (g.plane_weight_N > 1e-6 * g.weight_normal_N)  // on a slope: the grip holds gravity's pull
     o.values["hold_at_rest"] = {.expected = 0.0, .measured = g.rest_hold_gap_N, .scale = g.plane_weight_N};
-  o.details["ground_load"] = {{"weight_normal_N", g.weight_normal_N}, {"rest_normal_N", g.rest_normal_N},
-                              {"drive_normal_N", g.drive_normal_N},   {"plane_weight_N", g.plane_weight_N},
-                              {"rest_hold_gap_N", g.rest_hold_gap_N}, {"momentum_gap_Ns", g.momentum_gap_Ns},
+  o.details["ground_load"] = {{"weight_normal_N", g.weight_normal_N},       {"rest_normal_N", g.rest_normal_N},
+                              {"drive_normal_N", g.drive_normal_N},         {"plane_weight_N", g.plane_weight_N},
+                              {"rest_hold_gap_N", g.rest_hold_gap_N},       {"momentum_gap_Ns", g.momentum_gap_Ns},
                               {"momentum_change_Ns", g.momentum_change_Ns}, {"momentum_scale_Ns", g.momentum_scale_Ns}};
   if (!g.momentum_absent_why.empty()) o.details["ground_load"]["momentum_not_measured"] = g.momentum_absent_why;
 }

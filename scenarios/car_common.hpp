@@ -132,10 +132,11 @@ inline const MetricDef LOAD_DRIVE = rel("load_over_drive", "N", 0.0, 1e-2,
 inline const MetricDef HOLD_REST = rel("hold_at_rest", "N", 0.0, 1e-2,
                                        "|mean in-plane contact force over the last 0.2 s of the settle + m g_plane| "
                                        "against gravity's pull along the ground, m g sin(theta)");
-inline const MetricDef MOMENTUM = rel("momentum_balance", "N s", 0.0, 1e-2,
-                                      "largest |p(t) - p(0) - integral of (F_plane + m g_plane) dt| over the drive "
-                                      "(p the car's in-plane momentum) against the largest |p(t) - p(0)|, or a tenth of m times the cruise speed if "
-                                      "larger");
+inline const MetricDef MOMENTUM =
+    rel("momentum_balance", "N s", 0.0, 1e-2,
+        "largest |p(t) - p(0) - integral of (F_plane + m g_plane) dt| over the drive "
+        "(p the car's in-plane momentum) against the largest |p(t) - p(0)|, or a tenth of m times the cruise speed if "
+        "larger");
 // Every sample of the trace (an engine's, or an outside simulator's from liftcheck score) against
 // the exact lift and the command.
 inline const MetricDef TRACE_PATH =

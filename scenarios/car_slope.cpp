@@ -238,8 +238,8 @@ std::vector<Scenario> slope_scenarios() {
                         "the exact lift's (none over whole laps), per lap"),
                    abs_("final_offset", "m", 1e-9, 1e-3,
                         "front-axle centre at the end against the exact lift (no creep, whole laps)"),
-                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, HOLD_REST, MOMENTUM, TRACE_PATH, TRACE_SHAPE, STEER_LAG,
-                   DRIVE_LAG},
+                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, HOLD_REST, MOMENTUM, TRACE_PATH,
+                   TRACE_SHAPE, STEER_LAG, DRIVE_LAG},
        .run_car = run_slope,
        .headline = {.metrics = {"creep_speed"}, .label = "creep", .unit = "µm/s", .scale = 1e6}},
       // Default: a 0.5 rad slope (tan 0.546) with mu = 0.3 (friction angle 0.29 rad): a = 2.12 m/s^2;

@@ -239,9 +239,9 @@ EngineInfo ode_engine() {
            {"friction directions",
             "wheel: dContactFDir1 along the rolling direction (axle x up); world: ODE's default axes from the normal"},
            {"contact forces",
-                        "dJointSetFeedback on every wheel-ground contact joint, f1 (the force on the wheel) summed "
-                        "each step (the load and momentum checks)"},
-                       {"servo", kServo},
+            "dJointSetFeedback on every wheel-ground contact joint, f1 (the force on the wheel) summed "
+            "each step (the load and momentum checks)"},
+           {"servo", kServo},
            {"iterations", "none: dWorldStep is a direct solver (a setting 'iterations' is rejected)"},
            {"disks", kDisks},
            {"threads",

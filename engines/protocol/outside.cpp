@@ -255,7 +255,7 @@ class ProtocolCar final : public RigidCar {
     const std::string& line = c.exchange("step", request_, lease_.seconds_left());
     if (!reply_ || reply_wheels_ != def_.wheels) reply_.emplace(car_slots(def_.wheels)), reply_wheels_ = def_.wheels;
     const size_t f = car_id_slot(def_.wheels) + 1;  // ground_force_W: all three numbers or none
-    const size_t v = f + 3;  // v_chassis_W: all three numbers or none
+    const size_t v = f + 3;                         // v_chassis_W: all three numbers or none
     const int forces = reply_->read(line) ? reply_->given(f) + reply_->given(f + 1) + reply_->given(f + 2) : -1;
     const int chassis = forces >= 0 ? reply_->given(v) + reply_->given(v + 1) + reply_->given(v + 2) : -1;
     if ((forces == 0 || forces == 3) && (chassis == 0 || chassis == 3) && reply_->value(0) >= 0.0 &&

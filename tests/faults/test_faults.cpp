@@ -745,10 +745,12 @@ TEST(Faults, ABlowUpIsAnErrorSayingWhatAndWhen) {
 // an error naming it, never a check silently dropped or frozen.
 TEST(Faults, AContactReportThatBreaksIsAnError) {
   for (const bool nan : {true, false}) {
-    const RunRecord r = run_scenario(*find_scenario("car.circle"),
-                                     car_fault("broken-report", [nan] { return std::make_unique<BrokenReportCar>(nan); }));
+    const RunRecord r =
+        run_scenario(*find_scenario("car.circle"),
+                     car_fault("broken-report", [nan] { return std::make_unique<BrokenReportCar>(nan); }));
     EXPECT_EQ(r.status, Status::kError) << r.message;
-    EXPECT_NE(r.message.find(nan ? "non-finite force" : "some steps and none on others"), std::string::npos) << r.message;
+    EXPECT_NE(r.message.find(nan ? "non-finite force" : "some steps and none on others"), std::string::npos)
+        << r.message;
   }
 }
 
