@@ -58,7 +58,8 @@ Eigen::Vector2d plane_momentum_Ns(const TricycleDef& d, const RigidCarState& s) 
 /// The ground's load (GroundLoad), booked step by step from the engine's own contact forces:
 /// the normal and in-plane force at rest, the normal force and the in-plane momentum balance over
 /// the drive. An engine that reports no forces leaves every figure unmeasured; one that reports
-/// them on some steps only, or reports a non-finite one, is an error.
+/// them on some steps only, or reports a non-finite one, is an error, and so is a chassis velocity
+/// reported at the drive's start and lost later (or the reverse).
 class LoadBook {
  public:
   LoadBook(const TricycleDef& d, const CarSetup& setup)
@@ -81,8 +82,11 @@ class LoadBook {
     if (!book(f_W, t_s)) return;
     drive_normal_sum_N_ += f_W->z(), ++drive_steps_;
     impulse_ += (f_W->head<2>() + m_kg_ * g_plane_) * dt_s;  // Newton II along the ground
-    const Eigen::Vector2d dp = plane_momentum_Ns(def_, s) - p0_;
-    momentum_ = momentum_ && dp.allFinite();
+    const Eigen::Vector2d p = plane_momentum_Ns(def_, s), dp = p - p0_;
+    if (p.allFinite() != momentum_)
+      throw EngineError(fmt::format(
+          "the engine reported the chassis velocity at the drive's start {} but {} at t = {:.4f} s",
+          momentum_ ? "finite" : "absent", momentum_ ? "absent or non-finite" : "finite", t_s));
     if (!momentum_) return;
     gap_ = std::max(gap_, (dp - impulse_).norm());
     change_ = std::max(change_, dp.norm());

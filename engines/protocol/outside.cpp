@@ -146,7 +146,7 @@ RigidCarState car_state(ProtocolChild& c, const json& r, int wheels) {
     s.wheels[k].axle_W = vec3(c, ws, "axle_W", where.c_str());
     s.wheels[k].hub_z_m = c.number(ws, "hub_z_m", where.c_str());
   }
-  if (r.contains("v_chassis_W")) s.v_chassis_W = vec3(c, r, "v_chassis_W", "v_chassis_W");
+  if (r.contains("v_chassis_W")) s.v_chassis_W = vec3(c, r, "v_chassis_W", "");
   return s;
 }
 
@@ -258,7 +258,10 @@ class ProtocolCar final : public RigidCar {
     const size_t v = f + 3;                         // v_chassis_W: all three numbers or none
     const int forces = reply_->read(line) ? reply_->given(f) + reply_->given(f + 1) + reply_->given(f + 2) : -1;
     const int chassis = forces >= 0 ? reply_->given(v) + reply_->given(v + 1) + reply_->given(v + 2) : -1;
-    if ((forces == 0 || forces == 3) && (chassis == 0 || chassis == 3) && reply_->value(0) >= 0.0 &&
+    // A field named but not read as three numbers (null, [], a string) is the checked path's to name.
+    const bool unread = (forces == 0 && line.find(R"("ground_force_W")") != std::string::npos) ||
+                        (chassis == 0 && line.find(R"("v_chassis_W")") != std::string::npos);
+    if (!unread && (forces == 0 || forces == 3) && (chassis == 0 || chassis == 3) && reply_->value(0) >= 0.0 &&
         reply_->value(car_id_slot(def_.wheels)) == static_cast<double>(c.request_id())) {
       engine_s_ += reply_->value(0);
       state_ = car_state_of(*reply_, def_.wheels);
@@ -271,7 +274,7 @@ class ProtocolCar final : public RigidCar {
     engine_s_ += engine_seconds(c, r);
     state_ = car_state(c, r, def_.wheels);
     force_.reset();
-    if (r.contains("ground_force_W")) force_ = vec3(c, r, "ground_force_W", "ground_force_W");
+    if (r.contains("ground_force_W")) force_ = vec3(c, r, "ground_force_W", "");
   }
   /// The optional "ground_force_W" of the step's reply (docs/protocol.md): absent, not measured.
   std::optional<Eigen::Vector3d> ground_force_W() const override { return force_; }

@@ -10,7 +10,11 @@ request's number, "id", as protocol 2 and later require):
   die        exits with status 7, a last word on stderr
   hang       never replies (liftcheck's --timeout must end it)
   flood      a line longer than 1 MiB
-  badrole    hello declares a real-valued setting as a solver iteration count"""
+  badrole    hello declares a real-valued setting as a solver iteration count
+  nullforce  a car's step reply whose optional ground_force_W is null
+  chassisgone  a car's step replies carry ground forces, and the optional v_chassis_W on every
+             other step only
+(the last two break car replies only: their disks stand still, and fail, without an error)"""
 import json
 import sys
 import time
@@ -32,6 +36,7 @@ def car_state(req):
 
 
 built = None
+steps = 0
 for line in sys.stdin:
     req = json.loads(line)
     op = req["op"]
@@ -47,7 +52,16 @@ for line in sys.stdin:
         built = {"ok": True, "cM": req["cM0"], "cN": req["cN0"], "wM": [0.0, 0.0, 0.0], "contacts": {"count": 0}, "engine_s": 0.0}
         out({"ok": True, "cM": req["cM0"], "cN": req["cN0"]})
     elif op == "step":
-        if mode == "malformed":
+        steps += 1
+        car = "x_m" in built
+        if car and mode == "nullforce":
+            out(dict(built, engine_s=1e-6, ground_force_W=None))
+        elif car and mode == "chassisgone":
+            chassis = {"v_chassis_W": [0.0, 0.0, 0.0]} if steps % 2 else {}
+            out(dict(built, engine_s=1e-6, ground_force_W=[0.0, 0.0, 10.0], **chassis))
+        elif mode in ("nullforce", "chassisgone"):
+            out(dict(built, engine_s=1e-6))
+        elif mode == "malformed":
             sys.stdout.write("step done, x = 1.0\n")
             sys.stdout.flush()
         elif mode == "nan":

@@ -86,12 +86,12 @@ python3 "$HERE/check_records.py" same "$TMP/same/results.json" ode ode-protocol
 mkdir "$TMP/fakes"
 python3 - "$HERE/fake_adapter.py" "$TMP/fakes" <<'PY'
 import json, sys
-for mode in ["version", "malformed", "nan", "missing", "die", "hang", "flood", "badrole"]:
+for mode in ["version", "malformed", "nan", "missing", "die", "hang", "flood", "badrole", "nullforce", "chassisgone"]:
     json.dump({"name": f"fake-{mode}", "command": [sys.executable, sys.argv[1], mode],
                "description": f"an adapter that lies ({mode})", "color": "#7f7f7f"}, open(f"{sys.argv[2]}/fake-{mode}.json", "w"))
 PY
 status=0
-"$LIFTCHECK" validate --engine-dir "$TMP/fakes" --engines ode,fake-version,fake-malformed,fake-nan,fake-missing,fake-die,fake-hang,fake-flood,fake-badrole \
+"$LIFTCHECK" validate --engine-dir "$TMP/fakes" --engines ode,fake-version,fake-malformed,fake-nan,fake-missing,fake-die,fake-hang,fake-flood,fake-badrole,fake-nullforce,fake-chassisgone \
   --filter 'car.circle,disks.linear' --no-sweeps --no-report --timeout 20 --jobs 2 --out "$TMP/lies" >"$TMP/lies.log" || status=$?
 test "$status" -eq 1 || { cat "$TMP/lies.log"; exit 1; }
 python3 "$HERE/check_records.py" lies "$TMP/lies/results.json"
