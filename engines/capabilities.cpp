@@ -6,6 +6,7 @@ Lack lacks(const EngineInfo& e, const Needs& needs) {
   if (needs.four_wheels && !e.four_wheels) return Lack::kFourWheels;
   if (needs.vehicle == Vehicle::kCar ? !e.make_car : !e.make_disks) return Lack::kVehicle;
   if (needs.contact_dynamics && !e.contact_dynamics) return Lack::kContactDynamics;
+  if (needs.brakes && !e.brakes) return Lack::kBrakes;
   if (needs.raw_car && !e.make_raw_car) return Lack::kRawCar;
   return Lack::kNothing;
 }
@@ -27,6 +28,8 @@ std::string lack_text(Lack lack, const Needs& needs) {
       return needs.vehicle == Vehicle::kCar ? "has no car" : "has no two-disk vehicles";
     case Lack::kContactDynamics:
       return "simulates no contact forces";
+    case Lack::kBrakes:
+      return "holds no rear wheel with a brake of its own (EngineInfo::brakes; an outside engine's hello: \"brakes\")";
     case Lack::kRawCar:
       return "has no raw loop (EngineInfo::make_raw_car)";
   }

@@ -61,6 +61,9 @@ struct EngineInfo {
   /// Builds four-wheel cars (CarSetup::wheels = 4); a configuration without them rejects
   /// wheels=4 as bad input rather than run a tricycle.
   bool four_wheels = false;
+  /// Holds its rear wheels' spin with a motor of its own when a braked run asks
+  /// (ServoDef::rear_brake_torque_max_Nm > 0): the braked slides need it.
+  bool brakes = false;
   /// The benchmark's raw loop (engines/raw_car.hpp): its car stepped by direct calls to the engine
   /// (null: none; the reference has none, it does not step).
   RawCarFactory make_raw_car = nullptr;
@@ -90,9 +93,10 @@ struct Needs {
   Vehicle vehicle = Vehicle::kCar;  ///< make_car or make_disks
   bool four_wheels = false;         ///< a four-wheel car (wheels=4)
   bool contact_dynamics = false;    ///< contact forces with friction (the negative controls)
+  bool brakes = false;              ///< rear wheels held by the engine's own motors (the braked slides)
   bool raw_car = false;             ///< the benchmark's raw loop
 };
-enum class Lack { kNothing, kFourWheels, kVehicle, kContactDynamics, kRawCar };
+enum class Lack { kNothing, kFourWheels, kVehicle, kContactDynamics, kBrakes, kRawCar };
 Lack lacks(const EngineInfo& e, const Needs& needs);
 /// The vehicles `e` builds (make_car, make_disks), in kVehicles order.
 std::vector<Vehicle> vehicles_of(const EngineInfo& e);

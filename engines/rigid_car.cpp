@@ -39,6 +39,8 @@ ServoDef ServoDef::for_car(const CarSetup& setup, const TricycleDef& car) {
   ServoDef s;
   s.spin_torque_max_Nm = kGripMultiple * setup.mu * front_wheel_load_N(setup, car) * car.R_m;
   s.steer_torque_max_Nm = s.spin_torque_max_Nm;
+  if (setup.rear_brake)
+    s.rear_brake_torque_max_Nm = kGripMultiple * setup.mu * 0.5 * car_mass_kg(car) * setup.gravity_mps2 * car.R_m;
   return s;
 }
 
@@ -84,9 +86,9 @@ class LoadBook {
     impulse_ += (f_W->head<2>() + m_kg_ * g_plane_) * dt_s;  // Newton II along the ground
     const Eigen::Vector2d p = plane_momentum_Ns(def_, s), dp = p - p0_;
     if (p.allFinite() != momentum_)
-      throw EngineError(fmt::format(
-          "the engine reported the chassis velocity at the drive's start {} but {} at t = {:.4f} s",
-          momentum_ ? "finite" : "absent", momentum_ ? "absent or non-finite" : "finite", t_s));
+      throw EngineError(
+          fmt::format("the engine reported the chassis velocity at the drive's start {} but {} at t = {:.4f} s",
+                      momentum_ ? "finite" : "absent", momentum_ ? "absent or non-finite" : "finite", t_s));
     if (!momentum_) return;
     gap_ = std::max(gap_, (dp - impulse_).norm());
     change_ = std::max(change_, dp.norm());

@@ -50,6 +50,10 @@ struct ServoDef {
   double spin_torque_max_Nm = 0.0;  ///< for_car: kGripMultiple x mu N R of a driven wheel
   double steer_torque_max_Nm =
       0.0;  ///< for_car: the same limit (a convention: a sphere wheel's scrub torque is far below it)
+  /// Above 0 (CarSetup::rear_brake): each rear wheel held at zero spin rate against the chassis by
+  /// the engine's own joint motor, up to this torque (for_car: kGripMultiple x mu x half the car's
+  /// weight x R, past what a rear wheel's grip can ask however the load shifts).
+  double rear_brake_torque_max_Nm = 0.0;
   /// A real drive is sized to its grip: the motor can lock its wheel against the full Coulomb
   /// torque mu N R with half as much again to spare, and can never overpower the grip by more.
   /// (A 500 N m limit, seven times the grip of the default car's front wheel, let the motor spin

@@ -45,6 +45,9 @@ struct CarSetup {
   double chassis_mass_kg = 40.0;
   double wheel_mass_kg = 2.0;    ///< each wheel
   double knuckle_mass_kg = 2.0;  ///< each steering knuckle (between the chassis and a steered wheel)
+  /// The rear wheels held against spinning by the engine's own joint motors (the braked slides;
+  /// EngineInfo::brakes): with the front wheels' servos holding alpha, no wheel rolls.
+  bool rear_brake = false;
 
   Eigen::Vector3d gravity_W() const { return gravity_mps2 * gravity_dir_W; }  ///< m/s^2
 };

@@ -46,6 +46,7 @@ nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, doubl
                   {"is_reference", e->is_reference},
                   {"vehicles", vehicles_of(*e)},
                   {"contact_dynamics", e->contact_dynamics},
+                  {"brakes", e->brakes},
                   {"settings", settings},
                   {"knobs", knobs}});
   }

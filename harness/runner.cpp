@@ -176,7 +176,8 @@ class ProbeDisks final : public DiskEngine {
 Needs needs_of(const Scenario& scenario, const nlohmann::json& params) {
   return {.vehicle = scenario.vehicle,
           .four_wheels = scenario.vehicle == Vehicle::kCar && params.value("wheels", "3") == "4",
-          .contact_dynamics = scenario.needs_contact_dynamics};
+          .contact_dynamics = scenario.needs_contact_dynamics,
+          .brakes = scenario.needs_brakes};
 }
 
 }  // namespace

@@ -6,6 +6,7 @@
 #include "engines/rigid_car.hpp"
 #include "models/holonomy.hpp"
 #include "models/lift.hpp"
+#include "models/slide.hpp"
 #include "scenarios/car_common.hpp"
 #include "scenarios/fit.hpp"
 
@@ -141,26 +142,26 @@ std::vector<car::TimedConfig> exact_slide(const std::vector<car::TimedConfig>& t
   return out;
 }
 
-/// Coulomb's law on a slope steeper than the friction angle (tan(slope) > mu): the car, its front
-/// wheel held by its servos (zero commanded rates; the rear wheels roll freely about their axles)
-/// and its axles along the fall line, slides downhill like a block (the fall line lies along
-/// every wheel's axle, where its friction acts whether it rolls or not), s(t) = s0 + v0 t + g (sin(slope) - mu
-/// cos(slope)) t^2 / 2 (the friction of every sliding contact is mu times its normal load, which sum to the weight's
-/// normal part). The acceleration measures the engine's clock (a step of the wrong length scales it by the square of
-/// the ratio), its gravity (tilted) and its effective friction coefficient at once. It slides
-/// from the start of the settle (the exact acceleration is constant from the first contact), so
-/// the fit takes s0 and v0 free, over the samples from `fit_from` on.
-Outcome run_coulomb(const Params& p, CarEngine& engine) {
+/// The slide: the car released at rest on ground tilted by `slope` towards `slope_dir`, every
+/// commanded rate zero (the front wheels' servos hold alpha and beta; a braked run's rear wheels
+/// held by the engine's own motors), its centre of mass fitted s(t) = s0 + v0 t + a t^2 / 2 along
+/// the fall line and across it over the samples from `fit_from` on (it slides from the start of
+/// the settle, so s0 and v0 are free). Coulomb's law (isotropic): a = g (sin(slope) - mu
+/// cos(slope)) straight down, the friction of every sliding contact mu times its normal load, which
+/// sum to the weight's normal part. The acceleration measures the engine's clock (a step of the
+/// wrong length scales it by the square of the ratio), its tilted gravity and its effective friction
+/// coefficient at once.
+Outcome run_slide(const Params& p, CarEngine& engine, const char* name, double slope_dir, bool brake) {
   CarSetup setup = setup_from(p);
   const Config q0 = start_from(p);
-  const double slope = p.num("slope"), slope_dir = p.num("slope_dir"), T = p.num("slide"), fit_from = p.num("fit_from");
+  const double slope = p.num("slope"), T = p.num("slide"), fit_from = p.num("fit_from");
   if (!(std::tan(slope) > setup.mu * 1.05))
-    throw InputError(
-        fmt::format("car.coulomb needs tan(slope) > 1.05 mu for the car to slide: tan({:g}) = {:.3g}, mu = {:g}", slope,
-                    std::tan(slope), setup.mu));
+    throw InputError(fmt::format("{} needs tan(slope) > 1.05 mu for the car to slide: tan({:g}) = {:.3g}, mu = {:g}",
+                                 name, slope, std::tan(slope), setup.mu));
   if (!(fit_from + 0.2 < T))
-    throw InputError(fmt::format("car.coulomb needs fit_from + 0.2 s < slide: {:g} and {:g} s", fit_from, T));
+    throw InputError(fmt::format("{} needs fit_from + 0.2 s < slide: {:g} and {:g} s", name, fit_from, T));
   setup.gravity_dir_W = tilted_gravity_dir(slope, slope_dir);
+  setup.rear_brake = brake;
   const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
   const car::BasePath path({{0.0, 0.0, T}}, 0.0, q0.beta_rad, setup.drive);
   const auto trace = drive_checked(engine, setup, q0, path);
@@ -175,8 +176,8 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
     s_across.push_back(com.x() * downhill.y() - com.y() * downhill.x());
   }
   if (ts.size() < 8)
-    throw InputError(fmt::format(
-        "car.coulomb needs at least 8 samples to fit the slide: sample_dt = {:g} s is too coarse", setup.sample_dt_s));
+    throw InputError(fmt::format("{} needs at least 8 samples to fit the slide: sample_dt = {:g} s is too coarse", name,
+                                 setup.sample_dt_s));
   const double g = setup.gravity_mps2, a_exact = g * (std::sin(slope) - setup.mu * std::cos(slope));
   const double a = fit_accel(ts, s_down), a_across = fit_accel(ts, s_across);
   Outcome o;
@@ -198,6 +199,34 @@ Outcome run_coulomb(const Params& p, CarEngine& engine) {
   // momentum, which this run does not measure. No load checks here; Newton's second law along the
   // ground (momentum_balance) holds sliding or not: the friction force makes the slide.
   for (const char* k : {"load_at_rest", "load_over_drive", "hold_at_rest"}) o.values.erase(k);
+  return o;
+}
+
+/// car.coulomb: the car across the slope, its axles along the fall line, its front wheel held by
+/// its servos and its rear wheels free (a wheel's friction along its axle acts whether it rolls or
+/// not), slides down like a block.
+Outcome run_coulomb(const Params& p, CarEngine& engine) {
+  return run_slide(p, engine, "car.coulomb", p.num("slope_dir"), false);
+}
+
+/// car.yawed-slide: the braked car, the fall line at `yaw` to its axles (towards its heading), so
+/// that every contact slides along neither of its friction directions. Coulomb's law is isotropic:
+/// the slide goes straight down at car.coulomb's rate. A per-axis friction pyramid (each of a
+/// contact's two friction rows bounded by mu N apart, models/slide.hpp) grips harder and pushes
+/// the car sideways; the run records that law's figures beside the measured ones.
+Outcome run_yawed_slide(const Params& p, CarEngine& engine) {
+  const double yaw = p.num("yaw"), slope = p.num("slope");
+  Outcome o = run_slide(p, engine, "car.yawed-slide", p.num("phi") - yaw, true);
+  const slide::SlideDef def{.g_mps2 = p.num("gravity"), .slope_rad = slope, .mu = p.num("mu"), .yaw_rad = yaw};
+  const slide::SlideAccel box = slide::slide_accel(def, slide::Law::kAxisPyramid);
+  // In the run's own terms: the car's axle (left) and heading in the world, the fall line
+  // downhill, "across" as slide_accel_across measures it.
+  const double phi = p.num("phi"), sd = phi - yaw;
+  const Eigen::Vector2d axle(-std::sin(phi), std::cos(phi)), heading(std::cos(phi), std::sin(phi));
+  const Eigen::Vector2d a_W = box.a_car_mps2.x() * axle + box.a_car_mps2.y() * heading;
+  const Eigen::Vector2d downhill(-std::sin(sd), std::cos(sd));
+  o.details["axis_pyramid_accel_mps2"] = {{"along", a_W.dot(downhill)},
+                                          {"across", a_W.x() * downhill.y() - a_W.y() * downhill.x()}};
   return o;
 }
 
@@ -272,7 +301,43 @@ std::vector<Scenario> slope_scenarios() {
             SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, MOMENTUM},
        .run_car = run_coulomb,
        .needs_contact_dynamics = true,
-       .headline = {.metrics = {"slide_accel"}, .label = "slide acceleration"}}};
+       .headline = {.metrics = {"slide_accel"}, .label = "slide acceleration"}},
+      // Default: car.coulomb's slope and friction (a = 2.12 m/s^2), the car braked and turned so that
+      // the fall line makes 40 degrees with its axles: a per-axis friction pyramid slides at 1.06
+      // m/s^2 down and 0.32 m/s^2 across (models/slide.hpp).
+      {.name = "car.yawed-slide",
+       .vehicle = Vehicle::kCar,
+       .summary =
+           "Coulomb's law is isotropic: the car, every wheel held (the front by its servos, the rear by the engine's "
+           "own brake), on a slope steeper than the friction angle with the fall line at `yaw` to its axles, slides "
+           "straight down at g (sin(slope) - mu cos(slope)) like a block, as it does along its axles. A per-axis "
+           "friction pyramid grips harder off its axes and pushes the car sideways (its figures are in the run's "
+           "record).",
+       .equations = "Coulomb friction (isotropic); (3.3) does not hold",
+       .params = with_defaults(
+           with(car_params("0.0"),
+                {number("slope", "0.5", "rad", "tilt of gravity against the ground's normal (tan(slope) > mu)", 0.0,
+                        false, 1.4),
+                 number("yaw", "0.6981317007977318", "rad",
+                        "angle from the car's axles to the fall line, towards its heading (40 degrees)", -3.2, false,
+                        3.2),
+                 number("slide", "2", "s", "time held with every wheel braked after the settle", 0.5, false, 100.0),
+                 number("fit_from", "0.2", "s", "first sample of the fit (the settle's landing transient before it)",
+                        0.0, false, 100.0)}),
+           {{"mu", "0.3"}}),
+       .metrics =
+           {rel("slide_accel", "m/s^2", 1e-9, 2e-3,
+                "acceleration of the centre of mass down the fall line, fitted over the slide, against g (sin(slope) "
+                "- mu cos(slope)) (a per-axis pyramid: about half)"),
+            rel("slide_accel_across", "m/s^2", 1e-9, 5e-3,
+                "acceleration across the fall line, relative to the exact downhill one (0: Coulomb's law pushes "
+                "nothing across the slide)"),
+            abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
+            SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, MOMENTUM},
+       .run_car = run_yawed_slide,
+       .needs_contact_dynamics = true,
+       .needs_brakes = true,
+       .headline = {.metrics = {"slide_accel"}, .label = "yawed slide acceleration"}}};
 }
 
 }  // namespace liftcheck

@@ -78,6 +78,7 @@ nlohmann::json Scenario::to_json() const {
           {"params", ps},
           {"metrics", ms},
           {"needs_contact_dynamics", needs_contact_dynamics},
+          {"needs_brakes", needs_brakes},
           {"negative_control", negative_control},
           {"headline", headline.to_json()}};
 }

@@ -122,6 +122,8 @@ struct Scenario {
   std::optional<SharedDrive> shared_drive;
   /// Runs only on engines with contact dynamics (skipped elsewhere).
   bool needs_contact_dynamics = false;
+  /// Runs only on engines that brake the rear wheels (EngineInfo::brakes; skipped elsewhere).
+  bool needs_brakes = false;
   /// A negative control: its comparison is meant to fail; validation counts a fail as expected.
   bool negative_control = false;
   /// What the summary shows for this scenario (every metric named in it is one of `metrics`).

@@ -74,8 +74,8 @@ check validate 0 "$bin" validate --engines analytic --filter 'car.*' --out "$tmp
 python3 -c '
 import json,sys
 d=json.load(open(sys.argv[1]))
-assert d["summary"]["total"] == 11 and d["summary"]["unexpected"] == 0, d["summary"]
-assert d["summary"]["pass"] == 8 and d["summary"]["skip"] == 3, d["summary"]
+assert d["summary"]["total"] == 12 and d["summary"]["unexpected"] == 0, d["summary"]
+assert d["summary"]["pass"] == 8 and d["summary"]["skip"] == 4, d["summary"]
 assert d["context"]["engines"][0]["name"] == "analytic"
 ' "$tmp/report/results.json" && [ -s "$tmp/report/index.html" ] && passes=$((passes + 1)) \
   || { echo "FAIL validate outputs"; fails=$((fails + 1)); }
@@ -86,10 +86,10 @@ ls "$tmp/report" | grep -q '\.tmp$' && { echo "FAIL temporary files left"; fails
 python3 - "$tmp/report/junit.xml" <<'PY' && passes=$((passes + 1)) || { echo "FAIL junit.xml"; fails=$((fails + 1)); }
 import sys, xml.etree.ElementTree as ET
 root = ET.parse(sys.argv[1]).getroot()
-# 11 runs (car.slip, car.coulomb and car.beyond-grip skipped: no contact forces), the 7 car sweeps' gates
+# 12 runs (car.slip, car.coulomb, car.yawed-slide and car.beyond-grip skipped: no contact forces), the 7 car sweeps' gates
 # on the one engine, and liftcheck's own two cases (the baseline, the report)
-assert root.tag == "testsuites" and root.get("tests") == "20" and root.get("failures") == "0", root.attrib
-assert len(root.findall("testsuite")) == 19
+assert root.tag == "testsuites" and root.get("tests") == "21" and root.get("failures") == "0", root.attrib
+assert len(root.findall("testsuite")) == 20
 assert len([s for s in root.findall("testsuite") if s.get("name").startswith("sweep.")]) == 7
 # every run's test case carries its own metrics, worst first; a true skip says so by its type
 case = next(c for c in root.iter("testcase") if c.get("classname") == "car.circle" and c.get("name") == "analytic")
@@ -104,7 +104,7 @@ PY
 # junit.xml validates against Jenkins' xunit schema; summary.md is written beside results.json.
 xmllint --noout --schema "$(dirname "$0")/junit-10.xsd" "$tmp/report/junit.xml" 2>"$tmp/err" && passes=$((passes + 1)) \
   || { echo "FAIL junit-10.xsd"; cat "$tmp/err"; fails=$((fails + 1)); }
-grep -q "all as expected" "$tmp/report/summary.md" && grep -q "^| analytic | 8 | 0 | 3 | 0 |  |$" "$tmp/report/summary.md" && passes=$((passes + 1)) \
+grep -q "all as expected" "$tmp/report/summary.md" && grep -q "^| analytic | 8 | 0 | 4 | 0 |  |$" "$tmp/report/summary.md" && passes=$((passes + 1)) \
   || { echo "FAIL summary.md"; cat "$tmp/report/summary.md"; fails=$((fails + 1)); }
 # A known failure is a skipped case with its reason (the convention for an expected failure), the
 # file still valid; on a CI run summary.md links to the run's page, absolutely.

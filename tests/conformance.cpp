@@ -13,6 +13,7 @@
 
 #include "harness/external.hpp"
 #include "harness/runner.hpp"
+#include "models/slide.hpp"
 
 using namespace liftcheck;
 
@@ -222,6 +223,38 @@ TEST_P(AnyConfiguration, GroundForcesMakeTheMomentumChange) {
   EXPECT_LT(g.momentum_gap_Ns, 1e-2 * g.momentum_change_Ns) << GetParam();
 }
 
+// ODE and Bullet solve a per-axis friction pyramid: each contact's two friction rows (the first
+// along the wheel's rolling direction) bounded by mu N apart. The braked car of car.yawed-slide,
+// its fall line 40 degrees off its axles, slides at that law's closed form (models/slide.hpp:
+// 1.0645 m/s^2 down, 0.318 across, against Coulomb's cone's 2.1204 and 0), not the cone's; with
+// the rows along the world axes and the car turned so that the fall line lies along one of them,
+// at the cone's. Measured: ODE 1.064533 and -0.318331, Bullet 1.064531 and -0.318255.
+TEST(FrictionLaw, OdeAndBulletSlideAtThePerAxisPyramidsFigures) {
+  const Scenario* s = find_scenario("car.yawed-slide");
+  ASSERT_NE(s, nullptr);
+  const slide::SlideAccel box = slide::slide_accel(
+      {.g_mps2 = 9.81, .slope_rad = 0.5, .mu = 0.3, .yaw_rad = 40.0 * M_PI / 180.0}, slide::Law::kAxisPyramid);
+  const double cone = 9.81 * (std::sin(0.5) - 0.3 * std::cos(0.5));
+  for (const char* name : {"ode", "bullet"}) {
+    const EngineInfo* e = find_engine(name);
+    ASSERT_NE(e, nullptr);
+    const nlohmann::json r = run_scenario(*s, *e).to_json();
+    ASSERT_EQ(r["status"], "fail") << name << ": " << r["message"];
+    const auto measured = [&](const nlohmann::json& run, const char* k) {
+      return run["metrics"][k]["measured"].get<double>();
+    };
+    EXPECT_NEAR(measured(r, "slide_accel"), box.along_mps2, 1e-4 * box.along_mps2) << name;
+    // slide_accel_across is positive to the right of the fall line; the car's frame (x along its
+    // axles, y its heading) is turned against the world's, so the pyramid's push is to the right.
+    EXPECT_NEAR(measured(r, "slide_accel_across"), box.across_mps2, 1e-3 * std::abs(box.across_mps2)) << name;
+    EXPECT_NEAR(r["details"]["axis_pyramid_accel_mps2"]["along"].get<double>(), box.along_mps2, 1e-12);
+    const nlohmann::json aligned =
+        run_scenario(*s, *e, {{"friction_dirs", "world"}, {"phi", "0.6981317007977318"}}).to_json();
+    EXPECT_EQ(aligned["status"], "pass") << name << ": " << aligned["message"];
+    EXPECT_NEAR(measured(aligned, "slide_accel"), cone, 1e-5 * cone) << name;
+  }
+}
+
 /// Wraps a configuration's car and keeps the full trace of its (single) drive and the path's length.
 class KeepTrace final : public CarEngine {
  public:
@@ -305,6 +338,7 @@ TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
     }
     EngineInfo replayed = replay_engine("own-" + GetParam(), s, tr);
     replayed.contact_dynamics = e->contact_dynamics;
+    replayed.brakes = e->brakes;
     const RunRecord score = run_scenario(s, replayed);
     ASSERT_NE(score.status, Status::kError) << s.name << ": " << score.message;
     ASSERT_NE(score.status, Status::kSkip) << s.name << ": " << score.message;
@@ -337,7 +371,8 @@ TEST_P(PerEngine, ScoreOfItsOwnTraceGivesTheRunsVerdict) {
   EXPECT_GE(scored, 6)
       << "fewer car scenarios with a single path than car.circle, the three cycles, steer-in-place and slope";
   if (e->contact_dynamics) {
-    EXPECT_EQ(with_contact_dynamics, 3) << "car.coulomb, car.beyond-grip and car.slip";
+    EXPECT_EQ(with_contact_dynamics, e->brakes ? 4 : 3)
+        << "car.coulomb, car.beyond-grip, car.slip (and car.yawed-slide where it brakes)";
   }
 }
 

@@ -190,11 +190,14 @@ class BulletCar final : public RigidCar {
       hinge2_[k]->setTargetVelocity(5, -rates.steer_radps[k]);
       hinge2_[k]->setMaxMotorForce(5, servo.steer_torque_max_Nm);
     }
+    rear_brake_Nm_ = servo.rear_brake_torque_max_Nm;
   }
 
   bool four_wheels() const override { return true; }
 
   void step(double dt_s) override {
+    // The brake: each rear hinge's motor at zero speed; btHingeConstraint's limit is an impulse a step.
+    for (auto& h : rear_hinge_) h->enableAngularMotor(rear_brake_Nm_ > 0.0, 0.0, rear_brake_Nm_ * dt_s);
     world_->stepSimulation(dt_s, 1, dt_s);
     ground_force_W_ = impulse_from_ground(*world_->getDispatcher(), ground_) / dt_s;
   }
@@ -272,6 +275,7 @@ class BulletCar final : public RigidCar {
   std::vector<std::unique_ptr<btRigidBody>> bodies_;
   std::unique_ptr<btHinge2Constraint> hinge2_[2];  ///< one per front wheel
   std::unique_ptr<btHingeConstraint> rear_hinge_[2];
+  double rear_brake_Nm_ = 0.0;  ///< the rear hinges' motor limit (ServoDef::rear_brake_torque_max_Nm; 0: free)
   Eigen::Vector3d ground_force_W_ = Eigen::Vector3d::Zero();
   btRigidBody *ground_ = nullptr, *chassis_ = nullptr, *front_[2] = {nullptr, nullptr}, *rear_[2] = {nullptr, nullptr};
   int n_front_ = 1;               ///< front wheels: 1 (tricycle) or 2 (left, right)
@@ -367,6 +371,7 @@ EngineInfo bullet_engine() {
                      .choices = {"wheel", "world"}},
                     Vehicle::kCar}},
       .four_wheels = true,
+      .brakes = true,
       .make_raw_car = make_raw_bullet_car};
 }
 

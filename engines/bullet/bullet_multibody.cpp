@@ -219,6 +219,10 @@ class MultiBodyCar final : public RigidCar {
 
     steer_motor_ = scene_->motor(mb_, kKnuckle, 0.0);
     spin_motor_ = scene_->motor(mb_, kFront, 0.0);
+    // The brake (a braked run only): a zero-speed motor on each rear wheel's joint.
+    rear_motor_[0] = rear_motor_[1] = nullptr;
+    if (setup.rear_brake)
+      rear_motor_[0] = scene_->motor(mb_, kRearLeft, 0.0), rear_motor_[1] = scene_->motor(mb_, kRearRight, 0.0);
   }
 
   void actuate(const FrontRates& rates, const ServoDef& servo) override {
@@ -228,6 +232,8 @@ class MultiBodyCar final : public RigidCar {
     spin_motor_->setMaxAppliedImpulse(servo.spin_torque_max_Nm * dt_s_);
     steer_motor_->setVelocityTarget(steer_radps);
     steer_motor_->setMaxAppliedImpulse(servo.steer_torque_max_Nm * dt_s_);
+    for (btMultiBodyJointMotor* m : rear_motor_)
+      if (m) m->setMaxAppliedImpulse(servo.rear_brake_torque_max_Nm * dt_s_);
   }
 
   void step(double dt_s) override {
@@ -273,6 +279,7 @@ class MultiBodyCar final : public RigidCar {
   std::unique_ptr<MultiBodyScene> scene_;
   btMultiBody* mb_ = nullptr;
   btMultiBodyJointMotor *steer_motor_ = nullptr, *spin_motor_ = nullptr;
+  btMultiBodyJointMotor* rear_motor_[2] = {nullptr, nullptr};  ///< the brake, in braked runs only
   double dt_s_ = 1e-3;
 };
 
@@ -461,6 +468,7 @@ EngineInfo bullet_multibody_engine() {
                             Vehicle::kCar,
                             SettingRole::kSolverIterations},
                 damping_knob(Vehicle::kCar), damping_knob(Vehicle::kDisks)},
+      .brakes = true,
       .make_raw_car = make_raw_bullet_multibody_car};
 }
 

@@ -210,6 +210,7 @@ EngineInfo ode_quick_engine() {
                         "sequence from seed 0: the numbers do not depend on what else runs"}},
           .knobs = knobs,
           .four_wheels = true,
+          .brakes = true,
           .make_raw_car = make_raw_ode_quick_car};
 }
 
@@ -250,6 +251,7 @@ EngineInfo ode_engine() {
             "parallel"}},
       .knobs = ode_knobs(),
       .four_wheels = true,
+      .brakes = true,
       .make_raw_car = make_raw_ode_car};
 }
 

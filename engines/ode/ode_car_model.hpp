@@ -145,6 +145,11 @@ class OdeCar : public RigidCar {
       dJointSetHinge2Param(steer_joint_[k], dParamVel2, -rates.spin_radps[k]);
       dJointSetHinge2Param(steer_joint_[k], dParamFMax2, servo.spin_torque_max_Nm);
     }
+    // The brake: each rear hinge's motor at zero speed, up to its torque (0: ODE's default, no motor).
+    for (dJointID rear : rear_joint_) {
+      dJointSetHingeParam(rear, dParamVel, 0.0);
+      dJointSetHingeParam(rear, dParamFMax, servo.rear_brake_torque_max_Nm);
+    }
   }
 
   void step(double dt_s) override {

@@ -227,7 +227,7 @@ class ProtocolCar final : public RigidCar {
                    {"chassis_mass_kg", d.chassis_mass_kg},
                    {"wheel_mass_kg", d.wheel_mass_kg},
                    {"knuckle_mass_kg", d.knuckle_mass_kg}};
-    const json req{
+    json req{
         {"op", "car"},
         {"settings", settings_json(settings_)},
         {"dt_s", setup.dt_s},
@@ -237,6 +237,9 @@ class ProtocolCar final : public RigidCar {
         {"q0", {{"x_m", q0.x_m}, {"y_m", q0.y_m}, {"phi_rad", q0.phi_rad}, {"beta_rad", q0.beta_rad}}},
         {"servo",
          {{"spin_torque_max_Nm", servo_.spin_torque_max_Nm}, {"steer_torque_max_Nm", servo_.steer_torque_max_Nm}}}};
+    // Braked runs only (an adapter whose hello declares "brakes"): each rear wheel's brake torque.
+    if (servo_.rear_brake_torque_max_Nm > 0.0)
+      req["servo"]["rear_brake_torque_max_Nm"] = servo_.rear_brake_torque_max_Nm;
     const json r = lease_.call(req);
     state_ = car_state(lease_.get(), r, d.wheels);
   }
@@ -478,6 +481,8 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
   if (vehicles.empty()) c.fail("hello: 'vehicles' names no vehicle");
   if (r.contains("four_wheels") && !r["four_wheels"].is_boolean()) c.fail("hello: 'four_wheels' must be true or false");
   e.four_wheels = o->four_wheels = r.value("four_wheels", false);
+  if (r.contains("brakes") && !r["brakes"].is_boolean()) c.fail("hello: 'brakes' must be true or false");
+  e.brakes = r.value("brakes", false);
   e.knobs.clear();
   if (const auto s = r.find("settings"); s != r.end()) {
     if (!s->is_array()) c.fail("hello: 'settings' must be an array");

@@ -79,7 +79,7 @@ class ProtocolServer {
     for (const auto& [k, v] : e_.settings) fixed.push_back({k, v});
     return {{"protocol", kProtocolVersion}, {"engine", e_.library}, {"version", e_.version},
             {"precision", e_.precision},    {"vehicles", vehicles}, {"four_wheels", e_.four_wheels},
-            {"settings", settings},         {"fixed", fixed}};
+            {"brakes", e_.brakes},          {"settings", settings}, {"fixed", fixed}};
   }
 
   /// The request's settings, every knob of `vehicle` present (its default where not given).
@@ -115,10 +115,13 @@ class ProtocolServer {
     setup.wheels = c.at("wheels"), setup.track_m = c.at("track_m"), setup.parallel_steering = c.at("parallel_steering");
     const json& q = req.at("q0");
     const car::Config q0{0.0, q.at("beta_rad"), q.at("x_m"), q.at("y_m"), q.at("phi_rad")};
+    const double brake_Nm = req.at("servo").value("rear_brake_torque_max_Nm", 0.0);
+    setup.rear_brake = brake_Nm > 0.0;
     car_->reset(setup, q0);
     // The request's motor limits (docs/protocol.md), not ones derived again from this setup's unit gravity.
     car_->servo_.spin_torque_max_Nm = req.at("servo").at("spin_torque_max_Nm");
     car_->servo_.steer_torque_max_Nm = req.at("servo").at("steer_torque_max_Nm");
+    car_->servo_.rear_brake_torque_max_Nm = brake_Nm;
     return car_state();
   }
 
