@@ -216,7 +216,10 @@ class BulletRaycastCar final : public RigidCar {
         vehicle_->applyEngineForce(0, i);
       }
     } else {
-      for (int i = 0; i < 3; ++i) vehicle_->setBrake(0, i);
+      // The brake of a braked run: the rear wheels' rolling friction capped by the brake's torque
+      // (btWheelInfo::m_brake is the impulse cap of a step: torque / R x dt); free otherwise.
+      const double rear_brake = servo_now_.rear_brake_torque_max_Nm / R_ * dt_s;
+      for (int i = 0; i < 3; ++i) vehicle_->setBrake(i == kFront ? 0.0 : rear_brake, i);
       // Speed loop on the front wheel's forward speed along its own heading.
       const double v_forward = forward_speed();
       const double f_max = servo_now_.spin_torque_max_Nm / R_;
@@ -436,6 +439,7 @@ EngineInfo bullet_raycast_engine() {
                                      "Bullet's m_rotation (travel along the chassis axis / R)",
                              .choices = {"heading", "m_rotation"}},
                             Vehicle::kCar}},
+      .brakes = true,
       .make_raw_car = make_raw_bullet_raycast_car};
 }
 

@@ -189,9 +189,14 @@ class DartCar final : public RigidCar {
           car_->createJointAndBodyNodePair<dart::dynamics::RevoluteJoint>(chassis, rp, named(rp.mName + " wheel"));
       wheel_body(rb, chassis);
       wheels_[1 + side] = rb;
+      rear_[side] = rj;
     }
 
     for (Joint* j : {steer_, spin_}) j->setActuatorType(Joint::SERVO);
+    // The brake of a braked run: each rear joint a SERVO actuator commanded to zero velocity, force
+    // limited to the brake's torque (as the spin's is); free (DART's FORCE actuator, no force) otherwise.
+    if (setup.rear_brake)
+      for (Joint* j : rear_) j->setActuatorType(Joint::SERVO);
 
     // The car at q0: the chassis frame at the front-axle centre, at axle height.
     Eigen::Isometry3d T0 = Eigen::Isometry3d::Identity();
@@ -210,6 +215,12 @@ class DartCar final : public RigidCar {
     steer_->setForceUpperLimit(0, servo.steer_torque_max_Nm);
     spin_->setCommand(0, spin_radps);
     steer_->setCommand(0, steer_radps);
+    if (rear_[0]->getActuatorType() == Joint::SERVO)
+      for (Joint* j : rear_) {
+        j->setForceLowerLimit(0, -servo.rear_brake_torque_max_Nm);
+        j->setForceUpperLimit(0, servo.rear_brake_torque_max_Nm);
+        j->setCommand(0, 0.0);  // SERVO commands are consumed by each step
+      }
   }
 
   void step(double) override {
@@ -264,6 +275,7 @@ class DartCar final : public RigidCar {
   BodyNode* wheels_[3] = {nullptr, nullptr, nullptr};
   Joint* steer_ = nullptr;
   Joint* spin_ = nullptr;
+  Joint* rear_[2] = {nullptr, nullptr};  ///< the rear wheels' joints (SERVO at zero speed in a braked run)
   /// friction_dirs: the first friction direction along the rolling direction (typed once when the car is made).
   const bool wheel_dirs_;
 };
@@ -468,6 +480,7 @@ EngineInfo make_info(Detector det) {
           .contact_dynamics = true,
           .settings = settings_for(det),
           .knobs = knobs_for(det),
+          .brakes = true,
           .make_raw_car = prim ? make_raw_dart_primitive_car : make_raw_dart_car};
 }
 

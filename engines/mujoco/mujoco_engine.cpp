@@ -233,7 +233,7 @@ class MujocoCar final : public RigidCar {
 <actuator>
 <velocity name="spin" joint="spin" kv="{kv_spin}" forcelimited="true" forcerange="{tspin_neg} {tspin}"/>
 <velocity name="steer" joint="steer" kv="{kv_steer}" forcelimited="true" forcerange="{tsteer_neg} {tsteer}"/>
-</actuator>
+{brakes}</actuator>
 </mujoco>
 )",
         fmt::arg("option", option_xml(v, setup.dt_s, setup.gravity_W())), fmt::arg("mu", num(setup.mu)),
@@ -248,7 +248,7 @@ class MujocoCar final : public RigidCar {
         fmt::arg("kv_spin", num(spin_inertia(d) / setup.dt_s)),
         fmt::arg("kv_steer", num(steer_inertia(d) / setup.dt_s)), fmt::arg("tspin", num(servo_.spin_torque_max_Nm)),
         fmt::arg("tspin_neg", num(-servo_.spin_torque_max_Nm)), fmt::arg("tsteer", num(servo_.steer_torque_max_Nm)),
-        fmt::arg("tsteer_neg", num(-servo_.steer_torque_max_Nm)));
+        fmt::arg("tsteer_neg", num(-servo_.steer_torque_max_Nm)), fmt::arg("brakes", brakes_xml(d, setup.dt_s)));
     sim_.reset();
     sim_ = std::make_unique<Sim>(xml);
     const mjModel* m = sim_->m();
@@ -262,6 +262,23 @@ class MujocoCar final : public RigidCar {
     steer_act_ = sim_->id(mjOBJ_ACTUATOR, "steer");
     ground_ = sim_->id(mjOBJ_GEOM, "ground");
     sim_->start();
+  }
+
+  /// The brake of a braked run (ServoDef::rear_brake_torque_max_Nm > 0; none otherwise): a velocity
+  /// actuator on each rear wheel's hinge, as the front spin's (kv = the wheel's own inertia / dt,
+  /// force-limited to the brake's torque), its ctrl left at 0: MuJoCo's documented <velocity>
+  /// actuator, force = kv (ctrl - qvel).
+  std::string brakes_xml(const TricycleDef& d, double dt_s) const {
+    const double t = servo_.rear_brake_torque_max_Nm;
+    if (!(t > 0.0)) return "";
+    std::string xml;
+    for (const char* joint : {"rear_left", "rear_right"})
+      xml += fmt::format(
+          R"(<velocity name="brake_{j}" joint="{j}" kv="{kv}" forcelimited="true" forcerange="{lo} {hi}"/>)"
+          "\n",
+          fmt::arg("j", joint), fmt::arg("kv", num(spin_inertia(d) / dt_s)), fmt::arg("lo", num(-t)),
+          fmt::arg("hi", num(t)));
+    return xml;
   }
 
   void actuate(const FrontRates& rates, const ServoDef&) override {
@@ -542,6 +559,7 @@ EngineInfo mujoco_engine() {
           .contact_dynamics = true,
           .settings = settings,
           .knobs = soft_contact_knobs(),
+          .brakes = true,
           .make_raw_car = make_raw_mujoco_car};
 }
 
@@ -572,6 +590,7 @@ EngineInfo mujoco_noslip_engine() {
           .contact_dynamics = true,
           .settings = settings,
           .knobs = knobs,
+          .brakes = true,
           .make_raw_car = make_raw_mujoco_noslip_car};
 }
 
@@ -603,6 +622,7 @@ EngineInfo mujoco_stiff_engine() {
                                  .min_exclusive = true,
                                  .max = 1000.0},
                                 Vehicle::kCar}},
+          .brakes = true,
           .make_raw_car = make_raw_mujoco_stiff_car};
 }
 

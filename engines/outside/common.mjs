@@ -99,6 +99,9 @@ export function carRequest(req, shapes = ['sphere']) {
   const q0 = {};
   for (const k of ['x_m', 'y_m', 'phi_rad', 'beta_rad']) q0[k] = finiteNumber(req.q0, k, 'q0');
   const servo = { spin_Nm: positive(req.servo, 'spin_torque_max_Nm', 'servo'), steer_Nm: positive(req.servo, 'steer_torque_max_Nm', 'servo') };
+  // A braked run (docs/protocol.md; only to an adapter whose hello declares "brakes"): each rear
+  // wheel held at zero spin speed by the engine's own joint motor, up to this torque. 0: free.
+  servo.rear_brake_Nm = req.servo.rear_brake_torque_max_Nm === undefined ? 0 : positive(req.servo, 'rear_brake_torque_max_Nm', 'servo');
   return { car, q0, servo, mu, dt_s: positive(req, 'dt_s', 'car request'), gravity_W: vector(req, 'gravity_W', 3, 'car request') };
 }
 

@@ -101,7 +101,8 @@ class SimbodyCar final : public RigidCar {
                               .phi0_rad = q0.phi_rad,
                               .beta0_rad = q0.beta_rad,
                               .contact = contact_of(settings_),
-                              .integrator = integrator_of(settings_)};
+                              .integrator = integrator_of(settings_),
+                              .rear_brake = setup.rear_brake};
     sim_ = guarded([&] { return std::make_unique<simbody::CarSim>(def); });
   }
 
@@ -261,6 +262,7 @@ EngineInfo make_info(const SimbodyPreset& p) {
           .contact_dynamics = true,
           .settings = settings_for(p),
           .knobs = knobs_for(p),
+          .brakes = true,
           // Hundreds of microseconds a step (error-controlled integration of stiff compliant
           // contact): its runs and the map's default point only, as the npm configurations.
           .points = SuitePoints::kRuns};

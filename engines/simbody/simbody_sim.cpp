@@ -98,6 +98,8 @@ struct CarSim::Impl {
   MobilizedBody::Pin knuckle, front, rear[2];
   /// The servos: the spin and steering speeds prescribed (Simbody computes the torque they take).
   Motion::Steady spin_motion, steer_motion;
+  /// The brake of a braked run: each rear wheel's speed prescribed at 0 (a lock; unbuilt otherwise).
+  Motion::Steady rear_brake[2];
 };
 
 CarSim::CarSim(const CarDef& d) : impl_(std::make_unique<Impl>(d)) {
@@ -135,6 +137,8 @@ CarSim::CarSim(const CarDef& d) : impl_(std::make_unique<Impl>(d)) {
   }
   m.spin_motion = Motion::Steady(m.front, 0.0);
   m.steer_motion = Motion::Steady(m.knuckle, 0.0);
+  if (d.rear_brake)
+    for (int side = 0; side < 2; ++side) m.rear_brake[side] = Motion::Steady(m.rear[side], 0.0);
 
   w.start(d.integrator, [&](State& s) {
     m.chassis.setQToFitTransform(s, Transform(Rotation(d.phi0_rad, ZAxis), Vec3(d.x0_m, d.y0_m, d.R_m)));

@@ -34,6 +34,8 @@ struct CarDef {
   double x0_m, y0_m, phi0_rad, beta0_rad;
   ContactDef contact;
   IntegratorDef integrator;
+  /// The rear wheels held: each rear Pin's speed prescribed at 0 (Motion::Steady, as the servos).
+  bool rear_brake = false;
 };
 
 struct WheelOut {
