@@ -463,6 +463,34 @@ class BrokenReportCar final : public OdeCar {
   bool nan_;
 };
 
+/// ODE's car whose wheel contacts' first friction row lies along the contact point's slip (the
+/// wheel's material point's velocity along the ground) and none across it wherever it slips
+/// faster than 1 mm/s: a sliding contact's friction then opposes its slip with mu N, Coulomb's
+/// isotropic law, and a rolling one keeps the wheel's rows. Without `along_slip` the rows stay fixed on the wheel, each
+/// bounded by mu N apart: the per-axis friction pyramid (ODE as shipped).
+class FrictionRowsCar final : public OdeCar {
+ public:
+  explicit FrictionRowsCar(bool along_slip) : OdeCar(ode_defaults()), along_slip_(along_slip) {}
+
+ protected:
+  void contact_surface(dContact& c, dBodyID wheel) const override {
+    if (!along_slip_) return;
+    dVector3 v;
+    dBodyGetPointVel(wheel, c.geom.pos[0], c.geom.pos[1], c.geom.pos[2], v);
+    const Eigen::Vector3d n(c.geom.normal[0], c.geom.normal[1], c.geom.normal[2]);
+    Eigen::Vector3d slip(v[0], v[1], v[2]);
+    slip -= slip.dot(n) * n;
+    if (slip.norm() < 1e-3) return;
+    slip.normalize();
+    c.surface.mode |= dContactFDir1 | dContactMu2;
+    c.surface.mu2 = 0.0;  // nothing across the slip: the friction force lies along it, mu N
+    for (int k = 0; k < 3; ++k) c.fdir1[k] = slip[k];
+  }
+
+ private:
+  bool along_slip_;
+};
+
 /// A broken engine that claims contact dynamics, like the rigid-body engines it imitates.
 EngineInfo fault(const std::string& name) {
   EngineInfo e;
@@ -703,6 +731,22 @@ TEST(Faults, KinematicCarAtLowGripUse) {
   expect_flagged(e, "car.circle", "momentum_balance");
   expect_flagged(e, "car.cycle", "momentum_balance");
   expect_flagged(e, "car.slope", "hold_at_rest");
+}
+
+// A per-axis friction pyramid: each wheel contact's two friction rows bounded by mu N apart. The
+// braked car sliding 40 degrees off its axles (car.yawed-slide) grips twice as hard as Coulomb's
+// cone allows and drifts sideways: flagged by slide_accel. The same car with its first row along
+// each contact's slip, a cone for a sliding contact, passes the scenario.
+TEST(Faults, PerAxisFrictionPyramid) {
+  const Scenario& yawed = *find_scenario("car.yawed-slide");
+  EngineInfo cone = car_fault("rows-along-slip", [] { return std::make_unique<FrictionRowsCar>(true); });
+  cone.brakes = true;
+  const RunRecord r = run_scenario(yawed, cone);
+  EXPECT_EQ(r.status, Status::kPass) << r.message;
+  EngineInfo pyramid = car_fault("per-axis-pyramid", [] { return std::make_unique<FrictionRowsCar>(false); });
+  pyramid.brakes = true;
+  expect_flagged(pyramid, "car.yawed-slide", "slide_accel");
+  expect_flagged(pyramid, "car.yawed-slide", "slide_accel_across");
 }
 
 // Ten times the stated friction: the car holds the lift's circle past the grip limit.
