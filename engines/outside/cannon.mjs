@@ -2,7 +2,8 @@
 //
 // Car: the chassis box, the steering knuckle(s) and the sphere wheels are CANNON.Body objects;
 // each front wheel's steering and spin are HingeConstraints with their rotational motors on
-// (enableMotor, setMotorSpeed, setMotorMaxForce), the rear wheels plain HingeConstraints; the
+// (enableMotor, setMotorSpeed, setMotorMaxForce), the rear wheels plain HingeConstraints (in a
+// braked run with their motors on at speed 0, up to the brake's torque); the
 // tricycle or the four-wheel car (front wheels at their Ackermann angles). The
 // ground is a CANNON.Plane. Wheel-ground friction comes from a ContactMaterial for the pair
 // (the materials' own coefficients are unset, so cannon-es uses the pair's).
@@ -109,13 +110,22 @@ function buildCar(req) {
     return { knuckle, wheel: wheelBody, steer: hinge(world, chassis, knuckle, [l / 2, y_m, 0], [0, 0, 1], servo.steer_Nm),
       spin: hinge(world, knuckle, wheelBody, [0, 0, 0], [0, 1, 0], servo.spin_Nm) };
   });
+  // The brake of a braked run (servo.rear_brake_Nm > 0, docs/protocol.md): each rear hinge's own
+  // rotational motor on, as the front spin's, held at speed 0 and limited to the brake's torque
+  // (limitMotor, each step). cannon-es's HingeConstraint API (enableMotor, setMotorSpeed,
+  // setMotorMaxForce: https://pmndrs.github.io/cannon-es/docs/classes/HingeConstraint.html) drives
+  // its RotationalMotorEquation, which "tries to keep the relative angular velocity of the bodies
+  // to a given value" (RotationalMotorEquation, cannon-es 0.20.0). Unbraked (0): plain hinges, the
+  // motor equation disabled, as before.
+  const brakes = [];
   const rears = [1, -1].map((s) => {
     const b = wheel(C.chassisPoint(q0, -l, s * w / 2, R), yaw);
-    hinge(world, chassis, b, [-l / 2, s * w / 2, 0], [0, 1, 0]);
+    const h = hinge(world, chassis, b, [-l / 2, s * w / 2, 0], [0, 1, 0], servo.rear_brake_Nm);
+    if (servo.rear_brake_Nm > 0) brakes.push(h);
     return b;
   });
   spookFor(world, dt_s);
-  car = { world, dt_s, ground, chassis, fronts, rears, previous: null };
+  car = { world, dt_s, ground, chassis, fronts, rears, brakes, previous: null };
   return { ...carState(0), constraint_spook: spookOf(world) };
 }
 
@@ -145,6 +155,10 @@ function stepCar(req) {
     limitMotor(f.spin, dt_s);
     limitMotor(f.steer, dt_s);
   });
+  for (const h of car.brakes) {  // a braked run's rear wheels: zero speed relative to the chassis
+    h.setMotorSpeed(0);
+    limitMotor(h, dt_s);
+  }
   const engine_s = timed(() => car.world.step(dt_s));
   return { ...carState(engine_s), ground_force_W: groundForce(), v_chassis_W: arr(car.chassis.velocity) };
 }
@@ -225,7 +239,7 @@ function stepDisks(req) {
 
 serve({
   hello: () => ({
-    engine: 'cannon-es', version: VERSION, precision: 'float64', vehicles: ['car', 'disks'], four_wheels: true, settings: KNOBS,
+    engine: 'cannon-es', version: VERSION, precision: 'float64', vehicles: ['car', 'disks'], four_wheels: true, brakes: true, settings: KNOBS,
     fixed: [
       ['stepping', 'world.step(dt) (fixed step, no interpolation); GSSolver, tolerance 1e-7 (default); SPOOK contact and friction stiffness 1e7, relaxation 3 (ContactMaterial defaults), for world.dt'],
       ['constraint SPOOK', 'every equation of the hinges (3 point, 2 rotational, the motor) setSpookParams(1e7, 4, dt), re-set when a step of another length comes: the Equation constructor\'s stiffness and relaxation, for the step taken instead of its hardcoded 1/60 s (Equation.js, cannon-es 0.20.0)'],

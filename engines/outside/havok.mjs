@@ -138,7 +138,7 @@ function addHinge(parent, child, pivot_P, axis_x_P, axis_y_P, pivot_C, axis_x_C,
 
 function buildCar(req) {
   dropWorld();  // a build that fails leaves no world to step
-  C.carRequest(req, ['sphere', 'cylinder']);
+  const { servo } = C.carRequest(req, ['sphere', 'cylinder']);
   const knob = C.applySettings(SETTINGS, req.settings, 'car');
   newWorld(req.gravity_W, knob, req.dt_s);
   const c = req.car, q0 = req.q0, R = c.R_m, DYN = HK.MotionType.DYNAMIC;
@@ -165,9 +165,15 @@ function buildCar(req) {
     const spin = addHinge(knuckle, body, O, Y, Z, O, Y, Z, req.servo.spin_torque_max_Nm);
     return { knuckle, body, steer, spin };
   });
+  // The rear wheels on passive hinges; in a braked run (servo.rear_brake_Nm > 0, docs/protocol.md)
+  // each rear hinge gets the front spin's motor: a VELOCITY motor on ANGULAR_X, target 0 (the
+  // wheel's spin relative to the chassis), max force the brake's torque. HavokPhysics.d.ts
+  // (@babylonjs/havok 1.3.14): HP_Constraint_SetAxisMotorType "controls how the motor applies forces
+  // along the axis" (ConstraintMotorType.VELOCITY), HP_Constraint_SetAxisMotorMaxForce: "For angular
+  // axes, `maxForce` is used as a max torque". Unbraked (0): no motor, the hinge as before.
   world.rear = [0.5, -0.5].map((y) => {
     const body = addBody(wheelShape(), at(-c.l_m, y * c.track_m, R), q_chassis, DYN, c.wheel_mass_kg);
-    addHinge(chassis, body, [-0.5 * c.l_m, y * c.track_m, 0], Y, Z, O, Y, Z, 0);
+    addHinge(chassis, body, [-0.5 * c.l_m, y * c.track_m, 0], Y, Z, O, Y, Z, servo.rear_brake_Nm);
     return body;
   });
   world.chassis = chassis;
@@ -258,7 +264,7 @@ serve({
   hello() {
     return {
       engine: 'Havok', version: VERSION, precision: 'float32',
-      vehicles: ['car', 'disks'], four_wheels: true, settings: SETTINGS,
+      vehicles: ['car', 'disks'], four_wheels: true, brakes: true, settings: SETTINGS,
       fixed: [
         ['configuration', 'Havok as its users run it: HP_World_SetIdealStepTime(dt), re-set when a step of another length comes (HavokPhysics.d.ts 1.3.14: "the ideal delta time which you intend to call HP_World_Step() with", the solver parameters adjusted from it; Havok\'s samples set it to their fixed step, and Babylon.js\'s HavokPlugin.executeStep calls HP_World_SetIdealStepTime(world, deltaTime) before every HP_World_Step); everything else as a new world has it; no solver iterations are exposed; the speed limits (HP_World_SetSpeedLimit, 200 m/s and 100 rad/s) are never reached'],
         ['joints', '6-DOF constraints with only ANGULAR_X free (Babylon.js HingeConstraint): steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y) with VELOCITY motors, max torque the servo torque; passive ones for the rear wheels; joint angles from the bodies\' orientations'],

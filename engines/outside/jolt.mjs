@@ -15,7 +15,8 @@
 // four-wheel car) a steering knuckle on a HingeConstraint about the vertical through the wheel
 // centre and the wheel on a HingeConstraint about the knuckle's y,
 // both with velocity motors (EMotorState_Velocity) limited to the servo's torques; the rear wheels
-// on passive HingeConstraints about the chassis y. Disks: M a dynamic sphere whose linear velocity
+// on passive HingeConstraints about the chassis y (in a braked run with the same velocity motor,
+// target 0, limited to the brake's torque). Disks: M a dynamic sphere whose linear velocity
 // is set before each step (Plane2D degrees of freedom), N a kinematic sphere moved with
 // MoveKinematic; contacts from a ContactListener (OnContactAdded/OnContactPersisted), speculative
 // manifolds included with their negative penetration depth.
@@ -163,7 +164,7 @@ function addHinge(body1, body2, p_W, axis_W, normal_W, motor_Nm) {
 
 function buildCar(req) {
   dropWorld();  // a build that fails leaves no world to step
-  C.carRequest(req, ['sphere', 'cylinder']);
+  const { servo } = C.carRequest(req, ['sphere', 'cylinder']);
   const knob = C.applySettings(SETTINGS, req.settings, 'car');
   world = makeSystem(knob, req.gravity_W);
   const c = req.car, q0 = req.q0, R = c.R_m;
@@ -193,9 +194,24 @@ function buildCar(req) {
     return { body, steer, spin, beta0_rad };
   });
   const axle_chassis = C.rotate(q_chassis, [0, 1, 0]);
+  // The brake of a braked run (servo.rear_brake_Nm > 0, docs/protocol.md): each rear hinge gets
+  // the same motor as the front spin's (addHinge: MotorSettings mMinTorqueLimit / mMaxTorqueLimit
+  // = -+ the brake's torque, SetMotorState(EMotorState_Velocity)), its target angular velocity 0
+  // relative to the chassis (SetTargetAngularVelocity, each step as the front spin's). Jolt's
+  // documentation: HingeConstraint::SetMotorState / SetTargetAngularVelocity,
+  // https://jrouwe.github.io/JoltPhysics/class_hinge_constraint.html, and EMotorState::Velocity,
+  // "Motor will drive to target velocity limited only by max force/torque that the motor can
+  // apply" (Jolt/Physics/Constraints/MotorSettings.h,
+  // https://jrouwe.github.io/JoltPhysics/class_motor_settings.html). Unbraked (0): passive hinges
+  // as before, no motor.
+  world.brakes = [];
   world.rear = [0.5, -0.5].map((y) => {
     const body = wheel(at(-c.l_m, y * c.track_m, R), q_chassis);
-    addHinge(chassis, body, at(-c.l_m, y * c.track_m, R), axle_chassis, [0, 0, 1], 0);
+    const hinge = addHinge(chassis, body, at(-c.l_m, y * c.track_m, R), axle_chassis, [0, 0, 1], servo.rear_brake_Nm);
+    if (servo.rear_brake_Nm > 0) {
+      hinge.SetTargetAngularVelocity(0);
+      world.brakes.push(hinge);
+    }
     return body;
   });
   world.chassis = chassis;
@@ -227,6 +243,7 @@ function stepCar(req) {
     f.spin.SetTargetAngularVelocity(spin[k]);
     f.steer.SetTargetAngularVelocity(steer[k]);
   });
+  for (const b of world.brakes) b.SetTargetAngularVelocity(0);  // braked: rear wheels at zero rate against the chassis
   return carState(timed(() => world.jolt.Step(req.dt_s, 1)));
 }
 
@@ -300,7 +317,7 @@ serve({
   hello() {
     return {
       engine: 'Jolt Physics', version: VERSION, precision: 'float32',
-      vehicles: ['car', 'disks'], four_wheels: true, settings: SETTINGS,
+      vehicles: ['car', 'disks'], four_wheels: true, brakes: true, settings: SETTINGS,
       fixed: [
         ['configuration', FIXED[CONFIG]],
         ['joints', 'HingeConstraint steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y), both EMotorState_Velocity with torque limits +-servo torque; passive HingeConstraints for the rear wheels'],

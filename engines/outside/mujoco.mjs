@@ -16,7 +16,8 @@
 // Car: a free-joint chassis whose origin is the front-axle centre, a box l/2 behind it (no
 // collision); a knuckle hinged about the chassis z, the front wheel hinged about the knuckle's y,
 // the rear wheels about the chassis y; sphere wheels (condim 3) on a ground plane; <velocity>
-// actuators (kv = the joint's own inertia / dt, force-limited to the request's torque). The
+// actuators (kv = the joint's own inertia / dt, force-limited to the request's torque; in a
+// braked run one more on each rear wheel's hinge, ctrl 0, limited to the brake's torque). The
 // four-wheel car has two knuckles at (0, +-track/2), named with _left and _right.
 // Disks: M a sphere on slide joints x and y with velocity actuators kv = 1 kg / dt, N a mocap
 // sphere placed on its path after each step; frictionless (condim 1), no gravity.
@@ -107,6 +108,18 @@ function option(dt_s, g, { impratio, solref_timeconst_s: tc = TIMECONST_DEFAULT_
 <default><geom solref="${num(2 * dt_s)} 1"/></default>`;
 }
 
+/// The brake of a braked run (servo.rear_brake_Nm > 0, docs/protocol.md; '' otherwise, the model
+/// as before): a <velocity> actuator on each rear wheel's hinge, as the front spin's (kv = the
+/// wheel's own inertia about its axle / dt, force-limited to the brake's torque), its ctrl held at
+/// 0 (stepCar). MuJoCo's documented velocity servo, force = kv (ctrl - qvel), with forcelimited
+/// clamping it to forcerange: https://mujoco.readthedocs.io/en/stable/XMLreference.html#actuator-velocity
+/// (and #actuator-general for forcelimited / forcerange); as engines/mujoco/mujoco_engine.cpp's brakes_xml.
+function brakesXml(brake_Nm, wheelI, dt_s) {
+  if (!(brake_Nm > 0)) return '';
+  return ['rear_left', 'rear_right'].map((j) => `
+<velocity name="brake_${j}" joint="${j}" kv="${num(wheelI / dt_s)}" forcelimited="true" forcerange="${num(-brake_Nm)} ${num(brake_Nm)}"/>`).join('');
+}
+
 function carXml({ car: d, q0, servo, mu, dt_s, gravity_W }, knob) {
   const R = d.R_m, l = d.l_m, w = d.track_m;
   const ik = d.knuckle_mass_kg * C.KNUCKLE_GYRATION_SQ_M2;
@@ -125,7 +138,8 @@ function carXml({ car: d, q0, servo, mu, dt_s, gravity_W }, knob) {
   }).join('\n');
   const actuators = fronts.map(({ sfx }) =>
     `<velocity name="spin${sfx}" joint="spin${sfx}" kv="${num(spinI / dt_s)}" forcelimited="true" forcerange="${num(-servo.spin_Nm)} ${num(servo.spin_Nm)}"/>
-<velocity name="steer${sfx}" joint="steer${sfx}" kv="${num(steerI / dt_s)}" forcelimited="true" forcerange="${num(-servo.steer_Nm)} ${num(servo.steer_Nm)}"/>`).join('\n');
+<velocity name="steer${sfx}" joint="steer${sfx}" kv="${num(steerI / dt_s)}" forcelimited="true" forcerange="${num(-servo.steer_Nm)} ${num(servo.steer_Nm)}"/>`).join('\n')
+    + brakesXml(servo.rear_brake_Nm, spinI, dt_s);
   return `<mujoco model="liftcheck ${fronts.length === 1 ? 'tricycle' : 'four-wheel car'}">
 ${option(dt_s, gravity_W, knob)}
 <worldbody>
@@ -156,7 +170,8 @@ function buildCar(req) {
     return { beta0: f.beta0_rad, body: id('body', `front${sfx}`), spin_q: m.jnt_qposadr[id('joint', `spin${sfx}`)],
       steer_q: m.jnt_qposadr[id('joint', `steer${sfx}`)], spin_a: id('actuator', `spin${sfx}`), steer_a: id('actuator', `steer${sfx}`) };
   });
-  car = { dt_s: r.dt_s, ground: id('geom', 'ground'), chassis: id('body', 'chassis'), fronts, rears: ['rear_left', 'rear_right'].map((n) => id('body', n)) };
+  const brakes = r.servo.rear_brake_Nm > 0 ? ['rear_left', 'rear_right'].map((n) => id('actuator', `brake_${n}`)) : [];
+  car = { dt_s: r.dt_s, ground: id('geom', 'ground'), chassis: id('body', 'chassis'), fronts, rears: ['rear_left', 'rear_right'].map((n) => id('body', n)), brakes };
   return carState(0);
 }
 
@@ -195,6 +210,7 @@ function stepCar(req) {
     d.ctrl[f.spin_a] = spin[k];
     d.ctrl[f.steer_a] = steer[k];
   });
+  for (const a of car.brakes) d.ctrl[a] = 0;  // a braked run's rear wheels: zero speed relative to the chassis
   let engine_s = timed(() => mj.mj_step2(m, d));
   const ground_force_W = groundForce();  // the step just solved: its contacts and efc_force
   engine_s += timed(() => mj.mj_step1(m, d));
@@ -293,7 +309,7 @@ function stepDisks(req) {
 
 serve({
   hello: () => ({
-    engine: 'MuJoCo', version: mj.mj_versionString(), precision: 'float64', vehicles: ['car', 'disks'], four_wheels: true, settings: KNOBS,
+    engine: 'MuJoCo', version: mj.mj_versionString(), precision: 'float64', vehicles: ['car', 'disks'], four_wheels: true, brakes: true, settings: KNOBS,
     fixed: [
       ['model', `the MJCF of liftcheck's compiled-in ${CONFIG.stiff ? 'mujoco-stiff' : 'mujoco'} configuration, compiled by MjModel.loadFromXML from the module's in-memory file system`],
       ['stepping', CONFIG.stiff

@@ -284,9 +284,17 @@ function jointedCar(d, parts, g, servo, iters) {
     const spin = revolute(knuckle, pose(part), body, pose(part), part.p, qmul(part.q, X_TO_Y), servo.spin_Nm);
     return { knuckle, wheel: body, steer, spin };
   });
+  // The rear wheels on passive PxRevoluteJoints; in a braked run (servo.rear_brake_Nm > 0,
+  // docs/protocol.md) each gets the front spin's drive: eDRIVE_ENABLED, setDriveVelocity(0) (the
+  // wheel's spin relative to the chassis), setDriveForceLimit(brake torque) with
+  // eDRIVE_LIMITS_ARE_FORCES. PhysX 5 API (PxRevoluteJoint.h, nvidia-omniverse.github.io/PhysX):
+  // setDriveForceLimit "sets the maximum torque the drive can exert. The value set here may be used
+  // either as an impulse limit or a force limit, depending on the flag
+  // PxConstraintFlag::eDRIVE_LIMITS_ARE_FORCES"; PxRevoluteJointFlag::eDRIVE_ENABLED "enable the
+  // drive". Unbraked (0): passive joints as before.
   const rears = parts.rears.map((part) => {
     const body = wheel(part);
-    revolute(chassis, pose(parts.chassis), body, pose(part), part.p, qmul(parts.chassis.q, X_TO_Y), 0);
+    revolute(chassis, pose(parts.chassis), body, pose(part), part.p, qmul(parts.chassis.q, X_TO_Y), servo.rear_brake_Nm);
     return body;
   });
   return {
@@ -340,9 +348,17 @@ function articulatedCar(d, parts, g, servo, iters) {
     const spin = joint(wheel, part, part, part.p, qmul(part.q, X_TO_Y), servo.spin_Nm);
     return { knuckle, wheel, steer, spin };
   });
+  // The rear wheels on free revolute joints; in a braked run (servo.rear_brake_Nm > 0,
+  // docs/protocol.md) each gets the front spin's drive: PxArticulationDrive(stiffness 0, damping
+  // drive_damping, maxForce = brake torque, eFORCE) on eTWIST with setDriveVelocity(eTWIST, 0) (the
+  // wheel's spin relative to the chassis), eDRIVE_LIMITS_ARE_FORCES set on the articulation above.
+  // PhysX 5.6.1 API (PxSolverDefs.h, struct PxArticulationDrive,
+  // nvidia-omniverse.github.io/PhysX/physx/5.6.1/_api_build/structPxArticulationDrive.html): damping
+  // is "the derivative gain of the implicit PD controller", torque/(rad/s) for a rotational axis
+  // under eFORCE; maxForce the drive's force (torque) limit. Unbraked (0): no drive, as before.
   const rears = parts.rears.map((part) => {
     const wheel = link(chassis, part, g.wheelGeom, g.wheelMat, d.wheel_mass_kg, [WHEEL, GROUND]);
-    joint(wheel, parts.chassis, part, part.p, qmul(parts.chassis.q, X_TO_Y), 0);
+    joint(wheel, parts.chassis, part, part.p, qmul(parts.chassis.q, X_TO_Y), servo.rear_brake_Nm);
     return wheel;
   });
   if (!world.scene.addArticulation(art)) throw new Error('PxScene::addArticulation failed');
@@ -466,7 +482,7 @@ const FIXED = {
 serve({
   hello: () => ({
     engine: 'NVIDIA PhysX', version: `${PHYSX_VERSION} (physx-js-webidl ${VERSION})`, precision: 'float32',
-    vehicles: ['car', 'disks'], four_wheels: true, settings: KNOBS,
+    vehicles: ['car', 'disks'], four_wheels: true, brakes: true, settings: KNOBS,
     fixed: [
       ['configuration', FIXED[CONFIG]],
       ['stepping', 'PxScene::simulate(dt) then fetchResults(true): one fixed step, no substepping beyond the solver\'s own, the state read after it; one CPU thread (DefaultCpuDispatcherCreate(0))'],

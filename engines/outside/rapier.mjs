@@ -4,7 +4,8 @@
 // Car: rigid bodies for the chassis (a cuboid collider that collides with nothing), the steering
 // knuckle(s) (mass properties only) and ball wheels; revolute impulse joints for the steering
 // (chassis z) and the wheels (knuckle y, chassis y), velocity motors on each front wheel's steering
-// and spin (Rapier's JS multibody joints have no motors); the tricycle or the four-wheel car. The
+// and spin (Rapier's JS multibody joints have no motors), and in a braked run on each rear wheel's
+// spin joint (target 0, limited to the brake's torque); the tricycle or the four-wheel car. The
 // ground is a cuboid under the start.
 // Disks: M a dynamic ball whose linear velocity is set to the command before each step, N a
 // kinematic position-based ball given its next translation; the contacts are the points of the
@@ -95,12 +96,23 @@ function buildCar(req) {
     return { knuckle, wheel: wheelBody, steer: revolute(chassis, knuckle, [l / 2, y_m, 0], [0, 0, 1], servo.steer_Nm),
       spin: revolute(knuckle, wheelBody, [0, 0, 0], [0, 1, 0], servo.spin_Nm) };
   });
+  // The brake of a braked run (servo.rear_brake_Nm > 0, docs/protocol.md): each rear wheel's
+  // revolute joint gets the same velocity motor as the front spin's (revolute() above:
+  // configureMotorModel(AccelerationBased), setMotorMaxForce(the brake's torque, as the front spin
+  // is given servo.spin_Nm), configureMotorVelocity(0, factor/dt), re-set each step in stepCar),
+  // its target the zero rate of the wheel relative to the chassis. Rapier's joint motors: "Joint
+  // motors" of the JavaScript user guide, https://rapier.rs/docs/user_guides/javascript/joints#joint-motors
+  // (UnitImpulseJoint.configureMotorVelocity(targetVel, factor), setMotorMaxForce(maxForce),
+  // configureMotorModel; rapier3d-compat 0.21.0, dist/dynamics/impulse_joint.d.ts). Unbraked (0):
+  // the plain revolute joints as before, no motor.
+  const brakes = [];
   const rears = [1, -1].map((s) => {
     const b = wheel(C.chassisPoint(q0, -l, s * w / 2, R), yaw);
-    revolute(chassis, b, [-l / 2, s * w / 2, 0], [0, 1, 0]);
+    const j = revolute(chassis, b, [-l / 2, s * w / 2, 0], [0, 1, 0], servo.rear_brake_Nm);
+    if (servo.rear_brake_Nm > 0) brakes.push(j);
     return b;
   });
-  car = { chassis, fronts, rears };
+  car = { chassis, fronts, rears, brakes };
   return carState(0);
 }
 
@@ -120,6 +132,7 @@ function stepCar(req) {
     f.spin.configureMotorVelocity(spin[k], factor);
     f.steer.configureMotorVelocity(steer[k], factor);
   });
+  for (const j of car.brakes) j.configureMotorVelocity(0, factor);  // braked: rear wheels at zero rate against the chassis
   return carState(timed(() => world.step()));
 }
 
@@ -180,7 +193,7 @@ function stepDisks(req) {
 
 serve({
   hello: () => ({
-    engine: 'Rapier', version: VERSION, precision: 'float32', vehicles: ['car', 'disks'], four_wheels: true, settings: KNOBS,
+    engine: 'Rapier', version: VERSION, precision: 'float32', vehicles: ['car', 'disks'], four_wheels: true, brakes: true, settings: KNOBS,
     fixed: [
       ['stepping', 'World.step() with World.timestep = dt (no interpolation); integration parameters otherwise as shipped: read back from rapier3d-compat 0.21.0, prediction distance 0.02 m, allowed linear error 0.005 m (normalizedAllowedLinearError x lengthUnit 1), contact_erp 0.0093 at dt = 1 ms'],
       ['contact stiffness', 'not a knob: in 0.21.0 setting normalizedAllowedLinearError (1e-5) or contact_natural_frequency (300) changes no figure of car.circle, although the getters read the new values'],
