@@ -140,9 +140,13 @@ class LoadBook {
 }  // namespace
 
 void RigidCar::reset(const CarSetup& setup, const car::Config& q0) {
+  reset_with(setup, q0, ServoDef::for_car(setup, TricycleDef::from(setup)));
+}
+
+void RigidCar::reset_with(const CarSetup& setup, const car::Config& q0, const ServoDef& servo) {
   setup_ = setup;
   def_ = TricycleDef::from(setup);
-  servo_ = ServoDef::for_car(setup_, def_);
+  servo_ = servo;
   if (def_.wheels == 4 && !four_wheels()) throw EngineError("this configuration builds only the tricycle (wheels=3)");
   q0_ = q0;
   build(setup_, def_, q0_);
@@ -246,7 +250,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   // Contact-point slip of each wheel, every step of the drive: the contact point of a sphere (or an
   // upright cylinder) on the ground z = 0 lies straight below the hub.
   slip_.assign(n_wheels, WheelSlip{});
-  double sum_sq[4] = {0.0, 0.0, 0.0, 0.0};
+  double sum_sq[4] = {0.0, 0.0, 0.0, 0.0}, roll_sum[4] = {0.0, 0.0, 0.0, 0.0};
   const auto book_slip = [&] {
     for (int w = 0; w < n_wheels; ++w) {
       const WheelState& ws = s.wheels[w];
@@ -257,6 +261,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
       slip_[w].along_max_mps = std::max(slip_[w].along_max_mps, std::abs(v.dot(roll)));
       slip_[w].across_max_mps = std::max(slip_[w].across_max_mps, std::abs(v.dot(axle)));
       sum_sq[w] += v.x() * v.x() + v.y() * v.y();
+      roll_sum[w] += std::abs(ws.omega_W.dot(axle) * ws.hub_z_m);
     }
   };
 
@@ -276,6 +281,7 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   for (int w = 0; w < n_wheels; ++w) {
     slip_[w].wheel = names[w];
     slip_[w].rms_mps = steps > 0 ? std::sqrt(sum_sq[w] / steps) : 0.0;
+    slip_[w].roll_mean_mps = steps > 0 ? roll_sum[w] / steps : 0.0;
     slip_[w].along_measured = wheels_spin();
   }
   load_ = load.finish(ground_force_absent_why());

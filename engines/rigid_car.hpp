@@ -111,6 +111,9 @@ class RigidCar : public CarEngine {
   GroundLoad ground_load() const final { return load_; }
 
  protected:
+  /// reset with the motors' limits given (`liftcheck serve`: the request's, which an engine that
+  /// builds its limits into the model, as MuJoCo does, must have before it builds).
+  void reset_with(const CarSetup& setup, const car::Config& q0, const ServoDef& servo);
   /// Builds the world with the car at q0 (steering at q0.beta), at rest on the ground.
   virtual void build(const CarSetup& setup, const TricycleDef& car, const car::Config& q0) = 0;
   /// Sets each front wheel's spin rate about its axle (positive rolls forward) and steering rate.

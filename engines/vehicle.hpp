@@ -60,6 +60,9 @@ struct WheelSlip {
   double along_max_mps = 0.0;   ///< largest |v_contact . rolling direction|
   double across_max_mps = 0.0;  ///< largest |v_contact . axle|
   double rms_mps = 0.0;         ///< root mean square of the horizontal |v_contact| over the steps
+  /// Mean over the steps of the wheel's rolling speed |omega . axle| x hub height, m/s: 0 for a
+  /// wheel held by its brake or servo (the braked slides check it).
+  double roll_mean_mps = 0.0;
   /// False where the engine has no wheel spin of its own (a raycast vehicle derives the wheel's
   /// rotation from the chassis speed): the along-slip then compares a value with itself.
   bool along_measured = true;

@@ -220,7 +220,8 @@ void add_slip(Outcome& o, const CarEngine& engine) {
     wheels.push_back({{"wheel", w.wheel},
                       {"along_max_mps", w.along_max_mps},
                       {"across_max_mps", w.across_max_mps},
-                      {"rms_mps", w.rms_mps}});
+                      {"rms_mps", w.rms_mps},
+                      {"roll_mean_mps", w.roll_mean_mps}});
   }
   // A wheel without a spin state of its own turns as the chassis moves: its along-slip is zero by
   // construction, shown but not counted.

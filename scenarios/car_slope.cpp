@@ -227,6 +227,16 @@ Outcome run_yawed_slide(const Params& p, CarEngine& engine) {
   const Eigen::Vector2d downhill(-std::sin(sd), std::cos(sd));
   o.details["axis_pyramid_accel_mps2"] = {{"along", a_W.dot(downhill)},
                                           {"across", a_W.x() * downhill.y() - a_W.y() * downhill.x()}};
+  // Every wheel held: their rolling speed against the exact slide's mean speed over the drive,
+  // a (settle + slide / 2). A wheel without a spin state of its own (a raycast vehicle's) shows
+  // it, not counted.
+  double roll_mps = 0.0;
+  bool spins = true;
+  for (const WheelSlip& w : engine.slip())
+    roll_mps = std::max(roll_mps, w.roll_mean_mps), spins = spins && w.along_measured;
+  const double g = p.num("gravity"), mean_speed_mps = g * (std::sin(slope) - p.num("mu") * std::cos(slope)) *
+                                                      (ServoDef{}.settle_s + 0.5 * p.num("slide"));
+  o.values["brake_hold"] = {.expected = 0.0, .measured = roll_mps, .scale = mean_speed_mps, .informational = !spins};
   return o;
 }
 
@@ -333,6 +343,9 @@ std::vector<Scenario> slope_scenarios() {
                 "acceleration across the fall line, relative to the exact downhill one (0: Coulomb's law pushes "
                 "nothing across the slide)"),
             abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
+            rel("brake_hold", "m/s", 1e-9, 1e-2,
+                "the fastest wheel's mean rolling speed over the drive (|omega . axle| x hub height), relative to the "
+                "exact slide's mean speed: 0 where the brakes and servos hold every wheel"),
             SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, MOMENTUM},
        .run_car = run_yawed_slide,
        .needs_contact_dynamics = true,

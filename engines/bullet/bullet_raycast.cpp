@@ -384,7 +384,8 @@ EngineInfo bullet_raycast_engine() {
            {"contact forces", kContactForcesNotRead},
            {"vehicle",
             "btRaycastVehicle with btDefaultVehicleRaycaster, setCoordinateSystem(1, 2, 0); 3 wheels: front (steered, "
-            "driven) at the front-axle centre, rear (passive) at the rear axle +-track/2; wheel direction -z, axle -y"},
+            "driven) at the front-axle centre, rear (passive; setBrake in a braked run) at the rear axle +-track/2; "
+            "wheel direction -z, axle -y"},
            {"chassis",
             "box l x track x height of the car's total mass (chassis + 3 wheels + knuckle), centre of mass at the "
             "middle of the tie rod at axle height, collides with nothing; ground: static btRigidBody plane"},

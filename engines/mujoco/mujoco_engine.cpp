@@ -273,11 +273,11 @@ class MujocoCar final : public RigidCar {
     if (!(t > 0.0)) return "";
     std::string xml;
     for (const char* joint : {"rear_left", "rear_right"})
-      xml += fmt::format(
-          R"(<velocity name="brake_{j}" joint="{j}" kv="{kv}" forcelimited="true" forcerange="{lo} {hi}"/>)"
-          "\n",
-          fmt::arg("j", joint), fmt::arg("kv", num(spin_inertia(d) / dt_s)), fmt::arg("lo", num(-t)),
-          fmt::arg("hi", num(t)));
+      xml +=
+          fmt::format(R"(<velocity name="brake_{j}" joint="{j}" kv="{kv}" forcelimited="true" forcerange="{lo} {hi}"/>)"
+                      "\n",
+                      fmt::arg("j", joint), fmt::arg("kv", num(spin_inertia(d) / dt_s)), fmt::arg("lo", num(-t)),
+                      fmt::arg("hi", num(t)));
     return xml;
   }
 

@@ -45,6 +45,20 @@ const SETTINGS = ['car', 'disks'].map((vehicle) => ({
 }));
 SETTINGS.splice(1, 0, C.WHEEL_KNOB);
 
+// Why the step replies carry no ground_force_W (docs/protocol.md): the only contact report of
+// @babylonjs/havok 1.3.14 is the collision event (HavokPhysics.d.ts: CollisionEvent = [type,
+// contact on A, contact on B, "Impulse applied": number], one event per contact point, from
+// HP_World_GetCollisionEvents / HP_World_GetNextCollisionEvent after HP_Body_SetEventMask with
+// COLLISION_STARTED | COLLISION_CONTINUED). That scalar is the point's NORMAL impulse alone:
+// measured, a box sliding at 2 m/s on mu = 0.5 reports impulses summing to m g dt while friction
+// takes mu m g dt off its momentum, and a sphere sliding before it rolls reports m g dt to 1e-9.
+// No call gives the friction impulses (the declaration's other impulse getter,
+// HP_Constraint_GetAppliedImpulses, is for constraints, not contacts; Babylon.js's HavokPlugin
+// passes the same scalar on as IPhysicsCollisionEvent.impulse). A ground force without its
+// friction would fail the momentum and hold checks for want of data, and one rebuilt from the
+// bodies' velocity change would check the momentum against itself: neither is sent.
+const CONTACT_FORCES_NOT_READ = 'not read: Havok\'s collision events (HP_World_GetCollisionEvents, HP_Event_AsCollision; HavokPhysics.d.ts 1.3.14 CollisionEvent = [type, contact on A, contact on B, "Impulse applied": number]) carry one scalar per contact point, the normal impulse only (measured: on a box sliding on mu = 0.5 they sum to m g dt while friction removes mu m g dt), and no call gives the friction impulses (HP_Constraint_GetAppliedImpulses is for constraints): no ground_force_W is sent, so the load, momentum and hold checks are skipped';
+
 let world = null;  // { id, bodies, shapes, constraints, kind, ... }
 
 function ok(result, what) {
@@ -267,12 +281,13 @@ serve({
       vehicles: ['car', 'disks'], four_wheels: true, brakes: true, settings: SETTINGS,
       fixed: [
         ['configuration', 'Havok as its users run it: HP_World_SetIdealStepTime(dt), re-set when a step of another length comes (HavokPhysics.d.ts 1.3.14: "the ideal delta time which you intend to call HP_World_Step() with", the solver parameters adjusted from it; Havok\'s samples set it to their fixed step, and Babylon.js\'s HavokPlugin.executeStep calls HP_World_SetIdealStepTime(world, deltaTime) before every HP_World_Step); everything else as a new world has it; no solver iterations are exposed; the speed limits (HP_World_SetSpeedLimit, 200 m/s and 100 rad/s) are never reached'],
-        ['joints', '6-DOF constraints with only ANGULAR_X free (Babylon.js HingeConstraint): steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y) with VELOCITY motors, max torque the servo torque; passive ones for the rear wheels; joint angles from the bodies\' orientations'],
+        ['joints', '6-DOF constraints with only ANGULAR_X free (Babylon.js HingeConstraint): steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y) with VELOCITY motors, max torque the servo torque; passive ones for the rear wheels (a braked run: VELOCITY motors at 0, max torque the brake\'s); joint angles from the bodies\' orientations'],
         ['bodies', `chassis box of the chassis mass (filter colliding with nothing); knuckle a ${C.KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg, colliding with nothing; wheels spheres of radius R (or y-axis cylinders) of wheel_mass_kg; inertias HP_Shape_BuildMassProperties gives for the shapes at those masses; no damping, always active`],
         ['ground', 'static box, top face z = 0, 60 m square (or 20 l) centred under the start (float32 contact precision degrades on large shapes)'],
         ['friction', 'each material names its combine mode; measured: GEOMETRIC_MEAN, MINIMUM, MAXIMUM, ARITHMETIC_MEAN, MULTIPLY do what they say, and of two different modes the later in that list wins. Both materials MINIMUM (Babylon.js PhysicsMaterial default), wheel and ground both mu: min(mu, mu) = mu; restitution 0'],
         ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, zero inertia (its rotation held), linear velocity set to the command (z = 0) before each step; N kinematic, HP_Body_SetTargetQTransform to its next position; contacts from the step\'s COLLISION_STARTED/CONTINUED events, distance (p_N - p_M) . n'],
         ['four wheels', 'two front wheels at +-track/2, each on its own knuckle and hinges as above, built at its Ackermann angle (or at beta when steered in parallel)'],
+        ['contact forces', CONTACT_FORCES_NOT_READ],
       ],
     };
   },

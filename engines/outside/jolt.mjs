@@ -20,6 +20,15 @@
 // is set before each step (Plane2D degrees of freedom), N a kinematic sphere moved with
 // MoveKinematic; contacts from a ContactListener (OnContactAdded/OnContactPersisted), speculative
 // manifolds included with their negative penetration depth.
+// Contact forces (each car step reply's ground_force_W, with the chassis's v_chassis_W): the
+// binding has no accessor for a contact's solved impulses (ContactListener sees a manifold and
+// its ContactSettings before the solve; ContactConstraintManager is not exposed). The impulses are
+// read where Jolt itself keeps them for warm starting: after the velocity solve
+// ContactConstraintManager::StoreAppliedImpulses copies every contact constraint's total lambdas
+// into the contact cache, which PhysicsSystem::SaveState(recorder, EStateRecorderState_Contacts)
+// serialises; the world normal each manifold's constraint used comes from a ContactListener
+// (groundListener, groundForce below). Neither changes the simulation: the poses are bit-identical
+// with and without them.
 // Every build makes a new JoltInterface and destroys the previous one with all its bodies and
 // constraints (one process serves many runs).
 import { serve, timed } from './protocol.mjs';
@@ -172,7 +181,7 @@ function buildCar(req) {
   const q_chassis = C.yawQuat(q0.phi_rad);
   const half = C.groundHalf_m(c);
   const ext = vec3([half, half, 0.5]);
-  addBody(new Jolt.BoxShape(ext, 0.05, null), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1], Jolt.EMotionType_Static, L_GROUND,
+  world.ground = addBody(new Jolt.BoxShape(ext, 0.05, null), [q0.x_m, q0.y_m, -0.5], [0, 0, 0, 1], Jolt.EMotionType_Static, L_GROUND,
            { friction: req.mu });  // Jolt combines friction as sqrt(f_wheel f_ground): both mu give mu
   Jolt.destroy(ext);
   const box = vec3([0.5 * c.l_m, 0.5 * c.track_m, 0.5 * c.chassis_height_m]);
@@ -215,6 +224,9 @@ function buildCar(req) {
     return body;
   });
   world.chassis = chassis;
+  world.normals = new Map();
+  world.listener = groundListener();
+  world.system.SetContactListener(world.listener);
   return carState(0);
 }
 
@@ -244,7 +256,143 @@ function stepCar(req) {
     f.steer.SetTargetAngularVelocity(steer[k]);
   });
   for (const b of world.brakes) b.SetTargetAngularVelocity(0);  // braked: rear wheels at zero rate against the chassis
-  return carState(timed(() => world.jolt.Step(req.dt_s, 1)));
+  world.normals.clear();  // filled by groundListener during the step
+  const engine_s = timed(() => world.jolt.Step(req.dt_s, 1));
+  // Body::GetLinearVelocity: the centre of mass's, world frame (copied out at once: carState's
+  // calls reuse the binding's result object)
+  const v = world.chassis.GetLinearVelocity(), v_chassis_W = [v.GetX(), v.GetY(), v.GetZ()];
+  return { ...carState(engine_s), ground_force_W: groundForce(req.dt_s), v_chassis_W };
+}
+
+/// The key of a manifold in Jolt's contact cache, SubShapeIDPair (body 1's id, its sub-shape id,
+/// body 2's, its sub-shape id), as a string.
+const manifoldKey = (id1, s1, id2, s2) => `${id1}:${s1}:${id2}:${s2}`;
+
+/// Keeps the world-space normal of every manifold the step's contact constraints are built from
+/// (world.normals, by manifold key). ContactConstraintManager calls OnContactAdded /
+/// OnContactPersisted with the bodies in its own order (body 1 the lower id) and the very normal
+/// the constraint takes (AddContactConstraint: inManifold.mWorldSpaceNormal; GetContactsFromCache:
+/// the cached normal turned to the world, world_space_normal, for the callback and the constraint
+/// alike). The cache keeps that normal only in body 2's space at the step's start, and the friction
+/// axes follow from the world normal through a branch on |n_x| > |n_y| (GetTangents), which a
+/// normal rebuilt from the cache can take the other way when n is nearly vertical: so the normal
+/// is taken from here. The listener changes nothing: OnContactValidate answers what Jolt's
+/// ContactListener does by default (AcceptAllContactsForThisBodyPair), and the settings are left
+/// as they come.
+function groundListener() {
+  const listener = new Jolt.ContactListenerJS();
+  const idOf = new Map(world.bodies.map((b) => [Jolt.getPointer(b), b.GetID().GetIndexAndSequenceNumber()]));
+  const seen = (b1, b2, manifold_ptr) => {
+    const m = Jolt.wrapPointer(manifold_ptr, Jolt.ContactManifold), n = m.mWorldSpaceNormal;
+    world.normals.set(manifoldKey(idOf.get(b1), m.mSubShapeID1.GetValue() >>> 0, idOf.get(b2), m.mSubShapeID2.GetValue() >>> 0),
+                      [n.GetX(), n.GetY(), n.GetZ()]);
+  };
+  listener.OnContactValidate = () => Jolt.ValidateResult_AcceptAllContactsForThisBodyPair;
+  listener.OnContactAdded = (b1, b2, manifold) => seen(b1, b2, manifold);
+  listener.OnContactPersisted = (b1, b2, manifold) => seen(b1, b2, manifold);
+  listener.OnContactRemoved = () => {};
+  return listener;
+}
+
+/// A StateRecorderJS that keeps the bytes written, in one growing buffer, and each WriteBytes
+/// call's size: StateRecorder::Write writes every value with one WriteBytes of its size
+/// (Jolt/Core/StreamOut.h), so the calls are the cache's fields one by one and their sizes check
+/// the layout groundForce reads.
+let recorder = null;
+function contactRecorder() {
+  const rec = new Jolt.StateRecorderJS();
+  rec.bytes = new Uint8Array(4096);
+  rec.view = new DataView(rec.bytes.buffer);
+  rec.sizes = [];
+  rec.end = 0;
+  rec.WriteBytes = (data, size) => {
+    if (rec.end + size > rec.bytes.length) {
+      const grown = new Uint8Array(2 * (rec.end + size));
+      grown.set(rec.bytes.subarray(0, rec.end));
+      rec.bytes = grown;
+      rec.view = new DataView(grown.buffer);
+    }
+    rec.bytes.set(Jolt.HEAPU8.subarray(data, data + size), rec.end);
+    rec.end += size;
+    rec.sizes.push(size);
+  };
+  rec.ReadBytes = () => { throw new Error('jolt.mjs: the contact recorder is only written'); };
+  rec.IsEOF = () => true;
+  rec.IsFailed = () => false;
+  return rec;
+}
+
+/// Jolt's tangents of a contact normal n (ContactConstraintBase::GetTangents): t1 =
+/// n.GetNormalizedPerpendicular(), (z, 0, -x) where x^2 > y^2 and (0, z, -y) otherwise, normalised,
+/// the squares compared in float32 as Vec3::GetNormalizedPerpendicular does; t2 = n x t1.
+function tangents([x, y, z]) {
+  const f = Math.fround, xx = f(x * x), yy = f(y * y), zz = f(z * z);
+  const len = Math.sqrt(Math.max(xx, yy) + zz);
+  const t1 = xx > yy ? [z / len, 0, -x / len] : [0, z / len, -y / len];
+  return [t1, [y * t1[2] - z * t1[1], z * t1[0] - x * t1[2], x * t1[1] - y * t1[0]]];
+}
+
+/// The force the ground exerted on the wheels in the step just taken, world frame, N: the solver's
+/// own impulses, summed over every wheel-ground contact, over dt. Jolt keeps them in its contact
+/// cache: after the velocity steps ContactConstraintManager::StoreAppliedImpulses stores each
+/// contact point's non-penetration lambda (CachedContactPoint::mNonPenetrationLambda) and the
+/// manifold's two friction lambdas (CachedManifold::mFrictionLambda; the friction model of Jolt
+/// 5.6 applies them once per manifold, at the average contact point, plus an angular friction
+/// lambda about the normal, mAngularFrictionLambda, a pure torque that adds no force), "Total
+/// applied impulse during the last update", the warm start included (ContactConstraintPart::
+/// WarmStart scales the total lambda and applies it; each iteration adds to it); the position
+/// steps move bodies without impulses. PhysicsSystem::SaveState with EStateRecorderState_Contacts
+/// writes the cache just filled (ContactConstraintManager::SaveState: mCache[mCacheWriteIdx ^ 1])
+/// as (ContactConstraintManager.cpp, ManifoldCache::SaveState): the state (uint8), the number of
+/// body pairs (uint32), per pair its BodyPair key (two uint32 body ids), the CachedBodyPair's
+/// mDeltaPosition and mDeltaRotation (Float3 each), the number of manifolds (uint32), per manifold
+/// its SubShapeIDPair key (four uint32), mNumContactPoints (uint16), mContactNormal (Float3, body
+/// 2's space), mFrictionLambda (2 floats), mAngularFrictionLambda (float), and per point mPosition1,
+/// mPosition2 (Float3) and mNonPenetrationLambda (float); then the CCD manifolds' keys, not read.
+/// The normal n is the manifold's world normal (groundListener), "the direction along which to move
+/// body 2 out of collision" (ContactManifold::mWorldSpaceNormal), and a constraint part with axis
+/// d and total lambda L pushes body 2 by +L d and body 1 by -L d (ContactConstraintPart::
+/// ApplyVelocityStep). Body 1 is the lower id (ContactConstraintManager::AddContactConstraint
+/// swaps the pair so): here the ground, built first, so a wheel takes +(sum L_n n + L_1 t1 +
+/// L_2 t2) (the other way round it would take minus that).
+function groundForce(dt_s) {
+  const rec = recorder ??= contactRecorder();  // one for the process, emptied each step
+  rec.sizes.length = 0;
+  rec.end = 0;
+  world.system.SaveState(rec, Jolt.EStateRecorderState_Contacts);
+  let i = 0, at = 0;
+  const take = (size) => {  // the next field's offset, its size checked
+    if (rec.sizes[i] !== size) throw new Error(`jolt.mjs: contact cache field ${i} has ${rec.sizes[i]} bytes, ${size} expected (not the layout of Jolt 5.6's ManifoldCache::SaveState)`);
+    i++;
+    at += size;
+    return at - size;
+  };
+  const v = rec.view, u32 = (o, k = 0) => v.getUint32(o + 4 * k, true), f32 = (o, k = 0) => v.getFloat32(o + 4 * k, true);
+  take(1);
+  const ground = world.ground.GetID().GetIndexAndSequenceNumber();
+  const force = [0, 0, 0];
+  for (let pairs = u32(take(4)); pairs > 0; --pairs) {
+    const pair = take(8), id1 = u32(pair, 0), id2 = u32(pair, 1);
+    take(12); take(12);
+    const sign = id1 === ground ? 1 : id2 === ground ? -1 : 0;  // on the wheel: body 2's impulse, or body 1's
+    for (let manifolds = u32(take(4)); manifolds > 0; --manifolds) {
+      const key = take(16), points = v.getUint16(take(2), true);
+      take(12);
+      const lf = take(8), l1 = f32(lf, 0), l2 = f32(lf, 1);
+      take(4);
+      let ln = 0;
+      for (let k = 0; k < points; ++k) {
+        take(12); take(12);
+        ln += f32(take(4));
+      }
+      if (sign === 0 || (ln === 0 && l1 === 0 && l2 === 0)) continue;
+      const n = world.normals.get(manifoldKey(u32(key, 0), u32(key, 1), u32(key, 2), u32(key, 3)));
+      if (!n) throw new Error('jolt.mjs: a ground contact with impulses that no contact callback reported');
+      const [t1, t2] = tangents(n);
+      for (let a = 0; a < 3; ++a) force[a] += sign * (ln * n[a] + l1 * t1[a] + l2 * t2[a]) / dt_s;
+    }
+  }
+  return force;
 }
 
 /// Counts the M-N contact points of one narrow-phase manifold and keeps the smallest signed
@@ -320,11 +468,12 @@ serve({
       vehicles: ['car', 'disks'], four_wheels: true, brakes: true, settings: SETTINGS,
       fixed: [
         ['configuration', FIXED[CONFIG]],
-        ['joints', 'HingeConstraint steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y), both EMotorState_Velocity with torque limits +-servo torque; passive HingeConstraints for the rear wheels'],
+        ['joints', 'HingeConstraint steering (knuckle about the chassis vertical) and front-wheel spin (about the knuckle y), both EMotorState_Velocity with torque limits +-servo torque; passive HingeConstraints for the rear wheels (a braked run: EMotorState_Velocity at 0, torque limits +-the brake\'s)'],
         ['bodies', `chassis box of the chassis mass (layer colliding with nothing); knuckle a ${C.KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg (inertia 0.4 m r^2: 1e-4 kg m^2 at 0.05 kg), colliding with nothing; wheels spheres of radius R (or Y-axis cylinders) of wheel_mass_kg; inertias Jolt computes for the shapes at those masses; no damping, no sleeping`],
         ['ground', 'static BoxShape, top face z = 0, 60 m square (or 20 l) centred under the start'],
         ['friction', 'Jolt combines friction as the geometric mean sqrt(f1 f2): wheel and ground both mu'],
         ['disks', 'M a dynamic sphere 1 kg, gravity factor 0, friction 0, EAllowedDOFs TranslationX | TranslationY (in the plane, its rotation held), linear velocity set to the command before each step; N kinematic, MoveKinematic to its next position; contacts from ContactListener OnContactAdded/OnContactPersisted (speculative manifolds within 2 cm included, distance = -mPenetrationDepth)'],
+        ['contact forces', 'the solver\'s own total lambdas of every wheel-ground contact after the step, as Jolt keeps them for warm starting (ContactConstraintManager::StoreAppliedImpulses into the contact cache), read through PhysicsSystem::SaveState(EStateRecorderState_Contacts) into a StateRecorderJS: per point the non-penetration lambda along the manifold\'s world normal (as the constraint used it, from ContactListener OnContactAdded/OnContactPersisted), per manifold the two friction lambdas along Jolt\'s tangents (ContactConstraintBase::GetTangents; the angular friction lambda is a torque), on the wheel as body 2 of the pair (the ground has the lower id), over dt: each step reply\'s ground_force_W, with the chassis\'s centre-of-mass velocity v_chassis_W (the load and momentum checks)'],
         ['four wheels', 'two front wheels at +-track/2, each on its own knuckle and hinges as above, built at its Ackermann angle (or at beta when steered in parallel)'],
       ],
     };

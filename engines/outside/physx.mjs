@@ -11,6 +11,22 @@
 //   articulation  the car as one PxArticulationReducedCoordinate (the chassis its floating root,
 //                 knuckles and wheels links on revolute joints with velocity drives), TGS, the
 //                 articulation iteration counts of Isaac Sim (PhysxSchema's PhysxArticulationAPI).
+// Car contact forces (every configuration): each car step reports ground_force_W, the force the
+// ground exerted on the wheels during the step, from PhysX's own solver impulses in its contact
+// reports (PxSimulationEventCallback::onContact, eNOTIFY_TOUCH_FOUND | eNOTIFY_TOUCH_PERSISTS |
+// eNOTIFY_CONTACT_POINTS on the wheel-ground pairs): the normal part from
+// PxContactPair::extractContacts (PxContactPairPoint::impulse = normal * the applied normal
+// impulse: it carries no friction), the friction part from the pair's friction anchors
+// (PxContactPair::frictionPatches, PxFrictionPatch::anchorImpulses: "the impulse applied at the
+// friction anchor, in world space", what PxContactPair::extractFrictionAnchors returns; PhysX
+// 5.4.0: "Rigid bodies contact reporting now has friction impulse information"), both over dt.
+// extractFrictionAnchors is an inline header function the WASM bindings do not export and
+// PxContactPair's frictionPatches/contactPatches fields are not bound either, so the adapter reads
+// the pair's struct and the PxFrictionPatch records from the WASM memory with their PhysX 5.6
+// layouts (wasm32: pointers 4 bytes; PxContactPair: shapes[2] 0, contactPatches 8, contactPoints
+// 12, contactImpulses 16, frictionPatches 20, requiredBufferSize 24, contactCount 28, patchCount
+// 29; PxFrictionPatch, 52 bytes: anchorPositions[2] 0, anchorImpulses[2] 24, anchorCount 48),
+// checked on every pair against the bound fields (contactCount, patchCount, shapes).
 // Disks (every configuration): M a dynamic sphere, its rotations and z translation locked
 // (PxRigidDynamicLockFlag), its linear velocity set before each step; N kinematic, moved with
 // setKinematicTarget; the contacts are those PhysX reports for the pair in the step
@@ -229,7 +245,8 @@ function addGround(mu, kind, car, q0) {
   const geom = kind === 'plane' ? new PX.PxPlaneGeometry() : new PX.PxBoxGeometry(half, half, 0.5);
   const shape = ActorExt.createExclusiveShape(ground, geom, material(mu));
   PX.destroy(geom);
-  setFilter(shape, GROUND, WHEEL);
+  setFilter(shape, GROUND, WHEEL, REPORT);  // contact reports for the wheel-ground pairs
+  world.groundShape = shape.ptr;
   world.scene.addActor(ground);
   world.actors.push(ground);
 }
@@ -240,7 +257,11 @@ function buildCar(req) {
   dropWorld();  // a build that fails leaves no world to step
   const knob = C.applySettings(KNOBS, req.settings, 'car');
   const { car: d, q0, servo, mu, gravity_W } = C.carRequest(req);
-  world = { scene: newScene(gravity_W, knob.solver, null), actors: [], joints: [], materials: [], articulation: null, owned: [] };
+  const callback = groundForceCallback();
+  world = { scene: null, actors: [], joints: [], materials: [], articulation: null, owned: [callback] };
+  world.scene = newScene(gravity_W, knob.solver, callback);
+  world.points = new PX.PxArray_PxContactPairPoint(64);
+  world.owned.push(world.points);
   addGround(mu, knob.ground, d, q0);
   const wheelMat = material(mu), ghostMat = material(0);
   const R = d.R_m, l = d.l_m, w = d.track_m;
@@ -263,7 +284,7 @@ function buildCar(req) {
 /// The car from rigid bodies and PxRevoluteJoints (maximal coordinates).
 function jointedCar(d, parts, g, servo, iters) {
   const chassis = addDynamic(g.box, g.ghostMat, parts.chassis.p, parts.chassis.q, d.chassis_mass_kg, [0, 0], iters);
-  const wheel = (part) => addDynamic(g.wheelGeom, g.wheelMat, part.p, part.q, d.wheel_mass_kg, [WHEEL, GROUND], iters);
+  const wheel = (part) => addDynamic(g.wheelGeom, g.wheelMat, part.p, part.q, d.wheel_mass_kg, [WHEEL, GROUND, REPORT], iters);
   const pose = (part) => ({ p: part.p, q: part.q });
   const revolute = (a, pa, b, pb, p_W, q_W, limit_Nm) => {
     const fa = localFrame(pa, p_W, q_W), fb = localFrame(pb, p_W, q_W);
@@ -344,7 +365,7 @@ function articulatedCar(d, parts, g, servo, iters) {
   const fronts = parts.fronts.map((part) => {
     const knuckle = link(chassis, part, g.knuckleGeom, g.ghostMat, d.knuckle_mass_kg, [0, 0]);
     const steer = joint(knuckle, parts.chassis, part, part.p, X_TO_Z, servo.steer_Nm);
-    const wheel = link(knuckle, part, g.wheelGeom, g.wheelMat, d.wheel_mass_kg, [WHEEL, GROUND]);
+    const wheel = link(knuckle, part, g.wheelGeom, g.wheelMat, d.wheel_mass_kg, [WHEEL, GROUND, REPORT]);
     const spin = joint(wheel, part, part, part.p, qmul(part.q, X_TO_Y), servo.spin_Nm);
     return { knuckle, wheel, steer, spin };
   });
@@ -357,7 +378,7 @@ function articulatedCar(d, parts, g, servo, iters) {
   // is "the derivative gain of the implicit PD controller", torque/(rad/s) for a rotational axis
   // under eFORCE; maxForce the drive's force (torque) limit. Unbraked (0): no drive, as before.
   const rears = parts.rears.map((part) => {
-    const wheel = link(chassis, part, g.wheelGeom, g.wheelMat, d.wheel_mass_kg, [WHEEL, GROUND]);
+    const wheel = link(chassis, part, g.wheelGeom, g.wheelMat, d.wheel_mass_kg, [WHEEL, GROUND, REPORT]);
     joint(wheel, parts.chassis, part, part.p, qmul(parts.chassis.q, X_TO_Y), servo.rear_brake_Nm);
     return wheel;
   });
@@ -385,7 +406,96 @@ function simulate(dt_s) {
 function stepCar(req) {
   const { spin, steer, dt_s } = C.carStep(req);
   world.car.fronts.forEach((_, k) => world.car.drive(k, spin[k], steer[k]));
-  return carState(timed(() => simulate(dt_s)));
+  world.ground = { impulse: [0, 0, 0], missing: null, js_s: 0 };
+  const step_s = timed(() => simulate(dt_s));
+  const g = world.ground;
+  // engine_s: the step less the adapter's own JavaScript in the report callback (PhysX's making
+  // of the reports stays counted).
+  const reply = carState(Math.max(0, step_s - g.js_s));
+  if (g.missing) {  // a contact that pushed without its friction record: no force rather than half of one
+    if (!world.warned) process.stderr.write(`physx adapter: ground_force_W left out: ${g.missing}\n`);
+    world.warned = true;
+  } else {
+    reply.ground_force_W = g.impulse.map((j) => j / dt_s);
+  }
+  const v = world.car.chassis.getLinearVelocity();
+  reply.v_chassis_W = [v.x, v.y, v.z];
+  return reply;
+}
+
+// ---- the car's contact forces ---------------------------------------------------------------------
+
+// PhysX 5.6 struct layouts in the WASM32 build (PxSimulationEventCallback.h, PxContact.h).
+const PAIR_CONTACT_PATCHES = 8, PAIR_FRICTION_PATCHES = 20, PAIR_CONTACT_COUNT = 28, PAIR_PATCH_COUNT = 29;
+const FRICTION_PATCH_BYTES = 52, ANCHOR_IMPULSES = 24, ANCHOR_COUNT = 48;
+const CPF = PX.PxContactPairFlagEnum;
+
+/// The wheel-ground impulses of the step, summed on the wheels (called from fetchResults).
+function groundForceCallback() {
+  const cb = new PX.PxSimulationEventCallbackImpl();
+  cb.onConstraintBreak = () => {};
+  cb.onWake = () => {};
+  cb.onSleep = () => {};
+  cb.onTrigger = () => {};
+  cb.onContact = (header, pairs, nbPairs) => {
+    const g = world.ground;
+    if (!g) return;
+    const t0 = process.hrtime.bigint();
+    try {
+      readGroundPairs(g, pairs, nbPairs);
+    } finally {
+      g.js_s += Number(process.hrtime.bigint() - t0) * 1e-9;
+    }
+  };
+  return cb;
+}
+
+/// Adds the ground's impulses on the wheels in the step's reported pairs to g.impulse.
+function readGroundPairs(g, pairs, nbPairs) {
+  for (let i = 0; i < nbPairs; i++) {
+    const pair = helpers.getContactPairAt(pairs, i);
+    const flags = pair.flags;
+    if (flags.isSet(CPF.eREMOVED_SHAPE_0) || flags.isSet(CPF.eREMOVED_SHAPE_1)) continue;
+    const s0 = pair.get_shapes(0).ptr, s1 = pair.get_shapes(1).ptr;
+    if (s0 !== world.groundShape && s1 !== world.groundShape) continue;
+    // Shape 0 takes +impulse: the normal "points from the second shape to the first shape"
+    // (PxContactPairPoint::normal) and the friction rows act on body 0 with + (the solver's
+    // convention for both): on the wheel, +impulse if it is shape 0, -impulse if the ground is.
+    const sign = s0 === world.groundShape ? -1 : 1;
+    const n = pair.extractContacts(world.points.begin(), world.points.size());
+    let normal = 0;
+    for (let k = 0; k < n; k++) {
+      const j = world.points.get(k).impulse;
+      g.impulse[0] += sign * j.x; g.impulse[1] += sign * j.y; g.impulse[2] += sign * j.z;
+      normal += Math.abs(j.x) + Math.abs(j.y) + Math.abs(j.z);
+    }
+    // The friction anchors (PxContactPair::extractFrictionAnchors, read from the WASM memory).
+    const base = pair.ptr, u8 = PX.HEAPU8, dv = new DataView(u8.buffer);
+    if (u8[base + PAIR_CONTACT_COUNT] !== pair.contactCount || u8[base + PAIR_PATCH_COUNT] !== pair.patchCount
+      || dv.getUint32(base, true) !== s0 || dv.getUint32(base + 4, true) !== s1) {
+      g.missing = 'the PxContactPair in memory is not laid out as this adapter reads it (PhysX 5.6, wasm32)';
+      return;  // no throwing through PhysX's frames
+    }
+    const patches = dv.getUint32(base + PAIR_CONTACT_PATCHES, true), friction = dv.getUint32(base + PAIR_FRICTION_PATCHES, true);
+    if (!patches || !friction) {
+      if (normal > 0) g.missing = 'a wheel-ground pair with a normal impulse reported no friction patches (PxContactPair::frictionPatches NULL)';
+      continue;
+    }
+    for (let p = 0; p < pair.patchCount; p++) {
+      const fp = friction + p * FRICTION_PATCH_BYTES;
+      const anchors = dv.getUint32(fp + ANCHOR_COUNT, true);
+      if (anchors > 2) {
+        g.missing = `PxFrictionPatch::anchorCount ${anchors} > MAX_ANCHOR_COUNT 2: not the layout this adapter reads`;
+        return;
+      }
+      for (let a = 0; a < anchors; a++) {
+        const at = fp + ANCHOR_IMPULSES + 12 * a;
+        g.impulse[0] += sign * dv.getFloat32(at, true);
+        g.impulse[1] += sign * dv.getFloat32(at + 4, true);
+        g.impulse[2] += sign * dv.getFloat32(at + 8, true);
+      }
+    }
+  }
 }
 
 // ---- the disks ----------------------------------------------------------------------------------
@@ -487,11 +597,12 @@ serve({
       ['configuration', FIXED[CONFIG]],
       ['stepping', 'PxScene::simulate(dt) then fetchResults(true): one fixed step, no substepping beyond the solver\'s own, the state read after it; one CPU thread (DefaultCpuDispatcherCreate(0))'],
       ['joints', PRESET.articulation
-        ? `articulation links: chassis (root, floating), per front wheel a knuckle on a revolute joint about the chassis z and the wheel on a revolute joint about the knuckle y, rear wheels on revolute joints about the chassis y; front joints driven by PxArticulationDrive(stiffness 0, damping ${ARTICULATION_DRIVE_DAMPING}, maxForce = the servo torque, eFORCE) with setDriveVelocity, eDRIVE_LIMITS_ARE_FORCES, self-collision off`
-        : 'PxRevoluteJoint steering (knuckle about the chassis z) and front-wheel spin (about the knuckle y), eDRIVE_ENABLED velocity drives, setDriveForceLimit(servo torque) with PxConstraintFlag::eDRIVE_LIMITS_ARE_FORCES (without it the limit is an impulse), setDriveVelocity(rate) (actor1 relative to actor0); passive PxRevoluteJoints for the rear wheels; jointed bodies do not collide'],
+        ? `articulation links: chassis (root, floating), per front wheel a knuckle on a revolute joint about the chassis z and the wheel on a revolute joint about the knuckle y, rear wheels on revolute joints about the chassis y; front joints (and a braked run\'s rear joints, at velocity 0 and the brake\'s torque) driven by PxArticulationDrive(stiffness 0, damping ${ARTICULATION_DRIVE_DAMPING}, maxForce = the servo torque, eFORCE) with setDriveVelocity, eDRIVE_LIMITS_ARE_FORCES, self-collision off`
+        : 'PxRevoluteJoint steering (knuckle about the chassis z) and front-wheel spin (about the knuckle y), eDRIVE_ENABLED velocity drives, setDriveForceLimit(servo torque) with PxConstraintFlag::eDRIVE_LIMITS_ARE_FORCES (without it the limit is an impulse), setDriveVelocity(rate) (actor1 relative to actor0); passive PxRevoluteJoints for the rear wheels (a braked run: the same velocity drives at 0, force limit the brake\'s torque); jointed bodies do not collide'],
       ['bodies', `chassis box of the chassis mass, knuckle a ${C.KNUCKLE_RADIUS_M.toFixed(4)} m sphere of knuckle_mass_kg (both collide with nothing: filter data 0), sphere wheels of wheel_mass_kg; inertias from PxRigidBodyExt::setMassAndUpdateInertia; angular damping 0 (PhysX's default 0.05 would brake the wheels), linear damping 0, max angular velocity ${MAX_ANGULAR_VELOCITY} rad/s (default 100), sleep threshold 0 (a parked car must not sleep)`],
       ['friction', 'PxMaterial static = dynamic friction = mu on wheels and ground, restitution 0; PhysX averages two materials\' coefficients (PxCombineMode::eAVERAGE, the default): mu'],
       ['ground', 'a static PxBoxGeometry, top face z = 0, 60 m square (or 20 l) centred under the start (knob ground: box | plane, PhysX\'s PxPlaneGeometry)'],
+      ['contact forces', `each car step reply's ground_force_W: the wheel-ground impulses of the step just solved over dt, from PhysX's own contact reports (PxSimulationEventCallback::onContact on the wheel-ground pairs, eNOTIFY_TOUCH_FOUND | eNOTIFY_TOUCH_PERSISTS | eNOTIFY_CONTACT_POINTS via the default filter shader's word2), summed over every pair, signed as acting on the wheel (${PRESET.articulation ? 'articulation wheel links' : 'wheel bodies'}): the normal part from PxContactPair::extractContacts (PxContactPairPoint::impulse is normal * the applied normal impulse only), the friction part from the pair's friction anchors (PxFrictionPatch::anchorImpulses, world frame, what the header-inline PxContactPair::extractFrictionAnchors returns; written by the ${PRESET.solver} solver's contact write-back since PhysX 5.4), read from the WASM memory with PhysX 5.6's struct layouts because the bindings export neither extractFrictionAnchors nor PxContactPair::frictionPatches (layout checked against the bound fields on every pair; a pushing contact without friction records leaves ground_force_W out). v_chassis_W: the chassis ${PRESET.articulation ? 'root link' : 'body'}'s getLinearVelocity (centre of mass). Requesting the reports leaves the simulation bit-identical (same poses on car.circle, cycle, slope, coulomb, yawed-slide). engine_s leaves out the adapter's JavaScript in the report callback`],
       ['disks', `M a PxRigidDynamic sphere of 1 kg, PxRigidDynamicLockFlag eLOCK_LINEAR_Z and eLOCK_ANGULAR_X/Y/Z and a zero mass-space inertia tensor (infinite inertia: under TGS the lock flags alone let M turn under friction), setLinearVelocity(command) before each step, ${PRESET.solver} at ${PRESET.position_iterations}/${PRESET.velocity_iterations} iterations; N kinematic (eKINEMATIC), setKinematicTarget(cN_next); material friction mu_MN on both; contacts from PxSimulationEventCallback::onContact (eNOTIFY_TOUCH_FOUND | eNOTIFY_TOUCH_PERSISTS | eNOTIFY_CONTACT_POINTS via the default filter shader), each point of PxContactPair::extractContacts, signed distance = its separation (points within the shapes' 0.02 m contact offsets included)`],
       ['four wheels', 'two front wheels at +-track/2, each on its own knuckle and joints as above, built at its Ackermann angle (or at beta when steered in parallel)'],
     ],

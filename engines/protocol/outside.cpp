@@ -43,6 +43,7 @@ struct Outside {
   std::string cwd;  ///< the registration's folder: relative paths in the command resolve there
   bool four_wheels = false;
   std::string precision = "float64";
+  std::string contact_forces;  ///< its hello's "contact forces" fact, if it declares one
   std::mutex m;
   std::vector<std::unique_ptr<ProtocolChild>> idle;
 };
@@ -282,7 +283,9 @@ class ProtocolCar final : public RigidCar {
   /// The optional "ground_force_W" of the step's reply (docs/protocol.md): absent, not measured.
   std::optional<Eigen::Vector3d> ground_force_W() const override { return force_; }
   std::string ground_force_absent_why() const override {
-    return "its adapter's step replies carry no contact forces (the protocol's optional ground_force_W)";
+    const std::string& fact = lease_.outside().contact_forces;
+    return fact.empty() ? "its adapter's step replies carry no contact forces (the protocol's optional ground_force_W)"
+                        : "its step replies carry no contact forces: " + fact;
   }
   bool four_wheels() const override { return lease_.outside().four_wheels; }
   RigidCarState read() const override { return state_; }
@@ -503,6 +506,8 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
   }
   e.settings.insert(e.settings.begin(), {"protocol", fmt::format("{} (docs/protocol.md), precision {}",
                                                                  fmt::join(e.outside.command, " "), e.precision)});
+  for (const auto& [k, v] : e.settings)
+    if (k == "contact forces") o->contact_forces = v;
   if (std::none_of(e.settings.begin(), e.settings.end(), [](const auto& f) { return f.first == "contact forces"; }))
     e.settings.emplace_back("contact forces",
                             "not declared by its adapter: liftcheck books the step replies' optional ground_force_W "

@@ -115,13 +115,14 @@ class ProtocolServer {
     setup.wheels = c.at("wheels"), setup.track_m = c.at("track_m"), setup.parallel_steering = c.at("parallel_steering");
     const json& q = req.at("q0");
     const car::Config q0{0.0, q.at("beta_rad"), q.at("x_m"), q.at("y_m"), q.at("phi_rad")};
-    const double brake_Nm = req.at("servo").value("rear_brake_torque_max_Nm", 0.0);
-    setup.rear_brake = brake_Nm > 0.0;
-    car_->reset(setup, q0);
-    // The request's motor limits (docs/protocol.md), not ones derived again from this setup's unit gravity.
-    car_->servo_.spin_torque_max_Nm = req.at("servo").at("spin_torque_max_Nm");
-    car_->servo_.steer_torque_max_Nm = req.at("servo").at("steer_torque_max_Nm");
-    car_->servo_.rear_brake_torque_max_Nm = brake_Nm;
+    // The request's motor limits (docs/protocol.md), not ones derived again from this setup's unit
+    // gravity, in place before the engine builds (MuJoCo writes them into its model).
+    ServoDef servo = ServoDef::for_car(setup, TricycleDef::from(setup));
+    servo.spin_torque_max_Nm = req.at("servo").at("spin_torque_max_Nm");
+    servo.steer_torque_max_Nm = req.at("servo").at("steer_torque_max_Nm");
+    servo.rear_brake_torque_max_Nm = req.at("servo").value("rear_brake_torque_max_Nm", 0.0);
+    setup.rear_brake = servo.rear_brake_torque_max_Nm > 0.0;
+    car_->reset_with(setup, q0, servo);
     return car_state();
   }
 

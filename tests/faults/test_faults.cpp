@@ -491,6 +491,19 @@ class FrictionRowsCar final : public OdeCar {
   bool along_slip_;
 };
 
+/// ODE's car that declares brakes and ignores them: its rear wheels roll freely in a braked run.
+class BrakeIgnoredCar final : public OdeCar {
+ public:
+  BrakeIgnoredCar() : OdeCar(ode_defaults()) {}
+
+ protected:
+  void actuate(const FrontRates& rates, const ServoDef& servo) override {
+    ServoDef unbraked = servo;
+    unbraked.rear_brake_torque_max_Nm = 0.0;
+    OdeCar::actuate(rates, unbraked);
+  }
+};
+
 /// A broken engine that claims contact dynamics, like the rigid-body engines it imitates.
 EngineInfo fault(const std::string& name) {
   EngineInfo e;
@@ -747,6 +760,14 @@ TEST(Faults, PerAxisFrictionPyramid) {
   pyramid.brakes = true;
   expect_flagged(pyramid, "car.yawed-slide", "slide_accel");
   expect_flagged(pyramid, "car.yawed-slide", "slide_accel_across");
+}
+
+// A brake declared and ignored: the braked car's rear wheels roll. Flagged by brake_hold (and its
+// slide, which then leans on the front wheel's friction alone along the heading).
+TEST(Faults, BrakeIgnored) {
+  EngineInfo e = car_fault("brake-ignored", [] { return std::make_unique<BrakeIgnoredCar>(); });
+  e.brakes = true;
+  expect_flagged(e, "car.yawed-slide", "brake_hold");
 }
 
 // Ten times the stated friction: the car holds the lift's circle past the grip limit.

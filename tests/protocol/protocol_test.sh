@@ -81,6 +81,29 @@ status=0
 test "$status" -le 1 || { cat "$TMP/same.log"; exit 1; }
 python3 "$HERE/check_records.py" same "$TMP/same/results.json" ode ode-protocol
 
+# MuJoCo builds its motors' limits into its model: served, it must build with the request's
+# limits (the brake's among them), so the braked slide and the locked slide match the compiled-in runs.
+mkdir "$TMP/mjreg"
+python3 - "$LIFTCHECK" "$TMP/mjreg/mujoco-protocol.json" <<'PY'
+import json, os, sys
+json.dump({"name": "mujoco-protocol", "command": [os.path.abspath(sys.argv[1]), "serve", "mujoco"],
+           "description": "mujoco served over the engine protocol by liftcheck serve", "color": "#aec7e8"}, open(sys.argv[2], "w"))
+PY
+status=0
+"$LIFTCHECK" validate --engine-dir "$TMP/mjreg" --engines mujoco,mujoco-protocol --filter 'car.coulomb,car.yawed-slide' \
+  --no-sweeps --no-report --out "$TMP/mj" >"$TMP/mj.log" || status=$?
+test "$status" -le 1 || { cat "$TMP/mj.log"; exit 1; }
+python3 - "$TMP/mj/results.json" <<'PY'
+import json, sys
+runs = {(r["scenario"], r["engine"]): r for r in json.load(open(sys.argv[1]))["runs"]}
+for s in ("car.coulomb", "car.yawed-slide"):
+    a, b = runs[(s, "mujoco")]["metrics"], runs[(s, "mujoco-protocol")]["metrics"]
+    for k in ("slide_accel", "slide_accel_across", "heading_change", "brake_hold"):
+        if k in a:
+            assert a[k]["measured"] == b[k]["measured"], f"{s} {k}: compiled-in {a[k]['measured']} served {b[k]['measured']}"
+print("mujoco served: the same slides")
+PY
+
 # 2. Adapters that lie: error records, one line each, and the suite goes on. Each is registered
 # with the Python running this test (no wrapper script to start on a loaded machine).
 mkdir "$TMP/fakes"
