@@ -257,7 +257,11 @@ function stepCar(req) {
   });
   for (const b of world.brakes) b.SetTargetAngularVelocity(0);  // braked: rear wheels at zero rate against the chassis
   world.normals.clear();  // filled by groundListener during the step
-  const engine_s = timed(() => world.jolt.Step(req.dt_s, 1));
+  world.listener_s = 0;
+  // One collision step: the contact cache then holds the whole step's impulses (with more, only
+  // the last sub-step's, which groundForce would divide by the whole dt).
+  // engine_s: the step less the listener's own JavaScript (Jolt's calling it stays counted).
+  const engine_s = Math.max(0, timed(() => world.jolt.Step(req.dt_s, 1)) - world.listener_s);
   // Body::GetLinearVelocity: the centre of mass's, world frame (copied out at once: carState's
   // calls reuse the binding's result object)
   const v = world.chassis.GetLinearVelocity(), v_chassis_W = [v.GetX(), v.GetY(), v.GetZ()];
@@ -283,6 +287,10 @@ function groundListener() {
   const listener = new Jolt.ContactListenerJS();
   const idOf = new Map(world.bodies.map((b) => [Jolt.getPointer(b), b.GetID().GetIndexAndSequenceNumber()]));
   const seen = (b1, b2, manifold_ptr) => {
+    const t0 = process.hrtime.bigint();
+    try { keep(b1, b2, manifold_ptr); } finally { world.listener_s += Number(process.hrtime.bigint() - t0) * 1e-9; }
+  };
+  const keep = (b1, b2, manifold_ptr) => {
     const m = Jolt.wrapPointer(manifold_ptr, Jolt.ContactManifold), n = m.mWorldSpaceNormal;
     world.normals.set(manifoldKey(idOf.get(b1), m.mSubShapeID1.GetValue() >>> 0, idOf.get(b2), m.mSubShapeID2.GetValue() >>> 0),
                       [n.GetX(), n.GetY(), n.GetZ()]);

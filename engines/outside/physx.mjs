@@ -471,6 +471,10 @@ function readGroundPairs(g, pairs, nbPairs) {
     }
     // The friction anchors (PxContactPair::extractFrictionAnchors, read from the WASM memory).
     const base = pair.ptr, u8 = PX.HEAPU8, dv = new DataView(u8.buffer);
+    if (PHYSX_VERSION !== '5.6.1') {  // the byte offsets below are 5.6.1's (wasm32)
+      g.missing = `PhysX ${PHYSX_VERSION}: this adapter reads PxContactPair's friction anchors at PhysX 5.6.1's layout only`;
+      return;
+    }
     if (u8[base + PAIR_CONTACT_COUNT] !== pair.contactCount || u8[base + PAIR_PATCH_COUNT] !== pair.patchCount
       || dv.getUint32(base, true) !== s0 || dv.getUint32(base + 4, true) !== s1) {
       g.missing = 'the PxContactPair in memory is not laid out as this adapter reads it (PhysX 5.6, wasm32)';
@@ -495,6 +499,9 @@ function readGroundPairs(g, pairs, nbPairs) {
         g.impulse[2] += sign * dv.getFloat32(at + 8, true);
       }
     }
+    // A pushing pair may come with no friction anchor (PhysX leaves a pair's friction records
+    // empty where its friction patch does not match the contact patch: on physx's car.circle at
+    // t = 5.426 s): that step counts its normal impulse alone, as the report gives it.
   }
 }
 
