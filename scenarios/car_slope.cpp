@@ -230,10 +230,12 @@ Outcome run_yawed_slide(const Params& p, CarEngine& engine) {
   // Every wheel held: their rolling speed against the exact slide's mean speed over the drive,
   // a (settle + slide / 2). A wheel without a spin state of its own (a raycast vehicle's) shows
   // it, not counted.
+  // A trace without wheel states (a replay) leaves it unmeasured, as the slip.
+  const std::vector<WheelSlip> wheels = engine.slip();
+  if (wheels.empty()) return o;
   double roll_mps = 0.0;
   bool spins = true;
-  for (const WheelSlip& w : engine.slip())
-    roll_mps = std::max(roll_mps, w.roll_mean_mps), spins = spins && w.along_measured;
+  for (const WheelSlip& w : wheels) roll_mps = std::max(roll_mps, w.roll_mean_mps), spins = spins && w.along_measured;
   const double g = p.num("gravity"), mean_speed_mps = g * (std::sin(slope) - p.num("mu") * std::cos(slope)) *
                                                       (ServoDef{}.settle_s + 0.5 * p.num("slide"));
   o.values["brake_hold"] = {.expected = 0.0, .measured = roll_mps, .scale = mean_speed_mps, .informational = !spins};
