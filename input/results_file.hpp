@@ -27,7 +27,7 @@ void expand_references(nlohmann::json& results, const std::string& name);
 /// details.runs' trace, details.after_contact.reference), thinned to at most kDrawnRows rows and
 /// their last, every number to 9 significant digits (10 nm at 10 m). The metrics are measured
 /// before, on the engine's full trace; `run --json` keeps the trace as the scenario recorded it.
-inline constexpr std::size_t kDrawnRows = 120;
+inline constexpr std::size_t kDrawnRows = 100;
 void thin_drawn_traces(nlohmann::json& results);
 
 /// Both files of a diff, read and checked at once (each in a thread of its own); the first
