@@ -229,17 +229,29 @@ Outcome run_yawed_slide(const Params& p, CarEngine& engine) {
                                           {"across", a_W.x() * downhill.y() - a_W.y() * downhill.x()}};
   // Every wheel held: their rolling speed against the exact slide's mean speed over the drive,
   // a (settle + slide / 2). A wheel without a spin state of its own (a raycast vehicle's) shows
-  // it, not counted.
-  // A trace without wheel states (a replay) leaves it unmeasured, as the slip.
+  // it, not counted; a trace without wheel states (a replay) leaves it unmeasured, as the slip.
   const std::vector<WheelSlip> wheels = engine.slip();
   if (wheels.empty()) return o;
   double roll_mps = 0.0;
   bool spins = true;
   for (const WheelSlip& w : wheels) roll_mps = std::max(roll_mps, w.roll_mean_mps), spins = spins && w.along_measured;
-  const double g = p.num("gravity"), mean_speed_mps = g * (std::sin(slope) - p.num("mu") * std::cos(slope)) *
-                                                      (ServoDef{}.settle_s + 0.5 * p.num("slide"));
+  const double mean_speed_mps = o.values.at("slide_accel").expected * (ServoDef{}.settle_s + 0.5 * p.num("slide"));
   o.values["brake_hold"] = {.expected = 0.0, .measured = roll_mps, .scale = mean_speed_mps, .informational = !spins};
   return o;
+}
+
+/// The slides' parameters: the slope, the fall line's direction (`direction`), the slide's length
+/// with its wheels held as `held` says, and the fit's start; mu 0.3.
+std::vector<ParamSpec> slide_params(ParamSpec direction, const char* held) {
+  return with_defaults(
+      with(car_params("0.0"),
+           {number("slope", "0.5", "rad", "tilt of gravity against the ground's normal (tan(slope) > mu)", 0.0, false,
+                   1.4),
+            std::move(direction),
+            number("slide", "2", "s", fmt::format("time held with {} after the settle", held), 0.5, false, 100.0),
+            number("fit_from", "0.2", "s", "first sample of the fit (the settle's landing transient before it)", 0.0,
+                   false, 100.0)}),
+      {{"mu", "0.3"}});
 }
 
 }  // namespace
@@ -293,16 +305,10 @@ std::vector<Scenario> slope_scenarios() {
            "and its "
            "effective friction coefficient at once (the no-slip lift does not apply: the analytic engine is skipped).",
        .equations = "Coulomb friction; (3.3) does not hold",
-       .params = with_defaults(
-           with(car_params("0.0"),
-                {number("slope", "0.5", "rad", "tilt of gravity against the ground's normal (tan(slope) > mu)", 0.0,
-                        false, 1.4),
-                 number("slope_dir", "0", "rad",
-                        "direction of the tilt axis in the ground plane (downhill is this turned by +90 degrees)"),
-                 number("slide", "2", "s", "time held with the wheels locked after the settle", 0.5, false, 100.0),
-                 number("fit_from", "0.2", "s", "first sample of the fit (the settle's landing transient before it)",
-                        0.0, false, 100.0)}),
-           {{"mu", "0.3"}}),
+       .params = slide_params(number("slope_dir", "0", "rad",
+                                     "direction of the tilt axis in the ground plane (downhill is this turned by +90 "
+                                     "degrees)"),
+                              "the wheels locked"),
        .metrics =
            {rel("slide_accel", "m/s^2", 1e-9, 2e-3,
                 "downhill acceleration of the centre of mass, fitted over the slide, against g (sin(slope) - mu "
@@ -326,17 +332,10 @@ std::vector<Scenario> slope_scenarios() {
            "friction pyramid grips harder off its axes and pushes the car sideways (its figures are in the run's "
            "record).",
        .equations = "Coulomb friction (isotropic); (3.3) does not hold",
-       .params = with_defaults(
-           with(car_params("0.0"),
-                {number("slope", "0.5", "rad", "tilt of gravity against the ground's normal (tan(slope) > mu)", 0.0,
-                        false, 1.4),
-                 number("yaw", "0.6981317007977318", "rad",
-                        "angle from the car's axles to the fall line, towards its heading (40 degrees)", -3.2, false,
-                        3.2),
-                 number("slide", "2", "s", "time held with every wheel braked after the settle", 0.5, false, 100.0),
-                 number("fit_from", "0.2", "s", "first sample of the fit (the settle's landing transient before it)",
-                        0.0, false, 100.0)}),
-           {{"mu", "0.3"}}),
+       .params = slide_params(
+           number("yaw", "0.6981317007977318", "rad",
+                  "angle from the car's axles to the fall line, towards its heading (40 degrees)", -3.2, false, 3.2),
+           "every wheel braked"),
        .metrics =
            {rel("slide_accel", "m/s^2", 1e-9, 2e-3,
                 "acceleration of the centre of mass down the fall line, fitted over the slide, against g (sin(slope) "

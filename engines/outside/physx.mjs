@@ -430,14 +430,20 @@ const PAIR_CONTACT_PATCHES = 8, PAIR_FRICTION_PATCHES = 20, PAIR_CONTACT_COUNT =
 const FRICTION_PATCH_BYTES = 52, ANCHOR_IMPULSES = 24, ANCHOR_COUNT = 48;
 const CPF = PX.PxContactPairFlagEnum;
 
-/// The wheel-ground impulses of the step, summed on the wheels (called from fetchResults).
-function groundForceCallback() {
+/// A simulation event callback that hears contacts only (onContact(header, pairs, nbPairs)).
+function contactsOnly(onContact) {
   const cb = new PX.PxSimulationEventCallbackImpl();
   cb.onConstraintBreak = () => {};
   cb.onWake = () => {};
   cb.onSleep = () => {};
   cb.onTrigger = () => {};
-  cb.onContact = (header, pairs, nbPairs) => {
+  cb.onContact = onContact;
+  return cb;
+}
+
+/// The wheel-ground impulses of the step, summed on the wheels (called from fetchResults).
+function groundForceCallback() {
+  return contactsOnly((header, pairs, nbPairs) => {
     const g = world.ground;
     if (!g) return;
     const t0 = process.hrtime.bigint();
@@ -446,8 +452,7 @@ function groundForceCallback() {
     } finally {
       g.js_s += Number(process.hrtime.bigint() - t0) * 1e-9;
     }
-  };
-  return cb;
+  });
 }
 
 /// Adds the ground's impulses on the wheels in the step's reported pairs to g.impulse.
@@ -509,12 +514,7 @@ function readGroundPairs(g, pairs, nbPairs) {
 
 /// The step's M-N contacts, from PhysX's contact reports (called from fetchResults).
 function contactCallback() {
-  const cb = new PX.PxSimulationEventCallbackImpl();
-  cb.onConstraintBreak = () => {};
-  cb.onWake = () => {};
-  cb.onSleep = () => {};
-  cb.onTrigger = () => {};
-  cb.onContact = (header, pairs, nbPairs) => {
+  return contactsOnly((header, pairs, nbPairs) => {
     const seen = world.contacts;
     for (let i = 0; i < nbPairs; i++) {
       const pair = helpers.getContactPairAt(pairs, i);
@@ -524,8 +524,7 @@ function contactCallback() {
         seen.distance_min_m = Math.min(seen.distance_min_m, world.points.get(k).separation);
       }
     }
-  };
-  return cb;
+  });
 }
 
 function buildDisks(req) {
