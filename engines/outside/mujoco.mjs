@@ -80,12 +80,18 @@ function compile(xml) {
 }
 
 /// MuJoCo resets a state with NaN or huge values and warns; that is an engine error here.
+/// d.warning is a copy of MuJoCo's warning array made at each reading: read once.
 function check() {
-  for (const [what, w] of BAD) {
-    const stat = sim.d.warning.get(w.value);
-    const n = stat.number;
-    stat.delete?.();
-    if (n > 0) throw new Error(`MuJoCo reported a bad state (${what}) at t = ${sim.d.time.toFixed(4)} s`);
+  const warnings = sim.d.warning;
+  try {
+    for (const [what, w] of BAD) {
+      const stat = warnings.get(w.value);
+      const n = stat.number;
+      stat.delete?.();
+      if (n > 0) throw new Error(`MuJoCo reported a bad state (${what}) at t = ${sim.d.time.toFixed(4)} s`);
+    }
+  } finally {
+    warnings.delete?.();
   }
 }
 
@@ -225,14 +231,19 @@ function stepCar(req) {
 function groundForce() {
   const { m, d } = sim;
   const sum = [0, 0, 0];
-  for (let i = 0; i < d.ncon; i++) {
-    const c = d.contact.get(i);
-    if (c.geom1 === car.ground || c.geom2 === car.ground) {
-      mj.mj_contactForce(m, d, i, forceBuf);
-      const f = forceBuf.GetView(), fr = c.frame, sign = c.geom2 === car.ground ? -1 : 1;
-      for (let k = 0; k < 3; k++) sum[k] += sign * (f[0] * fr[k] + f[1] * fr[3 + k] + f[2] * fr[6 + k]);
+  const contacts = d.contact;  // a copy of d->contact made at each reading: read once a step
+  try {
+    for (let i = 0; i < d.ncon; i++) {
+      const c = contacts.get(i);
+      if (c.geom1 === car.ground || c.geom2 === car.ground) {
+        mj.mj_contactForce(m, d, i, forceBuf);
+        const f = forceBuf.GetView(), fr = c.frame, sign = c.geom2 === car.ground ? -1 : 1;
+        for (let k = 0; k < 3; k++) sum[k] += sign * (f[0] * fr[k] + f[1] * fr[3 + k] + f[2] * fr[6 + k]);
+      }
+      c.delete?.();
     }
-    c.delete?.();
+  } finally {
+    contacts.delete?.();
   }
   return sum;
 }
@@ -277,8 +288,9 @@ function diskContacts() {
   const { d } = sim;
   const c = { count: 0, depth_max_m: 0, distance_min_m: 0 };
   let dmin = Infinity;
+  const contacts = d.ncon > 0 ? d.contact : null;  // a copy made at each reading: read once
   for (let i = 0; i < d.ncon; i++) {
-    const k = d.contact.get(i);
+    const k = contacts.get(i);
     const pair = (k.geom1 === disks.gM && k.geom2 === disks.gN) || (k.geom1 === disks.gN && k.geom2 === disks.gM);
     if (pair) {
       c.count += 1;
@@ -286,6 +298,7 @@ function diskContacts() {
     }
     k.delete?.();
   }
+  contacts?.delete?.();
   if (c.count > 0) Object.assign(c, { distance_min_m: dmin, depth_max_m: Math.max(0, -dmin) });
   return c;
 }
