@@ -53,8 +53,10 @@ std::vector<EngineInfo>& registry() {
 const std::vector<EngineInfo>& engines() { return registry(); }
 
 const std::vector<EngineInfo>& described_engines() {
+  std::vector<EngineInfo*> todo;
   for (EngineInfo& e : registry())
-    if (!e.outside.described) describe_outside(e);
+    if (!e.outside.described) todo.push_back(&e);
+  describe_outside_all(todo);
   return registry();
 }
 

@@ -1,6 +1,7 @@
 #include "engines/protocol/child.hpp"
 
 #include <fcntl.h>
+#include <mutex>
 #include <poll.h>
 #include <signal.h>
 #include <spawn.h>
@@ -153,15 +154,21 @@ ProtocolChild::ProtocolChild(std::string label, const std::vector<std::string>& 
   // A worker's memory limit (RLIMIT_AS, harness/worker.cpp) is for the engines compiled in: an
   // outside engine's runtime starts without it (V8 reserves address space for WebAssembly far
   // beyond any useful limit and would not start), bounded by its own heap limits and its reply timeout.
-  rlimit as{};
-  const bool lift = getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != as.rlim_max;
-  if (lift) {
-    rlimit open = as;
-    open.rlim_cur = as.rlim_max;
-    setrlimit(RLIMIT_AS, &open);
+  // The limit is the process's: children started at once from several threads take turns at it.
+  static std::mutex limit_m;
+  int rc = 0;
+  {
+    std::lock_guard<std::mutex> lock(limit_m);
+    rlimit as{};
+    const bool lift = getrlimit(RLIMIT_AS, &as) == 0 && as.rlim_cur != as.rlim_max;
+    if (lift) {
+      rlimit open = as;
+      open.rlim_cur = as.rlim_max;
+      setrlimit(RLIMIT_AS, &open);
+    }
+    rc = posix_spawnp(&pid_, args[0].c_str(), &fa, &attr, cargs.data(), cenv.data());
+    if (lift) setrlimit(RLIMIT_AS, &as);
   }
-  const int rc = posix_spawnp(&pid_, args[0].c_str(), &fa, &attr, cargs.data(), cenv.data());
-  if (lift) setrlimit(RLIMIT_AS, &as);
   posix_spawn_file_actions_destroy(&fa);
   posix_spawnattr_destroy(&attr);
   ::close(in[0]), ::close(out[1]), ::close(err[1]);
@@ -274,6 +281,9 @@ bool ProtocolChild::drain_stdout() {
     if (got > 0) {
       out_buf_.append(buf, static_cast<size_t>(got));
       if (out_buf_.size() > kProtocolLineMax + sizeof buf) return true;  // read_line refuses it
+      // A short read that ends a line: the reply is here, and another read would only find the
+      // pipe empty (one system call a step saved; what comes later, the next poll sees).
+      if (static_cast<size_t>(got) < sizeof buf && buf[got - 1] == '\n') return true;
       continue;
     }
     if (got < 0 && errno == EINTR) continue;

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
@@ -14,6 +15,8 @@
 #include <nlohmann/json.hpp>
 #include <set>
 #include <sstream>
+#include <system_error>
+#include <thread>
 
 #include "engines/driven_disks.hpp"
 #include "engines/protocol/child.hpp"
@@ -678,9 +681,12 @@ std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled
   return out;
 }
 
-void describe_outside(EngineInfo& e) {
-  static std::mutex m;
-  std::lock_guard<std::mutex> lock(m);
+namespace {
+
+std::mutex g_describe_m;  ///< one description of an entry at a time
+
+/// describe_outside's work, the caller holding g_describe_m.
+void describe_locked(EngineInfo& e) {
   if (e.outside.described) return;
   auto o = std::make_shared<Outside>();
   o->name = e.name;
@@ -701,6 +707,45 @@ void describe_outside(EngineInfo& e) {
     make_unavailable(e, fmt::format("engine '{}' (hello): malformed: {}", e.name, err.what()));
   }
   e.outside.described = true;
+}
+
+}  // namespace
+
+void describe_outside(EngineInfo& e) {
+  std::lock_guard<std::mutex> lock(g_describe_m);
+  describe_locked(e);
+}
+
+void describe_outside_all(const std::vector<EngineInfo*>& entries) {
+  std::lock_guard<std::mutex> lock(g_describe_m);
+  // As many at once as there are cores: each start is mostly its engine's CPU (a WASM module
+  // compiled), so more would only share the cores; entries are distinct, so threads share none.
+  const size_t n = std::min<size_t>(entries.size(), std::max(1u, std::thread::hardware_concurrency()));
+  std::atomic<size_t> next{0};
+  std::exception_ptr first;
+  std::mutex first_m;
+  const auto work = [&] {
+    for (size_t i; (i = next++) < entries.size();) {
+      try {
+        describe_locked(*entries[i]);
+      } catch (...) {  // Interrupted: the others end their hellos, then it is thrown on
+        std::lock_guard<std::mutex> l(first_m);
+        if (!first) first = std::current_exception();
+        next = entries.size();
+      }
+    }
+  };
+  std::vector<std::thread> threads;
+  for (size_t k = 1; k < n; ++k) {
+    try {
+      threads.emplace_back(work);
+    } catch (const std::system_error&) {  // no thread to be had: fewer at once
+      break;
+    }
+  }
+  work();
+  for (auto& t : threads) t.join();
+  if (first) std::rethrow_exception(first);
 }
 
 EngineInfo outside_engine(const std::string& name, const std::vector<std::string>& command, const std::string& dir) {

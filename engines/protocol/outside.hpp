@@ -40,6 +40,10 @@ std::vector<EngineInfo> outside_engines(const std::vector<std::string>& compiled
 /// leaves the entry unavailable (EngineInfo::unavailable): its runs are error records naming why.
 void describe_outside(EngineInfo& e);
 
+/// describe_outside for each entry, as many at once as there are cores (each hello is mostly its
+/// engine's start-up CPU: twelve npm configurations took 5.4 s one after another).
+void describe_outside_all(const std::vector<EngineInfo*>& entries);
+
 /// The replies of one run must all come within this many seconds of its engine object's making
 /// (a little under the run's --timeout, so that a hang is an error record naming what the child
 /// sent last rather than a worker stopped). 0.85 T - 1.5 s; 100.5 s for the default 120 s.
