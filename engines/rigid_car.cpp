@@ -239,9 +239,20 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
   LoadBook load(def_, setup_);
   const long rest_steps = std::min(settle_steps, std::lround(GroundLoad::kRestWindow_s / dt));
 
+  // The steps go in runs of kPlanSteps, each run's targets told to the engine first (plan()).
+  std::vector<ServoTarget> targets;
+  const auto plan_from = [&](long k, long n, const auto& target_of) {
+    targets.clear();
+    for (long j = k; j < std::min(n, k + kPlanSteps); ++j) targets.push_back(target_of(j));
+    plan(targets, alpha, s);
+  };
+
   // Settle on the wheels: the contacts load up while the servos hold alpha = 0 and beta = beta0.
+  const auto hold = [&](long) { return ServoTarget{0.0, q0_.beta_rad, 0.0, 0.0}; };
   for (long k = 0; k < settle_steps; ++k) {
-    advance(-(settle_steps - k - 1) * dt, 0.0, q0_.beta_rad, 0.0, 0.0);
+    if (k % kPlanSteps == 0) plan_from(k, settle_steps, hold);
+    const ServoTarget& g = targets[k % kPlanSteps];
+    advance(-(settle_steps - k - 1) * dt, g.alpha_rad, g.beta_rad, g.alpha_rate_radps, g.beta_rate_radps);
     if (k >= settle_steps - rest_steps) load.rest(ground_force_W(), -(settle_steps - k - 1) * dt);
   }
   load.start_drive(s);
@@ -267,13 +278,20 @@ std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
 
   const auto sample = [&](double t) { trace.push_back({t, car::Config{alpha, beta, s.x_m, s.y_m, phi}}); };
   sample(0.0);
-  for (long k = 0; k < steps; ++k) {
-    const double t0 = k * dt, t1 = (k + 1) * dt;
+  // The command of the step from t0 = k dt: at its start, its rates at its middle.
+  const auto command = [&](long k) {
+    const double t0 = k * dt;
     const double ta = std::max(0.0, servo_instant_s(t0, false)), tb = std::max(0.0, servo_instant_s(t0, true));
     const car::BaseSample drive = path.at(ta), drive_mid = path.at(ta + 0.5 * dt);
     const car::BaseSample steer = tb == ta ? drive : path.at(tb),
                           steer_mid = tb == ta ? drive_mid : path.at(tb + 0.5 * dt);
-    advance(t1, drive.alpha_rad, steer.beta_rad, drive_mid.alpha_rate_radps, steer_mid.beta_rate_radps);
+    return ServoTarget{drive.alpha_rad, steer.beta_rad, drive_mid.alpha_rate_radps, steer_mid.beta_rate_radps};
+  };
+  for (long k = 0; k < steps; ++k) {
+    const double t1 = (k + 1) * dt;
+    if (k % kPlanSteps == 0) plan_from(k, steps, command);
+    const ServoTarget& g = targets[k % kPlanSteps];
+    advance(t1, g.alpha_rad, g.beta_rad, g.alpha_rate_radps, g.beta_rate_radps);
     book_slip();
     load.drive(ground_force_W(), s, t1, dt);
     if ((k + 1) % sample_every == 0 || k + 1 == steps) sample(t1);

@@ -75,6 +75,15 @@ struct FrontRates {
   double steer_radps[2] = {0.0, 0.0};  ///< steering, left positive
 };
 
+/// What the servo aims at during one step (RigidCar::drive): the command at the step's start and
+/// its rates at the step's middle.
+struct ServoTarget {
+  double alpha_rad = 0.0;         ///< the tricycle-equivalent wheel angle commanded
+  double beta_rad = 0.0;          ///< the (virtual) steering angle commanded
+  double alpha_rate_radps = 0.0;  ///< feed-forward rolling rate
+  double beta_rate_radps = 0.0;   ///< feed-forward steering rate
+};
+
 /// One wheel's body state in world coordinates.
 struct WheelState {
   Eigen::Vector3d v_hub_W;  ///< linear velocity of the wheel centre, m/s
@@ -103,6 +112,8 @@ class RigidCar : public CarEngine {
   friend class ProtocolServer;  // `liftcheck serve`: these hooks over the engine protocol
 
  public:
+  /// drive() tells the engine the targets of this many steps at a time (plan()).
+  static constexpr long kPlanSteps = 32;
   explicit RigidCar(Settings settings) : settings_(std::move(settings)) {}
   void reset(const CarSetup& setup, const car::Config& q0) final;
   std::vector<car::TimedConfig> drive(const car::BasePath& path) final;
@@ -134,6 +145,11 @@ class RigidCar : public CarEngine {
   /// The instant whose command the servo aims the steering (`steering`) or the drive at during the
   /// step from t_s: t_s itself. Only the fault-injection suite shifts it (a servo a step early or late).
   virtual double servo_instant_s(double t_s, bool /*steering*/) const { return t_s; }
+  /// The targets of the steps about to be taken, one per step, before drive() actuates and steps
+  /// them one by one; `alpha_rad` is the servo's wheel angle and `now` the state they start from.
+  /// An engine over the protocol may then step them in one exchange, its adapter applying the
+  /// servo's law (docs/protocol.md, "steps"); its step() checks each rate applied. Default: nothing.
+  virtual void plan(const std::vector<ServoTarget>& /*next*/, double /*alpha_rad*/, const RigidCarState& /*now*/) {}
 
   /// The engine's knob values, typed (declared in its EngineInfo; resolved by resolve_settings).
   Settings settings_;

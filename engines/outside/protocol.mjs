@@ -86,7 +86,8 @@ async function answer(adapter, req) {
   switch (req.op) {
     case 'hello':
       if (req.protocol !== PROTOCOL) throw new Error(`protocol ${req.protocol} asked, this adapter speaks ${PROTOCOL}`);
-      return { protocol: PROTOCOL, ...(await adapter.hello()) };
+      // "steps" is this loop's (servoSteps): offered for an adapter whose car steps go through it.
+      return { protocol: PROTOCOL, ...(await adapter.hello()), servo_steps: servoStepsOffered(adapter) };
     case 'car':
     case 'disks': {
       built = null;
@@ -105,6 +106,59 @@ function step(adapter, req) {
   return built === 'car' ? adapter.stepCar(req) : adapter.stepDisks(req);
 }
 
+/// Offered unless the adapter dispatches its own steps or LIFTCHECK_SERVO_STEPS=0 (the tests that
+/// compare a planned run with one stepped a request at a time).
+function servoStepsOffered(adapter) {
+  return !adapter.step && typeof adapter.stepCar === 'function' && process.env.LIFTCHECK_SERVO_STEPS !== '0';
+}
+
+/// liftcheck's e2::wrap_angle (models/e2.cpp), operation for operation: JavaScript's % on doubles
+/// is C's fmod, exact, so the wheel angle booked here is the one liftcheck books.
+function wrapAsLiftcheck(a) {
+  const twoPi = 2.0 * Math.PI;
+  let r = (a + Math.PI) % twoPi;
+  if (r <= 0.0) r += twoPi;
+  return r - Math.PI;
+}
+
+function number(req, key) {
+  const v = req[key];
+  if (typeof v !== 'number' || !Number.isFinite(v)) throw new Error(`steps needs a finite number ${key}`);
+  return v;
+}
+
+/// "steps" (docs/protocol.md): the tricycle's next steps under liftcheck's servo law, as
+/// RigidCar::drive (engines/rigid_car.cpp) applies it for one front wheel: before each step, spin
+/// rate = alpha_rate + spin_gain (alpha - alpha_booked) and steering rate = beta_rate + steer_gain
+/// (beta - steering angle); after it, alpha_booked += wrap(spin angle - the previous one). Each
+/// step's reply is a line of its own, with the rates applied ("applied": [spin, steering]), which
+/// liftcheck checks against its own; a step that fails ends the lines with its error.
+function servoSteps(adapter, req) {
+  if (built !== 'car') throw new Error('steps before a car is built');
+  const dt_s = number(req, 'dt_s'), ka = number(req, 'spin_gain_per_s'), kb = number(req, 'steer_gain_per_s');
+  let alpha = number(req, 'alpha_rad'), spin = number(req, 'spin_rad'), steer = number(req, 'steer_rad');
+  if (!Array.isArray(req.targets) || req.targets.length === 0) throw new Error('steps needs targets');
+  const lines = [];
+  for (const g of req.targets) {
+    try {
+      if (!Array.isArray(g) || g.length !== 4 || !g.every(Number.isFinite)) throw new Error('a steps target must be 4 finite numbers');
+      const [ta, tb, ra, rb] = g;
+      const applied = [ra + ka * (ta - alpha), rb + kb * (tb - steer)];
+      const reply = adapter.stepCar({ op: 'step', spin_radps: [applied[0], 0], steer_radps: [applied[1], 0], dt_s });
+      lines.push(okText({ ...reply, applied }, req));
+      const [spin1] = reply.spin_joint_rad ?? [], [steer1] = reply.steer_rad ?? [];
+      if (!Number.isFinite(spin1) || !Number.isFinite(steer1)) break;  // liftcheck names what the reply lacks
+      alpha += wrapAsLiftcheck(spin1 - spin);
+      spin = spin1 + 0;  // as liftcheck reads them: the reply's text has no -0
+      steer = steer1 + 0;
+    } catch (e) {
+      lines.push(errorText(String(e && e.message ? e.message : e), req));
+      break;
+    }
+  }
+  return lines.join('\n');
+}
+
 export async function serve(adapter) {
   console.log = console.error;  // keep standard output for replies only
   for (const line of lines()) {
@@ -121,7 +175,8 @@ export async function serve(adapter) {
         process.exit(0);
       }
       // A step is answered without an await: no turn of the event loop between request and reply.
-      out(okText(req.op === 'step' ? step(adapter, req) : await answer(adapter, req), req));
+      if (req.op === 'steps' && servoStepsOffered(adapter)) out(servoSteps(adapter, req));
+      else out(okText(req.op === 'step' ? step(adapter, req) : await answer(adapter, req), req));
     } catch (e) {
       out(errorText(String(e && e.message ? e.message : e), req));
     }

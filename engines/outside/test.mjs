@@ -38,7 +38,22 @@ function start(argv) {
     return reply;
   };
   const stop = async () => { await request({ op: 'bye' }); };
-  return { request, stop };
+  /// A request answered by `n` lines ("steps"), each carrying its number.
+  const requestLines = async (msg, n) => {
+    const id = ++numbered;
+    child.stdin.write(JSON.stringify({ id, ...msg }) + '\n');
+    const replies = [];
+    for (let k = 0; k < n; k++) {
+      let timer;
+      const timeout = new Promise((_, fail) => { timer = setTimeout(() => fail(new Error(`${k} of ${n} lines to ${msg.op}`)), 10000); });
+      const next = await Promise.race([lines.next(), timeout]).finally(() => clearTimeout(timer));
+      assert.ok(!next.done, `the adapter exited after ${msg.op}`);
+      replies.push(JSON.parse(next.value));
+      assert.equal(replies[k].id, id);
+    }
+    return replies;
+  };
+  return { request, requestLines, stop };
 }
 
 const CAR = { R_m: 0.3, l_m: 1, track_m: 0.8, wheels: 3, parallel_steering: false, wheel_width_m: 0.09, wheel_shape: 'sphere',
@@ -115,6 +130,37 @@ test('cannon --fault stale-pose reports the previous step\'s front-axle position
   const stale = await drive(['node', '../cannon.mjs', '--config', 'default', '--fault', 'stale-pose'], 50);
   assert.ok(clean[49] - clean[0] > 1e-3, 'the car moves');
   for (let k = 1; k < 50; k++) assert.equal(stale[k], clean[k - 1]);
+});
+
+// "steps" (docs/protocol.md): the protocol loop applies liftcheck's servo law for the tricycle and
+// books the wheel angle as liftcheck does; the replies are those of the same rates sent one step at
+// a time, each with the rates applied.
+test('cannon: "steps" replies as the same steps one at a time, with the servo law\'s rates', async () => {
+  const [ka, kb] = [40, 40];
+  const targets = [[0.01, 0.36, 2.0, 0.5], [0.02, 0.365, 2.5, 0.5], [0.05, 0.37, 3.0, -0.5]];
+  const planned = start(['node', '../cannon.mjs', '--config', 'default']);
+  const hello = await planned.request({ op: 'hello', protocol: PROTOCOL });
+  assert.equal(hello.servo_steps, true);
+  const built = await planned.request(carRequest({}));
+  const lines = await planned.requestLines({ op: 'steps', dt_s: 0.001, spin_gain_per_s: ka, steer_gain_per_s: kb, alpha_rad: 0,
+    spin_rad: built.spin_joint_rad[0], steer_rad: built.steer_rad[0], targets }, targets.length);
+  await planned.stop();
+  const single = start(['node', '../cannon.mjs', '--config', 'default']);
+  await single.request({ op: 'hello', protocol: PROTOCOL });
+  let s = await single.request(carRequest({}));
+  let alpha = 0;
+  for (const [k, [ta, tb, ra, rb]] of targets.entries()) {
+    const spin = ra + ka * (ta - alpha), steer = rb + kb * (tb - s.steer_rad[0]);
+    const next = await single.request({ op: 'step', spin_radps: [spin, 0], steer_radps: [steer, 0], dt_s: 0.001 });
+    assert.deepEqual(lines[k].applied, [spin, steer]);
+    assert.deepEqual({ ...lines[k], applied: undefined, id: 0, engine_s: 0 }, { ...next, applied: undefined, id: 0, engine_s: 0 });
+    let d = (next.spin_joint_rad[0] - s.spin_joint_rad[0] + Math.PI) % (2 * Math.PI);  // liftcheck's wrap_angle
+    if (d <= 0) d += 2 * Math.PI;
+    alpha += d - Math.PI;
+    s = next;
+  }
+  assert.ok(lines[2].x_m !== lines[0].x_m, 'the car moves');
+  await single.stop();
 });
 
 test('cannon --fault late-contact reports the disks\' first contact one step late', async () => {

@@ -359,6 +359,16 @@ const std::string& ProtocolChild::read_line(double deadline_s) {
 }
 
 const std::string& ProtocolChild::exchange(const char* op, std::string& request, double timeout_s) {
+  send(op, request, timeout_s);
+  return read_line(now_s() + timeout_s);
+}
+
+const std::string& ProtocolChild::next_line(double timeout_s) {
+  timeout_hint_s_ = timeout_s;
+  return read_line(now_s() + timeout_s);
+}
+
+void ProtocolChild::send(const char* op, std::string& request, double timeout_s) {
   op_ = op;
   if (!healthy()) fail("the process is no longer serving");
   // A line already waiting answers no request: an adapter out of step with the protocol.
@@ -373,7 +383,6 @@ const std::string& ProtocolChild::exchange(const char* op, std::string& request,
   request.insert(1, request.size() > 2 ? fmt::format("\"id\":{},", id_) : fmt::format("\"id\":{}", id_));
   request += '\n';
   write_all(request, deadline);
-  return read_line(deadline);
 }
 
 bool ProtocolChild::idle_and_clean() {

@@ -50,6 +50,10 @@ class ProtocolChild {
   /// until the next exchange. Fails as call() does on no reply in time, the child gone or a line
   /// too long; the caller checks the reply's number (request_id()).
   const std::string& exchange(const char* op, std::string& request, double timeout_s);
+  /// exchange() in its halves, for a request answered by several lines (docs/protocol.md,
+  /// "steps"): send() writes it; each next_line() waits up to `timeout_s` for one more line.
+  void send(const char* op, std::string& request, double timeout_s);
+  const std::string& next_line(double timeout_s);
   /// A reply line read as call() reads it: the object with "ok": true and the request's "id",
   /// else fail() or EngineError.
   nlohmann::json checked_reply(const std::string& line);

@@ -47,6 +47,7 @@ struct Outside {
   bool four_wheels = false;
   std::string precision = "float64";
   std::string contact_forces;  ///< its hello's "contact forces" fact, if it declares one
+  bool servo_steps = false;    ///< its hello's "servo_steps": it answers "steps" (docs/protocol.md)
   std::mutex m;
   std::vector<std::unique_ptr<ProtocolChild>> idle;
 };
@@ -105,6 +106,8 @@ class Lease {
   }
   const Outside& outside() const { return *o_; }
   double seconds_left() const { return std::max(0.05, deadline_s_ - now_s()); }
+  /// The child of the request in flight (no new one: a reply owed comes from it or not at all).
+  ProtocolChild* current() { return child_ && child_->healthy() ? child_.get() : nullptr; }
 
  private:
   std::shared_ptr<Outside> o_;
@@ -187,6 +190,8 @@ std::vector<FlatReply::Slot> car_slots(int wheels) {
   s.push_back({"id", true, true});  // the request's number (car_id_slot)
   for (int i = 0; i < 3; ++i) s.push_back({fmt::format("ground_force_W/{}", i), false});  // optional, after it
   for (int i = 0; i < 3; ++i) s.push_back({fmt::format("v_chassis_W/{}", i), false});     // optional
+  s.push_back({"applied/0", false});  // a planned step's rates applied (spin, steering): optional
+  s.push_back({"applied/1", false});
   return s;
 }
 
@@ -216,6 +221,16 @@ class ProtocolCar final : public RigidCar {
       : RigidCar(std::move(s)),
         lease_(std::move(o)),
         wheel_shape_(settings_.has("wheel") ? settings_.choice("wheel") : "sphere") {}
+  /// A run ended with lines of its last "steps" unread (liftcheck stopped it: a blow-up): they are
+  /// read and dropped, a little while at most each, so that the child serves the next run in step;
+  /// one that does not come ends the child (fail() kills it).
+  ~ProtocolCar() override {
+    ProtocolChild* c = planned_ > 0 ? lease_.current() : nullptr;
+    try {
+      for (; c && planned_ > 0; --planned_) c->next_line(std::min(2.0, lease_.seconds_left()));
+    } catch (...) {  // the child is ended; the run's own error stands
+    }
+  }
   double reported_engine_s() const override { return engine_s_; }
 
  protected:
@@ -248,9 +263,52 @@ class ProtocolCar final : public RigidCar {
     state_ = car_state(lease_.get(), r, d.wheels);
   }
   void actuate(const FrontRates& rates, const ServoDef&) override { rates_ = rates; }
-  /// One step: the request written with fmt, the reply read by its slots; a reply the fast
-  /// path does not take is read the checked way (which names what is wrong with it).
+  /// The tricycle's next steps in one exchange where the adapter answers "steps" (docs/protocol.md):
+  /// it applies the servo's law of RigidCar::drive, rate = feed-forward + gain x (target - angle),
+  /// with the wheel angle booked as drive() books it, and replies a line per step; step() reads
+  /// them one by one and checks the rates applied against its own servo's, bit for bit.
+  void plan(const std::vector<ServoTarget>& next, double alpha_rad, const RigidCarState& now) override {
+    if (!lease_.outside().servo_steps || def_.wheels != 3 || next.size() < 2) return;
+    request_.assign(R"({"op":"steps","dt_s":)");
+    put(request_, setup_.dt_s);
+    request_ += R"(,"spin_gain_per_s":)", put(request_, servo_.spin_gain_per_s);
+    request_ += R"(,"steer_gain_per_s":)", put(request_, servo_.steer_gain_per_s);
+    request_ += R"(,"alpha_rad":)", put(request_, alpha_rad);
+    request_ += R"(,"spin_rad":)", put(request_, now.spin_joint_rad[0]);
+    request_ += R"(,"steer_rad":)", put(request_, now.steer_rad[0]);
+    request_ += R"(,"targets":[)";
+    for (size_t i = 0; i < next.size(); ++i) {
+      const ServoTarget& g = next[i];
+      request_ += i ? ",[" : "[";
+      put(request_, g.alpha_rad), request_ += ',', put(request_, g.beta_rad), request_ += ',';
+      put(request_, g.alpha_rate_radps), request_ += ',', put(request_, g.beta_rate_radps), request_ += ']';
+    }
+    request_ += "]}";
+    lease_.get().send("step", request_, lease_.seconds_left());
+    planned_ = next.size();
+  }
+  /// One step: the request written with fmt (or the next line of a planned run), the reply read
+  /// by its slots; a reply the fast path does not take is read the checked way (which names what
+  /// is wrong with it).
   void step(double dt_s) override {
+    if (planned_ > 0) {
+      ProtocolChild* c = lease_.current();
+      if (!c) {
+        planned_ = 0;
+        throw EngineError(fmt::format("engine '{}' (step): the process ended before its planned steps' replies",
+                                      lease_.outside().name));
+      }
+      if (dt_s != setup_.dt_s) throw EngineError("a planned step of another dt (liftcheck's own error)");
+      planned_ -= 1;
+      try {
+        take_reply(*c, c->next_line(lease_.seconds_left()), true);
+      } catch (...) {  // an error reply ends the adapter's lines; any other failure has ended the child
+        planned_ = 0;
+        throw;
+      }
+      return;
+    }
+    ProtocolChild& c = lease_.get();
     request_.assign(R"({"op":"step","spin_radps":[)");
     put(request_, rates_.spin_radps[0]), request_ += ',', put(request_, rates_.spin_radps[1]);
     request_ += R"(],"steer_radps":[)";
@@ -258,8 +316,11 @@ class ProtocolCar final : public RigidCar {
     request_ += R"(],"dt_s":)";
     put(request_, dt_s);
     request_ += '}';
-    ProtocolChild& c = lease_.get();
-    const std::string& line = c.exchange("step", request_, lease_.seconds_left());
+    take_reply(c, c.exchange("step", request_, lease_.seconds_left()), false);
+  }
+  /// A step's reply line: the state, the optional force and chassis velocity; in a planned run
+  /// (`planned`), the rates the adapter applied, which must be those of actuate().
+  void take_reply(ProtocolChild& c, const std::string& line, bool planned) {
     if (!reply_ || reply_wheels_ != def_.wheels) reply_.emplace(car_slots(def_.wheels)), reply_wheels_ = def_.wheels;
     const size_t f = car_id_slot(def_.wheels) + 1;  // ground_force_W: all three numbers or none
     const size_t v = f + 3;                         // v_chassis_W: all three numbers or none
@@ -275,6 +336,12 @@ class ProtocolCar final : public RigidCar {
       if (chassis == 3) state_.v_chassis_W = {reply_->value(v), reply_->value(v + 1), reply_->value(v + 2)};
       force_.reset();
       if (forces == 3) force_ = Eigen::Vector3d(reply_->value(f), reply_->value(f + 1), reply_->value(f + 2));
+      if (planned) {
+        const size_t a = v + 3;
+        if (!reply_->given(a) || !reply_->given(a + 1))
+          c.fail("a reply to \"steps\" without the rates it applied ('applied')");
+        check_applied(c, reply_->value(a), reply_->value(a + 1));
+      }
       return;
     }
     const json r = c.checked_reply(line);
@@ -282,6 +349,18 @@ class ProtocolCar final : public RigidCar {
     state_ = car_state(c, r, def_.wheels);
     force_.reset();
     if (r.contains("ground_force_W")) force_ = vec3(c, r, "ground_force_W", "");
+    if (planned) {
+      const std::vector<double> applied = c.numbers(r, "applied", 2);
+      check_applied(c, applied[0], applied[1]);
+    }
+  }
+  /// A planned step's rates as the adapter applied them against those liftcheck's servo gives.
+  void check_applied(ProtocolChild& c, double spin_radps, double steer_radps) {
+    if (spin_radps == rates_.spin_radps[0] && steer_radps == rates_.steer_radps[0]) return;
+    c.fail(fmt::format(
+        "its servo loop applied spin {} and steering {} rad/s where liftcheck's servo gives {} and {}: not the law of "
+        "docs/protocol.md (\"steps\")",
+        spin_radps, steer_radps, rates_.spin_radps[0], rates_.steer_radps[0]));
   }
   /// The optional "ground_force_W" of the step's reply (docs/protocol.md): absent, not measured.
   std::optional<Eigen::Vector3d> ground_force_W() const override { return force_; }
@@ -300,6 +379,7 @@ class ProtocolCar final : public RigidCar {
   RigidCarState state_{};
   std::optional<Eigen::Vector3d> force_;
   double engine_s_ = 0.0;
+  size_t planned_ = 0;  ///< reply lines of the last "steps" still to read
   std::string request_;
   std::optional<FlatReply> reply_;
   int reply_wheels_ = 0;
@@ -489,6 +569,8 @@ void apply_hello(EngineInfo& e, ProtocolChild& c, const json& r, const std::shar
   e.four_wheels = o->four_wheels = r.value("four_wheels", false);
   if (r.contains("brakes") && !r["brakes"].is_boolean()) c.fail("hello: 'brakes' must be true or false");
   e.brakes = r.value("brakes", false);
+  if (r.contains("servo_steps") && !r["servo_steps"].is_boolean()) c.fail("hello: 'servo_steps' must be true or false");
+  o->servo_steps = r.value("servo_steps", false);
   e.knobs.clear();
   if (const auto s = r.find("settings"); s != r.end()) {
     if (!s->is_array()) c.fail("hello: 'settings' must be an array");

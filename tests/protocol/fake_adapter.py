@@ -14,7 +14,9 @@ request's number, "id", as protocol 2 and later require):
   nullforce  a car's step reply whose optional ground_force_W is null
   chassisgone  a car's step replies carry ground forces, and the optional v_chassis_W on every
              other step only
-(the last two break car replies only: their disks stand still, and fail, without an error)"""
+  badservo   hello offers "steps" (servo_steps), whose replies give the servo law's rates as applied
+             but for the fifth step's steering rate, off by 1e-9 rad/s
+(the last three break car replies only: their disks stand still, and fail, without an error)"""
 import json
 import sys
 import time
@@ -42,7 +44,7 @@ for line in sys.stdin:
     op = req["op"]
     if op == "hello":
         out({"ok": True, "protocol": 1 if mode == "version" else req["protocol"], "engine": "Fake", "version": "0", "precision": "float64",
-             "vehicles": ["car", "disks"], "fixed": [["lies", mode]],
+             "vehicles": ["car", "disks"], "fixed": [["lies", mode]], "servo_steps": mode == "badservo",
              "settings": [{"key": "relax", "vehicle": "car", "kind": "real", "default": 0.5, "min": 0, "max": 1,
                            "role": "solver_iterations"}] if mode == "badrole" else []})
     elif op == "car":
@@ -78,6 +80,17 @@ for line in sys.stdin:
             sys.stdout.flush()
         else:
             out(dict(built, engine_s=1e-6))
+    elif op == "steps":
+        # A line a target with the law's rates (the car stands still: the booked wheel angle and the
+        # steering stay as sent), but the fifth of a drive's steps claims a steering rate off by a
+        # hair: liftcheck must check every line, and the steering as well as the spin.
+        for alpha, beta, alpha_rate, beta_rate in req["targets"]:
+            applied = [alpha_rate + req["spin_gain_per_s"] * (alpha - req["alpha_rad"]),
+                       beta_rate + req["steer_gain_per_s"] * (beta - req["steer_rad"])]
+            steps += 1
+            if steps == 5:
+                applied[1] += 1e-9
+            out(dict(built, engine_s=1e-6, applied=applied))
     elif op == "bye":
         out({"ok": True})
         break

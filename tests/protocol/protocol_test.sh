@@ -109,13 +109,27 @@ PY
 mkdir "$TMP/fakes"
 python3 - "$HERE/fake_adapter.py" "$TMP/fakes" <<'PY'
 import json, sys
-for mode in ["version", "malformed", "nan", "missing", "die", "hang", "flood", "badrole", "nullforce", "chassisgone"]:
+for mode in ["version", "malformed", "nan", "missing", "die", "hang", "flood", "badrole", "nullforce", "chassisgone", "badservo"]:
     json.dump({"name": f"fake-{mode}", "command": [sys.executable, sys.argv[1], mode],
                "description": f"an adapter that lies ({mode})", "color": "#7f7f7f"}, open(f"{sys.argv[2]}/fake-{mode}.json", "w"))
 PY
 status=0
-"$LIFTCHECK" validate --engine-dir "$TMP/fakes" --engines ode,fake-version,fake-malformed,fake-nan,fake-missing,fake-die,fake-hang,fake-flood,fake-badrole,fake-nullforce,fake-chassisgone \
+"$LIFTCHECK" validate --engine-dir "$TMP/fakes" --engines ode,fake-version,fake-malformed,fake-nan,fake-missing,fake-die,fake-hang,fake-flood,fake-badrole,fake-nullforce,fake-chassisgone,fake-badservo \
   --filter 'car.circle,disks.linear' --no-sweeps --no-report --timeout 20 --jobs 2 --out "$TMP/lies" >"$TMP/lies.log" || status=$?
 test "$status" -eq 1 || { cat "$TMP/lies.log"; exit 1; }
 python3 "$HERE/check_records.py" lies "$TMP/lies/results.json"
+# The tricycle's steps planned in runs ("steps", the adapter applying liftcheck's servo law) and
+# stepped one request at a time (LIFTCHECK_SERVO_STEPS=0): the same records, number for number.
+for planned in 1 0; do
+  status=0
+  LIFTCHECK_SERVO_STEPS=$planned "$LIFTCHECK" validate --engines cannon --filter 'car.circle,car.slope,car.coulomb' \
+    --no-sweeps --no-report --out "$TMP/planned-$planned" >"$TMP/planned.log" || status=$?
+  test "$status" -le 1 || { cat "$TMP/planned.log"; exit 1; }
+done
+python3 "$HERE/../tools/same_records.py" "$TMP/planned-1/results.json" "$TMP/planned-0/results.json"
+python3 - "$TMP/planned-1/results.json" <<'PY'
+import json, sys
+runs = json.load(open(sys.argv[1]))["runs"]
+assert len(runs) == 3 and all(r["status"] != "error" and r.get("engine_s", 0) > 0 for r in runs), [(r["scenario"], r["status"], r["message"]) for r in runs]
+PY
 echo "protocol: ok"
