@@ -134,17 +134,16 @@ def same(args):
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     sub = p.add_subparsers(dest="what", required=True)
-    c = sub.add_parser("capture")
-    c.add_argument("name")
-    c.add_argument("stream")
-    c.add_argument("--liftcheck", default=os.path.join(ROOT, "build", "liftcheck"))
-    c.add_argument("--suite", default=os.path.join(ROOT, "engines", "outside", "suite"))
-    r = sub.add_parser("replay")
-    r.add_argument("name")
-    r.add_argument("stream")
-    r.add_argument("replies")
-    r.add_argument("--adapters", default=os.path.join(ROOT, "engines", "outside"))
-    r.add_argument("--suite", default=os.path.join(ROOT, "engines", "outside", "suite"))
+    for what in ("capture", "replay"):  # a configuration's registration and its stream
+        q = sub.add_parser(what)
+        q.add_argument("name")
+        q.add_argument("stream")
+        q.add_argument("--suite", default=os.path.join(ROOT, "engines", "outside", "suite"))
+        if what == "capture":
+            q.add_argument("--liftcheck", default=os.path.join(ROOT, "build", "liftcheck"))
+        else:
+            q.add_argument("replies")
+            q.add_argument("--adapters", default=os.path.join(ROOT, "engines", "outside"))
     s = sub.add_parser("same")
     s.add_argument("a")
     s.add_argument("b")
