@@ -288,11 +288,10 @@ std::vector<Scenario> lift_property_scenarios() {
        // the pace, four times the accelerations (the fast run's 104 N of drive within the 235 N the
        // front wheel grips with at mu = 1). An error growing with the accelerations shows in the
        // spread at (4 - 1)/4 of its size in the fast run.
-       .params = with(with_defaults(car_params("0.1"), {{"speed", "0.75"},
-                                                        {"steer_rate", "0.375"},
-                                                        {"accel", "0.5625"},
-                                                        {"steer_accel", "2.25"}}),
-                      {number("factor", "2", "1", "pace factor f", 1.0, true, 100.0)}),
+       .params = with(
+           with_defaults(car_params("0.1"),
+                         {{"speed", "0.75"}, {"steer_rate", "0.375"}, {"accel", "0.5625"}, {"steer_accel", "2.25"}}),
+           {number("factor", "2", "1", "pace factor f", 1.0, true, 100.0)}),
        .metrics = {abs_("end_spread", "m", 1e-9, 1e-3, "largest distance between the end positions of the runs"),
                    abs_("heading_spread", "rad", 1e-9, 1e-3, "largest difference between the end headings"),
                    abs_("end_error", "m", 1e-7, 1e-3,
