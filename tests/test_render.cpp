@@ -220,6 +220,29 @@ TEST(Render, ReleasesItsContext) {
   EXPECT_EQ(OSMesaGetCurrentContext(), nullptr);
 }
 
+// The context is made current once and kept while pictures keep their size: two renderers on one
+// thread, alternating, and one renderer changing size, draw each picture as a renderer of its own.
+TEST(Render, AlternatingRenderersAndSizesDrawTheirOwnPictures) {
+  Scene red = known_scene(), blue = known_scene(), large = known_scene();
+  blue.circles.front().fill = Color{0, 0, 1, 1};
+  large.width_px = 320, large.height_px = 240;
+  const auto alone = [](const Scene& s) {
+    Renderer r;
+    return r.render(s);
+  };
+  const Image want_red = alone(red), want_blue = alone(blue), want_large = alone(large);
+  ASSERT_NE(want_red.rgba, want_blue.rgba);
+  Renderer a, b;
+  // Each draws a picture of the size the other just drew, in turn.
+  EXPECT_EQ(a.render(red).rgba, want_red.rgba);
+  EXPECT_EQ(b.render(blue).rgba, want_blue.rgba);
+  EXPECT_EQ(a.render(blue).rgba, want_blue.rgba);
+  EXPECT_EQ(b.render(red).rgba, want_red.rgba);
+  // One renderer changing size and back.
+  EXPECT_EQ(a.render(large).rgba, want_large.rgba);
+  EXPECT_EQ(a.render(red).rgba, want_red.rgba);
+}
+
 // Names reach gnuplot's script as single-quoted data: a quote doubled, a line break a space.
 TEST(Plots, QuotesNamesAsData) {
   EXPECT_EQ(liftcheck::gnuplot_quote("ode"), "'ode'");
