@@ -58,6 +58,26 @@ def tee(args):
     return child.wait()
 
 
+def steps_in(line):
+    """The engine steps a request line asks for: 1 for "step", one per target of "steps"."""
+    if b'"op":"step"' in line:
+        return 1
+    if b'"op":"steps"' in line:
+        return len(json.loads(line).get("targets", []))
+    return 0
+
+
+def segments(stream):
+    """The stream cut after each "bye": what each process of the adapter was sent, in turn."""
+    parts, part = [], []
+    for line in stream:
+        part.append(line)
+        if b'"op":"bye"' in line:
+            parts.append(part)
+            part = []
+    return parts + ([part] if part else [])
+
+
 def capture(args):
     reg = registration(args.suite, args.name)
     open(args.stream, "wb").close()
@@ -79,7 +99,7 @@ def capture(args):
             sys.exit(f"adapter_replay.py: the suite wrote no results: {run.stderr.strip()[-300:]}")
     with open(args.stream, "rb") as f:
         lines = f.readlines()
-    steps = sum(1 for line in lines if b'"op":"step"' in line)
+    steps = sum(steps_in(line) for line in lines)
     starts = sum(1 for line in lines if b'"op":"hello"' in line)
     print(f"{args.stream}: {steps} steps" + (f" from {starts} processes of the adapter, one after another" if starts > 1 else ""))
 
@@ -94,10 +114,15 @@ def replay(args):
             c = os.path.join(args.adapters, os.path.basename(c))
         command.append(c)
     before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    # A process of the adapter for each part of the stream, as the suite started them (a process
+    # ends at "bye"), one after another on one core.
     with open(args.stream, "rb") as stream, open(args.replies, "wb") as replies:
         cpu = os.sched_getaffinity(0)
-        done = subprocess.run(["taskset", "-c", str(max(cpu)), *command], stdin=stream, stdout=replies,
-                              stderr=subprocess.DEVNULL, cwd=args.suite, check=False)
+        for part in segments(stream):
+            done = subprocess.run(["taskset", "-c", str(max(cpu)), *command], input=b"".join(part), stdout=replies,
+                                  stderr=subprocess.DEVNULL, cwd=args.suite, check=False)
+            if done.returncode != 0:
+                break
     after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu_s = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     engine_s, steps, refused = 0.0, 0, 0
