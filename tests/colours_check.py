@@ -12,7 +12,7 @@ import sys
 
 MIN_DELTA_E = 20.0
 REFERENCE = {"the exact path's grey in the snapshots": "#8c8c8c"}
-DEFAULT_UNREGISTERED = "#e7298a"  # engines/trace/trace_engines.cpp and engines/protocol/outside.cpp
+DEFAULT_UNREGISTERED = "#e7298a"  # engines/trace/trace_engines.cpp and engines/protocol/registration.cpp
 
 
 def lab(hexcolour):
