@@ -37,7 +37,27 @@ json hello(ProtocolChild& c, double deadline_s) {
 
 std::unique_ptr<ProtocolChild> start(Outside& o) { return std::make_unique<ProtocolChild>(o.name, o.argv, o.cwd); }
 
+/// Ends the idle children of every configuration but `keep`: a process keeps the adapters of the
+/// configuration it runs now, not one of each it ever ran (an adapter holds 60 to 160 MB;
+/// docs/performance.md).
+void close_idle_except(const Outside& keep) {
+  std::vector<std::shared_ptr<Outside>> others;
+  {
+    std::lock_guard<std::mutex> lock(g_all_m);
+    for (const auto& w : g_all)
+      if (auto o = w.lock(); o && o.get() != &keep) others.push_back(o);
+  }
+  std::vector<std::unique_ptr<ProtocolChild>> idle;
+  for (const auto& o : others) {
+    std::lock_guard<std::mutex> lock(o->m);
+    for (auto& c : o->idle) idle.push_back(std::move(c));
+    o->idle.clear();
+  }
+  for (auto& c : idle) c->close(1.0);
+}
+
 std::unique_ptr<ProtocolChild> take(Outside& o, double deadline_s) {
+  close_idle_except(o);
   {
     std::lock_guard<std::mutex> lock(o.m);
     while (!o.idle.empty()) {

@@ -67,20 +67,28 @@ def main():
     if args[:1] == ["--"]:
         args = args[1:]
     child = subprocess.Popen(args)
-    hwm, hwm_who, rss_sum, pss_sum = 0, "", 0, 0
+    hwm, hwm_who, rss_sum, pss_sum, own, most = 0, "", 0, 0, 0, 0
+    by_kind = {}  # the largest VmHWM of a process by its command's first two words
     while child.poll() is None:
-        rss = pss = 0
+        rss = pss = alive = 0
         for pid in tree(child.pid):
             s = status_kb(pid, {"VmRSS", "VmHWM"})
             rss += s.get("VmRSS", 0)
             pss += s.get("Pss", 0)
+            alive += 1
+            kind = " ".join(s.get("cmd", "?").split()[:2])
+            by_kind[kind] = max(by_kind.get(kind, 0), s.get("VmHWM", 0))
+            if pid == child.pid:
+                own = max(own, s.get("VmHWM", 0))
             if s.get("VmHWM", 0) > hwm:
                 hwm, hwm_who = s["VmHWM"], f"pid {pid}: {s.get('cmd', '?')}"
-        rss_sum, pss_sum = max(rss_sum, rss), max(pss_sum, pss)
+        rss_sum, pss_sum, most = max(rss_sum, rss), max(pss_sum, pss), max(most, alive)
         time.sleep(every)
     mb = lambda kb: kb * 1024 / 1e6
     print(f"peak memory: one process {mb(hwm):.0f} MB (VmHWM, {hwm_who}); the process tree {mb(rss_sum):.0f} MB of resident sets summed, "
           f"{mb(pss_sum):.0f} MB proportional (Pss, shared pages counted once)", file=sys.stderr)
+    print(f"the command itself {mb(own):.0f} MB (VmHWM); at most {most} processes at once; the largest of each kind: "
+          + ", ".join(f"{k} {mb(v):.0f} MB" for k, v in sorted(by_kind.items(), key=lambda kv: -kv[1])[:8]), file=sys.stderr)
     return child.returncode
 
 
