@@ -31,7 +31,7 @@ OUTSIDE_DIR := engines/outside
 # into node_modules at the end of every install; it is redone when the lock file changes).
 NODE_STAMP := $(OUTSIDE_DIR)/node_modules/.package-lock.json
 
-.PHONY: all deps install-packages configure build validate test report-check bench clean sanitize fuzz npm-deps format tune-table
+.PHONY: all deps install-packages configure build validate test report-check bench clean sanitize fuzz npm-deps format tune-table readme
 
 all: build
 
@@ -115,6 +115,11 @@ format:
 # data/tune/table.json (about 20 minutes on 2 cores; the ctest tune_table says when it is stale).
 tune-table: build
 	python3 tests/tools/tune_table.py --liftcheck $(BUILD_DIR)/liftcheck --budget 16 --jobs $(JOBS)
+
+# What the README shows, from the current build: the run block, the suite's counts (from the
+# committed baseline) and the tune figure; `ctest -R readme` fails when they differ.
+readme: build
+	python3 tests/readme_check.py $(BUILD_DIR)/liftcheck README.md data/baselines/default.json --write
 
 bench: build
 	./$(BUILD_DIR)/liftcheck_bench --benchmark_out=$(BUILD_DIR)/bench.json --benchmark_out_format=json

@@ -18,8 +18,8 @@ using namespace liftcheck;
 
 namespace {
 
-const nlohmann::json& circle_run() {
-  static const nlohmann::json run = run_scenario(*find_scenario("car.circle"), *find_engine("analytic")).to_json();
+const RunResult& circle_run() {
+  static const RunResult run = run_scenario(*find_scenario("car.circle"), *find_engine("analytic"));
   return run;
 }
 

@@ -13,7 +13,7 @@
 
 namespace liftcheck::cli {
 
-nlohmann::json read_baseline(const std::string& path, bool update_baseline) {
+std::optional<SuiteResults> read_baseline(const std::string& path, bool update_baseline) {
   if (update_baseline && path.empty()) throw InputError("--update-baseline needs --baseline FILE");
   // A baseline is read back by its name (recorded in results.json, JSON holds UTF-8 only): one it
   // could not be read back by is refused before anything runs, not written.
@@ -29,25 +29,29 @@ nlohmann::json read_baseline(const std::string& path, bool update_baseline) {
       throw InputError(
           fmt::format("--baseline '{}' is not a regular file: --update-baseline writes a file", printable(path, 200)));
   }
-  return !path.empty() && !update_baseline ? read_results(path) : nlohmann::json();
+  if (path.empty() || update_baseline) return std::nullopt;
+  return read_results(path);
 }
 
-int compare_with_baseline(nlohmann::json& results, const std::string& path, const nlohmann::json& baseline) {
+int compare_with_baseline(SuiteResults& results, const std::string& path, const SuiteResults& baseline,
+                          double worse_factor) {
+  // What was run is compared: a filtered or sharded suite compares its share.
   std::set<std::pair<std::string, std::string>> ran;
-  for (const auto& r : results["runs"]) ran.insert({r["scenario"].get<std::string>(), r["engine"].get<std::string>()});
-  nlohmann::json base = baseline;
-  base["runs"] = nlohmann::json::array();
-  for (const auto& r : baseline["runs"])
-    if (ran.count({r["scenario"].get<std::string>(), r["engine"].get<std::string>()})) base["runs"].push_back(r);
-  nlohmann::json d;
-  try {
-    d = diff_results(base, results);
-  } catch (const nlohmann::json::exception& e) {
-    throw InputError(fmt::format("'{}' is not a liftcheck baseline: {}", printable(path, 200), e.what()));
-  }
-  results["baseline"] = {{"file", path}, {"diff", d}};
+  for (const RunResult& r : results.runs) ran.insert({r.scenario, r.engine});
+  SuiteResults base;
+  for (const RunResult& r : baseline.runs)
+    if (ran.count({r.scenario, r.engine})) base.runs.push_back(r);
+  for (const auto& [key, p] : baseline.points)
+    if (results.points.count(key)) base.points.emplace(key, p);
+  const auto ran_outcomes = results.outcomes ? outcome_flags(*results.outcomes) : results.baseline_outcomes;
+  for (const auto& [key, hit] : baseline.baseline_outcomes)
+    if (ran_outcomes.count(key)) base.baseline_outcomes.emplace(key, hit);
+  DiffDef def;
+  def.growth = worse_factor;
+  const ResultsDiff d = diff_results(index_of(base), index_of(results), def);
+  results.baseline = BaselineComparison{path, worse_factor, d};
   std::cout << "against the baseline " << printable(path, 200) << ":\n" << diff_text(d);
-  return static_cast<int>(d["regressions"].size() + d["worse"].size());
+  return d.problems();
 }
 
 }  // namespace liftcheck::cli

@@ -2,17 +2,21 @@
 // baseline (a filtered or sharded run compares its share).
 #pragma once
 
-#include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
+
+#include "input/suite_result.hpp"
 
 namespace liftcheck::cli {
 
-/// Reads the baseline before anything runs: a malformed one stops at once. Null when there is
+/// Reads the baseline before anything runs: a malformed one stops at once. None when there is
 /// none to compare with (no --baseline, or --update-baseline).
-nlohmann::json read_baseline(const std::string& path, bool update_baseline);
+std::optional<SuiteResults> read_baseline(const std::string& path, bool update_baseline);
 
-/// Compares the runs of `results` with the baseline's runs of the same scenario and configuration,
-/// prints the diff and stores it as results["baseline"]; returns the regressions and metrics grown.
-int compare_with_baseline(nlohmann::json& results, const std::string& path, const nlohmann::json& baseline);
+/// Compares the runs and points of `results` with the baseline's of the same runs and points (and
+/// the outcome grid's cases), prints the diff and stores it in results.baseline; returns the
+/// regressions and the metrics whose error grew by more than `worse_factor`.
+int compare_with_baseline(SuiteResults& results, const std::string& path, const SuiteResults& baseline,
+                          double worse_factor);
 
 }  // namespace liftcheck::cli

@@ -6,6 +6,7 @@
 #include "cli/command.hpp"
 #include "engines/protocol/outside.hpp"
 #include "harness/results.hpp"
+#include "input/results_codec.hpp"
 #include "input/trace.hpp"  // printable
 
 namespace liftcheck::cli {
@@ -17,18 +18,10 @@ int cmd_engines(bool json) {
   const std::vector<EngineInfo>& all_engines = described_engines();  // outside ones: their hello read
   close_idle_children();
   if (json) {
-    nlohmann::json es = context_json(
-        [&] {
-          std::vector<const EngineInfo*> all;
-          for (const auto& e : all_engines) all.push_back(&e);
-          return all;
-        }(),
-        0.0)["engines"];
-    // An outside configuration's files: which adapter it runs, so a copied build can be checked.
-    for (size_t i = 0; i < all_engines.size(); ++i)
-      if (all_engines[i].is_outside())
-        es[i]["outside"] = {{"registration", all_engines[i].outside.registration},
-                            {"adapter", adapter_path(all_engines[i])}};
+    // An outside configuration's files (registration, adapter) are its context's: which adapter it
+    // runs, so a copied build can be checked.
+    nlohmann::json es = nlohmann::json::array();
+    for (const auto& e : all_engines) es.push_back(encode_engine_context(engine_context(e)));
     std::cout << es.dump(2) << "\n";
     return 0;
   }

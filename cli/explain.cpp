@@ -11,7 +11,6 @@
 #include "cli/interrupts.hpp"
 #include "cli/lookup.hpp"
 #include "harness/sweeps.hpp"
-#include "input/record_view.hpp"
 #include "input/read_file.hpp"
 #include "input/suggest.hpp"
 
@@ -46,10 +45,10 @@ size_t item_for(SuitePlan& plan, std::map<std::string, size_t>& index, const Sce
 }
 
 /// The metric's compared error and tolerance in a record; NaN where the run has no such figure.
-std::pair<double, double> figure(const nlohmann::json& record, const std::string& metric) {
-  const RecordView r(record);
-  if (!r.has(metric)) return {NAN, NAN};
-  return {r.metric(metric).compared_error(), r.metric(metric).tolerance()};
+std::pair<double, double> figure(const RunResult& record, const std::string& metric) {
+  const Metric* m = record.metric(metric);
+  if (!m) return {NAN, NAN};
+  return {m->compared_error(), m->tolerance};
 }
 
 bool selected(const ListedReason& l, const std::vector<std::string>& names, const std::vector<std::string>& engines) {
@@ -60,12 +59,12 @@ bool selected(const ListedReason& l, const std::vector<std::string>& names, cons
 }
 
 /// One line per experiment; returns whether it holds.
-bool report(const Experiment& x, const nlohmann::json& base, const nlohmann::json& changed, bool json) {
+bool report(const Experiment& x, const RunResult& base, const RunResult& changed, bool json) {
   const auto [from, tol] = figure(base, x.evidence->metric);
   const auto [to, to_tol] = figure(changed, x.evidence->metric);
   const bool measuring =
       std::isnan(x.evidence->from) && !x.evidence->from_error;  // --measure: nothing recorded to hold
-  const bool errs = base["status"] == "error";
+  const bool errs = base.status == Status::kError;
   const bool holds = measuring || (x.evidence->from_error ? x.evidence->holds_from_error(errs, to, to_tol)
                                                           : x.evidence->holds(from, to, tol, to_tol));
   const ListedReason& l = *x.listing;
@@ -94,9 +93,8 @@ bool report(const Experiment& x, const nlohmann::json& base, const nlohmann::jso
   std::cout << fmt::format("{}: {} moves {} {:.3g} -> {:.3g} (recorded {:.3g} -> {:.3g}, tolerance {:.3g}): {}\n",
                            where, x.evidence->change_text(), x.evidence->metric, from, to, x.evidence->from,
                            x.evidence->to, tol, holds ? "holds" : "DOES NOT HOLD");
-  for (const nlohmann::json* r : {&base, &changed})
-    if ((*r)["status"] == "error" && (*r)["message"].is_string())
-      std::cout << "  error: " << printable((*r)["message"].get<std::string>(), 300) << "\n";
+  for (const RunResult* r : {&base, &changed})
+    if (r->status == Status::kError) std::cout << "  error: " << printable(r->message, 300) << "\n";
   return holds;
 }
 
@@ -173,7 +171,7 @@ int cmd_explain(const std::vector<std::string>& names, const std::string& engine
   int unexplained = 0, not_shown = 0;
   for (const ListedReason& l : plan_file.empty() ? listed_reasons() : planned) {
     if (!selected(l, names, configs)) continue;
-    if (l.evidence.empty() && !is_negative_control(l.reason)) {
+    if (l.evidence.empty() && !l.negative_control) {
       if (!l.cause_not_shown.empty())
         ++not_shown;
       else
@@ -201,9 +199,9 @@ int cmd_explain(const std::vector<std::string>& names, const std::string& engine
         "no listing of harness/expectations.json with evidence matches the names and configurations given");
   std::vector<size_t> all(plan.items.size());
   for (size_t i = 0; i < all.size(); ++i) all[i] = i;
-  std::vector<nlohmann::json> records;
+  std::vector<RunResult> records;
   try {
-    records = run_items(plan, all, runner_def(jobs, timeout_s), [](size_t, const nlohmann::json&, double) {});
+    records = run_items(plan, all, runner_def(jobs, timeout_s), [](size_t, const RunResult&, double) {});
   } catch (const RunnerStopped& e) {
     throw Interrupted(pending_signal(), e.what());
   }

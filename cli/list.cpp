@@ -5,6 +5,7 @@
 
 #include "cli/command.hpp"
 #include "engines/engine.hpp"
+#include "input/results_codec.hpp"
 #include "scenarios/scenario.hpp"
 
 namespace liftcheck::cli {
@@ -14,7 +15,7 @@ namespace {
 int cmd_list(bool json) {
   if (json) {
     nlohmann::json j = nlohmann::json::array();
-    for (const auto& s : scenarios()) j.push_back(s.to_json());
+    for (const auto& s : scenarios()) j.push_back(encode_scenario(s.info()));
     std::cout << j.dump(2) << "\n";
     return 0;
   }

@@ -9,9 +9,9 @@
 #include "cli/interrupts.hpp"
 #include "cli/terminal.hpp"
 #include "engines/protocol/outside.hpp"
-#include "input/record_view.hpp"
+#include "input/results_codec.hpp"
+#include "input/standing.hpp"  // short_number
 #include "input/suggest.hpp"
-#include "reports/headline.hpp"
 
 namespace liftcheck::cli {
 
@@ -81,39 +81,37 @@ RunnerDef runner_def(int jobs, double timeout_s, double memory_limit_mib) {
   return r;
 }
 
-void print_record(const nlohmann::json& r) {
-  const std::string message = r["message"];
-  std::cout << fmt::format("{} on {}: {}{}\n", r["scenario"].get<std::string>(),
-                           printable(r["engine"].get<std::string>(), 200), coloured_verdict(r["verdict"]),
-                           message.empty() ? "" : " (" + printable(message, 1000) + ")");
-  if (r["expectation"].is_object())
+void print_record(const RunResult& r) {
+  std::cout << fmt::format("{} on {}: {}{}\n", r.scenario, printable(r.engine, 200),
+                           coloured_verdict(to_string(r.verdict())),
+                           r.message.empty() ? "" : " (" + printable(r.message, 1000) + ")");
+  if (r.expectation)
     std::cout << fmt::format(
         "  {}: {}\n  measured when reviewed: {}\n",
-        r["as_expected"].get<bool>() ? "known failure" : "listed as a known failure (harness/expectations.json)",
-        r["expectation"]["reason"].get<std::string>(), r["expectation"]["measured"].get<std::string>());
+        r.as_expected() ? "known failure" : "listed as a known failure (harness/expectations.json)",
+        r.expectation->reason, r.expectation->measured);
   // The headline's metrics first, then the rest from the worst ratio to its tolerance down.
-  const Scenario* scenario = find_scenario(r["scenario"].get<std::string>());
+  const Scenario* scenario = find_scenario(r.scenario);
   const std::vector<std::string> head = scenario ? scenario->headline.metrics : std::vector<std::string>{};
-  const RecordView record(r);
-  std::vector<std::pair<double, std::string>> order;
-  record.each_metric([&](const std::string& name, const MetricView& m) {
-    const double err = m.compared_error(), tol = m.tolerance();
-    const auto it = std::find(head.begin(), head.end(), name);
+  std::vector<std::pair<double, const Metric*>> order;
+  for (const Metric& m : r.metrics) {
+    const double err = m.compared_error(), tol = m.tolerance;
+    const auto it = std::find(head.begin(), head.end(), m.name);
     double key = it != head.end() ? 1e300 - static_cast<double>(it - head.begin()) : tol > 0 ? err / tol : 0.0;
-    order.emplace_back(std::isfinite(key) ? key : 1e299, name);
-  });
+    order.emplace_back(std::isfinite(key) ? key : 1e299, &m);
+  }
   std::stable_sort(order.begin(), order.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::cout << fmt::format("  {:<22} {:>14} {:>14} {:>13} {:>10} {:<5} {:>9}  {}\n", "metric", "expected", "measured",
                            "error", "tolerance", "unit", "err/tol", "result");
-  for (const auto& [key, name] : order) {
-    const MetricView m = record.metric(name);
-    const bool rel = m.relative();
-    const double err = m.compared_error(), tol = m.tolerance();
-    const std::string verdict = !m.counted() ? "info" : m.pass() ? "ok" : "FAIL";
-    const bool is_head = std::find(head.begin(), head.end(), name) != head.end();
+  for (const auto& [key, mp] : order) {
+    const Metric& m = *mp;
+    const bool rel = m.kind == TolKind::kRelative;
+    const double err = m.compared_error(), tol = m.tolerance;
+    const std::string verdict = !m.counted() ? "info" : m.pass ? "ok" : "FAIL";
+    const bool is_head = std::find(head.begin(), head.end(), m.name) != head.end();
     std::cout << fmt::format("  {:<22} {:>14.8g} {:>14.8g} {:>9.3g} {:<3} {:>10.3g} {:<5} {:>9}  {}\n",
-                             is_head ? name + " *" : name, m.expected(), m.measured(), err, rel ? "rel" : "abs", tol,
-                             rel ? "1" : m.unit(), tol > 0 ? short_number(err / tol) : "-",
+                             is_head ? m.name + " *" : m.name, m.expected, m.measured, err, rel ? "rel" : "abs", tol,
+                             rel ? "1" : m.unit, tol > 0 ? short_number(err / tol) : "-",
                              paint(verdict == "ok"     ? "pass"
                                    : verdict == "info" ? "skip"
                                                        : "fail",
@@ -123,20 +121,20 @@ void print_record(const nlohmann::json& r) {
 }
 
 int run_one(const SuitePlan& plan, const RunnerDef& runner, bool json, const std::string& during) {
-  std::vector<nlohmann::json> records;
+  std::vector<RunResult> records;
   try {
-    records = run_items(plan, {0}, runner, [](size_t, const nlohmann::json&, double) {});
+    records = run_items(plan, {0}, runner, [](size_t, const RunResult&, double) {});
   } catch (const RunnerStopped& e) {
     throw Interrupted(pending_signal(), e.what());
   }
   throw_if_interrupted(during);
-  const nlohmann::json& r = records.at(0);
-  if (r.value("input_error", false)) throw InputError(r["message"].get<std::string>());
+  const RunResult& r = records.at(0);
+  if (r.input_error) throw InputError(r.message);
   if (json)
-    std::cout << r.dump() << "\n";
+    std::cout << encode_run(r).dump() << "\n";
   else
     print_record(r);
-  return r["as_expected"].get<bool>() ? 0 : 1;
+  return r.as_expected() ? 0 : 1;
 }
 
 }  // namespace liftcheck::cli

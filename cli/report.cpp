@@ -10,28 +10,6 @@
 
 namespace liftcheck::cli {
 
-namespace {
-
-/// What rendering reads besides the runs (which read_results checks): the summary's counts, the
-/// context, the sweeps and maps. A results file without them is bad input, named.
-void check_renderable(const nlohmann::json& r, const std::string& file) {
-  const std::string name = printable(file, 200);
-  const auto refuse = [&](const std::string& what) {
-    return InputError(fmt::format("'{}' is not a results file of validate or merge: {}", name, what));
-  };
-  if (!r.contains("summary") || !r["summary"].is_object()) throw refuse("no 'summary' object");
-  for (const char* k : {"total", "unexpected", "pass", "known failure", "unexpected pass", "fail", "error", "skip"})
-    if (!r["summary"].contains(k) || !r["summary"][k].is_number_integer())
-      throw refuse(fmt::format("'summary.{}' is not a whole number", k));
-  if (!r.contains("context") || !r["context"].is_object()) throw refuse("no 'context' object");
-  if (r["context"].contains("engines") && !r["context"]["engines"].is_array())
-    throw refuse("'context.engines' is not an array");
-  for (const char* k : {"sweeps", "maps", "scenarios"})
-    if (r.contains(k) && !r[k].is_array()) throw refuse(fmt::format("'{}' is not an array", k));
-}
-
-}  // namespace
-
 Command add_report(CLI::App& app) {
   struct Options {
     std::string results;
@@ -46,18 +24,17 @@ Command add_report(CLI::App& app) {
   add_report_memory_option(cmd, m->out);
   cmd->add_flag("--no-snapshots", m->no_snapshots, "pages and plots only");
   return {cmd, [m] {
-            nlohmann::json results = read_results(m->results);
-            check_renderable(results, m->results);
+            SuiteResults results = read_results(m->results);  // every field checked: bad input is exit 2
+            if (results.is_baseline)
+              throw InputError(fmt::format("'{}' is a baseline: it holds what a regression gate compares, not a report",
+                                           printable(m->results, 200)));
+            if (results.shard)
+              throw InputError(fmt::format("'{}' is a shard's results: join the shards with 'liftcheck merge' first",
+                                           printable(m->results, 200)));
             m->out.snapshots = !m->no_snapshots;
             StagedOutput staged(m->out.out_dir);
             staged.refuse_inside(m->results, "the results file");
-            try {
-              return render_again(results, m->out, staged);
-            } catch (const nlohmann::json::exception& e) {
-              // A field the checks do not cover: the file is bad input, and nothing is published.
-              throw InputError(fmt::format("'{}' is not a results file liftcheck can render: {}",
-                                           printable(m->results, 200), printable(e.what(), 300)));
-            }
+            return render_again(results, m->out, staged);
           }};
 }
 

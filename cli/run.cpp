@@ -20,6 +20,7 @@ int cmd_run(const std::string& scenario, const std::string& engine, const std::v
   const Overrides ov = overrides_or_throw(sets, s, &e);
   SuitePlan plan;
   plan.items.push_back(planned_item(SuiteItem::kRun, "run", s, e, ov));
+  plan.items.back().full_traces = true;  // --json prints the traces as the scenario recorded them
   // Bad names and values are input errors here, not error records.
   if (!plan.items.back().run) throw InputError(plan.items.back().resolve_error);
   // In a worker process, like every validate run: a hang or a crash of the engine is an error record.

@@ -23,6 +23,7 @@ int cmd_score(const std::string& scenario, const std::string& trace_file, const 
   SuiteItem item = planned_item(SuiteItem::kRun, "score", s, *owned, ov);
   item.owned = std::move(owned);
   item.trace_file = trace_file;  // the worker reads it again, from the same working folder
+  item.full_traces = true;
   plan.items.push_back(std::move(item));
   return run_one(plan, runner_def(1, 120.0), json, "during the score");
 }

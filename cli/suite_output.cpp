@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <system_error>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <iostream>
 #include <cmath>
 #include <sys/resource.h>
@@ -20,7 +21,9 @@
 #include "harness/suite_results.hpp"
 #include "harness/worker_pool.hpp"  // set_memory_limit
 #include "input/atomic_file.hpp"
+#include "input/results_codec.hpp"
 #include "input/results_file.hpp"
+#include "input/standing.hpp"
 #include "input/params.hpp"  // InputError
 #include "input/trace.hpp"   // printable
 #include "reports/ci.hpp"
@@ -30,25 +33,12 @@ namespace liftcheck::cli {
 
 namespace {
 
-struct Gates {
-  int total = 0, failed = 0;
-};
-
 /// Sweeps are a gate: each engine's entry in each sweep passes or names its problems.
-Gates sweep_gates(const nlohmann::json& results) {
-  Gates g;
-  for (const auto& sw : results["sweeps"])
-    for (const auto& entry : sw["engines"]) {
-      ++g.total;
-      if (entry["gate"]["pass"].get<bool>()) continue;
-      ++g.failed;
-      std::cout << fmt::format(
-          "FAIL   sweep {} on {}: {}\n", sw["name"].get<std::string>(),
-          printable(entry["engine"].get<std::string>(), 200),
-          printable(fmt::format("{}", fmt::join(entry["gate"]["problems"].get<std::vector<std::string>>(), "; ")),
-                    1000));
-    }
-  return g;
+void print_failed_gates(const SuiteResults& results) {
+  for (const GateRef& g : gates_of(results))
+    if (!g.gate->pass)
+      std::cout << fmt::format("FAIL   sweep {} on {}: {}\n", g.sweep, printable(g.engine, 200),
+                               printable(fmt::format("{}", fmt::join(g.gate->problems, "; ")), 1000));
 }
 
 /// Where summary.md points for the report: LIFTCHECK_REPORT_URL when set; on a CI run the run's
@@ -88,13 +78,13 @@ std::string renderer_problem(int status, double limit_mib) {
 
 /// The renderer's side of the fork: its address space limited, the report written, its index of
 /// files sent back on `fd`. Never returns.
-[[noreturn]] void render_in_child(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def,
+[[noreturn]] void render_in_child(SuiteResults& results, const std::filesystem::path& out, const ReportDef& def,
                                   double limit_mib, int fd) {
   int status = 0;
   try {
     set_memory_limit(limit_mib);  // as a worker's (none under AddressSanitizer, whose shadow memory needs terabytes)
     write_report(results, out, def);
-    const std::string text = results["report"].dump();
+    const std::string text = encode_report(*results.report).dump();
     for (std::size_t done = 0; done < text.size();) {
       const ssize_t put = ::write(fd, text.data() + done, text.size() - done);
       if (put < 0 && errno == EINTR) continue;
@@ -121,7 +111,7 @@ std::string renderer_problem(int status, double limit_mib) {
 /// The report rendered in a child process (fork) under its memory limit: a renderer that crashes
 /// or runs out of memory takes only the child, and the runs' results are written anyway, with the
 /// renderer's end as a report error.
-void write_report_isolated(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def,
+void write_report_isolated(SuiteResults& results, const std::filesystem::path& out, const ReportDef& def,
                            double limit_mib) {
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
@@ -154,16 +144,15 @@ void write_report_isolated(nlohmann::json& results, const std::filesystem::path&
   int status = 0;
   while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {}
   throw_if_interrupted("while rendering the report");
-  nlohmann::json report = nlohmann::json::parse(text, nullptr, false);
-  if (WIFEXITED(status) && WEXITSTATUS(status) == 0 && report.is_object()) {
-    results["report"] = std::move(report);
-    return;
+  if (WIFEXITED(status) && WEXITSTATUS(status) == 0) {
+    const nlohmann::json report = nlohmann::json::parse(text, nullptr, false);
+    try {
+      static const std::string kName = "the renderer's index of files";
+      if (!report.is_discarded()) return void(results.report = decode_report(JsonIn(report, kName, "report")));
+    } catch (const InputError&) {}
   }
-  results["report"] = {{"report_s", 0.0},
-                       {"snapshots", nlohmann::json::array()},
-                       {"strips", nlohmann::json::array()},
-                       {"plots", nlohmann::json::array()},
-                       {"errors", {renderer_problem(status, limit_mib)}}};
+  results.report = ReportInfo{};
+  results.report->errors.push_back(renderer_problem(status, limit_mib));
 }
 
 /// summary.md's and the console's pointer to the report: only to an index.html that was written.
@@ -175,35 +164,32 @@ bool index_written(const std::filesystem::path& dir) {
 /// The report, junit.xml, summary.md and results.json into the staged folder, which is then
 /// swapped in. A baseline to rewrite is written beside its place first and renamed in last, so
 /// each failure says truthfully what was written.
-void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput& staged) {
+void write_outputs(SuiteResults& results, const OutputOptions& o, StagedOutput& staged) {
   const std::filesystem::path out = staged.stage();
-  thin_drawn_traces(results);  // the report draws what results.json keeps
+  for (RunResult& r : results.runs) thin_drawn_traces(r.details);  // the report draws what results.json keeps
   try {
     if (o.report) {
       ReportDef def;
       def.snapshots = o.snapshots;
       def.threads = o.threads;
       write_report_isolated(results, out, def, o.report_memory_limit_mib);
-      const size_t problems = results["report"]["errors"].size();
+      const ReportInfo& rep = *results.report;
       std::cout << fmt::format(
-          "report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", results["report"]["report_s"].get<double>(),
-          results["report"]["snapshots"].size(), results["report"]["strips"].size(), results["report"]["plots"].size(),
-          problems == 0 ? ""
-                        : fmt::format("; {} problems{}", problems,
-                                      index_written(out) ? ", see index.html" : ", its pages are not written"));
+          "report {:.2f} s ({} snapshots, {} strips, {} plots){}\n", rep.report_s, rep.snapshots.size(),
+          rep.strips.size(), rep.plots.size(),
+          rep.errors.empty() ? ""
+                             : fmt::format("; {} problems{}", rep.errors.size(),
+                                           index_written(out) ? ", see index.html" : ", its pages are not written"));
     }
     write_file_atomic(out / "junit.xml", junit_xml(results));
     write_file_atomic(out / "summary.md",
                       summary_markdown(results, o.report && index_written(out) ? report_link() : ""));
-    share_references(results);  // compact and each exact lift once: 12 MB, was 48
-    const std::string text = results.dump();
-    expand_references(results, "results");
-    write_file_atomic(out / "results.json", text);
+    write_file_atomic(out / "results.json", results_text(results));
     throw_if_interrupted("while writing the outputs");
     const std::string pending = o.baseline_path + ".new";
     if (o.update_baseline) {
       try {
-        write_file_atomic(pending, baseline_json(results).dump(1) + "\n");
+        write_file_atomic(pending, encode_baseline(results).dump(1) + "\n");
       } catch (const std::runtime_error& e) {
         throw InputError(fmt::format("{}; nothing is written (--out is as it was, the baseline too)", e.what()));
       }
@@ -229,37 +215,42 @@ void write_outputs(nlohmann::json& results, const OutputOptions& o, StagedOutput
 }
 
 /// The simulated seconds the suite stepped, in all and per configuration, by kind of part.
-void print_simulated(const nlohmann::json& results) {
-  if (!results.contains("simulated")) return;
-  const auto& sim = results["simulated"];
-  const auto kinds = [](const nlohmann::json& by_part) {
+void print_simulated(const SuiteResults& results) {
+  const SimulatedBudget& sim = results.simulated;
+  if (sim.by_part.empty()) return;
+  const auto kinds = [](const std::map<std::string, double>& by_part) {
     std::map<std::string, double> k;
-    for (const auto& [part, s] : by_part.items()) k[part.substr(0, part.find('/'))] += s.get<double>();
+    for (const auto& [part, s] : by_part) k[part.substr(0, part.find('/'))] += s;
     std::string out;
     for (const auto& [kind, s] : k) out += fmt::format("{}{} {:.1f}", out.empty() ? "" : ", ", kind, s);
     return out;
   };
-  std::cout << fmt::format("simulated time: {:.1f} s in all ({})\n", sim["total_s"].get<double>(),
-                           kinds(sim["by_part"]));
-  for (const auto& [config, c] : sim["by_configuration"].items())
-    std::cout << fmt::format("  {:<18} {:8.1f} s  ({})\n", printable(config, 200), c["total_s"].get<double>(),
-                             kinds(c["by_part"]));
+  std::cout << fmt::format("simulated time: {:.1f} s in all ({})\n", sim.total_s, kinds(sim.by_part));
+  for (const auto& [config, parts] : sim.by_configuration)
+    std::cout << fmt::format("  {:<18} {:8.1f} s  ({})\n", printable(config, 200), sim.configuration_total_s.at(config),
+                             kinds(parts));
 }
 
-/// The last line: the verdict counts and where the results are.
-void print_summary(const nlohmann::json& results, const OutputOptions& o, const Gates& gates,
-                   const StagedOutput& staged) {
+/// Each configuration's standing, as every output states it (input/standing.hpp).
+void print_standings(const SuiteResults& results) {
+  for (const Standing& s : standings(results)) {
+    std::string line = fmt::format("  {:<18} {}", printable(s.engine, 60), s.counts_text());
+    if (s.worst) line += "; worst " + s.worst_text();
+    std::cout << printable(line, 118) << "\n";
+  }
+}
+
+/// The last lines: every run not as expected, the verdict counts and where the results are.
+void print_summary(const SuiteResults& results, const OutputOptions& o, const StagedOutput& staged) {
   print_simulated(results);
-  const auto& sum = results["summary"];
+  print_standings(results);
+  const Summary sum = summarize(results);
   std::cout << fmt::format(
       "{}: {} runs, {} sweep gates: {} unexpected ({} pass, {} known, {} unexpected pass, {} fail, {} error, "
       "{} skip; {} gates failed)\n{}\n",
-      results.contains("shard")
-          ? fmt::format("shard {}/{}", results["shard"]["index"].get<int>(), results["shard"]["total"].get<int>())
-          : "validate",
-      sum["total"].get<int>(), gates.total, sum["unexpected"].get<int>(), sum["pass"].get<int>(),
-      sum["known failure"].get<int>(), sum["unexpected pass"].get<int>(), sum["fail"].get<int>(),
-      sum["error"].get<int>(), sum["skip"].get<int>(), gates.failed,
+      results.shard ? fmt::format("shard {}/{}", results.shard->index, results.shard->total) : "validate", sum.total,
+      sum.sweep_gates, sum.unexpected(), sum.pass, sum.known, sum.unexpected_pass, sum.fail, sum.error, sum.skip,
+      sum.sweep_gates_failed,
       printable(o.report && index_written(staged.final_path())
                     ? "report: " + (staged.final_path() / "index.html").string()
                     : "results: " + (staged.final_path() / "results.json").string(),
@@ -283,43 +274,53 @@ void add_report_memory_option(CLI::App* cmd, OutputOptions& o) {
       });
 }
 
-int finish_suite(nlohmann::json& results, const OutputOptions& o, const nlohmann::json& baseline,
-                 StagedOutput& staged) {
-  bool all_pass = results["summary"]["unexpected"].get<int>() == 0;
-  const Gates gates = sweep_gates(results);
-  all_pass = all_pass && gates.failed == 0;
-  int baseline_problems = 0;
-  if (!baseline.is_null()) {
-    baseline_problems = compare_with_baseline(results, o.baseline_path, baseline);
-    all_pass = all_pass && baseline_problems == 0;
-  }
-  results["summary"]["baseline_problems"] = baseline_problems;
-  results["summary"]["sweep_gates"] = gates.total;
-  results["summary"]["sweep_gates_failed"] = gates.failed;
-  results["summary"]["unexpected"] = results["summary"]["unexpected"].get<int>() + gates.failed;
-  write_outputs(results, o, staged);
-  // A report that could not be built counts: the suite is not whole without it.
-  int report_problems = 0;
-  if (o.report && results.contains("report"))
-    for (const auto& e : results["report"]["errors"]) {
-      ++report_problems;
-      std::cout << "REPORT " << printable(e.get<std::string>(), 1000) << "\n";
-    }
-  print_summary(results, o, gates, staged);
-  if (report_problems > 0)
-    std::cout << fmt::format("the report has {} problems (listed above{})\n", report_problems,
-                             index_written(staged.final_path()) ? " and in index.html" : "");
-  return all_pass && report_problems == 0 ? 0 : 1;
+void add_worse_factor_option(CLI::App* cmd, OutputOptions& o) {
+  cmd->add_option("--worse-factor", o.worse_factor,
+                  "with --baseline: a counted metric whose error grows by more than this factor is worse and exits 1 "
+                  "(every change is listed as moved)")
+      ->capture_default_str()
+      ->check([](const std::string& v) {
+        double f = 0.0;
+        try {
+          f = std::stod(v);
+        } catch (const std::exception&) {}
+        return f > 1.0 && std::isfinite(f) ? std::string() : fmt::format("--worse-factor {} must be above 1", v);
+      });
 }
 
-int render_again(nlohmann::json& results, const OutputOptions& o, StagedOutput& staged) {
+namespace {
+
+/// The report's problems, a line each; their number.
+int print_report_problems(const SuiteResults& results, const OutputOptions& o) {
+  if (!o.report || !results.report) return 0;
+  for (const auto& e : results.report->errors) std::cout << "REPORT " << printable(e, 1000) << "\n";
+  return static_cast<int>(results.report->errors.size());
+}
+
+/// The outputs written, the closing lines printed; the exit status.
+int write_and_close(SuiteResults& results, const OutputOptions& o, StagedOutput& staged) {
   write_outputs(results, o, staged);
-  Gates gates;
-  gates.total = results["summary"].value("sweep_gates", 0);
-  gates.failed = results["summary"].value("sweep_gates_failed", 0);
-  print_summary(results, o, gates, staged);
-  return results["summary"].value("unexpected", 0) == 0 && results["summary"].value("baseline_problems", 0) == 0 ? 0
-                                                                                                                 : 1;
+  const int report_problems = print_report_problems(results, o);
+  print_summary(results, o, staged);
+  if (report_problems > 0)
+    std::cout << fmt::format("the report has {} problem{} (listed above{})\n", report_problems,
+                             report_problems == 1 ? "" : "s",
+                             index_written(staged.final_path()) ? " and in index.html" : "");
+  // A report that could not be built counts: the suite is not whole without it.
+  return summarize(results).all_as_expected() && report_problems == 0 ? 0 : 1;
+}
+
+}  // namespace
+
+int finish_suite(SuiteResults& results, const OutputOptions& o, const std::optional<SuiteResults>& baseline,
+                 StagedOutput& staged) {
+  print_failed_gates(results);
+  if (baseline) compare_with_baseline(results, o.baseline_path, *baseline, o.worse_factor);
+  return write_and_close(results, o, staged);
+}
+
+int render_again(SuiteResults& results, const OutputOptions& o, StagedOutput& staged) {
+  return write_and_close(results, o, staged);
 }
 
 }  // namespace liftcheck::cli

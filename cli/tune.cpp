@@ -14,7 +14,6 @@
 #include "harness/sweeps.hpp"
 #include "harness/tune.hpp"
 #include "input/atomic_file.hpp"
-#include "input/record_view.hpp"
 #include "input/trace.hpp"
 #include "reports/plots.hpp"
 
@@ -33,7 +32,7 @@ TuneRunner runner_for(const Scenario& s, const EngineInfo& e, const RunnerDef& r
     std::vector<size_t> all(plan.items.size());
     for (size_t i = 0; i < all.size(); ++i) all[i] = i;
     try {
-      return run_items(plan, all, runner, [](size_t, const nlohmann::json&, double) {});
+      return run_items(plan, all, runner, [](size_t, const RunResult&, double) {});
     } catch (const RunnerStopped& x) {
       throw Interrupted(pending_signal(), x.what());
     }
@@ -41,13 +40,12 @@ TuneRunner runner_for(const Scenario& s, const EngineInfo& e, const RunnerDef& r
 }
 
 std::string worst_text(const TuneStep& st) {
-  if (st.record.value("status", "") == "error") return "error";
+  if (st.record.status == Status::kError) return "error";
   if (st.pass) return fmt::format("{:.2g}", st.worst_ratio);
   std::string worst;
   double w = -1.0;
-  const nlohmann::json metrics = st.record.value("metrics", nlohmann::json::object());
-  for (const auto& [name, m] : metrics.items())
-    if (const MetricView v(m); !v.pass() && v.counted() && v.ratio() > w) w = v.ratio(), worst = name;
+  for (const Metric& m : st.record.metrics)
+    if (!m.pass && m.counted() && m.ratio() > w) w = m.ratio(), worst = m.name;
   return fmt::format("{:.2g} {}", st.worst_ratio, worst);
 }
 
@@ -69,7 +67,7 @@ std::string answer_text(const Scenario& s, const EngineInfo& e, const TuneResult
     return fmt::format(
         "{} on {}: the default run is an error ({}); with no default verdict there is nothing to "
         "judge other settings against",
-        s.name, printable(e.name), printable(r.walked.front().record.value("message", ""), 300));
+        s.name, printable(e.name), printable(r.walked.front().record.message, 300));
   const double base = r.walked.front().cost_ms_per_s;
   const std::string budget =
       r.unmade > 0 ? fmt::format(" (the budget of {} runs left {} planned runs unmade)", r.budget_runs, r.unmade) : "";
@@ -141,12 +139,11 @@ int cmd_tune(const std::string& scenario, const std::string& engine, int budget,
   throw_if_interrupted("during tune");
   if (r.stopped == "skip")
     throw InputError(fmt::format("{} does not apply to {}: {}", s.name, printable(e.name),
-                                 printable(r.walked.front().record.value("message", ""), 300)));
-  nlohmann::json doc = r.to_json();
-  doc["scenario"] = s.name;
-  doc["engine"] = e.name;
-  doc["answer_text"] = answer_text(s, e, r);
-  doc["mass_notes"] = mass_notes(s, e);
+                                 printable(r.walked.front().record.message, 300)));
+  nlohmann::json doc = r.to_json();  // tune.json, what leaves: the walk with every run's record
+  const std::string answer = answer_text(s, e, r);
+  const std::vector<std::string> notes = mass_notes(s, e);
+  doc.update({{"scenario", s.name}, {"engine", e.name}, {"answer_text", answer}, {"mass_notes", notes}});
   if (out) {
     write_file_atomic(out->stage() / "tune.json", doc.dump(1));
     write_tune_plot(doc, out->stage());
@@ -156,9 +153,8 @@ int cmd_tune(const std::string& scenario, const std::string& engine, int budget,
     std::cout << doc.dump() << "\n";
   } else {
     print_walk(r);
-    for (const auto& note : doc["mass_notes"])
-      std::cout << "note: the car's masses are not searched; " << note.get<std::string>() << "\n";
-    std::cout << doc["answer_text"].get<std::string>() << "\n";
+    for (const auto& note : notes) std::cout << "note: the car's masses are not searched; " << note << "\n";
+    std::cout << answer << "\n";
   }
   return r.answer ? 0 : 1;
 }

@@ -17,7 +17,6 @@
 #include "cli/shard.hpp"
 #include "cli/suite_output.hpp"
 #include "harness/results.hpp"
-#include "input/record_view.hpp"
 #include "input/trace.hpp"  // printable
 
 namespace liftcheck::cli {
@@ -53,7 +52,7 @@ SuiteDef suite_def(const ValidateOptions& v, const RunnerDef& runner) {
 
 /// The records of a share by key, with where its time went.
 struct Ran {
-  std::map<std::string, nlohmann::json> by_key;
+  Records by_key;
   SuiteTiming timing;
 };
 
@@ -65,16 +64,16 @@ constexpr std::size_t kLineColumns = 120;
 
 /// Its failing metrics worst first with their multiples of tolerance, as many as fit in `width`
 /// columns (all with width 0), then how many more.
-std::string failing_metrics_text(const nlohmann::json& r, std::size_t width) {
-  std::vector<std::pair<std::string, MetricView>> out;
-  for (const auto& nm : RecordView(r).metrics_worst_first())
-    if (!nm.second.pass() && nm.second.counted()) out.push_back(nm);
-  if (out.empty()) return printable(r["message"].get<std::string>(), 1000);
+std::string failing_metrics_text(const RunResult& r, std::size_t width) {
+  std::vector<const Metric*> out;
+  for (const Metric* m : r.metrics_worst_first())
+    if (!m->pass && m->counted()) out.push_back(m);
+  if (out.empty()) return printable(r.message, 1000);
   std::string text;
   for (std::size_t i = 0; i < out.size(); ++i) {
-    const MetricView& m = out[i].second;
+    const Metric& m = *out[i];
     const std::string item =
-        fmt::format("{}{} {}", i ? ", " : "", out[i].first,
+        fmt::format("{}{} {}", i ? ", " : "", m.name,
                     std::isfinite(m.ratio()) ? fmt::format("{:.3g}x", m.ratio())
                                              : fmt::format("{:.3g} (tolerance 0)", m.compared_error()));
     const std::string more = fmt::format(", +{} more", out.size() - i - 1);
@@ -95,17 +94,18 @@ std::string fitted(const std::string& text, std::size_t width) {
 
 /// A run's line: its verdict, scenario, configuration, engine seconds and what failed, in 120
 /// columns (with --verbose, the whole message: the reason of a known failure, every metric).
-void print_run_line(const nlohmann::json& r, bool verbose) {
-  const std::string status = r["status"], message = printable(r["message"].get<std::string>(), 1000);
-  const bool as_expected = r["as_expected"].get<bool>();
-  const std::string head = fmt::format("{:<15} {:<18} {:<18} {:7.3f} s  ", r["verdict"].get<std::string>(),
-                                       printable(r["scenario"].get<std::string>(), 200),
-                                       printable(r["engine"].get<std::string>(), 200), r["wall_s"].get<double>());
+void print_run_line(const RunResult& r, bool verbose) {
+  const std::string message = printable(r.message, 1000);
+  const std::string verdict = to_string(r.verdict());
+  const std::string head = fmt::format("{:<15} {:<18} {:<18} {:7.3f} s  ", verdict, printable(r.scenario, 200),
+                                       printable(r.engine, 200), r.wall_s);
   const std::size_t room = verbose || head.size() >= kLineColumns ? 0 : kLineColumns - head.size();
-  std::string what = status == "fail" ? failing_metrics_text(r, room) : status == "pass" ? "" : message;
-  if (!as_expected && status == "fail" && verbose) what += " — " + message;
-  if (!as_expected && status == "pass") what = "passes, and is listed as a known failure";
-  std::cout << coloured_verdict(r["verdict"].get<std::string>(), 15) << head.substr(15) << fitted(what, room) << "\n";
+  std::string what = r.status == Status::kFail   ? failing_metrics_text(r, room)
+                     : r.status == Status::kPass ? ""
+                                                 : message;
+  if (!r.as_expected() && r.status == Status::kFail && verbose) what += " — " + message;
+  if (!r.as_expected() && r.status == Status::kPass) what = "passes, and is listed as a known failure";
+  std::cout << coloured_verdict(verdict, 15) << head.substr(15) << fitted(what, room) << "\n";
 }
 
 /// One line on stderr when an outside configuration of the default suite runs the adapters of the
@@ -128,8 +128,8 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
   Ran ran;
   const auto t0 = std::chrono::steady_clock::now();
   Progress progress;
-  std::vector<nlohmann::json> records;
-  const auto done = [&](size_t i, const nlohmann::json& r, double held_s) {
+  std::vector<RunResult> records;
+  const auto done = [&](size_t i, const RunResult& r, double held_s) {
     const SuiteItem& it = plan.items[i];
     ran.timing.count(it, r, held_s);
     if (it.kind != SuiteItem::kRun) return;
@@ -145,34 +145,34 @@ Ran run_share(const SuitePlan& plan, const std::vector<size_t>& which, const Run
   }
   progress.clear();
   ran.timing.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  for (size_t k = 0; k < which.size(); ++k) ran.by_key[plan.items[which[k]].key] = records[k];
+  for (size_t k = 0; k < which.size(); ++k) ran.by_key[plan.items[which[k]].key] = std::move(records[k]);
   take_shared_records(plan, ran.by_key);
   return ran;
 }
 
 /// A share: its runs and the records of its points, which merge assembles with the others'.
-nlohmann::json shard_results(const SuitePlan& plan, const std::vector<size_t>& which, const Ran& ran,
-                             const nlohmann::json& context, int shard_index, int shard_total) {
-  nlohmann::json runs = nlohmann::json::array(), points = nlohmann::json::object();
+SuiteResults shard_results(const SuitePlan& plan, const std::vector<size_t>& which, Ran& ran, SuiteContext context,
+                           int shard_index, int shard_total) {
+  SuiteResults results;
+  results.context = std::move(context);
+  ShardInfo shard;
+  shard.index = shard_index, shard.total = shard_total, shard.items = which.size();
+  shard.selection = plan.selection();
   // Its items and the runs that judged their drives, in plan order (ran.by_key holds exactly those).
   for (const SuiteItem& it : plan.items) {
+    shard.keys.push_back(it.key);
     const auto rec = ran.by_key.find(it.key);
     if (rec == ran.by_key.end()) continue;
-    (it.kind == SuiteItem::kRun ? runs.push_back(rec->second) : (void)(points[it.key] = rec->second));
+    if (it.kind == SuiteItem::kRun)
+      results.runs.push_back(std::move(rec->second));
+    else
+      results.points.emplace(it.key, std::move(rec->second));
   }
-  nlohmann::json results = results_from_records(runs, context);
-  results["sweeps"] = nlohmann::json::array();
-  results["maps"] = nlohmann::json::array();
-  results["shard"] = {{"index", shard_index}, {"total", shard_total}, {"items", which.size()}};
-  nlohmann::json keys = nlohmann::json::array();
-  for (const SuiteItem& it : plan.items) keys.push_back(it.key);
-  results["plan"] = {{"selection", plan.selection()}, {"keys", keys}};
-  results["points"] = points;
-  results["scenarios"] = nlohmann::json::array();
-  for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
+  for (const Scenario* s : plan.scenarios) results.scenarios.push_back(s->info());
   std::cout << fmt::format(
       "shard {}/{}: {} of {} runs and points ({} sweep, outcome and map points; their gates are judged at merge)\n",
-      shard_index, shard_total, which.size(), plan.items.size(), points.size());
+      shard_index, shard_total, which.size(), plan.items.size(), results.points.size());
+  results.shard = std::move(shard);
   return results;
 }
 
@@ -180,7 +180,7 @@ int cmd_validate(const ValidateOptions& v) {
   const RunnerDef runner = runner_def(v.jobs, v.timeout_s, v.memory_limit_mib);
   OutputOptions o = v.out;
   o.threads = runner.jobs;  // --jobs 1 renders on one core too
-  const nlohmann::json baseline = read_baseline(o.baseline_path, o.update_baseline);
+  const std::optional<SuiteResults> baseline = read_baseline(o.baseline_path, o.update_baseline);
   const auto [shard_index, shard_total] = parse_shard(v.shard);
   SuiteDef def = suite_def(v, runner);
   std::vector<const EngineInfo*> listed = def.engines;
@@ -199,9 +199,9 @@ int cmd_validate(const ValidateOptions& v) {
       shard_share(plan, shard_total > 0 ? shard_index : 1, shard_total > 0 ? shard_total : 1);
   warn_if_outside_suite_is_the_source_trees(listed);
   Ran ran = run_share(plan, which, runner, v.verbose);
-  const nlohmann::json context = suite_context(listed, ran.timing, runner, def.set);
-  nlohmann::json results = shard_total > 0 ? shard_results(plan, which, ran, context, shard_index, shard_total)
-                                           : suite_results(plan, ran.by_key, context);
+  SuiteContext context = suite_context(listed, ran.timing, runner, def.set);
+  SuiteResults results = shard_total > 0 ? shard_results(plan, which, ran, std::move(context), shard_index, shard_total)
+                                         : suite_results(plan, ran.by_key, std::move(context));
   return finish_suite(results, o, baseline, staged);
 }
 
@@ -216,9 +216,10 @@ Command add_validate(CLI::App& app) {
   validate->add_option("--filter", v->filter, "glob on scenario names (comma-separated globs: any may match)")
       ->capture_default_str();
   validate->add_option("--out", v->out.out_dir, "output folder")->capture_default_str();
-  validate->add_option("--baseline", v->out.baseline_path,
-                       "compare the runs made with this baseline (data/baselines/default.json): a regression or a "
-                       "metric grown tenfold exits 1");
+  validate->add_option(
+      "--baseline", v->out.baseline_path,
+      "compare the runs and points made with this baseline (data/baselines/default.json): a regression "
+      "or a metric grown by more than --worse-factor exits 1");
   validate->add_flag("--update-baseline", v->out.update_baseline,
                      "rewrite the --baseline file from this run instead of comparing");
   validate
@@ -248,6 +249,7 @@ Command add_validate(CLI::App& app) {
           "limit of each worker process's address space in MiB: a run that needs more is an error, the suite goes on")
       ->capture_default_str();
   add_report_memory_option(validate, v->out);
+  add_worse_factor_option(validate, v->out);
   validate->add_option("--shard", v->shard,
                        "run the I-th of N deterministic shares of the runs and sweep points, I/N (default: "
                        "GTEST_SHARD_INDEX+1 / GTEST_TOTAL_SHARDS when set); join them with 'liftcheck merge'");

@@ -152,158 +152,215 @@ void RigidCar::reset_with(const CarSetup& setup, const car::Config& q0, const Se
   build(setup_, def_, q0_);
 }
 
-std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) {
-  const double dt = setup_.dt_s;
-  const double T = path.duration_s();
-  const long settle_steps = std::lround(servo_.settle_s / dt);
-  const long steps = static_cast<long>(std::ceil((T + servo_.hold_s) / dt - 1e-9));
-  const long sample_every = std::max(1L, std::lround(setup_.sample_dt_s / dt));
-  const bool four = def_.wheels == 4;
-  const int n_front = four ? 2 : 1, n_wheels = four ? 4 : 3;
-  static const char* const kTricycle[3] = {"front", "rear left", "rear right"};
-  static const char* const kFour[4] = {"front left", "front right", "rear left", "rear right"};
-  const char* const* names = four ? kFour : kTricycle;
-  const car::Side kSides[2] = {car::Side::kLeft, car::Side::kRight};
+/// One drive: the servo's loop over the engine's steps, the wheel angle and heading it books, the
+/// slip and the ground's load it measures.
+class RigidCar::Drive {
+ public:
+  Drive(RigidCar& car, const car::BasePath& path);
+  std::vector<car::TimedConfig> run();
 
-  RigidCarState s = read();
-  // The realized virtual steering angle: the tricycle's one wheel, or for four wheels the mean of
-  // the front wheels' cotangents (models/ackermann.hpp), exact for Ackermann and parallel wheels.
-  const auto virtual_beta = [&](const RigidCarState& st) {
-    return four ? car::virtual_steering_angle(st.steer_rad[0], st.steer_rad[1]) : st.steer_rad[0];
-  };
-  // Front wheel k rolls at rho_k times the front-axle centre (its turning radius over the
-  // centre's; 1 for the tricycle): the electronic differential drives it so, and the tricycle's
-  // wheel angle alpha of (3.3) advances by the mean of the wheels' increments over their rho_k.
-  // (The plain average of the two wheel angles, Fecko's introduction, runs faster by
-  // (rho_left + rho_right)/2 - 1, 6.2e-4 at beta = 0.3, w/l = 0.8.)
-  const auto rho = [&](int k, double beta) {
-    return four ? car::ackermann_drive_ratio(beta, def_.l_m, def_.track_m, kSides[k]) : 1.0;
-  };
-  double beta = virtual_beta(s);
-  double alpha = 0.0;  // unwrapped wheel angle of the tricycle equivalent
-  double prev_joint[2] = {s.spin_joint_rad[0], s.spin_joint_rad[1]};
-  double prev_phi = s.phi_rad;
-  double phi = q0_.phi_rad + e2::wrap_angle(s.phi_rad - q0_.phi_rad);  // unwrapped from the start heading
-  std::vector<car::TimedConfig> trace;
+ private:
+  /// The realized virtual steering angle: the tricycle's one wheel, or for four wheels the mean of
+  /// the front wheels' cotangents (models/ackermann.hpp), exact for Ackermann and parallel wheels.
+  double virtual_beta(const RigidCarState& st) const {
+    return four_ ? car::virtual_steering_angle(st.steer_rad[0], st.steer_rad[1]) : st.steer_rad[0];
+  }
+  /// Front wheel k rolls at rho_k times the front-axle centre (its turning radius over the
+  /// centre's; 1 for the tricycle): the electronic differential drives it so, and the tricycle's
+  /// wheel angle alpha of (3.3) advances by the mean of the wheels' increments over their rho_k.
+  /// (The plain average of the two wheel angles, Fecko's introduction, runs faster by
+  /// (rho_left + rho_right)/2 - 1, 6.2e-4 at beta = 0.3, w/l = 0.8.)
+  double rho(int k, double beta) const {
+    return four_ ? car::ackermann_drive_ratio(beta, car_.def_.l_m, car_.def_.track_m, kSides[k]) : 1.0;
+  }
+  FrontRates rates_for(const ServoTarget& g) const;
+  void advance(double t_end, const ServoTarget& g);
+  void book_angles();
+  void check(double t_end) const;
+  template <class TargetOf>
+  void plan_from(long k, long n, const TargetOf& target_of);
+  void settle();
+  ServoTarget command(long k) const;
+  void book_slip();
+  void sample(double t) { trace_.push_back({t, car::Config{alpha_, beta_, s_.x_m, s_.y_m, phi_}}); }
 
-  // A wheel hub faster than ten times the cruise speed (or 50 m/s) has blown up.
-  const double runaway_mps = std::max(kRunawaySpeed_mps, kRunawayFactor * setup_.drive.speed_mps);
-  // One step: servo towards (target_alpha, target_beta) with feed-forward rates, then read and check.
-  // The targets are the command at the start of the step, the instant of the realized angles they
-  // are compared with; the feed-forward is the command's rate at the step's middle, so the step
-  // carries the angle from the command at its start to (to second order) the command at its end.
-  const auto advance = [&](double t_end, double target_alpha, double target_beta, double alpha_rate, double beta_rate) {
-    FrontRates rates;
-    const double roll_radps = alpha_rate + servo_.spin_gain_per_s * (target_alpha - alpha);
-    for (int k = 0; k < n_front; ++k) {
-      // Four wheels: each front wheel's own steering target (its Ackermann angle, or beta itself
-      // when steered in parallel), its feed-forward rate d(beta_k)/d(beta) x beta_rate.
-      double target_k = target_beta, rate_k = beta_rate;
-      if (four && !def_.parallel_steering) {
-        target_k = car::ackermann_wheel_angle(target_beta, def_.l_m, def_.track_m, kSides[k]);
-        rate_k = car::ackermann_steer_rate_factor(target_beta, def_.l_m, def_.track_m, kSides[k]) * beta_rate;
-      }
-      rates.steer_radps[k] = rate_k + servo_.steer_gain_per_s * (target_k - s.steer_rad[k]);
-      rates.spin_radps[k] = rho(k, beta) * roll_radps;
+  static constexpr car::Side kSides[2] = {car::Side::kLeft, car::Side::kRight};
+  static constexpr const char* kTricycle[3] = {"front", "rear left", "rear right"};
+  static constexpr const char* kFour[4] = {"front left", "front right", "rear left", "rear right"};
+
+  RigidCar& car_;
+  const car::BasePath& path_;
+  const double dt_;
+  const bool four_;
+  const int n_front_, n_wheels_;
+  const char* const* names_;
+  /// A wheel hub faster than ten times the cruise speed (or 50 m/s) has blown up.
+  const double runaway_mps_;
+  RigidCarState s_;
+  double beta_, alpha_ = 0.0;  ///< alpha: the unwrapped wheel angle of the tricycle equivalent
+  double prev_joint_[2];
+  double prev_phi_, phi_;  ///< phi unwrapped from the start heading
+  std::vector<car::TimedConfig> trace_;
+  LoadBook load_;                     ///< the ground's load (the plane z = 0), from the engine's own contact report
+  std::vector<ServoTarget> targets_;  ///< the planned run of steps (kPlanSteps)
+  double sum_sq_[4] = {0.0, 0.0, 0.0, 0.0}, roll_sum_[4] = {0.0, 0.0, 0.0, 0.0};
+};
+
+RigidCar::Drive::Drive(RigidCar& car, const car::BasePath& path)
+    : car_(car),
+      path_(path),
+      dt_(car.setup_.dt_s),
+      four_(car.def_.wheels == 4),
+      n_front_(four_ ? 2 : 1),
+      n_wheels_(four_ ? 4 : 3),
+      names_(four_ ? kFour : kTricycle),
+      runaway_mps_(std::max(kRunawaySpeed_mps, kRunawayFactor * car.setup_.drive.speed_mps)),
+      s_(car.read()),
+      beta_(virtual_beta(s_)),
+      prev_joint_{s_.spin_joint_rad[0], s_.spin_joint_rad[1]},
+      prev_phi_(s_.phi_rad),
+      phi_(car.q0_.phi_rad + e2::wrap_angle(s_.phi_rad - car.q0_.phi_rad)),
+      load_(car.def_, car.setup_) {}
+
+/// The servo's rates towards the step's targets, with feed-forward rates.
+FrontRates RigidCar::Drive::rates_for(const ServoTarget& g) const {
+  const ServoDef& servo = car_.servo_;
+  const TricycleDef& def = car_.def_;
+  FrontRates rates;
+  const double roll_radps = g.alpha_rate_radps + servo.spin_gain_per_s * (g.alpha_rad - alpha_);
+  for (int k = 0; k < n_front_; ++k) {
+    // Four wheels: each front wheel's own steering target (its Ackermann angle, or beta itself
+    // when steered in parallel), its feed-forward rate d(beta_k)/d(beta) x beta_rate.
+    double target_k = g.beta_rad, rate_k = g.beta_rate_radps;
+    if (four_ && !def.parallel_steering) {
+      target_k = car::ackermann_wheel_angle(g.beta_rad, def.l_m, def.track_m, kSides[k]);
+      rate_k = car::ackermann_steer_rate_factor(g.beta_rad, def.l_m, def.track_m, kSides[k]) * g.beta_rate_radps;
     }
-    actuate(rates, servo_);
-    step(dt);
-    stepped_s_ += dt;
-    s = read();
-    beta = virtual_beta(s);
-    double d_alpha = 0.0;
-    for (int k = 0; k < n_front; ++k) {
-      d_alpha += e2::wrap_angle(s.spin_joint_rad[k] - prev_joint[k]) / rho(k, beta);
-      prev_joint[k] = s.spin_joint_rad[k];
-    }
-    alpha += d_alpha / n_front;
-    phi += e2::wrap_angle(s.phi_rad - prev_phi);
-    prev_phi = s.phi_rad;
-    const bool finite = std::isfinite(s.x_m) && std::isfinite(s.y_m) && std::isfinite(s.z_m) &&
-                        std::isfinite(s.phi_rad) && std::isfinite(beta) && std::isfinite(alpha);
-    if (!finite) throw EngineError(fmt::format("simulation produced NaN at t = {:.4f} s", t_end));
-    for (int w = 0; w < n_wheels; ++w) {
-      const double v = s.wheels[w].v_hub_W.norm();
-      if (!(v <= runaway_mps))
-        throw EngineError(fmt::format("{} wheel speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {:g} m/s)", names[w],
-                                      v, t_end, runaway_mps));
-    }
-    for (const auto& [which, z] : {std::pair{"front", s.z_m}, std::pair{"rear", s.rear_z_m}})
-      if (std::abs(z - def_.R_m) > def_.R_m)
-        throw EngineError(
-            fmt::format("car left the ground ({} wheel centre at z = {:.3f} m, radius {:.3f} m) at t = {:.4f} s", which,
-                        z, def_.R_m, t_end));
-  };
+    rates.steer_radps[k] = rate_k + servo.steer_gain_per_s * (target_k - s_.steer_rad[k]);
+    rates.spin_radps[k] = rho(k, beta_) * roll_radps;
+  }
+  return rates;
+}
 
-  // The ground's load (the plane z = 0), from the engine's own contact report.
-  LoadBook load(def_, setup_);
-  const long rest_steps = std::min(settle_steps, std::lround(GroundLoad::kRestWindow_s / dt));
+/// One step: servo towards the targets with feed-forward rates, then read and check. The targets
+/// are the command at the start of the step, the instant of the realized angles they are compared
+/// with; the feed-forward is the command's rate at the step's middle, so the step carries the angle
+/// from the command at its start to (to second order) the command at its end.
+void RigidCar::Drive::advance(double t_end, const ServoTarget& g) {
+  car_.actuate(rates_for(g), car_.servo_);
+  car_.step(dt_);
+  car_.stepped_s_ += dt_;
+  s_ = car_.read();
+  book_angles();
+  check(t_end);
+}
 
-  // The steps go in runs of kPlanSteps, each run's targets told to the engine first (plan()).
-  std::vector<ServoTarget> targets;
-  const auto plan_from = [&](long k, long n, const auto& target_of) {
-    targets.clear();
-    for (long j = k; j < std::min(n, k + kPlanSteps); ++j) targets.push_back(target_of(j));
-    plan(targets, alpha, s);
-  };
+/// The realized steering angle, the wheel angle's increment and the heading's, from the state read.
+void RigidCar::Drive::book_angles() {
+  beta_ = virtual_beta(s_);
+  double d_alpha = 0.0;
+  for (int k = 0; k < n_front_; ++k) {
+    d_alpha += e2::wrap_angle(s_.spin_joint_rad[k] - prev_joint_[k]) / rho(k, beta_);
+    prev_joint_[k] = s_.spin_joint_rad[k];
+  }
+  alpha_ += d_alpha / n_front_;
+  phi_ += e2::wrap_angle(s_.phi_rad - prev_phi_);
+  prev_phi_ = s_.phi_rad;
+}
 
-  // Settle on the wheels: the contacts load up while the servos hold alpha = 0 and beta = beta0.
-  const auto hold = [&](long) { return ServoTarget{0.0, q0_.beta_rad, 0.0, 0.0}; };
+/// A blow-up (a NaN, a runaway wheel) or a car off the ground ends the drive with an error.
+void RigidCar::Drive::check(double t_end) const {
+  const bool finite = std::isfinite(s_.x_m) && std::isfinite(s_.y_m) && std::isfinite(s_.z_m) &&
+                      std::isfinite(s_.phi_rad) && std::isfinite(beta_) && std::isfinite(alpha_);
+  if (!finite) throw EngineError(fmt::format("simulation produced NaN at t = {:.4f} s", t_end));
+  for (int w = 0; w < n_wheels_; ++w) {
+    const double v = s_.wheels[w].v_hub_W.norm();
+    if (!(v <= runaway_mps_))
+      throw EngineError(fmt::format("{} wheel speed {:.3g} m/s at t = {:.4f} s (a blow-up: above {:g} m/s)", names_[w],
+                                    v, t_end, runaway_mps_));
+  }
+  const double R = car_.def_.R_m;
+  for (const auto& [which, z] : {std::pair{"front", s_.z_m}, std::pair{"rear", s_.rear_z_m}})
+    if (std::abs(z - R) > R)
+      throw EngineError(
+          fmt::format("car left the ground ({} wheel centre at z = {:.3f} m, radius {:.3f} m) at t = {:.4f} s", which,
+                      z, R, t_end));
+}
+
+/// The steps go in runs of kPlanSteps, each run's targets told to the engine first (plan()).
+template <class TargetOf>
+void RigidCar::Drive::plan_from(long k, long n, const TargetOf& target_of) {
+  targets_.clear();
+  for (long j = k; j < std::min(n, k + kPlanSteps); ++j) targets_.push_back(target_of(j));
+  car_.plan(targets_, alpha_, s_);
+}
+
+/// Settle on the wheels: the contacts load up while the servos hold alpha = 0 and beta = beta0.
+void RigidCar::Drive::settle() {
+  const long settle_steps = std::lround(car_.servo_.settle_s / dt_);
+  const long rest_steps = std::min(settle_steps, std::lround(GroundLoad::kRestWindow_s / dt_));
+  const auto hold = [&](long) { return ServoTarget{0.0, car_.q0_.beta_rad, 0.0, 0.0}; };
   for (long k = 0; k < settle_steps; ++k) {
     if (k % kPlanSteps == 0) plan_from(k, settle_steps, hold);
-    const ServoTarget& g = targets[k % kPlanSteps];
-    advance(-(settle_steps - k - 1) * dt, g.alpha_rad, g.beta_rad, g.alpha_rate_radps, g.beta_rate_radps);
-    if (k >= settle_steps - rest_steps) load.rest(ground_force_W(), -(settle_steps - k - 1) * dt);
+    advance(-(settle_steps - k - 1) * dt_, targets_[k % kPlanSteps]);
+    if (k >= settle_steps - rest_steps) load_.rest(car_.ground_force_W(), -(settle_steps - k - 1) * dt_);
   }
-  load.start_drive(s);
-  alpha = 0.0;  // the drive starts at alpha = 0
+  load_.start_drive(s_);
+  alpha_ = 0.0;  // the drive starts at alpha = 0
+}
 
-  // Contact-point slip of each wheel, every step of the drive: the contact point of a sphere (or an
-  // upright cylinder) on the ground z = 0 lies straight below the hub.
-  slip_.assign(n_wheels, WheelSlip{});
-  double sum_sq[4] = {0.0, 0.0, 0.0, 0.0}, roll_sum[4] = {0.0, 0.0, 0.0, 0.0};
-  const auto book_slip = [&] {
-    for (int w = 0; w < n_wheels; ++w) {
-      const WheelState& ws = s.wheels[w];
-      const Eigen::Vector3d v = ws.v_hub_W + ws.omega_W.cross(Eigen::Vector3d(0.0, 0.0, -ws.hub_z_m));
-      Eigen::Vector3d axle(ws.axle_W.x(), ws.axle_W.y(), 0.0);
-      axle.normalize();
-      const Eigen::Vector3d roll = axle.cross(Eigen::Vector3d::UnitZ());
-      slip_[w].along_max_mps = std::max(slip_[w].along_max_mps, std::abs(v.dot(roll)));
-      slip_[w].across_max_mps = std::max(slip_[w].across_max_mps, std::abs(v.dot(axle)));
-      sum_sq[w] += v.x() * v.x() + v.y() * v.y();
-      roll_sum[w] += std::abs(ws.omega_W.dot(axle) * ws.hub_z_m);
-    }
-  };
+/// The command of the step from t0 = k dt: at its start, its rates at its middle.
+ServoTarget RigidCar::Drive::command(long k) const {
+  const double t0 = k * dt_;
+  const double ta = std::max(0.0, car_.servo_instant_s(t0, false)), tb = std::max(0.0, car_.servo_instant_s(t0, true));
+  const car::BaseSample drive = path_.at(ta), drive_mid = path_.at(ta + 0.5 * dt_);
+  const car::BaseSample steer = tb == ta ? drive : path_.at(tb),
+                        steer_mid = tb == ta ? drive_mid : path_.at(tb + 0.5 * dt_);
+  return ServoTarget{drive.alpha_rad, steer.beta_rad, drive_mid.alpha_rate_radps, steer_mid.beta_rate_radps};
+}
 
-  const auto sample = [&](double t) { trace.push_back({t, car::Config{alpha, beta, s.x_m, s.y_m, phi}}); };
+/// Contact-point slip of each wheel, every step of the drive: the contact point of a sphere (or an
+/// upright cylinder) on the ground z = 0 lies straight below the hub.
+void RigidCar::Drive::book_slip() {
+  std::vector<WheelSlip>& slip = car_.slip_;
+  for (int w = 0; w < n_wheels_; ++w) {
+    const WheelState& ws = s_.wheels[w];
+    const Eigen::Vector3d v = ws.v_hub_W + ws.omega_W.cross(Eigen::Vector3d(0.0, 0.0, -ws.hub_z_m));
+    Eigen::Vector3d axle(ws.axle_W.x(), ws.axle_W.y(), 0.0);
+    axle.normalize();
+    const Eigen::Vector3d roll = axle.cross(Eigen::Vector3d::UnitZ());
+    slip[w].along_max_mps = std::max(slip[w].along_max_mps, std::abs(v.dot(roll)));
+    slip[w].across_max_mps = std::max(slip[w].across_max_mps, std::abs(v.dot(axle)));
+    sum_sq_[w] += v.x() * v.x() + v.y() * v.y();
+    roll_sum_[w] += std::abs(ws.omega_W.dot(axle) * ws.hub_z_m);
+  }
+}
+
+std::vector<car::TimedConfig> RigidCar::Drive::run() {
+  const long steps = static_cast<long>(std::ceil((path_.duration_s() + car_.servo_.hold_s) / dt_ - 1e-9));
+  const long sample_every = std::max(1L, std::lround(car_.setup_.sample_dt_s / dt_));
+  settle();
+  car_.slip_.assign(n_wheels_, WheelSlip{});
   sample(0.0);
-  // The command of the step from t0 = k dt: at its start, its rates at its middle.
-  const auto command = [&](long k) {
-    const double t0 = k * dt;
-    const double ta = std::max(0.0, servo_instant_s(t0, false)), tb = std::max(0.0, servo_instant_s(t0, true));
-    const car::BaseSample drive = path.at(ta), drive_mid = path.at(ta + 0.5 * dt);
-    const car::BaseSample steer = tb == ta ? drive : path.at(tb),
-                          steer_mid = tb == ta ? drive_mid : path.at(tb + 0.5 * dt);
-    return ServoTarget{drive.alpha_rad, steer.beta_rad, drive_mid.alpha_rate_radps, steer_mid.beta_rate_radps};
-  };
   for (long k = 0; k < steps; ++k) {
-    const double t1 = (k + 1) * dt;
-    if (k % kPlanSteps == 0) plan_from(k, steps, command);
-    const ServoTarget& g = targets[k % kPlanSteps];
-    advance(t1, g.alpha_rad, g.beta_rad, g.alpha_rate_radps, g.beta_rate_radps);
+    const double t1 = (k + 1) * dt_;
+    if (k % kPlanSteps == 0) plan_from(k, steps, [&](long j) { return command(j); });
+    advance(t1, targets_[k % kPlanSteps]);
     book_slip();
-    load.drive(ground_force_W(), s, t1, dt);
+    load_.drive(car_.ground_force_W(), s_, t1, dt_);
     if ((k + 1) % sample_every == 0 || k + 1 == steps) sample(t1);
   }
-  for (int w = 0; w < n_wheels; ++w) {
-    slip_[w].wheel = names[w];
-    slip_[w].rms_mps = steps > 0 ? std::sqrt(sum_sq[w] / steps) : 0.0;
-    slip_[w].roll_mean_mps = steps > 0 ? roll_sum[w] / steps : 0.0;
-    slip_[w].along_measured = wheels_spin();
+  for (int w = 0; w < n_wheels_; ++w) {
+    WheelSlip& slip = car_.slip_[w];
+    slip.wheel = names_[w];
+    slip.rms_mps = steps > 0 ? std::sqrt(sum_sq_[w] / steps) : 0.0;
+    slip.roll_mean_mps = steps > 0 ? roll_sum_[w] / steps : 0.0;
+    slip.along_measured = car_.wheels_spin();
   }
-  load_ = load.finish(ground_force_absent_why());
-  return trace;
+  car_.load_ = load_.finish(car_.ground_force_absent_why());
+  return trace_;
 }
+
+std::vector<car::TimedConfig> RigidCar::drive(const car::BasePath& path) { return Drive(*this, path).run(); }
 
 }  // namespace liftcheck

@@ -160,6 +160,9 @@ class RigidCar : public CarEngine {
   std::vector<WheelSlip> slip_;
   GroundLoad load_;
   double stepped_s_ = 0.0;
+
+ private:
+  class Drive;  ///< drive()'s loop and its state (rigid_car.cpp)
 };
 
 }  // namespace liftcheck

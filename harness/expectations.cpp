@@ -22,19 +22,6 @@ Ceilings parse_ceilings(const nlohmann::json& metrics, const std::string& where)
   return c;
 }
 
-std::vector<std::string> beyond_ceilings(const Ceilings& ceilings,
-                                         const std::vector<std::pair<std::string, double>>& failed) {
-  std::vector<std::string> problems;
-  for (const auto& [name, error] : failed) {
-    const auto it = ceilings.find(name);
-    if (it == ceilings.end())
-      problems.push_back(fmt::format("{} fails but is not among the known failure's metrics", name));
-    else if (!(error <= it->second))
-      problems.push_back(fmt::format("{} error {:.3g} is above its known ceiling {:.3g}", name, error, it->second));
-  }
-  return problems;
-}
-
 bool Evidence::holds(double from_now, double to_now, double tolerance, double to_tolerance) const {
   const auto near = [](double now, double recorded, double tol) {
     if (recorded <= tol) return now <= tol;
@@ -55,8 +42,6 @@ std::string Evidence::change_text() const {
   for (const auto& [k, v] : change) s += (s.empty() ? "" : ", ") + k + "=" + v;
   return s;
 }
-
-bool is_negative_control(const std::string& reason) { return reason.rfind("negative control", 0) == 0; }
 
 std::vector<Evidence> parse_evidence(const nlohmann::json& listing, const std::string& where) {
   std::vector<Evidence> v;
@@ -140,6 +125,13 @@ const std::vector<ListedReason>& listed_reasons() {
     std::vector<ListedReason> v;
     const nlohmann::json j = nlohmann::json::parse(kExpectationsJson);
     const auto tried = [](const nlohmann::json& e) { return e.value("cause_not_shown", std::string()); };
+    const auto control = [](const nlohmann::json& e, const std::string& where) {
+      const nlohmann::json c = e.value("negative_control", nlohmann::json(false));
+      if (!c.is_boolean())
+        throw std::logic_error(
+            fmt::format("harness/expectations.json: {}: \"negative_control\" is true or false", where));
+      return c.get<bool>();
+    };
     for (const auto& e : j.value("runs", nlohmann::json::array()))
       for (const auto& engine : e.at("engines")) {
         std::vector<std::pair<std::string, std::string>> params;
@@ -147,18 +139,14 @@ const std::vector<ListedReason>& listed_reasons() {
         for (const auto& [key, value] : given.items()) params.emplace_back(key, value.get<std::string>());
         const std::string where =
             fmt::format("{} on {}", e.at("scenario").get<std::string>(), engine.get<std::string>());
-        v.push_back({e.at("scenario"), false, engine, params, e.at("reason"), parse_evidence(e, where), tried(e)});
+        v.push_back({e.at("scenario"), false, engine, params, e.at("reason"), parse_evidence(e, where), tried(e),
+                     control(e, where)});
       }
     for (const auto& e : j.value("sweep_points", nlohmann::json::array()))
       for (const auto& engine : e.at("engines")) {
         const std::string sweep = e.at("sweep");
-        v.push_back({sweep,
-                     true,
-                     engine,
-                     {},
-                     e.at("reason"),
-                     parse_evidence(e, fmt::format("sweep {} on {}", sweep, engine.get<std::string>())),
-                     tried(e)});
+        const std::string where = fmt::format("sweep {} on {}", sweep, engine.get<std::string>());
+        v.push_back({sweep, true, engine, {}, e.at("reason"), parse_evidence(e, where), tried(e), control(e, where)});
       }
     return v;
   }();

@@ -12,19 +12,12 @@
 #include <utility>
 #include <vector>
 
-namespace liftcheck {
+#include "input/run_result.hpp"  // Ceilings, beyond_ceilings
 
-/// Metric name -> the largest error a known failure may show: the error its tolerance is compared
-/// with (relative for relative metrics, absolute otherwise), about twice the reviewed figure.
-using Ceilings = std::map<std::string, double>;
+namespace liftcheck {
 
 /// "metrics": {NAME: CEILING, ...} of an expectations entry; std::logic_error if malformed.
 Ceilings parse_ceilings(const nlohmann::json& metrics, const std::string& where);
-
-/// The problems of a known failure's failing metrics (name, error) against its ceilings: a metric
-/// not listed, or an error above its ceiling. Empty when the failure is as known.
-std::vector<std::string> beyond_ceilings(const Ceilings& ceilings,
-                                         const std::vector<std::pair<std::string, double>>& failed);
 
 /// The experiment behind a reason that names a cause (a reason is a claim): the run as listed, and
 /// the same run with `change` (settings or scenario parameters, as --set takes them). The listed
@@ -52,7 +45,6 @@ struct Evidence {
 /// "evidence": [{"change": {KEY: VALUE}, "metric", "from", "to"[, "x"]}]; std::logic_error if malformed.
 std::vector<Evidence> parse_evidence(const nlohmann::json& listing, const std::string& where);
 /// A negative control's reason starts so: its cause is the scenario's physics, not the engine's.
-bool is_negative_control(const std::string& reason);
 
 struct KnownFailure {
   std::string scenario, engine;
@@ -83,6 +75,11 @@ struct ListedReason {
   /// listing's reason says what is measured and names no cause; it begins with
   /// kCauseNotShown. explain names each; a listing has evidence, this, or a negative control's reason.
   std::string cause_not_shown = {};
+  /// "negative_control": the listed run is one (the scenario declares it, or the listing's params
+  /// make a variant that cannot pass, such as parallel steering): its failure is the scenario's
+  /// physics, not a finding about the engine, so it needs no experiment. Data, never read from
+  /// the reason's words.
+  bool negative_control = false;
 };
 const std::vector<ListedReason>& listed_reasons();
 

@@ -4,99 +4,100 @@
 #include <ctime>
 #include <fmt/format.h>
 #include <fstream>
+#include <map>
 #include <thread>
 #include <unistd.h>
 #include <sys/utsname.h>
 
+#include "engines/protocol/outside.hpp"  // adapter_path
+#include "input/results_codec.hpp"
 #include "liftcheck_errata.hpp"
 #include "liftcheck_tune_table.hpp"
 #include "liftcheck_version.hpp"
 
 namespace liftcheck {
 
-nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, double wall_s) {
-  nlohmann::json es = nlohmann::json::array();
-  for (const EngineInfo* e : engines) {
-    nlohmann::json settings = nlohmann::json::object();
-    for (const auto& [k, v] : e->settings) settings[k] = v;
-    // The settings a user may change (--set), with their defaults: part of what the engine is.
-    for (const SettingSpec& k : e->knobs)
-      settings[fmt::format("--set {} ({})", k.key, to_string(k.vehicle))] =
-          fmt::format("{}; default {}; {}", k.help, k.default_text, k.range_text());
-    nlohmann::json knobs = nlohmann::json::array();
-    for (const SettingSpec& k : e->knobs) {
-      nlohmann::json j{{"key", k.key},
-                       {"vehicle", k.vehicle},
-                       {"default", k.default_text},
-                       {"help", k.help},
-                       {"kind", k.kind_name()}};
-      if (k.role == SettingRole::kSolverIterations) j["role"] = "solver_iterations";
-      if (k.role == SettingRole::kDamping) j["role"] = "damping";
-      if (k.numeric())
-        j["min"] = k.min, j["max"] = k.max, j["min_exclusive"] = k.min_exclusive;
-      else
-        j["choices"] = k.choices;
-      knobs.push_back(j);
-    }
-    es.push_back({{"name", e->name},
-                  {"library", e->library},
-                  {"version", e->version},
-                  {"description", e->description},
-                  {"color", e->color},
-                  {"is_reference", e->is_reference},
-                  {"vehicles", vehicles_of(*e)},
-                  {"contact_dynamics", e->contact_dynamics},
-                  {"brakes", e->brakes},
-                  {"settings", settings},
-                  {"knobs", knobs}});
-  }
-  // liftcheck tune's committed answers (data/tune/table.json) for the configurations of this run.
-  nlohmann::json tune_table = nlohmann::json::object();
+namespace {
+
+KnobInfo knob_info(const SettingSpec& k) {
+  KnobInfo i;
+  i.key = k.key;
+  i.vehicle = k.vehicle;
+  i.default_text = k.default_text;
+  i.help = k.help;
+  i.kind = k.kind_name();
+  if (k.role == SettingRole::kSolverIterations) i.role = "solver_iterations";
+  if (k.role == SettingRole::kDamping) i.role = "damping";
+  if (k.numeric())
+    i.min = k.min, i.max = k.max, i.min_exclusive = k.min_exclusive;
+  else
+    i.choices = k.choices;
+  return i;
+}
+
+/// The committed tune answers (data/tune/table.json) of `engines`, by "SCENARIO CONFIG".
+std::map<std::string, TuneEntry> tune_table_of(const std::vector<EngineContext>& engines) {
+  std::map<std::string, TuneEntry> out;
   const nlohmann::json table = nlohmann::json::parse(kTuneTableJson, nullptr, false);
-  if (table.is_object() && table.contains("entries"))
-    for (const auto& [pair, entry] : table["entries"].items())
-      for (const auto& e : es)
-        if (pair.substr(pair.find(' ') + 1) == e["name"].get<std::string>()) tune_table[pair] = entry;
-  char host[256] = "unknown";
-  gethostname(host, sizeof host - 1);
-  utsname u{};
-  uname(&u);
+  if (!table.is_object() || !table.contains("entries")) return out;
+  static const std::string kName = "data/tune/table.json";
+  const JsonIn entries = JsonIn(table, kName, "").obj("entries");
+  for (const auto& [pair, entry] : entries.value().items())
+    for (const auto& e : engines)
+      if (pair.substr(pair.find(' ') + 1) == e.name) out[pair] = decode_tune_entry(entries.obj(pair.c_str()));
+  return out;
+}
+
+std::string utc_now() {
   const std::time_t now = std::time(nullptr);
   char date[32] = "unknown";
   std::tm utc{};
   if (gmtime_r(&now, &utc)) std::strftime(date, sizeof date, "%Y-%m-%dT%H:%M:%SZ", &utc);
-  return {{"liftcheck", {{"version", LIFTCHECK_VERSION}, {"commit", LIFTCHECK_COMMIT}}},
-          {"date", date},
-          {"machine",
-           {{"host", host},
-            {"os", fmt::format("{} {} {}", u.sysname, u.release, u.machine)},
-            {"cpus", std::thread::hardware_concurrency()},
-            {"compiler", LIFTCHECK_COMPILER}}},
-          {"engines", es},
-          {"wall_s", wall_s},
-          {"errata", kErrataMarkdown},
-          {"tune_table", tune_table}};
+  return date;
 }
 
-nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::json& context) {
-  nlohmann::json rs = nlohmann::json::array();
-  for (const auto& r : runs) rs.push_back(r.to_json());
-  return results_from_records(rs, context);
+Machine this_machine() {
+  char host[256] = "unknown";
+  gethostname(host, sizeof host - 1);
+  utsname u{};
+  uname(&u);
+  return {host, fmt::format("{} {} {}", u.sysname, u.release, u.machine), LIFTCHECK_COMPILER,
+          static_cast<int>(std::thread::hardware_concurrency())};
 }
 
-nlohmann::json results_from_records(const nlohmann::json& runs, const nlohmann::json& context) {
-  // Counted by verdict: a known failure is not a fail, an unexpected pass is not a pass.
-  std::map<std::string, int> counts{{"pass", 0}, {"known failure", 0}, {"unexpected pass", 0},
-                                    {"fail", 0}, {"error", 0},         {"skip", 0}};
-  int unexpected = 0;
-  for (const auto& r : runs) {
-    ++counts[r.at("verdict").get<std::string>()];
-    unexpected += r.at("as_expected").get<bool>() ? 0 : 1;
-  }
-  nlohmann::json summary(counts);
-  summary["total"] = runs.size();
-  summary["unexpected"] = unexpected;
-  return {{"context", context}, {"summary", summary}, {"runs", runs}};
+}  // namespace
+
+EngineContext engine_context(const EngineInfo& e) {
+  EngineContext c;
+  c.name = e.name, c.library = e.library, c.version = e.version, c.description = e.description, c.color = e.color;
+  c.is_reference = e.is_reference;
+  c.vehicles = vehicles_of(e);
+  if (e.contact_dynamics) c.features.push_back("contact_dynamics");
+  if (e.four_wheels) c.features.push_back("four_wheels");
+  if (e.brakes) c.features.push_back("brakes");
+  std::map<std::string, std::string> settings(e.settings.begin(), e.settings.end());
+  // The settings a user may change (--set), with their defaults: part of what the engine is.
+  for (const SettingSpec& k : e.knobs)
+    settings[fmt::format("--set {} ({})", k.key, to_string(k.vehicle))] =
+        fmt::format("{}; default {}; {}", k.help, k.default_text, k.range_text());
+  c.settings.assign(settings.begin(), settings.end());
+  for (const SettingSpec& k : e.knobs) c.knobs.push_back(knob_info(k));
+  c.registration = e.outside.registration;
+  if (e.is_outside()) c.adapter = adapter_path(e);
+  return c;
+}
+
+SuiteContext context_of(const std::vector<const EngineInfo*>& engines, double wall_s) {
+  SuiteContext c;
+  c.version = LIFTCHECK_VERSION;
+  c.commit = LIFTCHECK_COMMIT;
+  c.date = utc_now();
+  c.machine = this_machine();
+  for (const EngineInfo* e : engines) c.engines.push_back(engine_context(*e));
+  c.wall_s = wall_s;
+  c.errata = kErrataMarkdown;
+  c.tune_table = tune_table_of(c.engines);
+  return c;
 }
 
 }  // namespace liftcheck

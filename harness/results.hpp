@@ -1,24 +1,19 @@
-// results.json: a context block (who, what, where) and flat run records, the source of truth for
-// every report.
+// A suite's context (who ran it, on what, with which configurations): the typed SuiteContext of
+// input/suite_result.hpp, filled from the registry and the machine.
 #pragma once
 
-#include <filesystem>
-#include <nlohmann/json.hpp>
-#include <string>
 #include <vector>
 
-#include "input/atomic_file.hpp"   // write_file_atomic
-#include "input/results_file.hpp"  // read_results: results and baselines read back, checked
-#include "harness/runner.hpp"
+#include "engines/engine.hpp"
+#include "input/suite_result.hpp"
 
 namespace liftcheck {
 
-/// liftcheck version and commit, engines, machine, date, wall time.
-nlohmann::json context_json(const std::vector<const EngineInfo*>& engines, double wall_s);
+/// The configuration as results.json records it: what it is, its features, settings and knobs.
+EngineContext engine_context(const EngineInfo& e);
 
-/// {"context", "summary", "runs"}.
-nlohmann::json results_json(const std::vector<RunRecord>& runs, const nlohmann::json& context);
-/// The same from run records as results.json stores them (RunRecord::to_json).
-nlohmann::json results_from_records(const nlohmann::json& runs, const nlohmann::json& context);
+/// liftcheck's version and commit, the engines, the machine, the date, the wall time and the
+/// committed tune answers of these configurations (data/tune/table.json).
+SuiteContext context_of(const std::vector<const EngineInfo*>& engines, double wall_s);
 
 }  // namespace liftcheck

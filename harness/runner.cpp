@@ -7,103 +7,8 @@
 
 namespace liftcheck {
 
-const char* to_string(Status s) {
-  switch (s) {
-    case Status::kPass:
-      return "pass";
-    case Status::kFail:
-      return "fail";
-    case Status::kError:
-      return "error";
-    case Status::kSkip:
-      return "skip";
-  }
-  return "error";
-}
-
-std::vector<std::string> RunRecord::failed_metrics() const {
-  std::vector<std::string> out;
-  for (const auto& m : metrics)
-    if (!m.pass && !m.informational) out.push_back(m.name);
-  return out;
-}
-
-std::vector<std::string> RunRecord::beyond_known() const {
-  if (!known) return {};
-  std::vector<std::pair<std::string, double>> failed;
-  for (const auto& m : metrics)
-    if (!m.pass && !m.informational) failed.emplace_back(m.name, m.compared_error());
-  std::vector<std::string> problems = beyond_ceilings(known->metrics, failed);
-  // A listed metric that is no longer measured (or no longer counted) hides the failure it lists.
-  for (const auto& [name, ceiling] : known->metrics)
-    if (std::none_of(metrics.begin(), metrics.end(),
-                     [&](const Metric& m) { return m.name == name && !m.informational; }))
-      problems.push_back(fmt::format("{} is listed but was not measured", name));
-  return problems;
-}
-
-bool RunRecord::as_expected() const {
-  if (status == Status::kSkip) return true;
-  if (!known) return status == Status::kPass;
-  if (!known->error.empty()) return status == Status::kError && message.rfind(known->error, 0) == 0;
-  if (status != Status::kFail) return false;
-  return !failed_metrics().empty() && beyond_known().empty();
-}
-
-std::string RunRecord::verdict() const {
-  if (status == Status::kSkip) return to_string(status);
-  if (status == Status::kError) return known && as_expected() ? "known failure" : to_string(status);
-  if (!known) return to_string(status);
-  if (status == Status::kPass) return "unexpected pass";
-  return as_expected() ? "known failure" : "fail";
-}
-
-double RunRecord::worst_ratio() const {
-  double worst = 0.0;
-  for (const auto& m : metrics) {
-    if (m.informational) continue;
-    const double err = m.compared_error();
-    double ratio = m.tolerance > 0 ? err / m.tolerance : (err > 0 ? INFINITY : 0.0);
-    if (m.floor > 0.0) ratio = std::min(ratio, m.abs_error / m.floor);
-    worst = std::max(worst, ratio);
-  }
-  return worst;
-}
-
-double RunRecord::worst_rel_error() const {
-  double worst = NAN;
-  for (const auto& m : metrics)
-    if (m.kind == TolKind::kRelative && std::isfinite(m.rel_error))
-      worst = std::isnan(worst) ? m.rel_error : std::max(worst, m.rel_error);
-  return worst;
-}
-
-nlohmann::json RunRecord::to_json() const {
-  nlohmann::json ms = nlohmann::json::object();
-  for (const auto& m : metrics) ms[m.name] = m.to_json();
-  nlohmann::json j = {
-      {"scenario", scenario},
-      {"engine", engine},
-      {"vehicle", vehicle},
-      {"params", params},
-      {"settings", settings},
-      {"status", to_string(status)},
-      {"message", message},
-      {"metrics", ms},
-      {"worst_ratio", metrics.empty() ? nlohmann::json() : nlohmann::json(worst_ratio())},
-      {"worst_rel_error", std::isnan(worst_rel_error()) ? nlohmann::json() : nlohmann::json(worst_rel_error())},
-      {"verdict", verdict()},
-      {"as_expected", as_expected()},
-      {"expectation", known ? nlohmann::json{{"metrics", known->metrics},
-                                             {"reason", known->reason},
-                                             {"measured", known->measured},
-                                             {"beyond", beyond_known()}}
-                            : nlohmann::json()},
-      {"wall_s", wall_s},
-      {"simulated_s", simulated_s},
-      {"details", details}};
-  if (std::isfinite(engine_s)) j["engine_s"] = engine_s;
-  return j;
+Expectation expectation_of(const KnownFailure& k) {
+  return {.ceilings = k.metrics, .error = k.error, .reason = k.reason, .measured = k.measured};
 }
 
 std::vector<Metric> score(const Scenario& scenario, TolRole role, const Outcome& outcome, double bookkeeping_factor) {
@@ -112,7 +17,8 @@ std::vector<Metric> score(const Scenario& scenario, TolRole role, const Outcome&
     const auto it = outcome.values.find(def.name);
     if (it == outcome.values.end()) continue;  // a metric the scenario does not produce for these params
     const Measurement& v = it->second;
-    Metric m{def.name, def.unit, v.expected, v.measured, 0, 0, 0, def.kind, false};
+    Metric m;
+    m.name = def.name, m.unit = def.unit, m.expected = v.expected, m.measured = v.measured, m.kind = def.kind;
     m.abs_error = std::abs(v.measured - v.expected);
     const double scale = v.scale > 0.0 ? v.scale : std::abs(v.expected);
     m.rel_error = scale > 0.0 ? m.abs_error / scale : (m.abs_error == 0.0 ? 0.0 : INFINITY);
@@ -173,9 +79,9 @@ class ProbeDisks final : public DiskEngine {
 }
 
 /// What a run of `scenario` with these resolved parameters asks of a configuration.
-Needs needs_of(const Scenario& scenario, const nlohmann::json& params) {
+Needs needs_of(const Scenario& scenario, const Params& params) {
   return {.vehicle = scenario.vehicle,
-          .four_wheels = scenario.vehicle == Vehicle::kCar && params.value("wheels", "3") == "4",
+          .four_wheels = scenario.vehicle == Vehicle::kCar && params.has("wheels") && params.str("wheels") == "4",
           .contact_dynamics = scenario.needs_contact_dynamics,
           .brakes = scenario.needs_brakes};
 }
@@ -229,7 +135,7 @@ ResolvedRun resolved_from_values(const Scenario& scenario, const EngineInfo& eng
 void check_run_inputs(const ResolvedRun& run) {
   const Scenario& scenario = *run.scenario;
   const EngineInfo& engine = *run.engine;
-  const Needs needs = needs_of(scenario, run.params.to_json());
+  const Needs needs = needs_of(scenario, run.params);
   const Lack lack = lacks(engine, needs);
   if (lack == Lack::kFourWheels)
     throw InputError(fmt::format("configuration '{}' {}", engine.name, lack_text(lack, needs)));
@@ -267,9 +173,10 @@ RunRecord begin_record(const ResolvedRun& run, bool& skipped) {
   r.scenario = scenario.name;
   r.engine = engine.name;
   r.vehicle = scenario.vehicle;
-  r.params = run.params.to_json();
-  for (const auto& [key, value] : run.settings.texts()) r.settings[key] = value;
-  const Needs needs = needs_of(scenario, r.params);
+  r.params = run.params;
+  r.settings = run.settings.texts();
+  r.negative_control = scenario.negative_control;
+  const Needs needs = needs_of(scenario, run.params);
   const Lack lack = lacks(engine, needs);
   // A car with four wheels needs a configuration that builds one: never a tricycle instead.
   if (lack == Lack::kFourWheels)
@@ -278,12 +185,13 @@ RunRecord begin_record(const ResolvedRun& run, bool& skipped) {
   // ("params"); a run with anything else changed, or any setting, is judged on its own.
   if (run.settings == engine.defaults(scenario.vehicle))
     for (const KnownFailure* k : known_failures_of(scenario.name, engine.name))
-      if (r.params == Params::resolve(scenario.params, k->params, scenario.name).to_json()) r.known = k;
+      if (r.params == Params::resolve(scenario.params, k->params, scenario.name)) r.expectation = expectation_of(*k);
   skipped = lack != Lack::kNothing;
   if (skipped) {
     r.status = Status::kSkip;
     r.message = fmt::format("engine '{}' {}", engine.name, lack_text(lack, needs));
   }
+  r.judge();
   return r;
 }
 
@@ -310,8 +218,11 @@ void finish_record(RunRecord& r, const ResolvedRun& run, const Outcome& outcome)
   } else {
     r.status = pass ? Status::kPass : Status::kFail;
     if (!pass) r.message = fmt::format("out of tolerance: {}", fmt::join(r.failed_metrics(), ", "));
-    if (!pass && r.known && !r.beyond_known().empty())
-      r.message += fmt::format("; worse than its known failure: {}", fmt::join(r.beyond_known(), "; "));
+  }
+  r.judge();
+  if (r.status == Status::kFail && r.expectation && !r.decision.beyond.empty()) {
+    r.message += fmt::format("; worse than its known failure: {}", fmt::join(r.decision.beyond, "; "));
+    r.judge();
   }
 }
 
@@ -342,6 +253,7 @@ RunRecord run_scenario(const ResolvedRun& run) {
   } catch (const std::exception& e) {
     r.status = Status::kError;
     r.message = e.what();
+    r.judge();
   }
   r.wall_s = seconds_since(t0);
   return r;
@@ -366,12 +278,13 @@ std::vector<RunRecord> run_shared_drive(const std::vector<ResolvedRun>& runs) {
         throw;
       } catch (const std::exception& e) {
         records[i].status = Status::kError, records[i].message = e.what();
+        records[i].judge();
       }
     }
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
-    for (RunRecord& r : records) r.status = Status::kError, r.message = e.what();
+    for (RunRecord& r : records) r.status = Status::kError, r.message = e.what(), r.judge();
   }
   for (RunRecord& r : records) r.wall_s = seconds_since(t0);
   return records;

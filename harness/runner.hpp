@@ -1,54 +1,22 @@
 // Runs one scenario on one engine and scores it against the scenario's tolerance data.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "engines/engine.hpp"
 #include "harness/expectations.hpp"
+#include "input/run_result.hpp"
 #include "scenarios/scenario.hpp"
 
 namespace liftcheck {
 
-enum class Status { kPass, kFail, kError, kSkip };
-const char* to_string(Status s);
+/// A run's record: input/run_result.hpp (one typed value from the worker to every page).
+using RunRecord = RunResult;
 
-struct RunRecord {
-  std::string scenario, engine;
-  Vehicle vehicle = Vehicle::kCar;  ///< the scenario's vehicle (the reports draw by it)
-  nlohmann::json params = nlohmann::json::object();
-  nlohmann::json settings = nlohmann::json::object();  ///< the engine's knobs as applied
-  Status status = Status::kError;
-  std::string message;
-  std::vector<Metric> metrics;
-  nlohmann::json details = nlohmann::json::object();
-  double wall_s = 0.0;
-  double simulated_s = 0.0;  ///< simulated time the engine stepped (cost per simulated second)
-  /// The engine's own stepping time as an outside engine reports it (NaN: in process, wall_s is
-  /// the cost); written as "engine_s" only where it is known.
-  double engine_s = NAN;
-  /// A reviewed known failure of this default run (harness/expectations.json), or null.
-  const KnownFailure* known = nullptr;
-
-  /// The metrics out of tolerance (informational ones never are).
-  std::vector<std::string> failed_metrics() const;
-  /// How this run's failures exceed its known failure (a metric not listed, an error above its
-  /// ceiling); empty without one.
-  std::vector<std::string> beyond_known() const;
-  /// Skip; pass when no failure is known; a known failure failing only (and at least one of) its
-  /// listed metrics, each no worse than its ceiling.
-  bool as_expected() const;
-  /// "pass", "known failure", "unexpected pass", "fail", "error" or "skip".
-  std::string verdict() const;
-
-  /// Largest error relative to its tolerance over all metrics (<= 1 when all pass).
-  double worst_ratio() const;
-  /// Largest relative error over the metrics compared relatively (NaN if there are none).
-  double worst_rel_error() const;
-  nlohmann::json to_json() const;
-};
+/// The listing a known failure gives a run (its ceilings or its error, reason and figure).
+Expectation expectation_of(const KnownFailure& k);
 
 /// What a --set key is to a run of `scenario` on `engine`: a parameter of the scenario (first), a
 /// setting of the engine for the scenario's vehicle, or neither. The one place that decides it.

@@ -215,11 +215,12 @@ std::vector<size_t> shard_share(const SuitePlan& plan, int index, int total) {
   return out;
 }
 
-void fill_duplicates(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records) {
+void fill_duplicates(const SuitePlan& plan, std::map<std::string, RunResult>& records) {
   for (const SuiteItem& it : plan.items) {
     if (it.same_as < 0) continue;
-    const nlohmann::json& rec = records.at(plan.items[static_cast<size_t>(it.same_as)].key);
-    records[it.key] = it.kind == SuiteItem::kPoint ? point_record(rec) : rec;
+    RunResult rec = records.at(plan.items[static_cast<size_t>(it.same_as)].key);
+    if (it.kind == SuiteItem::kPoint) trim_to_point(rec);
+    records[it.key] = std::move(rec);
   }
 }
 

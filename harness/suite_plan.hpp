@@ -62,6 +62,9 @@ struct SuiteItem {
   long judges_drive_of = -1;
   /// The runs of the later items that judge this run's drive.
   std::vector<ResolvedRun> drive_judges;
+  /// Its record keeps the traces as the scenario recorded them (`run --json`); otherwise the
+  /// worker thins them to what results.json draws.
+  bool full_traces = false;
   /// Run by a worker of its own: neither the same as an earlier item nor judging another's drive.
   bool runs_itself() const { return same_as < 0 && judges_drive_of < 0; }
 };
@@ -94,6 +97,6 @@ SuitePlan plan_suite(const SuiteDef& def);
 std::vector<size_t> shard_share(const SuitePlan& plan, int index, int total);
 
 /// Gives each item that is the same as an earlier one that item's record (a point's without traces).
-void fill_duplicates(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records);
+void fill_duplicates(const SuitePlan& plan, std::map<std::string, RunResult>& records);
 
 }  // namespace liftcheck

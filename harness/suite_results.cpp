@@ -3,54 +3,37 @@
 #include <algorithm>
 #include <cmath>
 
+#include "engines/protocol/outside.hpp"
 #include "harness/results.hpp"
 #include "harness/runner.hpp"
 #include "harness/worker_pool.hpp"
-#include "engines/protocol/outside.hpp"
 
 namespace liftcheck {
 
-std::vector<std::pair<size_t, nlohmann::json>> shared_records(const SuitePlan& plan, size_t maker,
-                                                              const nlohmann::json& record) {
-  std::vector<std::pair<size_t, nlohmann::json>> out;
-  const nlohmann::json shared = record.contains("shared") ? record["shared"] : nlohmann::json::array();
+std::vector<std::pair<size_t, RunResult>> shared_records(const SuitePlan& plan, size_t maker, const RunResult& record) {
+  std::vector<std::pair<size_t, RunResult>> out;
   for (size_t i = 0; i < plan.items.size(); ++i) {
     const SuiteItem& it = plan.items[i];
     if (it.judges_drive_of != static_cast<long>(maker)) continue;
-    const auto mine = std::find_if(shared.begin(), shared.end(), [&](const nlohmann::json& r) {
-      return r.value("scenario", "") == it.scenario->name;
-    });
+    const auto mine = std::find_if(record.shared.begin(), record.shared.end(),
+                                   [&](const RunResult& r) { return r.scenario == it.scenario->name; });
     // A maker that ended without recording the others (its worker died, its time ran out): theirs say so.
-    out.emplace_back(
-        i, mine != shared.end() ? *mine : error_record(it, record.value("message", "no record of the shared drive")));
+    out.emplace_back(i,
+                     mine != record.shared.end()
+                         ? *mine
+                         : error_record(it, record.message.empty() ? "no record of the shared drive" : record.message));
   }
   return out;
 }
 
-void take_shared_records(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records) {
+void take_shared_records(const SuitePlan& plan, Records& records) {
   for (size_t m = 0; m < plan.items.size(); ++m) {
     if (plan.items[m].drive_judges.empty()) continue;
     const auto maker = records.find(plan.items[m].key);
     if (maker == records.end()) continue;
     for (auto& [i, rec] : shared_records(plan, m, maker->second)) records[plan.items[i].key] = std::move(rec);
-    maker->second.erase("shared");
+    maker->second.shared.clear();
   }
-}
-
-nlohmann::json assemble_suite(const SuitePlan& plan, const std::map<std::string, nlohmann::json>& records) {
-  const RecordLookup lookup = [&](const std::string& key) -> const nlohmann::json& { return records.at(key); };
-  nlohmann::json out;
-  out["runs"] = nlohmann::json::array();
-  for (const SuiteItem& it : plan.items)
-    if (it.kind == SuiteItem::kRun) out["runs"].push_back(records.at(it.key));
-  out["sweeps"] = nlohmann::json::array();
-  const std::vector<const EngineInfo*> swept = sweep_engines(plan.def);
-  for (const SweepDef* sw : plan.sweeps) out["sweeps"].push_back(assemble_sweep(*sw, swept, lookup));
-  if (plan.outcome_sweep) out["sweeps"].push_back(assemble_outcome_sweep(swept, lookup));
-  out["maps"] = nlohmann::json::array();
-  if (plan.map)
-    out["maps"].push_back(assemble_map(speed_accuracy_map(), plan.def.engines, lookup, plan.def.all_points));
-  return out;
 }
 
 std::string item_part(const SuiteItem& item) {
@@ -59,48 +42,49 @@ std::string item_part(const SuiteItem& item) {
   return item.key.substr(0, item.key.find('/', item.key.find('/') + 1));
 }
 
-nlohmann::json simulated_budget(const SuitePlan& plan, const std::map<std::string, nlohmann::json>& records) {
+SimulatedBudget simulated_budget(const SuitePlan& plan, const Records& records) {
+  SimulatedBudget b;
   double total_s = 0.0;
-  std::map<std::string, double> by_part;
-  std::map<std::string, std::map<std::string, double>> by_config;
   for (const SuiteItem& it : plan.items) {
     const auto rec = records.find(it.key);
     if (!it.runs_itself() || rec == records.end()) continue;
-    const double s = rec->second.value("simulated_s", 0.0);
+    const double s = rec->second.simulated_s;
     total_s += s;
-    by_part[item_part(it)] += s;
-    by_config[it.engine->name][item_part(it)] += s;
+    b.by_part[item_part(it)] += s;
+    b.by_configuration[it.engine->name][item_part(it)] += s;
   }
   const auto us = [](double s) { return std::round(s * 1e6) / 1e6; };
-  nlohmann::json out{
-      {"total_s", us(total_s)}, {"by_part", nlohmann::json::object()}, {"by_configuration", nlohmann::json::object()}};
-  for (const auto& [part, s] : by_part) out["by_part"][part] = us(s);
-  for (const auto& [config, parts] : by_config) {
+  b.total_s = us(total_s);
+  for (auto& [part, s] : b.by_part) s = us(s);
+  for (auto& [config, parts] : b.by_configuration) {
     double sum_s = 0.0;
-    nlohmann::json c{{"by_part", nlohmann::json::object()}};
-    for (const auto& [part, s] : parts) sum_s += s, c["by_part"][part] = us(s);
-    c["total_s"] = us(sum_s);
-    out["by_configuration"][config] = c;
+    for (auto& [part, s] : parts) sum_s += s, s = us(s);
+    b.configuration_total_s[config] = us(sum_s);
   }
+  return b;
+}
+
+SuiteResults suite_results(const SuitePlan& plan, Records& records, SuiteContext context) {
+  SuiteResults out;
+  out.simulated = simulated_budget(plan, records);
+  fill_duplicates(plan, records);
+  const RecordLookup lookup = [&](const std::string& key) -> const RunResult& { return records.at(key); };
+  for (const SuiteItem& it : plan.items)
+    if (it.kind == SuiteItem::kRun)
+      out.runs.push_back(records.at(it.key));
+    else
+      out.points.emplace(it.key, records.at(it.key));
+  const std::vector<const EngineInfo*> swept = sweep_engines(plan.def);
+  for (const SweepDef* sw : plan.sweeps) out.sweeps.push_back(assemble_sweep(*sw, swept, lookup));
+  if (plan.outcome_sweep) out.outcomes = assemble_outcome_sweep(swept, lookup);
+  if (plan.map) out.maps.push_back(assemble_map(speed_accuracy_map(), plan.def.engines, lookup, plan.def.all_points));
+  for (const Scenario* s : plan.scenarios) out.scenarios.push_back(s->info());
+  out.context = std::move(context);
   return out;
 }
 
-nlohmann::json suite_results(const SuitePlan& plan, std::map<std::string, nlohmann::json>& records,
-                             const nlohmann::json& context) {
-  const nlohmann::json simulated = simulated_budget(plan, records);
-  fill_duplicates(plan, records);
-  const nlohmann::json assembled = assemble_suite(plan, records);
-  nlohmann::json results = results_from_records(assembled["runs"], context);
-  results["sweeps"] = assembled["sweeps"];
-  results["maps"] = assembled["maps"];
-  results["simulated"] = simulated;
-  results["scenarios"] = nlohmann::json::array();
-  for (const Scenario* s : plan.scenarios) results["scenarios"].push_back(s->to_json());
-  return results;
-}
-
-void SuiteTiming::count(const SuiteItem& it, const nlohmann::json& record, double held) {
-  const double engine_s = record["wall_s"].get<double>();
+void SuiteTiming::count(const SuiteItem& it, const RunResult& record, double held) {
+  const double engine_s = record.wall_s;
   (it.kind == SuiteItem::kRun ? runs_s : points_s) += engine_s;
   cost_by_part[item_part(it)] += engine_s;
   cost_by_config[it.engine->name] += engine_s;
@@ -109,24 +93,24 @@ void SuiteTiming::count(const SuiteItem& it, const nlohmann::json& record, doubl
   held_by_config[it.engine->name] += held;
 }
 
-nlohmann::json suite_context(const std::vector<const EngineInfo*>& engines, const SuiteTiming& t,
-                             const RunnerDef& runner, const Overrides& set) {
-  nlohmann::json context = context_json(engines, t.wall_s);
-  context["runs_s"] = t.runs_s;
-  context["points_s"] = t.points_s;
-  context["engine_s_by_part"] = t.cost_by_part;
-  context["engine_s_by_configuration"] = t.cost_by_config;
-  context["worker_s_by_part"] = t.held_by_part;
-  context["worker_s_by_configuration"] = t.held_by_config;
-  context["worker_s"] = t.held_s;
-  context["jobs"] = runner.jobs;
-  context["timeout_s"] = runner.timeout_s;
-  context["memory_limit_mib"] = runner.memory_limit_mib;
+SuiteContext suite_context(const std::vector<const EngineInfo*>& engines, const SuiteTiming& t, const RunnerDef& runner,
+                           const Overrides& set) {
+  SuiteContext c = context_of(engines, t.wall_s);
+  c.runs_s = t.runs_s;
+  c.points_s = t.points_s;
+  c.engine_s_by_part = t.cost_by_part;
+  c.engine_s_by_configuration = t.cost_by_config;
+  c.worker_s_by_part = t.held_by_part;
+  c.worker_s_by_configuration = t.held_by_config;
+  c.worker_s = t.held_s;
+  c.jobs = runner.jobs;
+  c.timeout_s = runner.timeout_s;
+  c.memory_limit_mib = runner.memory_limit_mib;
   // Which adapters the outside configurations ran: those beside this binary, or the source tree's.
-  context["outside_suite"] = {{"folder", default_suite_dir()}, {"beside_binary", default_suite_is_beside_binary()}};
-  context["set"] = nlohmann::json::object();
-  for (const auto& [key, value] : set) context["set"][key] = value;
-  return context;
+  c.outside_folder = default_suite_dir();
+  c.outside_beside_binary = default_suite_is_beside_binary();
+  c.set = set;
+  return c;
 }
 
 }  // namespace liftcheck

@@ -4,7 +4,6 @@
 #include <cmath>
 #include <fmt/format.h>
 
-#include "input/record_view.hpp"
 #include "scenarios/details.hpp"
 #include "scenarios/disk_scenarios.hpp"
 #include "scenarios/fit.hpp"
@@ -57,31 +56,30 @@ const std::vector<KnownSweepFailure>& known_sweep_failures() {
 
 namespace {
 
-/// A failing point's (metric, error) pairs: each of its "failed" metrics with its error from
-/// "errors" (infinite when missing, so no ceiling accepts it).
-std::vector<std::pair<std::string, double>> point_errors(const nlohmann::json& pt) {
+/// A failing point's (metric, error) pairs: each of its failed metrics with its compared error
+/// (infinite when not finite, so no ceiling accepts it).
+std::vector<std::pair<std::string, double>> point_errors(const SweepPoint& pt) {
   std::vector<std::pair<std::string, double>> out;
-  const nlohmann::json errors = pt.value("errors", nlohmann::json::object());
-  for (const auto& name : pt.value("failed", nlohmann::json::array())) {
-    const auto it = errors.find(name.get<std::string>());
-    out.emplace_back(name.get<std::string>(), it != errors.end() && it->is_number() ? it->get<double>() : INFINITY);
+  for (const auto& name : pt.failed) {
+    const auto it = pt.errors.find(name);
+    out.emplace_back(name, it != pt.errors.end() && std::isfinite(it->second) ? it->second : INFINITY);
   }
   return out;
 }
 
 /// The log-log fit of `entry` against its band: a problem, or its known failure marked on the fit.
-void gate_fit(const SweepDef& sweep, const KnownSweepFailure* fit_known, nlohmann::json& entry,
-              nlohmann::json& problems) {
-  const auto& slope = entry["fit"]["slope"];
+void gate_fit(const SweepDef& sweep, const KnownSweepFailure* fit_known, SweepEngine& entry,
+              std::vector<std::string>& problems) {
+  const double slope = entry.fit ? entry.fit->slope : NAN;
   std::string fit_problem;
-  if (!slope.is_number())
+  if (!std::isfinite(slope))
     fit_problem = "too few points above the noise floor for a slope";
-  else if (std::abs(slope.get<double>() - sweep.slope_expected) > sweep.slope_band)
-    fit_problem = fmt::format("fitted slope {:.4f} outside {} +- {}", slope.get<double>(), sweep.slope_expected,
-                              sweep.slope_band);
-  if (fit_known && fit_problem.rfind(fit_known->pattern, 0) == 0 && !fit_problem.empty())
-    entry["fit"]["known_failure"] = fit_known->reason + ": " + fit_problem;
-  else if (fit_known)
+  else if (std::abs(slope - sweep.slope_expected) > sweep.slope_band)
+    fit_problem = fmt::format("fitted slope {:.4f} outside {} +- {}", slope, sweep.slope_expected, sweep.slope_band);
+  if (fit_known && fit_problem.rfind(fit_known->pattern, 0) == 0 && !fit_problem.empty()) {
+    if (!entry.fit) entry.fit = SweepFit{};
+    entry.fit->known_failure = fit_known->reason + ": " + fit_problem;
+  } else if (fit_known)
     problems.push_back(fmt::format("the fit is listed as failing with '{}' ({}) but: {}", fit_known->pattern,
                                    fit_known->reason, fit_problem.empty() ? "it lies in its band" : fit_problem));
   else if (!fit_problem.empty())
@@ -90,7 +88,7 @@ void gate_fit(const SweepDef& sweep, const KnownSweepFailure* fit_known, nlohman
 
 /// A point past the grip limit where the car kept its grip: neither its front radius nor its
 /// lateral slip failed by the sliding amounts.
-bool kept_grip(const nlohmann::json& pt) {
+bool kept_grip(const SweepPoint& pt) {
   bool slid = false;
   for (const auto& [name, err] : point_errors(pt))
     slid = slid || (name == "front_radius" && err >= SweepDef::kSlideRadius) ||
@@ -98,85 +96,88 @@ bool kept_grip(const nlohmann::json& pt) {
   return !slid;
 }
 
+/// The listings of `sweep` on `engine` of one kind at `x` (any x for kAnywhere and kFit).
+const KnownSweepFailure* listed(const SweepDef& sweep, const std::string& engine, KnownSweepFailure::Kind kind,
+                                double x = NAN) {
+  const KnownSweepFailure* found = nullptr;
+  for (const auto& f : known_sweep_failures())
+    if (f.sweep == sweep.name && f.engine == engine && f.kind == kind && (std::isnan(x) || f.x == x)) found = &f;
+  return found;
+}
+
+/// One point against its listing (if any): its count, and a problem when it is not as listed.
+struct PointTally {
+  int pass = 0, known = 0, error = 0, unexpected = 0, anywhere_failed = 0;
+};
+void gate_point(const SweepDef& sweep, const std::string& engine, const KnownSweepFailure* anywhere, SweepPoint& pt,
+                PointTally& t, std::vector<std::string>& problems) {
+  const double x = pt.x;
+  pt.known_failure.clear();  // gated again: its listing's reason set anew
+  const KnownSweepFailure* k = listed(sweep, engine, KnownSweepFailure::kPoint, x);
+  if (!k) k = listed(sweep, engine, KnownSweepFailure::kError, x);
+  if (!k && anywhere && pt.status == Status::kFail) k = anywhere, ++t.anywhere_failed;
+  const std::string& message = pt.message;
+  if (k && k->kind == KnownSweepFailure::kError) {
+    if (pt.status == Status::kError && message.find(k->pattern) != std::string::npos) {
+      ++t.known, pt.known_failure = k->reason;
+    } else {
+      ++t.unexpected;
+      problems.push_back(fmt::format("{} = {}: listed as ending in an error containing '{}' ({}) but: {} {}",
+                                     sweep.param, x, k->pattern, k->reason, to_string(pt.status), message));
+    }
+  } else if (pt.status == Status::kError) {
+    ++t.error;
+    problems.push_back(fmt::format("{} = {}: error: {}", sweep.param, x, message));
+  } else if (k && pt.status == Status::kFail) {
+    const auto beyond = beyond_ceilings(k->metrics, point_errors(pt));
+    if (beyond.empty()) {
+      ++t.known, pt.known_failure = k->reason;
+    } else {
+      ++t.unexpected;
+      problems.push_back(fmt::format("{} = {}: worse than its known failure ({}): {}", sweep.param, x, k->reason,
+                                     fmt::join(beyond, "; ")));
+    }
+  } else if (k) {
+    ++t.unexpected;
+    problems.push_back(fmt::format("{} = {}: listed as a known failure ({}) but passes", sweep.param, x, k->reason));
+  } else if (pt.status == Status::kFail) {
+    ++t.unexpected;
+    problems.push_back(fmt::format("{} = {}: {}", sweep.param, x, message));
+  } else {
+    ++t.pass;
+  }
+}
+
 }  // namespace
 
-bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry) {
-  const std::string engine = entry["engine"];
-  nlohmann::json problems = nlohmann::json::array();
-  int pass = 0, known = 0, error = 0, unexpected = 0;
-  const KnownSweepFailure *anywhere = nullptr, *fit_known = nullptr;
-  for (const auto& f : known_sweep_failures())
-    if (f.sweep == sweep.name && f.engine == engine) {
-      if (f.kind == KnownSweepFailure::kAnywhere) anywhere = &f;
-      if (f.kind == KnownSweepFailure::kFit) fit_known = &f;
-    }
-  int anywhere_failed = 0;
-  const EngineInfo* info = find_engine(engine);
+bool gate_sweep_entry(const SweepDef& sweep, SweepEngine& entry) {
+  std::vector<std::string> problems;
+  PointTally t;
+  const KnownSweepFailure* anywhere = listed(sweep, entry.engine, KnownSweepFailure::kAnywhere);
+  const KnownSweepFailure* fit_known = listed(sweep, entry.engine, KnownSweepFailure::kFit);
+  const EngineInfo* info = find_engine(entry.engine);
   const bool must_slide = sweep.slide_past_marker && info && info->contact_dynamics;
-  for (auto& pt : entry["points"]) {
-    const double x = pt["x"];
-    if (must_slide && x > sweep.marker && pt["status"] != "error" && kept_grip(pt)) {
-      ++unexpected;
+  for (SweepPoint& pt : entry.points) {
+    if (must_slide && pt.x > sweep.marker && pt.status != Status::kError && kept_grip(pt)) {
+      ++t.unexpected;
       problems.push_back(
           fmt::format("{} = {}: past the grip limit ({}) the car must slide (front radius +{:g} or lateral slip {:g} "
                       "m/s), but it kept its grip: {}",
-                      sweep.param, x, sweep.marker_label, SweepDef::kSlideRadius, SweepDef::kSlideAcross_mps,
-                      pt["status"] == "pass" ? "every metric passes" : pt.value("message", "")));
+                      sweep.param, pt.x, sweep.marker_label, SweepDef::kSlideRadius, SweepDef::kSlideAcross_mps,
+                      pt.status == Status::kPass ? "every metric passes" : pt.message));
       continue;
     }
-    const KnownSweepFailure* k = nullptr;
-    for (const auto& f : known_sweep_failures())
-      if (f.sweep == sweep.name && f.engine == engine &&
-          (f.kind == KnownSweepFailure::kPoint || f.kind == KnownSweepFailure::kError) && f.x == x)
-        k = &f;
-    const std::string st = pt["status"];
-    const std::string message = pt.value("message", "");
-    if (!k && anywhere && st == "fail") {
-      k = anywhere;
-      ++anywhere_failed;
-    }
-    if (k && k->kind == KnownSweepFailure::kError) {
-      if (st == "error" && message.find(k->pattern) != std::string::npos) {
-        ++known;
-        pt["known_failure"] = k->reason;
-      } else {
-        ++unexpected;
-        problems.push_back(fmt::format("{} = {}: listed as ending in an error containing '{}' ({}) but: {} {}",
-                                       sweep.param, x, k->pattern, k->reason, st, message));
-      }
-    } else if (st == "error") {
-      ++error;
-      problems.push_back(fmt::format("{} = {}: error: {}", sweep.param, x, message));
-    } else if (k && st == "fail") {
-      const auto beyond = beyond_ceilings(k->metrics, point_errors(pt));
-      if (beyond.empty()) {
-        ++known;
-        pt["known_failure"] = k->reason;
-      } else {
-        ++unexpected;
-        problems.push_back(fmt::format("{} = {}: worse than its known failure ({}): {}", sweep.param, x, k->reason,
-                                       fmt::join(beyond, "; ")));
-      }
-    } else if (k) {
-      ++unexpected;
-      problems.push_back(fmt::format("{} = {}: listed as a known failure ({}) but passes", sweep.param, x, k->reason));
-    } else if (st == "fail") {
-      ++unexpected;
-      problems.push_back(fmt::format("{} = {}: {}", sweep.param, x, message));
-    } else {
-      ++pass;
-    }
+    gate_point(sweep, entry.engine, anywhere, pt, t, problems);
   }
-  if (anywhere && anywhere_failed == 0)
+  if (anywhere && t.anywhere_failed == 0)
     problems.push_back(fmt::format("listed as failing at some points ({}) but every point passes", anywhere->reason));
-  if (anywhere && anywhere_failed > anywhere->points_max)
-    problems.push_back(fmt::format("{} points fail where at most {} are known to ({})", anywhere_failed,
+  if (anywhere && t.anywhere_failed > anywhere->points_max)
+    problems.push_back(fmt::format("{} points fail where at most {} are known to ({})", t.anywhere_failed,
                                    anywhere->points_max, anywhere->reason));
   if (sweep.loglog_fit) gate_fit(sweep, fit_known, entry, problems);
-  entry["gate"] = {{"pass", problems.empty()},      {"problems", problems},  {"points_pass", pass},
-                   {"points_known_failure", known}, {"points_error", error}, {"points_unexpected", unexpected}};
+  entry.gate = Gate{problems.empty(), problems, t.pass, t.known, t.error, t.unexpected, std::nullopt};
   if (sweep.loglog_fit)
-    entry["gate"]["slope_band"] = {sweep.slope_expected - sweep.slope_band, sweep.slope_expected + sweep.slope_band};
+    entry.gate.slope_band = {sweep.slope_expected - sweep.slope_band, sweep.slope_expected + sweep.slope_band};
   return problems.empty();
 }
 
@@ -191,22 +192,7 @@ Overrides point_overrides(const SweepDef& s, double x) {
 
 namespace {
 
-nlohmann::json value_of(const nlohmann::json& record, const std::string& key) {
-  const auto [kind, name] = recorded_field(key);
-  if (kind == RecordedField::kMetric) {
-    const auto& ms = record["metrics"];
-    if (!ms.contains(name)) return nullptr;
-    return MetricView(ms[name]).point_figures();
-  }
-  const auto& d = record["details"];
-  return d.contains(name) ? d[name] : nlohmann::json();
-}
-
-}  // namespace
-
-namespace {
-
-struct MapPoint {
+struct MapGridPoint {
   std::string knob;
   double value;
   Overrides overrides;
@@ -215,8 +201,8 @@ struct MapPoint {
 /// One configuration's grid: every dt at its default settings and, for an iterative solver, every
 /// iteration count at the default dt; the exact model has no step and gets one point, and so does
 /// a configuration registered for its runs only (its default run, which steps nothing more).
-std::vector<MapPoint> map_grid(const MapDef& map, const EngineInfo& e, bool all_points) {
-  std::vector<MapPoint> grid;
+std::vector<MapGridPoint> map_grid(const MapDef& map, const EngineInfo& e, bool all_points) {
+  std::vector<MapGridPoint> grid;
   if (e.is_reference || (e.points == SuitePoints::kRuns && !all_points)) return {{kMapDefault, 0.0, {}}};
   for (double dt : map.dt_s) grid.push_back({kMapDt, dt, {{"dt", fmt::format("{}", dt)}}});
   // One ladder of iterations per configuration: its first declared count (an engine with two,
@@ -230,8 +216,50 @@ std::vector<MapPoint> map_grid(const MapDef& map, const EngineInfo& e, bool all_
   return grid;
 }
 
-std::string map_key(const MapDef& map, const MapDef::Panel& panel, const EngineInfo& e, const MapPoint& g) {
+std::string map_key(const MapDef& map, const MapDef::Panel& panel, const EngineInfo& e, const MapGridPoint& g) {
   return fmt::format("map/{}/{}/{}/{}={}", map.name, panel.scenario, e.name, g.knob, g.value);
+}
+
+/// A map point from its run's record: the panel's error, and the engine's cost per simulated second.
+MapPoint map_point(const MapDef::Panel& panel, const MapGridPoint& g, const RunResult& r) {
+  double err = NAN;
+  for (const Metric& m : r.metrics)
+    if (std::find(panel.error_metrics.begin(), panel.error_metrics.end(), m.name) != panel.error_metrics.end() &&
+        !std::isnan(m.rel_error))
+      err = std::isnan(err) ? m.rel_error : std::max(err, m.rel_error);
+  // An outside engine's cost is its own stepping time as its adapter reports it, so that the
+  // protocol's round trip does not count against it; in process, the run's wall clock.
+  const double spent_s = std::isfinite(r.engine_s) ? r.engine_s : r.wall_s;
+  const double cost = r.simulated_s > 0.0 ? spent_s / r.simulated_s : NAN;
+  return {g.knob,
+          g.value,
+          r.status,
+          r.message,
+          r.status == Status::kError || !std::isfinite(err) ? NAN : err,
+          r.wall_s,
+          r.simulated_s,
+          std::isfinite(cost) ? cost : NAN,
+          false,
+          r.status == Status::kPass};
+}
+
+/// The Pareto front over every configuration's points but the reference's: none cheaper and at
+/// least as accurate.
+void mark_pareto(std::vector<MapCurve>& curves) {
+  std::vector<MapPoint*> candidates;
+  for (auto& c : curves) {
+    if (find_engine(c.engine)->is_reference) continue;  // the yardstick, not a contender
+    for (auto& p : c.points)
+      if (std::isfinite(p.error) && std::isfinite(p.cost_s_per_s)) candidates.push_back(&p);
+  }
+  for (MapPoint* p : candidates) {
+    bool dominated = false;
+    for (const MapPoint* q : candidates)
+      if (q != p && q->error <= p->error && q->cost_s_per_s <= p->cost_s_per_s &&
+          (q->error < p->error || q->cost_s_per_s < p->cost_s_per_s))
+        dominated = true;
+    p->pareto = !dominated;
+  }
 }
 
 }  // namespace
@@ -241,70 +269,27 @@ std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const Engine
   for (const MapDef::Panel& panel : map.panels)
     for (const EngineInfo* e : engines)
       if (e->make_car)
-        for (const MapPoint& g : map_grid(map, *e, all_points))
+        for (const MapGridPoint& g : map_grid(map, *e, all_points))
           runs.push_back({map_key(map, panel, *e, g), find_scenario(panel.scenario), e, g.overrides});
   return runs;
 }
 
-nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines,
-                            const RecordLookup& record, bool all_points) {
-  nlohmann::json panels = nlohmann::json::array();
+SpeedMap assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines, const RecordLookup& record,
+                      bool all_points) {
+  SpeedMap out{map.name, map.title, map.dt_s, map.iterations, {}};
   for (const MapDef::Panel& panel : map.panels) {
-    nlohmann::json curves = nlohmann::json::array();
-    std::vector<nlohmann::json*> candidates;
+    MapPanel p{panel.scenario, panel.error_label, panel.error_metrics, {}};
     for (const EngineInfo* e : engines) {
       if (!e->make_car) continue;
-      nlohmann::json points = nlohmann::json::array();
-      for (const MapPoint& g : map_grid(map, *e, all_points)) {
-        const nlohmann::json& r = record(map_key(map, panel, *e, g));
-        double err = NAN;
-        RecordView(r).each_metric([&](const std::string& name, const MetricView& m) {
-          if (std::find(panel.error_metrics.begin(), panel.error_metrics.end(), name) != panel.error_metrics.end() &&
-              !std::isnan(m.rel_error()))
-            err = std::isnan(err) ? m.rel_error() : std::max(err, m.rel_error());
-        });
-        // An outside engine's cost is its own stepping time as its adapter reports it, so that the
-        // protocol's round trip does not count against it; in process, the run's wall clock.
-        const double wall_s = r["wall_s"], simulated_s = r["simulated_s"];
-        const double spent_s =
-            r.contains("engine_s") && r["engine_s"].is_number() ? r["engine_s"].get<double>() : wall_s;
-        const double cost = simulated_s > 0.0 ? spent_s / simulated_s : NAN;
-        points.push_back(
-            {{"knob", g.knob},
-             {"value", g.value},
-             {"status", r["status"]},
-             {"message", r["message"]},
-             {"error", r["status"] == "error" || !std::isfinite(err) ? nlohmann::json() : nlohmann::json(err)},
-             {"wall_s", wall_s},
-             {"simulated_s", simulated_s},
-             {"cost_s_per_s", std::isfinite(cost) ? nlohmann::json(cost) : nlohmann::json()},
-             {"pareto", false}});
-      }
-      curves.push_back({{"engine", e->name}, {"points", points}});
+      MapCurve curve{e->name, {}};
+      for (const MapGridPoint& g : map_grid(map, *e, all_points))
+        curve.points.push_back(map_point(panel, g, record(map_key(map, panel, *e, g))));
+      p.curves.push_back(std::move(curve));
     }
-    // The Pareto front over every configuration's points: none cheaper and at least as accurate.
-    for (auto& c : curves) {
-      if (find_engine(c["engine"].get<std::string>())->is_reference) continue;  // the yardstick, not a contender
-      for (auto& p : c["points"])
-        if (p["error"].is_number() && p["cost_s_per_s"].is_number()) candidates.push_back(&p);
-    }
-    for (nlohmann::json* p : candidates) {
-      const double e0 = (*p)["error"], c0 = (*p)["cost_s_per_s"];
-      bool dominated = false;
-      for (const nlohmann::json* q : candidates) {
-        if (q == p) continue;
-        const double e1 = (*q)["error"], c1 = (*q)["cost_s_per_s"];
-        if (e1 <= e0 && c1 <= c0 && (e1 < e0 || c1 < c0)) dominated = true;
-      }
-      (*p)["pareto"] = !dominated;
-    }
-    panels.push_back({{"scenario", panel.scenario},
-                      {"error_metrics", panel.error_metrics},
-                      {"error_label", panel.error_label},
-                      {"curves", curves}});
+    mark_pareto(p.curves);
+    out.panels.push_back(std::move(p));
   }
-  return {{"name", map.name}, {"kind", "map"}, {"title", map.title}, {"dt_s", map.dt_s}, {"iterations", map.iterations},
-          {"panels", panels}};
+  return out;
 }
 
 namespace {
@@ -313,14 +298,44 @@ std::string sweep_key(const SweepDef& s, const EngineInfo& e, double x) {
   return fmt::format("sweep/{}/{}/x={}", s.name, e.name, x);
 }
 
+/// A recorded field of a point's record (metric_field or detail_field) into the point.
+void record_field(const RunResult& rec, const std::string& field, SweepPoint& pt) {
+  const auto [kind, name] = recorded_field(field);
+  if (kind == RecordedField::kMetric) {
+    if (const Metric* m = rec.metric(name))
+      pt.metrics[name] = {m->expected, m->measured, m->rel_error, m->abs_error, m->pass};
+    return;
+  }
+  pt.details[name] = rec.details.contains(name) ? rec.details[name] : nlohmann::json();
+}
+
+/// The value of a recorded field at a point, when it is a finite number.
+double recorded_number(const SweepPoint& pt, const std::string& field) {
+  const auto [kind, name] = recorded_field(field);
+  if (kind == RecordedField::kMetric) {
+    const auto it = pt.metrics.find(name);
+    return it == pt.metrics.end() ? NAN : it->second.measured;
+  }
+  const auto it = pt.details.find(name);
+  return it != pt.details.end() && it->second.is_number() ? it->second.get<double>() : NAN;
+}
+
+SweepPoint sweep_point(const SweepDef& s, double x, const RunResult& rec) {
+  SweepPoint pt;
+  pt.x = x;
+  pt.status = rec.status;
+  pt.message = rec.message;
+  for (const Metric& m : rec.metrics)
+    if (!m.pass && m.counted()) pt.failed.push_back(m.name), pt.errors[m.name] = m.compared_error();
+  for (const auto& field : s.record) record_field(rec, field, pt);
+  pt.worst_ratio = rec.status == Status::kError ? NAN : rec.worst_ratio();
+  return pt;
+}
+
 }  // namespace
 
-nlohmann::json point_record(const RunRecord& r) { return point_record(r.to_json()); }
-
-nlohmann::json point_record(nlohmann::json record) {
-  for (const char* big : {detail_key::kTrace, detail_key::kReference, detail_key::kContactLog})
-    record["details"].erase(big);
-  return record;
+void trim_to_point(RunResult& r) {
+  for (const char* big : {detail_key::kTrace, detail_key::kReference, detail_key::kContactLog}) r.details.erase(big);
 }
 
 std::vector<PointRun> sweep_runs(const SweepDef& s, const std::vector<const EngineInfo*>& engines) {
@@ -332,55 +347,37 @@ std::vector<PointRun> sweep_runs(const SweepDef& s, const std::vector<const Engi
   return runs;
 }
 
-nlohmann::json assemble_sweep(const SweepDef& s, const std::vector<const EngineInfo*>& engines,
-                              const RecordLookup& record) {
-  nlohmann::json per_engine = nlohmann::json::array();
+Sweep assemble_sweep(const SweepDef& s, const std::vector<const EngineInfo*>& engines, const RecordLookup& record) {
+  Sweep out;
+  out.name = s.name, out.title = s.title, out.scenario = s.scenario, out.param = s.param;
+  out.fixed = s.fixed, out.record = s.record;
+  out.plot_kind = s.plot, out.x_label = s.x_label, out.y_label = s.y_label, out.log_x = s.log_x;
+  out.curves = s.curves;
+  if (s.marker > 0.0) out.marker = {{s.marker, s.marker_label}};
+  for (const auto& p : s.times_x) out.times_x.push_back({p.key, p.per_x, p.min});
   for (const EngineInfo* e : engines) {
     if (!e->make_car) continue;
-    nlohmann::json points = nlohmann::json::array();
+    SweepEngine entry{e->name, {}, std::nullopt, {}};
     std::vector<double> fx, fy;
     for (double x : s.values) {
-      const nlohmann::json& rec = record(sweep_key(s, *e, x));
-      nlohmann::json pt{
-          {"x", x}, {"status", rec["status"]}, {"message", rec["message"]}, {"failed", nlohmann::json::array()}};
-      pt["errors"] = nlohmann::json::object();
-      RecordView(rec).each_metric([&](const std::string& name, const MetricView& m) {
-        if (!m.pass() && m.counted()) pt["failed"].push_back(name), pt["errors"][name] = m.written_compared_error();
-      });
-      for (const auto& key : s.record) pt[key] = value_of(rec, key);
-      if (s.loglog_fit && rec["status"] != "error") {
-        const nlohmann::json y = value_of(rec, s.fit_y), noise = value_of(rec, s.fit_noise);
+      const RunResult& rec = record(sweep_key(s, *e, x));
+      SweepPoint pt = sweep_point(s, x, rec);
+      if (s.loglog_fit && rec.status != Status::kError) {
+        const double y = recorded_number(pt, s.fit_y), noise = recorded_number(pt, s.fit_noise);
         // Above the noise floor: the engine's error is under a tenth of what it measures.
-        if (y.is_number() && noise.is_number() && y.get<double>() > 10.0 * noise.get<double>()) {
-          fx.push_back(x);
-          fy.push_back(y.get<double>());
-          pt["fitted"] = true;
+        if (std::isfinite(y) && std::isfinite(noise) && y > 10.0 * noise) {
+          fx.push_back(x), fy.push_back(y);
+          pt.fitted = true;
         }
       }
-      points.push_back(pt);
+      entry.points.push_back(std::move(pt));
     }
-    nlohmann::json entry{{"engine", e->name}, {"points", points}};
     if (s.loglog_fit)
-      entry["fit"] = fx.size() >= 2 ? nlohmann::json{{"slope", loglog_slope(fx, fy)}, {"points", fx.size()}}
-                                    : nlohmann::json{{"slope", nullptr}, {"points", fx.size()}};
+      entry.fit = SweepFit{fx.size() >= 2 ? loglog_slope(fx, fy) : NAN, static_cast<int>(fx.size()), ""};
     gate_sweep_entry(s, entry);
-    per_engine.push_back(entry);
+    out.engines.push_back(std::move(entry));
   }
-  nlohmann::json curves = nlohmann::json::array();
-  for (const auto& [expr, title] : s.curves) curves.push_back({{"expr", expr}, {"title", title}});
-  nlohmann::json j{
-      {"name", s.name},
-      {"title", s.title},
-      {"scenario", s.scenario},
-      {"param", s.param},
-      {"fixed", s.fixed},
-      {"record", s.record},
-      {"engines", per_engine},
-      {"plot",
-       {{"kind", s.plot}, {"x_label", s.x_label}, {"y_label", s.y_label}, {"log_x", s.log_x}, {"curves", curves}}}};
-  if (s.marker > 0.0) j["marker"] = {{"x", s.marker}, {"label", s.marker_label}};
-  for (const auto& p : s.times_x) j["times_x"].push_back({{"key", p.key}, {"per_x", p.per_x}, {"min", p.min}});
-  return j;
+  return out;
 }
 
 }  // namespace liftcheck

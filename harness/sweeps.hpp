@@ -4,7 +4,6 @@
 
 #include <cmath>
 #include <functional>
-#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -12,6 +11,7 @@
 #include "harness/expectations.hpp"
 #include "input/params.hpp"
 #include "harness/runner.hpp"
+#include "input/suite_result.hpp"
 #include "scenarios/sweep_catalogue.hpp"
 
 namespace liftcheck {
@@ -39,8 +39,8 @@ const std::vector<KnownSweepFailure>& known_sweep_failures();
 
 /// The gate of one sweep entry (one engine's points and fit): every point passes its tolerances
 /// unless listed as a known failure (and then it must fail), no point is an error, and the fit
-/// lies in its band. Adds "gate" {"pass", "problems", counts} to the entry and returns pass.
-bool gate_sweep_entry(const SweepDef& sweep, nlohmann::json& entry);
+/// lies in its band. Sets the entry's gate (and each listed point's reason) and returns its pass.
+bool gate_sweep_entry(const SweepDef& sweep, SweepEngine& entry);
 
 /// The parameters of `s`'s point at x: its fixed ones, the swept one (the cycle scenario's eps
 /// sets eps_alpha and eps_beta) and those scaled with x.
@@ -56,17 +56,14 @@ struct PointRun {
 };
 /// A point run's record as stored (results.json "points"): the run record without its traces,
 /// which is all the sweeps, the outcome sweep and the map read.
-nlohmann::json point_record(const RunRecord& r);
-/// The same from a stored run record: its traces left out.
-nlohmann::json point_record(nlohmann::json record);
+void trim_to_point(RunResult& r);
 /// The stored record of a point run by its key (throws std::out_of_range when it is missing).
-using RecordLookup = std::function<const nlohmann::json&(const std::string& key)>;
+using RecordLookup = std::function<const RunResult&(const std::string& key)>;
 
 /// The runs of one sweep on the given engines (engines that cannot run the scenario are left
 /// out), and the sweep assembled from their records: the points, the fit and each engine's gate.
 std::vector<PointRun> sweep_runs(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines);
-nlohmann::json assemble_sweep(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines,
-                              const RecordLookup& record);
+Sweep assemble_sweep(const SweepDef& sweep, const std::vector<const EngineInfo*>& engines, const RecordLookup& record);
 
 /// disks.linear over a grid of (a, b) and N's paths: each engine's collision outcome against the
 /// analytic one (a confusion matrix), contact-time errors in steps, and the cases near the boundary
@@ -85,15 +82,15 @@ struct OutcomeHorizon {
   double t_max_s = 8.0, clearance_m = 0.5, after_s = 0.5, t_min_s = 1.0;
 };
 inline constexpr OutcomeHorizon kOutcomeHorizon{};
-nlohmann::json assemble_outcome_sweep(const std::vector<const EngineInfo*>& engines, const RecordLookup& record,
-                                      double near_m = 0.01);
+OutcomeSweep assemble_outcome_sweep(const std::vector<const EngineInfo*>& engines, const RecordLookup& record,
+                                    double near_m = 0.01);
 
 /// The speed-accuracy map's runs (configurations with an iterative solver also over the iteration
 /// count) and the map assembled from their records, with the Pareto front marked.
 /// `all_points`: validate --all-points (a configuration registered for its runs only gets the map's
 /// axes too; without it, its default run is its one point).
 std::vector<PointRun> map_runs(const MapDef& map, const std::vector<const EngineInfo*>& engines, bool all_points);
-nlohmann::json assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines,
-                            const RecordLookup& record, bool all_points);
+SpeedMap assemble_map(const MapDef& map, const std::vector<const EngineInfo*>& engines, const RecordLookup& record,
+                      bool all_points);
 
 }  // namespace liftcheck

@@ -8,7 +8,7 @@
 #include <set>
 #include <span>
 
-#include "input/record_view.hpp"
+#include "input/results_codec.hpp"
 
 namespace liftcheck {
 
@@ -57,22 +57,18 @@ TuneDimension numeric(const ParamSpec& p, std::span<const double> ladder) {
   return d;
 }
 
-double cost_of(const nlohmann::json& r) {
-  const double sim = r.value("simulated_s", 0.0);
-  const double spent = r.contains("engine_s") && r["engine_s"].is_number()
-                           ? r["engine_s"].get<double>()
-                           : r.value("wall_s", std::numeric_limits<double>::quiet_NaN());
-  return sim > 0.0 ? 1e3 * spent / sim : NAN;
+double cost_of(const RunResult& r) {
+  const double spent = std::isfinite(r.engine_s) ? r.engine_s : r.wall_s;
+  return r.simulated_s > 0.0 ? 1e3 * spent / r.simulated_s : NAN;
 }
 
 /// Each counted metric's tolerance in the default run: every run is judged against them, so a
 /// longer step cannot pass by the tolerances that scale with dt.
 using Tolerances = std::map<std::string, double>;
-Tolerances tolerances_of(const nlohmann::json& record) {
+Tolerances tolerances_of(const RunResult& record) {
   Tolerances t;
-  const nlohmann::json metrics = record.value("metrics", nlohmann::json::object());
-  for (const auto& [name, m] : metrics.items())
-    if (const MetricView v(m); v.counted() && v.tolerance() > 0.0) t[name] = v.tolerance();
+  for (const Metric& m : record.metrics)
+    if (m.counted() && m.tolerance > 0.0) t[m.name] = m.tolerance;
   return t;
 }
 
@@ -95,19 +91,18 @@ double model_cost(const Overrides& change, const std::vector<TuneDimension>& dim
   return steps * work / work0;
 }
 
-TuneStep step_of(std::string phase, Overrides change, nlohmann::json record, const Tolerances& at_default) {
+TuneStep step_of(std::string phase, Overrides change, RunResult record, const Tolerances& at_default) {
   TuneStep s{.phase = std::move(phase), .change = std::move(change), .record = std::move(record)};
-  const std::string status = s.record.value("status", "");
-  if (s.record.contains("worst_ratio") && s.record["worst_ratio"].is_number())
-    s.worst_ratio = s.record["worst_ratio"].get<double>();
-  if (status == "error") s.worst_ratio = std::numeric_limits<double>::infinity();
-  const nlohmann::json metrics = s.record.value("metrics", nlohmann::json::object());
-  for (const auto& [name, m] : metrics.items())
-    if (const auto it = at_default.find(name); it != at_default.end() && MetricView(m).counted()) {
-      const double e = MetricView(m).compared_error();
+  const Status status = s.record.status;
+  // As the record wrote it: no ratio without metrics, a non-finite one as none (null).
+  if (!s.record.metrics.empty() && std::isfinite(s.record.worst_ratio())) s.worst_ratio = s.record.worst_ratio();
+  if (status == Status::kError) s.worst_ratio = std::numeric_limits<double>::infinity();
+  for (const Metric& m : s.record.metrics)
+    if (const auto it = at_default.find(m.name); it != at_default.end() && m.counted()) {
+      const double e = m.compared_error();
       s.worst_ratio = std::max(s.worst_ratio, std::isnan(e) ? std::numeric_limits<double>::infinity() : e / it->second);
     }
-  s.pass = status == "pass" && s.worst_ratio <= 1.0;
+  s.pass = status == Status::kPass && s.worst_ratio <= 1.0;
   s.cost_ms_per_s = cost_of(s.record);
   return s;
 }
@@ -136,7 +131,7 @@ struct Walk {
       fresh.push_back(c);
     }
     if (fresh.empty()) return;
-    std::vector<nlohmann::json> records = run(fresh);
+    std::vector<RunResult> records = run(fresh);
     const Tolerances at_default = steps.empty() ? Tolerances{} : tolerances_of(steps.front().record);
     for (size_t i = 0; i < fresh.size(); ++i) {
       steps.push_back(step_of(phase, fresh[i], std::move(records.at(i)), at_default));
@@ -276,8 +271,8 @@ std::vector<TuneDimension> tune_dimensions(const Scenario& s, const EngineInfo& 
 TuneResult tune(const std::vector<TuneDimension>& dims, const TuneDef& def, const TuneRunner& run) {
   Walk w{def, run, dims, {}, {}};
   w.batch("default", {Overrides{}});
-  if (const std::string st = w.steps.front().record.value("status", ""); st == "error" || st == "skip") {
-    TuneResult r{.walked = std::move(w.steps), .budget_runs = def.budget_runs, .stopped = st};
+  if (const Status st = w.steps.front().record.status; st == Status::kError || st == Status::kSkip) {
+    TuneResult r{.walked = std::move(w.steps), .budget_runs = def.budget_runs, .stopped = to_string(st)};
     return r;
   }
   ladder_phase(w, dims);
@@ -307,7 +302,7 @@ nlohmann::json TuneResult::to_json() const {
          {"worst_ratio", std::isfinite(s.worst_ratio) ? nlohmann::json(s.worst_ratio) : nlohmann::json()},
          {"cost_ms_per_s", std::isfinite(s.cost_ms_per_s) ? nlohmann::json(s.cost_ms_per_s) : nlohmann::json()},
          {"model_cost", s.model_cost},
-         {"record", s.record}});
+         {"record", encode_run(s.record)}});
   }
   return {{"budget_runs", budget_runs}, {"unmade", unmade},
           {"stopped", stopped},         {"answer", answer ? nlohmann::json(*answer) : nlohmann::json()},

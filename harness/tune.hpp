@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "engines/engine.hpp"
+#include "input/run_result.hpp"
 #include "scenarios/scenario.hpp"
 
 namespace liftcheck {
@@ -48,7 +49,7 @@ std::vector<TuneDimension> tune_dimensions(const Scenario& s, const EngineInfo& 
 struct TuneStep {
   std::string phase;  ///< "default", "ladder", "refine", "combine"
   Overrides change;   ///< against the defaults (empty: the default run)
-  nlohmann::json record;
+  RunResult record;
   bool pass = false;
   double worst_ratio = std::numeric_limits<double>::infinity();  ///< largest error over its tolerance
   /// Judged against the default run's tolerances (a longer step loosens those that scale with dt).
@@ -72,7 +73,7 @@ struct TuneResult {
 
 /// Runs a batch of changes (each a run of the scenario on the engine) and returns their records,
 /// in order.
-using TuneRunner = std::function<std::vector<nlohmann::json>(const std::vector<Overrides>&)>;
+using TuneRunner = std::function<std::vector<RunResult>(const std::vector<Overrides>&)>;
 
 TuneResult tune(const std::vector<TuneDimension>& dims, const TuneDef& def, const TuneRunner& run);
 

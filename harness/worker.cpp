@@ -15,20 +15,18 @@
 
 #include "harness/external.hpp"
 #include "harness/results.hpp"
+#include "input/results_codec.hpp"
+#include "input/results_file.hpp"  // thin_drawn_traces
 #include "harness/runner.hpp"
 #include "input/trace.hpp"
 
 namespace liftcheck {
 
-nlohmann::json error_record(const SuiteItem& item, const std::string& message) {
-  RunRecord r;
-  r.scenario = item.scenario->name;
-  r.engine = item.engine->name;
-  r.vehicle = item.scenario->vehicle;
-  r.status = Status::kError;
-  r.message = message;
-  const nlohmann::json j = item.kind == SuiteItem::kRun ? r.to_json() : point_record(r);
-  return nlohmann::json::parse(j.dump());
+RunResult error_record(const SuiteItem& item, const std::string& message) {
+  RunResult r = error_result(item.scenario->name, item.engine->name, item.scenario->vehicle, message);
+  r.negative_control = item.scenario->negative_control;
+  r.judge();
+  return r;
 }
 
 namespace {
@@ -84,46 +82,40 @@ void set_memory_limit(double mib) {
 
 namespace {
 
-/// The record of a run whose drive later runs judge too, with theirs in its "shared" list.
-nlohmann::json shared_drive_record(const SuiteItem& item) {
+/// The record of a run whose drive later runs judge too, with theirs in its `shared` list.
+RunResult shared_drive_record(const SuiteItem& item) {
   std::vector<ResolvedRun> runs{*item.run};
   runs.insert(runs.end(), item.drive_judges.begin(), item.drive_judges.end());
-  const std::vector<RunRecord> records = run_shared_drive(runs);
-  nlohmann::json j = records.front().to_json();
-  j["shared"] = nlohmann::json::array();
-  for (size_t i = 1; i < records.size(); ++i) j["shared"].push_back(records[i].to_json());
-  return nlohmann::json::parse(j.dump());  // as results.json stores it: no infinities, no NaN
+  std::vector<RunResult> records = run_shared_drive(runs);
+  RunResult r = std::move(records.front());
+  for (size_t i = 1; i < records.size(); ++i) r.shared.push_back(std::move(records[i]));
+  return r;
+}
+
+/// What results.json keeps of a record: a run's drawn traces thinned, a point's dropped.
+void keep_for_results(const SuiteItem& item, RunResult& r) {
+  if (item.kind == SuiteItem::kPoint) return trim_to_point(r);
+  if (item.full_traces) return;
+  thin_drawn_traces(r.details);
+  for (RunResult& s : r.shared) thin_drawn_traces(s.details);
 }
 
 }  // namespace
 
-nlohmann::json run_item(const SuiteItem& item) {
-  RunRecord r;
-  bool input_error = false;
+RunResult run_item(const SuiteItem& item) {
+  RunResult r;
   try {
     test_hook_allocate(item);
     if (!item.run) throw InputError(item.resolve_error);  // its error record, as the run would give it
-    if (!item.drive_judges.empty()) return shared_drive_record(item);
-    r = run_scenario(*item.run);
+    r = item.drive_judges.empty() ? run_scenario(*item.run) : shared_drive_record(item);
   } catch (const std::bad_alloc&) {
-    r = RunRecord{};
-    r.scenario = item.scenario->name;
-    r.engine = item.engine->name;
-    r.vehicle = item.scenario->vehicle;
-    r.status = Status::kError;
-    r.message = g_memory_limit_mib > 0.0 ? out_of_memory() : "out of memory (std::bad_alloc)";
+    r = error_record(item, g_memory_limit_mib > 0.0 ? out_of_memory() : "out of memory (std::bad_alloc)");
   } catch (const std::exception& err) {  // values rejected by the scenario (a defect at the defaults): reported per run
-    input_error = dynamic_cast<const InputError*>(&err) != nullptr;
-    r = RunRecord{};
-    r.scenario = item.scenario->name;
-    r.engine = item.engine->name;
-    r.vehicle = item.scenario->vehicle;
-    r.status = Status::kError;
-    r.message = err.what();
+    r = error_record(item, err.what());
+    r.input_error = dynamic_cast<const InputError*>(&err) != nullptr;  // `run` turns it into a usage error (exit 2)
   }
-  nlohmann::json j = item.kind == SuiteItem::kRun ? r.to_json() : point_record(r);
-  if (input_error) j["input_error"] = true;  // `run` turns it into a usage error (exit 2)
-  return nlohmann::json::parse(j.dump());    // as results.json stores it: no infinities, no NaN
+  keep_for_results(item, r);
+  return r;
 }
 
 nlohmann::json item_request(const SuiteItem& item) {
@@ -140,6 +132,7 @@ nlohmann::json item_request(const SuiteItem& item) {
       j["drive_judges"].push_back({{"scenario", judge.scenario->name}, {"run", resolved_values(judge)}});
   }
   if (item.owned) j["trace_file"] = item.trace_file;
+  if (item.full_traces) j["full_traces"] = true;
   return j;
 }
 
@@ -189,6 +182,7 @@ SuiteItem item_from_request(const nlohmann::json& j) {
     it.drive_judges.push_back(resolved_from_values(*s, *it.engine, judge.at("run")));
   }
   it.key = j.value("key", "");
+  it.full_traces = j.value("full_traces", false);
   return it;
 }
 
@@ -206,7 +200,7 @@ int worker_main() {
     const SuiteItem it = item_from_request(request);
     set_memory_limit(request.value("memory_limit_mib", 0.0));
     arm_cpu_limit(request.value("cpu_limit_s", 0.0));
-    const std::string text = run_item(it).dump() + "\n";
+    const std::string text = encode_run(run_item(it), RecordForm::kPipe).dump() + "\n";
     arm_cpu_limit(0.0);
     if (!write_all(records_fd, text)) return 3;
   }

@@ -1,5 +1,7 @@
 #include "harness/worker_pool.hpp"
 
+#include "input/results_codec.hpp"
+
 #include <algorithm>
 #include <optional>
 #include <chrono>
@@ -244,17 +246,25 @@ class Dispenser {
       : plan_(plan), which_(which), order_(std::move(order)), handed_(order_.size(), 0) {}
   bool empty() const { return left_ == 0 || first_ >= order_.size(); }
   /// The next item (its index in `which`) for worker `w`.
+  /// An outside configuration's items go to the worker that started its engine, and that worker
+  /// takes them one after another: a worker keeps only the adapter of the configuration it runs
+  /// (engines/protocol/child_pool.cpp), so each switch would start another.
   size_t next_for(size_t w) {
     while (first_ < order_.size() && handed_[first_]) ++first_;
     size_t pick = first_;
-    for (size_t k = first_; k < order_.size(); ++k)
+    const auto last = last_.find(w);
+    bool same = false;
+    if (last != last_.end())
+      for (size_t k = first_; k < order_.size() && !same; ++k)
+        if (!handed_[k] && plan_.items[which_[order_[k]]].engine == last->second) pick = k, same = true;
+    for (size_t k = first_; k < order_.size() && !same; ++k)
       if (!handed_[k] && fits(order_[k], w)) {
         pick = k;
         break;
       }
     handed_[pick] = 1, --left_;
     const EngineInfo* e = plan_.items[which_[order_[pick]]].engine;
-    if (e->is_outside()) owner_.emplace(e, w);
+    if (e->is_outside()) owner_.emplace(e, w), last_[w] = e;
     return order_[pick];
   }
 
@@ -270,6 +280,7 @@ class Dispenser {
   std::vector<size_t> order_;
   std::vector<char> handed_;
   std::map<const EngineInfo*, size_t> owner_;
+  std::map<size_t, const EngineInfo*> last_;  ///< the outside configuration each worker ran last
   size_t first_ = 0, left_ = order_.size();
 };
 
@@ -297,14 +308,16 @@ std::vector<std::pair<size_t, bool>> poll_workers(const std::vector<Worker>& wor
 
 /// Reads what worker `w` wrote on stdout for `item`: its record once a whole line is there, an
 /// error record when the worker ended without one; nullopt while the item still runs.
-std::optional<nlohmann::json> read_record(Worker& w, const SuiteItem& item, double timeout_s) {
+std::optional<RunResult> read_record(Worker& w, const SuiteItem& item, double timeout_s) {
   const bool open = drain(w.out_fd, w.out);
   const size_t nl = w.out.find('\n');
   pass_on_stderr(w);  // what the item wrote on stderr belongs to it, before the next one starts
   if (nl != std::string::npos) {
-    nlohmann::json rec = nlohmann::json::parse(w.out.substr(0, nl), nullptr, false);
-    if (rec.is_discarded()) rec = error_record(item, "the worker process wrote a malformed record");
-    return rec;
+    try {
+      return decode_run_text(w.out.substr(0, nl), "the worker's record");
+    } catch (const InputError& e) {
+      return error_record(item, fmt::format("the worker process wrote a malformed record: {}", e.what()));
+    }
   }
   if (open) return std::nullopt;
   int sig = 0;
@@ -322,8 +335,8 @@ namespace {
 /// Hands `item` (the slot-th of the share) to worker `w`, starting the worker first where it has
 /// none (bound to `cpu` unless it is -1); the item's error record where the request cannot be
 /// written (the worker is ended), nullopt once it runs.
-std::optional<nlohmann::json> start_item(Worker& w, long slot, const SuiteItem& item, const RunnerDef& runner,
-                                         const RunningBinary& binary, int cpu) {
+std::optional<RunResult> start_item(Worker& w, long slot, const SuiteItem& item, const RunnerDef& runner,
+                                    const RunningBinary& binary, int cpu) {
   if (w.pid < 0) {
     w = spawn_worker(binary.path, binary.shown);
     if (cpu >= 0) bind_worker(w.pid, cpu);
@@ -348,12 +361,12 @@ std::string waited_too_long(double wall_limit_s, double timeout_s) {
 
 }  // namespace
 
-std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
-                                      const std::function<void(size_t, const nlohmann::json&, double)>& done,
-                                      const std::function<void(size_t, size_t)>& progress) {
+std::vector<RunResult> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
+                                 const std::function<void(size_t, const RunResult&, double)>& done,
+                                 const std::function<void(size_t, size_t)>& progress) {
   using clock = std::chrono::steady_clock;
   const size_t n = which.size();
-  std::vector<nlohmann::json> records(n);
+  std::vector<RunResult> records(n);
   std::vector<double> held_s(n, 0.0);
   std::vector<char> ready(n, 0);
   Dispenser dispenser(plan, which, schedule_order(plan, which));
@@ -371,7 +384,7 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
   // catches a run that waits instead of computing (it is never reached by one that computes).
   const double wall_limit_s = std::max(kWallFactor * runner.timeout_s, runner.timeout_s + kWallGrace_s);
   size_t finished = 0, printed = 0;
-  const auto finish = [&](Worker& w, nlohmann::json record) {
+  const auto finish = [&](Worker& w, RunResult record) {
     records[static_cast<size_t>(w.slot)] = std::move(record);
     held_s[static_cast<size_t>(w.slot)] = std::chrono::duration<double>(clock::now() - w.started).count();
     ready[static_cast<size_t>(w.slot)] = 1;
@@ -402,8 +415,7 @@ std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<s
           pass_on_stderr(w);
           continue;
         }
-        std::optional<nlohmann::json> rec =
-            read_record(w, plan.items[which[static_cast<size_t>(w.slot)]], runner.timeout_s);
+        std::optional<RunResult> rec = read_record(w, plan.items[which[static_cast<size_t>(w.slot)]], runner.timeout_s);
         if (rec) finish(w, std::move(*rec));
       }
       for (Worker& w : workers)

@@ -12,10 +12,9 @@
 
 namespace liftcheck {
 
-/// Runs one item: the full run record for a run, point_record for a point. An engine's or a
-/// scenario's exception becomes an error record; records are normalised through JSON text, so a
-/// record read back from results.json is identical to one just made.
-nlohmann::json run_item(const SuiteItem& item);
+/// Runs one item: the full run record for a run, point_record for a point (its drawn traces
+/// thinned: what results.json keeps). An engine's or a scenario's exception becomes an error record.
+RunResult run_item(const SuiteItem& item);
 
 /// The default memory limit of a worker process (--memory-limit), in MiB: a worker takes about 250 MiB
 /// of address space with every engine loaded, a default run far less than 1 GiB more.
@@ -47,9 +46,9 @@ struct RunnerStopped : std::runtime_error {
 /// waits included, which the record's engine seconds are not). Returns the records in the order of
 /// `which`. An item past its time limit, or whose worker dies, gets an error record saying so (with
 /// the end of the worker's stderr).
-std::vector<nlohmann::json> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
-                                      const std::function<void(size_t, const nlohmann::json&, double)>& done,
-                                      const std::function<void(size_t, size_t)>& progress = {});
+std::vector<RunResult> run_items(const SuitePlan& plan, const std::vector<size_t>& which, const RunnerDef& runner,
+                                 const std::function<void(size_t, const RunResult&, double)>& done,
+                                 const std::function<void(size_t, size_t)>& progress = {});
 
 /// Limits this process's address space to `mib` MiB (RLIMIT_AS, the soft limit; 0: no change): the
 /// worker's memory limit. Does nothing under AddressSanitizer, whose shadow memory needs terabytes.
@@ -66,6 +65,6 @@ int worker_main();
 bool write_all(int fd, const std::string& text);
 
 /// The error record of `item` (a run's or a point's) saying `message`.
-nlohmann::json error_record(const SuiteItem& item, const std::string& message);
+RunResult error_record(const SuiteItem& item, const std::string& message);
 
 }  // namespace liftcheck

@@ -56,6 +56,7 @@ class Params {
   /// The values to_json wrote, read back as they are (what a worker is sent of a run resolved
   /// before it): nothing is parsed against a spec again. std::invalid_argument on another shape.
   static Params from_json(const nlohmann::json& values);
+  bool operator==(const Params& o) const { return values_ == o.values_; }
 
  private:
   std::map<std::string, ParamValue> values_;

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "input/interrupt.hpp"
-#include "input/record_view.hpp"
+#include "input/json_in.hpp"
 #include "input/trace.hpp"  // printable
 
 namespace liftcheck {
@@ -57,25 +57,24 @@ std::vector<Entry> paired_order(const ResultsIndex& results) {
 
 /// The findings of a diff, each with its run's key, in the order found.
 struct Findings {
-  std::vector<std::pair<RunKey, json>> regressions, fixed, worse, better;
+  std::vector<std::pair<RunKey, DiffFinding>> regressions, fixed, worse, better, moved;
   std::vector<RunKey> added, removed;
 };
 
 /// Findings of one kind in key order (a run's several metrics in name order) into `out`.
-void put_in_key_order(std::vector<std::pair<RunKey, json>>& found, json& out) {
+void put_in_key_order(std::vector<std::pair<RunKey, DiffFinding>>& found, std::vector<DiffFinding>& out) {
   std::stable_sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
   for (auto& f : found) out.push_back(std::move(f.second));
 }
-void put_in_key_order(std::vector<RunKey>& found, json& out);
 
-json id_of(const RunKey& key) { return {{"scenario", std::string(key.first)}, {"engine", std::string(key.second)}}; }
-
-json merged(json a, const json& b) {
-  a.update(b);
-  return a;
+DiffFinding id_of(const RunKey& key) {
+  DiffFinding f;
+  f.scenario = std::string(key.first);
+  f.engine = std::string(key.second);
+  return f;
 }
 
-void put_in_key_order(std::vector<RunKey>& found, json& out) {
+void put_in_key_order(std::vector<RunKey>& found, std::vector<DiffFinding>& out) {
   std::sort(found.begin(), found.end());
   for (const auto& key : found) out.push_back(id_of(key));
 }
@@ -89,8 +88,8 @@ const MetricFigures* metric_named(const std::vector<MetricFigures>& metrics, con
 
 /// The parameters and settings in which two records of a run differ: "key a -> b" (a key one
 /// lacks: "(none)"), so a change is not read as the engine's when the run itself changed.
-json settings_differ(const RunFigures& br, const RunFigures& hr) {
-  json out = json::array();
+std::vector<std::string> settings_differ(const RunFigures& br, const RunFigures& hr) {
+  std::vector<std::string> out;
   if (!br.settings || !hr.settings || *br.settings == *hr.settings) return out;
   const auto pairs = [](const std::string& text) {
     std::vector<std::pair<std::string, std::string>> kv;
@@ -119,29 +118,75 @@ json settings_differ(const RunFigures& br, const RunFigures& hr) {
 }
 
 /// The id of a run's finding, with the settings that differ between its two records if any.
-json id_with(const RunKey& key, const RunFigures& br, const RunFigures& hr) {
-  json id = id_of(key);
-  if (json d = settings_differ(br, hr); !d.empty()) id["settings_differ"] = std::move(d);
+DiffFinding id_with(const RunKey& key, const RunFigures& br, const RunFigures& hr) {
+  DiffFinding id = id_of(key);
+  id.settings_differ = settings_differ(br, hr);
   return id;
 }
 
-/// The worse and better metrics of one run present in both files.
+/// Two figures the same to the bit (two NaNs, null in a file, alike).
+bool same(double a, double b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+/// The worse, better and moved metrics of one run present in both files.
 void compare_metrics(const RunKey& key, const RunFigures& br, const RunFigures& hr, const DiffDef& def,
                      Findings& found) {
-  if (!br.has_metrics || !hr.has_metrics) return;
   for (const MetricFigures& hm : hr.metrics) {
     const MetricFigures* bm = metric_named(br.metrics, hm.name);
     if (!bm || hm.informational) continue;
     const double rb = bm->ratio, rh = hm.ratio;
+    if (same(bm->error, hm.error) && same(rb, rh) && bm->measured == hm.measured) continue;
     const bool worse = rh > def.floor && rh > def.growth * rb,
                better = !worse && rb > def.floor && rb > def.growth * rh;
-    if (!worse && !better) continue;
-    (worse ? found.worse : found.better)
-        .emplace_back(key, merged(id_with(key, br, hr), {{"metric", hm.name},
-                                                         {"base_ratio", rb},
-                                                         {"head_ratio", rh},
-                                                         {"base_measured", bm->measured},
-                                                         {"head_measured", hm.measured}}));
+    DiffFinding f = id_with(key, br, hr);
+    f.metric = hm.name;
+    f.base_ratio = rb, f.head_ratio = rh;
+    f.base_measured = bm->measured, f.head_measured = hm.measured;
+    f.sweep = hr.point;
+    (worse ? found.worse : better ? found.better : found.moved).emplace_back(key, std::move(f));
+  }
+}
+
+/// A pair of records of one run or point: a change of whether it is as expected, its metrics.
+void compare_pair(const RunKey& key, const RunFigures& br, const RunFigures& hr, const DiffDef& def, Findings& found) {
+  if (br.as_expected != hr.as_expected) {
+    DiffFinding f = id_with(key, br, hr);
+    f.from = br.verdict, f.to = hr.verdict, f.sweep = hr.point;
+    if (br.as_expected) f.message = hr.message;
+    (br.as_expected ? found.regressions : found.fixed).emplace_back(key, std::move(f));
+  }
+  compare_metrics(key, br, hr, def, found);
+}
+
+/// The points of both files paired by key (a point's key names it whole: its sweep, configuration
+/// and value), compared as runs are; their findings keyed by the point's key.
+void compare_points(const ResultsIndex& base, const ResultsIndex& head, const DiffDef& def, Findings& found) {
+  std::map<std::string_view, const RunFigures*> b;
+  for (const RunFigures& p : base.points) b[p.point] = &p;
+  for (const RunFigures& hp : head.points) {
+    const RunKey key{hp.point, hp.engine};
+    const auto it = b.find(hp.point);
+    if (it == b.end()) continue;  // a point the baseline does not hold (a sweep added): nothing to compare
+    compare_pair(key, *it->second, hp, def, found);
+  }
+}
+
+/// "collision", "no collision", "an error": a case's outcome.
+std::string outcome_text(const std::optional<bool>& hit) {
+  return !hit ? "an error" : *hit ? "collision" : "no collision";
+}
+
+/// Each case of the outcome grid whose outcome changed: a moved figure.
+void compare_outcomes(const ResultsIndex& base, const ResultsIndex& head, Findings& found) {
+  for (const auto& [key, hit] : head.outcomes) {
+    const auto it = base.outcomes.find(key);
+    if (it == base.outcomes.end() || it->second == hit) continue;
+    DiffFinding f;
+    f.scenario = "outcome grid";
+    f.engine = key.substr(0, key.find('/'));
+    f.sweep = key;
+    f.metric = "outcome";
+    f.from = outcome_text(it->second), f.to = outcome_text(hit);
+    found.moved.emplace_back(RunKey{it->first, f.engine}, std::move(f));
   }
 }
 
@@ -157,63 +202,41 @@ std::shared_ptr<const std::string> interned_settings(std::vector<std::pair<std::
   return shared;
 }
 
-ResultsIndex index_of(const json& results) {
+RunFigures figures_of(const RunResult& r, SettingsPool& pool) {
+  RunFigures f;
+  f.scenario = r.scenario;
+  f.engine = r.engine;
+  f.verdict = to_string(r.verdict());
+  f.message = r.message;
+  f.as_expected = r.as_expected();
+  std::vector<const Metric*> by_name;
+  for (const Metric& m : r.metrics) by_name.push_back(&m);
+  std::sort(by_name.begin(), by_name.end(), [](const Metric* a, const Metric* b) { return a->name < b->name; });
+  for (const Metric* m : by_name)
+    f.metrics.push_back({m->name, m->ratio(), m->compared_error(), m->informational, finite_or_null(m->measured)});
+  std::vector<std::pair<std::string, std::string>> kv;
+  const json params = r.params.to_json();
+  for (const auto& [key, v] : params.items())
+    if (!v.is_structured()) kv.emplace_back(key, scalar_text(v));
+  for (const auto& [key, v] : r.settings) kv.emplace_back(key, v);
+  f.settings = interned_settings(std::move(kv), pool);
+  return f;
+}
+
+ResultsIndex index_of(const SuiteResults& results) {
   ResultsIndex index;
   SettingsPool pool;
-  const json& runs = results.at("runs");
-  index.runs.reserve(runs.size());
-  for (const auto& r : runs) {
-    RunFigures f;
-    f.scenario = r.at("scenario").get<std::string>();
-    f.engine = r.at("engine").get<std::string>();
-    f.verdict = RecordView(r).verdict();
-    f.message = r.value("message", "");
-    f.as_expected = record_as_expected(r);
-    const auto ms = r.find("metrics");
-    f.has_metrics = ms != r.end() && ms->is_object();
-    if (f.has_metrics)
-      for (const auto& [name, m] : ms->get_ref<const json::object_t&>())  // in name order
-        f.metrics.push_back({name, MetricView(m).ratio(), !MetricView(m).counted(), MetricView(m).raw("measured")});
-    std::vector<std::pair<std::string, std::string>> kv;
-    for (const char* group : {"params", "settings"})
-      if (const auto g = r.find(group); g != r.end() && g->is_object())
-        for (const auto& [key, v] : g->items())
-          if (!v.is_structured()) kv.emplace_back(key, v.is_string() ? v.get<std::string>() : v.dump());
-    f.settings = interned_settings(std::move(kv), pool);
-    index.runs.push_back(std::move(f));
+  index.runs.reserve(results.runs.size());
+  for (const RunResult& r : results.runs) index.runs.push_back(figures_of(r, pool));
+  for (const auto& [key, p] : results.points) {
+    index.points.push_back(figures_of(p, pool));
+    index.points.back().point = key;
   }
+  index.outcomes = results.outcomes ? outcome_flags(*results.outcomes) : results.baseline_outcomes;
   return index;
 }
 
-bool record_as_expected(const json& r) {
-  if (r.contains("as_expected")) return r["as_expected"].get<bool>();
-  return r["status"] == "pass" || r["status"] == "skip";
-}
-
-json baseline_json(const json& results) {
-  json runs = json::array();
-  for (const auto& r : results["runs"]) {
-    json metrics = json::object();
-    for (const auto& [name, m] : r["metrics"].items()) {
-      json kept = json::object();
-      for (const char* k : kBaselineMetricFields)
-        if (m.contains(k)) kept[k] = m[k];
-      metrics[name] = kept;
-    }
-    runs.push_back({{"scenario", r["scenario"]},
-                    {"engine", r["engine"]},
-                    {"params", r["params"]},
-                    {"settings", r["settings"]},
-                    {"status", r["status"]},
-                    {"verdict", r.value("verdict", r["status"].get<std::string>())},
-                    {"as_expected", record_as_expected(r)},
-                    {"message", r["message"]},
-                    {"metrics", metrics}});
-  }
-  return {{"liftcheck_baseline", 1}, {"context", {{"liftcheck", results["context"]["liftcheck"]}}}, {"runs", runs}};
-}
-
-json diff_results(const ResultsIndex& base, const ResultsIndex& head, const DiffDef& def) {
+ResultsDiff diff_results(const ResultsIndex& base, const ResultsIndex& head, const DiffDef& def) {
   const auto b = paired_order(base), h = paired_order(head);
   Findings found;
   std::size_t at = 0;  // in b
@@ -225,28 +248,20 @@ json diff_results(const ResultsIndex& base, const ResultsIndex& head, const Diff
       found.added.push_back(he.key);
       continue;
     }
-    const RunFigures &br = *b[at++].run, &hr = *he.run;
-    if (br.as_expected && !hr.as_expected)
-      found.regressions.emplace_back(
-          he.key, merged(id_with(he.key, br, hr), {{"from", br.verdict}, {"to", hr.verdict}, {"message", hr.message}}));
-    else if (!br.as_expected && hr.as_expected)
-      found.fixed.emplace_back(he.key, merged(id_with(he.key, br, hr), {{"from", br.verdict}, {"to", hr.verdict}}));
-    compare_metrics(he.key, br, hr, def, found);
+    compare_pair(he.key, *b[at++].run, *he.run, def, found);
   }
   for (; at < b.size(); ++at) found.removed.push_back(b[at].key);
-  json d{{"regressions", json::array()}, {"fixed", json::array()}, {"worse", json::array()},
-         {"better", json::array()},      {"added", json::array()}, {"removed", json::array()}};
-  put_in_key_order(found.regressions, d["regressions"]);
-  put_in_key_order(found.fixed, d["fixed"]);
-  put_in_key_order(found.worse, d["worse"]);
-  put_in_key_order(found.better, d["better"]);
-  put_in_key_order(found.added, d["added"]);
-  put_in_key_order(found.removed, d["removed"]);
+  compare_points(base, head, def, found);
+  compare_outcomes(base, head, found);
+  ResultsDiff d;
+  put_in_key_order(found.regressions, d.regressions);
+  put_in_key_order(found.fixed, d.fixed);
+  put_in_key_order(found.worse, d.worse);
+  put_in_key_order(found.better, d.better);
+  put_in_key_order(found.moved, d.moved);
+  put_in_key_order(found.added, d.added);
+  put_in_key_order(found.removed, d.removed);
   return d;
-}
-
-json diff_results(const json& base, const json& head, const DiffDef& def) {
-  return diff_results(index_of(base), index_of(head), def);
 }
 
 namespace {
@@ -255,36 +270,45 @@ namespace {
 std::string figure(const json& v) { return v.is_number() ? fmt::format("{:.4g}", v.get<double>()) : v.dump(); }
 
 /// " [settings differ: iterations 20 -> 5, ...]" when the two records of the run were not made alike.
-std::string differ_text(const json& r) {
-  if (!r.contains("settings_differ")) return "";
+std::string differ_text(const DiffFinding& r) {
+  if (r.settings_differ.empty()) return "";
   std::vector<std::string> items;
-  for (const auto& s : r["settings_differ"]) items.push_back(printable(s.get<std::string>(), 120));
+  for (const auto& s : r.settings_differ) items.push_back(printable(s, 120));
   return fmt::format(" [settings differ: {}]", fmt::join(items, ", "));
 }
 
 }  // namespace
 
-std::string diff_text(const json& d) {
+std::string finding_name(const DiffFinding& f) {
+  return f.sweep.empty() ? fmt::format("{} on {}", printable(f.scenario, 200), printable(f.engine, 200))
+                         : printable(f.sweep, 300);
+}
+
+std::string diff_text(const ResultsDiff& d) {
   // Names and messages come from the files: one line each, whatever they hold.
-  const auto name = [](const json& v) { return printable(v.get<std::string>(), 200); };
+  const auto name = [](const std::string& v) { return printable(v, 200); };
   std::string t;
-  for (const auto& r : d["regressions"])
-    t += fmt::format("REGRESSION {} on {}: {} -> {} ({}){}\n", name(r["scenario"]), name(r["engine"]), name(r["from"]),
-                     name(r["to"]), printable(r["message"].get<std::string>(), 1000), differ_text(r));
-  for (const auto& r : d["fixed"])
-    t += fmt::format("fixed      {} on {}: {} -> {}{}\n", name(r["scenario"]), name(r["engine"]), name(r["from"]),
-                     name(r["to"]), differ_text(r));
-  for (const char* kind : {"worse", "better"})
-    for (const auto& r : d[kind])
-      t += fmt::format("{:<10} {} on {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g}){}\n", kind,
-                       name(r["scenario"]), name(r["engine"]), name(r["metric"]), figure(r["head_measured"]),
-                       figure(r["base_measured"]), r["head_ratio"].get<double>(), r["base_ratio"].get<double>(),
-                       differ_text(r));
-  for (const char* kind : {"added", "removed"})
-    for (const auto& r : d[kind]) t += fmt::format("{:<10} {} on {}\n", kind, name(r["scenario"]), name(r["engine"]));
-  t += fmt::format("{} regressions, {} fixed, {} metrics worse, {} better, {} runs added, {} removed\n",
-                   d["regressions"].size(), d["fixed"].size(), d["worse"].size(), d["better"].size(), d["added"].size(),
-                   d["removed"].size());
+  for (const auto& r : d.regressions)
+    t += fmt::format("REGRESSION {}: {} -> {} ({}){}\n", finding_name(r), name(r.from), name(r.to),
+                     printable(r.message, 1000), differ_text(r));
+  for (const auto& r : d.fixed)
+    t += fmt::format("fixed      {}: {} -> {}{}\n", finding_name(r), name(r.from), name(r.to), differ_text(r));
+  const auto metric_lines = [&](const char* kind, const std::vector<DiffFinding>& list) {
+    for (const auto& r : list)
+      t += r.metric == "outcome"
+               ? fmt::format("{:<10} {}: {} (was {})\n", kind, name(r.sweep), r.to, r.from)
+               : fmt::format("{:<10} {}: {} measured {} (was {}), {:.3g} of tolerance (was {:.3g}){}\n", kind,
+                             finding_name(r), name(r.metric), figure(r.head_measured), figure(r.base_measured),
+                             r.head_ratio, r.base_ratio, differ_text(r));
+  };
+  metric_lines("worse", d.worse);
+  metric_lines("better", d.better);
+  metric_lines("moved", d.moved);
+  for (const auto& r : d.added) t += fmt::format("{:<10} {} on {}\n", "added", name(r.scenario), name(r.engine));
+  for (const auto& r : d.removed) t += fmt::format("{:<10} {} on {}\n", "removed", name(r.scenario), name(r.engine));
+  t += fmt::format("{} regressions, {} fixed, {} metrics worse, {} better, {} moved, {} runs added, {} removed\n",
+                   d.regressions.size(), d.fixed.size(), d.worse.size(), d.better.size(), d.moved.size(),
+                   d.added.size(), d.removed.size());
   return t;
 }
 

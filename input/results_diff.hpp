@@ -2,37 +2,34 @@
 // compared with: what `liftcheck diff` and `validate --baseline` read, with no engine.
 #pragma once
 
-#include <nlohmann/json.hpp>
 #include <string>
 
 #include "input/results_index.hpp"
+#include "input/suite_result.hpp"
 
 namespace liftcheck {
 
-/// Whether a stored run record is as expected (files written before verdicts: pass or skip).
-bool record_as_expected(const nlohmann::json& record);
-
-/// A baseline of a results file: its runs' records only (scenario, configuration, parameters,
-/// settings, status, verdict, metrics), without traces, details or timings, so it stays small and
-/// reviewable in a diff; `diff_results` compares a results file with it.
-nlohmann::json baseline_json(const nlohmann::json& results);
+/// The regression gate's default factor: a counted metric whose error grows by more than this
+/// against the baseline is worse (exit 1). The records reproduce bit for bit on another machine
+/// with the same toolchain, so any growth is a change; docs/ci.md says what the factor tolerates.
+inline constexpr double kDefaultWorseFactor = 1.25;
 
 struct DiffDef {
   /// A metric counts as worse when its error grows by more than this factor and ends above
-  /// `floor` of its tolerance (changes deep inside the tolerance are noise, not regressions).
-  double growth = 10.0;
+  /// `floor` of its tolerance (changes deep inside the tolerance are noise, not regressions);
+  /// better when it shrinks so; moved when it changes at all, but neither.
+  double growth = kDefaultWorseFactor;
   double floor = 0.01;
 };
 
 /// Compares two results files run by run: status changes (a run that was as expected and is no
 /// longer is a regression), runs added or removed, and metrics whose errors grew.
-/// Returns {"regressions": [...], "worse": [...], "better": [...], "added": [...], "removed": [...]}.
-nlohmann::json diff_results(const ResultsIndex& base, const ResultsIndex& head, const DiffDef& def = {});
+ResultsDiff diff_results(const ResultsIndex& base, const ResultsIndex& head, const DiffDef& def = {});
 
-/// The same on two documents (index_of each).
-nlohmann::json diff_results(const nlohmann::json& base, const nlohmann::json& head, const DiffDef& def = {});
+/// "car.circle on ode", or a point's key.
+std::string finding_name(const DiffFinding& f);
 
 /// The diff as plain text, one line per finding.
-std::string diff_text(const nlohmann::json& diff);
+std::string diff_text(const ResultsDiff& diff);
 
 }  // namespace liftcheck

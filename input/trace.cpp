@@ -71,7 +71,8 @@ namespace {
 /// in one object (the last would silently win), an interruption.
 class CheckedDom {
  public:
-  CheckedDom(json& root, const std::string& file, int max_depth) : root_(root), file_(file), max_depth_(max_depth) {
+  CheckedDom(json& root, const std::string& file, int max_depth, const RunHook* on_run = nullptr)
+      : root_(root), file_(file), max_depth_(max_depth), on_run_(on_run) {
     open_.reserve(static_cast<std::size_t>(max_depth) + 1);
   }
   bool null() { return put(json()); }
@@ -83,8 +84,8 @@ class CheckedDom {
   bool binary(json::binary_t& v) { return put(json::binary(std::move(v))); }
   bool start_object(std::size_t) { return open(json::object()); }
   bool start_array(std::size_t) { return open(json::array()); }
-  bool end_object() { return open_.pop_back(), true; }
-  bool end_array() { return open_.pop_back(), true; }
+  bool end_object() { return close(); }
+  bool end_array() { return close(); }
   bool key(std::string& k) {
     open_.back().key = std::move(k);
     return true;
@@ -119,7 +120,27 @@ class CheckedDom {
                                    where(), printable(at->first)));
     return &at->second;
   }
-  bool put(json&& v) { return place(std::move(v)), true; }
+  bool put(json&& v) {
+    json* at = place(std::move(v));
+    if (in_runs()) hand_over(*at);
+    return true;
+  }
+  /// The innermost open container is the top level's "runs" array.
+  bool in_runs() const {
+    return on_run_ && open_.size() == 2 && open_[0].value->is_object() && open_[0].key == "runs" &&
+           open_[1].value->is_array();
+  }
+  /// A run has ended: handed to the hook, null left in its place.
+  void hand_over(json& run) {
+    (*on_run_)(open_[1].value->size() - 1, run, root_);
+    run = json();
+  }
+  bool close() {
+    json* closed = open_.back().value;
+    open_.pop_back();
+    if (in_runs()) hand_over(*closed);
+    return true;
+  }
   bool open(json&& container) {
     if (static_cast<int>(open_.size()) >= max_depth_)
       throw InputError(fmt::format("{}: JSON nested deeper than {} levels", file_, max_depth_));
@@ -144,6 +165,7 @@ class CheckedDom {
   json& root_;
   const std::string& file_;
   int max_depth_;
+  const RunHook* on_run_;
   std::vector<Open> open_;
   std::size_t events_ = 0;
 };
@@ -153,6 +175,17 @@ class CheckedDom {
 json parse_json_text(std::string_view text, const std::string& file, int max_depth) {
   json root;
   CheckedDom dom(root, file, max_depth);
+  try {
+    json::sax_parse(text, &dom);
+  } catch (const json::exception& e) {
+    throw not_json_error(e, file);
+  }
+  return root;
+}
+
+json parse_json_runs(std::string_view text, const std::string& file, const RunHook& on_run, int max_depth) {
+  json root;
+  CheckedDom dom(root, file, max_depth, &on_run);
   try {
     json::sax_parse(text, &dom);
   } catch (const json::exception& e) {

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <filesystem>
+#include <functional>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <string_view>
@@ -38,6 +39,14 @@ Trace parse_trace(const std::string& text, const std::string& file, Vehicle vehi
 /// Parses a JSON document that liftcheck reads back; InputError "FILE: is not JSON (...)", or for a
 /// document nested deeper than `max_depth` levels (copying or printing one recurses that deep).
 nlohmann::json parse_json_text(std::string_view text, const std::string& file, int max_depth = 64);
+
+/// The same, handing each element of the top level's "runs" array to `on_run` as it ends (its
+/// index, its value, and the document as read so far: the top level's keys before "runs") and
+/// keeping null in its place: a file of a million runs is read one run at a time. The document
+/// without its runs is returned.
+using RunHook = std::function<void(std::size_t, nlohmann::json&, const nlohmann::json&)>;
+nlohmann::json parse_json_runs(std::string_view text, const std::string& file, const RunHook& on_run,
+                               int max_depth = 64);
 
 /// The InputError for a document nlohmann's parser refused: "FILE: is not JSON (REASON)".
 InputError not_json_error(const nlohmann::json::exception& e, const std::string& file);

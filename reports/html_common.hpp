@@ -9,7 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include "input/record_view.hpp"
+#include "input/standing.hpp"
+#include "input/suite_result.hpp"
 #include "reports/escape.hpp"
 
 namespace liftcheck::html {
@@ -18,8 +19,7 @@ using json = nlohmann::json;
 
 inline std::string esc(const std::string& s) { return escape_markup(s); }
 
-inline std::string num(const json& v) { return v.is_number() ? fmt::format("{:.6g}", v.get<double>()) : "&ndash;"; }
-/// A figure read through MetricView: NaN (null or absent in the record) is a dash.
+/// A figure: NaN (null or absent in the record) is a dash.
 inline std::string num(double v) { return std::isnan(v) ? "&ndash;" : fmt::format("{:.6g}", v); }
 
 inline constexpr const char* kCss =
@@ -68,58 +68,43 @@ inline std::string head(const std::string& title) {
 
 /// CSS class and word for a run's verdict (a reviewed known failure has its own colour; a listed
 /// failure that passes is as unexpected as a failure).
-inline std::pair<std::string, std::string> status_of(const json& r) {
-  const std::string st = r.value("verdict", r["status"].get<std::string>());
-  if (st == "known failure") return {"xfail", "KNOWN FAILURE"};
-  if (st == "unexpected pass") return {"fail", "UNEXPECTED PASS"};
-  std::string word = st;
-  for (auto& c : word) c = static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
-  return {st, word};
+inline std::pair<std::string, std::string> status_of(const RunResult& r) {
+  switch (r.verdict()) {
+    case Verdict::kKnownFailure:
+      return {"xfail", "KNOWN FAILURE"};
+    case Verdict::kUnexpectedPass:
+      return {"fail", "UNEXPECTED PASS"};
+    case Verdict::kPass:
+      return {"pass", "PASS"};
+    case Verdict::kFail:
+      return {"fail", "FAIL"};
+    case Verdict::kError:
+      return {"error", "ERROR"};
+    case Verdict::kSkip:
+      return {"skip", "SKIP"};
+  }
+  return {"error", "ERROR"};
 }
 
-inline bool has_expectation(const json& r) { return r.contains("expectation") && r["expectation"].is_object(); }
-
-inline std::vector<std::string> scenario_order(const json& results) {
+inline std::vector<std::string> engine_order(const SuiteResults& results) {
   std::vector<std::string> v;
-  for (const auto& r : results["runs"])
-    if (std::find(v.begin(), v.end(), r["scenario"].get<std::string>()) == v.end()) v.push_back(r["scenario"]);
+  for (const auto& e : results.context.engines) v.push_back(e.name);
   return v;
-}
-
-inline std::vector<std::string> engine_order(const json& results) {
-  std::vector<std::string> v;
-  for (const auto& e : results["context"]["engines"]) v.push_back(e["name"]);
-  return v;
-}
-
-inline const json* find_run(const json& results, const std::string& sc, const std::string& eng) {
-  for (const auto& r : results["runs"])
-    if (r["scenario"] == sc && r["engine"] == eng) return &r;
-  return nullptr;
-}
-
-inline const json* scenario_info(const json& results, const std::string& sc) {
-  if (!results.contains("scenarios")) return nullptr;
-  for (const auto& s : results["scenarios"])
-    if (s["name"] == sc) return &s;
-  return nullptr;
 }
 
 /// "dx: measured 7.7e-4, expected 7.38e-4, relative error 0.043, tolerance 0.02 (2.1× tolerance)".
-inline std::string metric_figures(const std::string& name, const json& metric) {
-  const MetricView m(metric);
-  const double tol = m.tolerance(), e = m.compared_error();
+inline std::string metric_figures(const Metric& m) {
+  const double tol = m.tolerance, e = m.compared_error();
   return fmt::format("{}: measured {} {}, expected {}, {} error {:.3g}, tolerance {:.3g} ({:.3g}&times; tolerance)",
-                     esc(name), num(m.measured()), esc(m.unit()), num(m.expected()),
-                     m.relative() ? "relative" : "absolute", e, tol, tol > 0 ? e / tol : INFINITY);
+                     esc(m.name), num(m.measured), esc(m.unit), num(m.expected),
+                     m.kind == TolKind::kRelative ? "relative" : "absolute", e, tol, tol > 0 ? e / tol : INFINITY);
 }
 
-/// The suite's --set assignments and a run's settings, as text ("" when there are none).
-inline std::string settings_text(const json& settings) {
+/// KEY=VALUE pairs as text ("" when there are none): a run's settings, the suite's --set.
+template <class Pairs>
+std::string settings_text(const Pairs& pairs) {
   std::string s;
-  if (!settings.is_object()) return s;
-  for (const auto& [k, v] : settings.items())
-    s += fmt::format("{}{}={}", s.empty() ? "" : ", ", k, v.is_string() ? v.get<std::string>() : v.dump());
+  for (const auto& [k, v] : pairs) s += fmt::format("{}{}={}", s.empty() ? "" : ", ", k, v);
   return s;
 }
 

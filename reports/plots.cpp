@@ -1,7 +1,6 @@
 #include "reports/plots.hpp"
 
 #include "scenarios/sweep_catalogue.hpp"
-#include "input/record_view.hpp"
 #include "input/vehicle.hpp"
 #include "scenarios/details.hpp"
 #include "reports/scene_build.hpp"
@@ -28,11 +27,10 @@ namespace {
 using json = nlohmann::json;
 
 /// Each configuration's colour, from the results' context (EngineInfo::color).
-std::map<std::string, std::string> colors_of(const json& results) {
+std::map<std::string, std::string> colors_of(const SuiteResults& results) {
   std::map<std::string, std::string> out;
-  for (const auto& e : results["context"].value("engines", json::array()))
-    if (e.contains("color") && e["color"].is_string())
-      out[e["name"].get<std::string>()] = e["color"].get<std::string>();
+  for (const auto& e : results.context.engines)
+    if (!e.color.empty()) out[e.name] = e.color;
   return out;
 }
 
@@ -166,32 +164,27 @@ std::vector<std::vector<double>> error_rows(const json& trace, const json& ref) 
 
 /// A plot per scenario of its runs' errors against time: each engine's distance from the exact
 /// lift (log scale), where paths drawn over each other would hide errors of 1e-7 and 1e-2 alike.
-void plot_runs(Script& S, std::vector<PlotFile>& files, const json& results, const ColorOf& color_of) {
-  std::vector<std::string> order;
-  std::map<std::string, std::vector<const json*>> by_scenario;
-  for (const auto& r : results["runs"]) {
-    const std::string sc = r["scenario"];
-    if (!by_scenario.count(sc)) order.push_back(sc);
-    by_scenario[sc].push_back(&r);
-  }
-  for (const auto& sc : order) {
-    const bool disks = parse_vehicle(by_scenario[sc].front()->value("vehicle", "")) == Vehicle::kDisks;
-    const std::string file = fmt::format("plots/{}-error.svg", safe(sc));
+void plot_runs(Script& S, std::vector<PlotFile>& files, const SuiteResults& results, const ColorOf& color_of) {
+  for (const std::string& sc : results.scenario_order()) {
+    const RunResult* first = nullptr;
     std::string cmd, label = "the exact lift (4.1)";
     int entries = 0;
-    for (const json* r : by_scenario[sc]) {
-      const auto& d = (*r)["details"];
+    for (const RunResult& r : results.runs) {
+      if (r.scenario != sc) continue;
+      if (!first) first = &r;
+      const json& d = r.details;
       if (!d.is_object() || !d.contains(detail_key::kTrace) || !d.contains(detail_key::kReference) ||
           d[detail_key::kTrace].empty())
         continue;
-      const std::string eng = (*r)["engine"];
       cmd += fmt::format("{} u 1:2 w l lw 1.8 lc rgb {} t {} noenhanced, ",
                          S.block(error_rows(d[detail_key::kTrace], render::own_reference(d))),
-                         gnuplot_quote(color_of(eng)), gnuplot_quote(eng));
+                         gnuplot_quote(color_of(r.engine)), gnuplot_quote(r.engine));
       ++entries;
       if (d.contains(detail_key::kReferenceLabel)) label = d[detail_key::kReferenceLabel].get<std::string>();
     }
     if (cmd.empty()) continue;
+    const bool disks = first->vehicle == Vehicle::kDisks;
+    const std::string file = fmt::format("plots/{}-error.svg", safe(sc));
     S.begin(file_name(file),
             sc + (disks ? ": c_M against the exact lift (21), after contact the exact response"
                         : ": front-axle centre against " + label),
@@ -207,27 +200,24 @@ void plot_runs(Script& S, std::vector<PlotFile>& files, const json& results, con
 
 /// The outcome sweep: a panel per path of N over (a, b), the reference's outcomes and where an
 /// engine disagrees.
-void plot_outcomes(Script& S, const json& sw, const std::string& file) {
-  const auto& grid = sw["grid"];
-  const auto& paths = grid["path"];
+void plot_outcomes(Script& S, const OutcomeSweep& sw, const std::string& file) {
   S.begin(file_name(file), "", 1100, 420);
   S.gp << fmt::format(
       "set multiplot layout 1,{} title {}\nset xlabel 'a'\nset ylabel 'b'\nset xrange [-1.5:3.5]\nset yrange "
       "[-1.5:1.5]\nset key bottom right font ',9'\n",
-      paths.size(), gnuplot_quote(sw["title"].get<std::string>()));
-  const json* first = sw["engines"].empty() ? nullptr : &sw["engines"][0];
-  for (const auto& path : paths) {
+      sw.grid_path.size(), gnuplot_quote(sw.title));
+  const OutcomeEngine* first = sw.engines.empty() ? nullptr : &sw.engines[0];
+  for (const auto& path : sw.grid_path) {
     std::vector<std::vector<double>> hit, miss, nearb, dis;
     if (first)
-      for (const auto& c : (*first)["cases"]) {
-        if (c["path"] != path) continue;
-        (c["reference"].get<bool>() ? hit : miss).push_back({c["a"].get<double>(), c["b"].get<double>()});
-        if (c["near_boundary"].get<bool>()) nearb.push_back({c["a"].get<double>(), c["b"].get<double>()});
+      for (const auto& c : first->cases) {
+        if (c.path != path) continue;
+        (c.reference ? hit : miss).push_back({c.a, c.b});
+        if (c.near_boundary) nearb.push_back({c.a, c.b});
       }
-    for (const auto& e : sw["engines"])
-      for (const auto& c : e["cases"])
-        if (c["path"] == path && c["reference"] != c["engine"])
-          dis.push_back({c["a"].get<double>(), c["b"].get<double>()});
+    for (const auto& e : sw.engines)
+      for (const auto& c : e.cases)
+        if (c.path == path && (!c.engine || c.reference != *c.engine)) dis.push_back({c.a, c.b});
     hit.push_back({NAN, NAN}), miss.push_back({NAN, NAN}), nearb.push_back({NAN, NAN}), dis.push_back({NAN, NAN});
     const std::string bh = S.block(hit), bm = S.block(miss), bn = S.block(nearb), bd = S.block(dis);
     S.gp << fmt::format(
@@ -235,86 +225,92 @@ void plot_outcomes(Script& S, const json& sw, const std::string& file) {
         "{} u 1:2 w p pt 7 ps 1.3 lc rgb '#2ca02c' t 'no collision', "
         "{} u 1:2 w p pt 6 ps 2.6 lc rgb '#000000' t 'near boundary', "
         "{} u 1:2 w p pt 2 ps 2.2 lw 2 lc rgb '#9467bd' t 'an engine disagrees'\n",
-        gnuplot_quote("N on a " + path.get<std::string>()), bh, bm, bn, bd);
+        gnuplot_quote("N on a " + path), bh, bm, bn, bd);
   }
   S.gp << "unset multiplot\n";
 }
 
+/// The points of one configuration in a sweep, as the sweep's plot kind draws them: (x, a) and,
+/// for a sweep of values, (x, b) for its second metric; (x, exact) for a sweep of sizes.
+struct SweepRows {
+  std::vector<std::vector<double>> a, b, exact;
+};
+SweepRows sweep_rows(const Sweep& sw, const SweepEngine& e) {
+  SweepRows rows;
+  const bool values = sw.plot_kind == "values", holonomy = sw.plot_kind == "sizes";
+  const auto rel_error = [](const SweepPoint& pt, const std::string& field) {
+    const auto it = pt.metrics.find(recorded_field(field).name);
+    return it == pt.metrics.end() ? NAN : it->second.rel_error;
+  };
+  const auto detail = [](const SweepPoint& pt, const char* key) {
+    const auto it = pt.details.find(key);
+    return it != pt.details.end() && it->second.is_number() ? it->second.get<double>() : NAN;
+  };
+  for (const SweepPoint& pt : e.points) {
+    const double x = pt.x;
+    if (values) {  // the error of each value, not the value: every engine's radius would overlap
+      const double f = rel_error(pt, sw.record[0]), r = rel_error(pt, sw.record[1]);
+      // An exact zero (the reference itself) has no place on a log axis: drawn at 1e-16 it
+      // would stretch the axis over eight empty decades.
+      if (f > 0) rows.a.push_back({x, f});
+      if (r > 0) rows.b.push_back({x, r});
+    } else if (holonomy) {
+      const double ex = detail(pt, detail_key::kHolonomySize), me = detail(pt, detail_key::kMeasuredSize);
+      if (std::isfinite(ex)) rows.exact.push_back({x, ex});
+      if (std::isfinite(me)) rows.a.push_back({x, me});
+    } else {
+      const double err = rel_error(pt, sw.record[0]);
+      if (err > 0) rows.a.push_back({x, std::max(err, 1e-16)});
+    }
+  }
+  return rows;
+}
+
 /// One parameter sweep, plotted as its catalogue entry says; false when it has nothing to plot.
-bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorOf& color_of) {
-  const std::string param = sw["param"];
-  const auto& rec = sw["record"];
+bool plot_sweep(Script& S, const Sweep& sw, const std::string& file, const ColorOf& color_of) {
   const std::string before = S.gp.str();  // the script so far: this plot's header goes after it
   std::string cmd;
   int entries = 0;
   // The sweep says how it is plotted (its catalogue entry): measured values over exact curves,
   // measured against exact sizes, or relative errors.
-  const json plot = sw.value("plot", json::object());
-  const std::string kind = plot.value("kind", "errors");
-  const bool values = kind == "values", holonomy = kind == "sizes";
-  S.gp << fmt::format("set xlabel {}\nset ylabel {}\n", gnuplot_quote(plot.value("x_label", param)),
-                      gnuplot_quote(plot.value("y_label", "")));
-  if (values)
-    S.gp << "set logscale y\nset format y '10^{%T}'\n";
-  else if (holonomy)
-    S.gp << "set logscale xy\nset format y '10^{%T}'\n";
-  else
-    S.gp << "set logscale y\nset format y '10^{%T}'\n";
-  if (plot.value("log_x", false)) S.gp << "set logscale x\n";
+  const bool values = sw.plot_kind == "values", holonomy = sw.plot_kind == "sizes";
+  S.gp << fmt::format("set xlabel {}\nset ylabel {}\n", gnuplot_quote(sw.x_label.empty() ? sw.param : sw.x_label),
+                      gnuplot_quote(sw.y_label));
+  S.gp << (holonomy ? "set logscale xy\nset format y '10^{%T}'\n" : "set logscale y\nset format y '10^{%T}'\n");
+  if (sw.log_x) S.gp << "set logscale x\n";
   int shade = 0;
-  for (const auto& c : values ? json::array() : plot.value("curves", json::array()))
-    cmd += fmt::format("{} w l lw 6 lc rgb '{}' t {}, ", c["expr"].get<std::string>(),
-                       shade++ == 0 ? "#c8c8c8" : "#e0e0e0", gnuplot_quote(c["title"].get<std::string>()));
-  if (sw.contains("marker")) {
+  if (!values)
+    for (const auto& [expr, title] : sw.curves)
+      cmd += fmt::format("{} w l lw 6 lc rgb '{}' t {}, ", expr, shade++ == 0 ? "#c8c8c8" : "#e0e0e0",
+                         gnuplot_quote(title));
+  if (sw.marker)
     S.gp << fmt::format(
         "set arrow from {0}, graph 0 to {0}, graph 1 nohead lc rgb '#cc0000' dt 2\nset label {1} at {0}, graph 0.95 "
         "offset 0.5,0 tc rgb '#cc0000'\n",
-        sw["marker"]["x"].get<double>(), gnuplot_quote(sw["marker"]["label"].get<std::string>()));
-  }
+        sw.marker->first, gnuplot_quote(sw.marker->second));
   bool exact_done = false;
-  for (const auto& e : sw["engines"]) {
-    const std::string eng = e["engine"];
-    std::vector<std::vector<double>> a, b2, exact;
-    for (const auto& pt : e["points"]) {
-      const double x = pt["x"].get<double>();
-      if (values) {  // the error of each value, not the value: every engine's radius would overlap
-        const double f = MetricView(pt[rec[0].get<std::string>()]).rel_error(),
-                     r = MetricView(pt[rec[1].get<std::string>()]).rel_error();
-        // An exact zero (the reference itself) has no place on a log axis: drawn at 1e-16 it
-        // would stretch the axis over eight empty decades.
-        if (f > 0) a.push_back({x, f});
-        if (r > 0) b2.push_back({x, r});
-      } else if (holonomy) {
-        const auto& ex = pt[detail_field(detail_key::kHolonomySize)];
-        const auto& me = pt[detail_field(detail_key::kMeasuredSize)];
-        if (ex.is_number()) exact.push_back({x, ex.get<double>()});
-        if (me.is_number()) a.push_back({x, me.get<double>()});
-      } else {
-        const double e = MetricView(pt[rec[0].get<std::string>()]).rel_error();
-        if (e > 0) a.push_back({x, std::max(e, 1e-16)});
-      }
-    }
-    if (a.empty()) continue;
-    a.push_back({NAN, NAN});
-    if (holonomy && !exact_done && !exact.empty()) {
-      cmd += fmt::format("{} u 1:2 w l lw 6 lc rgb '#c8c8c8' t 'exact holonomy', ", S.block(exact));
+  for (const SweepEngine& e : sw.engines) {
+    SweepRows rows = sweep_rows(sw, e);
+    if (rows.a.empty()) continue;
+    rows.a.push_back({NAN, NAN});
+    if (holonomy && !exact_done && !rows.exact.empty()) {
+      cmd += fmt::format("{} u 1:2 w l lw 6 lc rgb '#c8c8c8' t 'exact holonomy', ", S.block(rows.exact));
       exact_done = true;
     }
-    std::string title = eng;
-    if (holonomy && e.contains("fit") && e["fit"]["slope"].is_number())
-      title += fmt::format(" (slope {:.2f})", e["fit"]["slope"].get<double>());
-    cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb {} t {} noenhanced, ", S.block(a),
-                       gnuplot_quote(color_of(eng)), gnuplot_quote(title + (values ? " front" : "")));
+    std::string title = e.engine;
+    if (holonomy && e.fit && std::isfinite(e.fit->slope)) title += fmt::format(" (slope {:.2f})", e.fit->slope);
+    cmd += fmt::format("{} u 1:2 w lp pt 7 lw 1.5 lc rgb {} t {} noenhanced, ", S.block(rows.a),
+                       gnuplot_quote(color_of(e.engine)), gnuplot_quote(title + (values ? " front" : "")));
     ++entries;
-    if (!b2.empty()) {
-      cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb {} t {} noenhanced, ", S.block(b2),
-                         gnuplot_quote(color_of(eng)), gnuplot_quote(eng + " rear"));
+    if (!rows.b.empty()) {
+      cmd += fmt::format("{} u 1:2 w lp pt 5 lw 1.5 dt 2 lc rgb {} t {} noenhanced, ", S.block(rows.b),
+                         gnuplot_quote(color_of(e.engine)), gnuplot_quote(e.engine + " rear"));
       ++entries;
     }
   }
   // The header goes before the plot's body: its size depends on its key's entries.
   Script head;
-  if (!cmd.empty()) head.begin(file_name(file), sw["title"], 760, 440, entries + shade + (exact_done ? 1 : 0));
+  if (!cmd.empty()) head.begin(file_name(file), sw.title, 760, 440, entries + shade + (exact_done ? 1 : 0));
   const std::string body = cmd.empty() ? "" : S.gp.str().substr(before.size());
   S.gp.str(before + head.gp.str() + body);
   S.gp.seekp(0, std::ios::end);
@@ -325,50 +321,48 @@ bool plot_sweep(Script& S, const json& sw, const std::string& file, const ColorO
 
 /// A speed-accuracy map: a panel per scenario, error against cost, a curve per configuration and
 /// knob (dt solid, iterations dashed), the Pareto front over the configurations ringed.
-void plot_map(Script& S, std::vector<PlotFile>& files, const json& map, const ColorOf& color_of) {
-  const std::string file = fmt::format("plots/map-{}.svg", safe(map["name"]));
-  const auto& panels = map["panels"];
+void plot_map(Script& S, std::vector<PlotFile>& files, const SpeedMap& map, const ColorOf& color_of) {
+  const std::string file = fmt::format("plots/map-{}.svg", safe(map.name));
   S.begin(file_name(file), "", 1200, 520);
   S.gp << fmt::format(
       "set multiplot layout 1,{} title {} font ',11'\nset logscale xy\nset format x '10^{{%T}}'\nset format y "
       "'10^{{%T}}'\n"
       "set xlabel 'wall-clock cost [s per simulated s]'\nset key below font ',8' maxrows 4\n",
-      panels.size(), gnuplot_quote(map["title"].get<std::string>()));
-  for (const auto& panel : panels) {
+      map.panels.size(), gnuplot_quote(map.title));
+  for (const MapPanel& panel : map.panels) {
     std::string cmd;
     std::vector<std::vector<double>> front;
-    for (const auto& c : panel["curves"]) {
-      const std::string eng = c["engine"];
+    for (const MapCurve& c : panel.curves) {
       for (const char* knob : {kMapDefault, kMapDt, kMapIterations}) {
         std::vector<std::vector<double>> rows;
-        for (const auto& p : c["points"])
-          if (p["knob"] == knob && p["error"].is_number() && p["cost_s_per_s"].is_number()) {
-            rows.push_back({p["cost_s_per_s"].get<double>(), std::max(p["error"].get<double>(), 1e-16)});
-            if (p["pareto"].get<bool>()) front.push_back(rows.back());
+        for (const MapPoint& p : c.points)
+          if (p.knob == knob && std::isfinite(p.error) && std::isfinite(p.cost_s_per_s)) {
+            rows.push_back({p.cost_s_per_s, std::max(p.error, 1e-16)});
+            if (p.pareto) front.push_back(rows.back());
           }
         if (rows.empty()) continue;
         const std::string style = std::string(knob) == kMapIterations ? "w lp pt 6 dt 2"
                                   : std::string(knob) == kMapDt       ? "w lp pt 7"
                                                                       : "w p pt 9 ps 1.6";
-        cmd += fmt::format("{} u 1:2 {} lw 1.5 lc rgb {} t {} noenhanced, ", S.block(rows), style,
-                           gnuplot_quote(color_of(eng)),
-                           gnuplot_quote(eng + (std::string(knob) == kMapDefault ? "" : fmt::format(" ({})", knob))));
+        cmd += fmt::format(
+            "{} u 1:2 {} lw 1.5 lc rgb {} t {} noenhanced, ", S.block(rows), style, gnuplot_quote(color_of(c.engine)),
+            gnuplot_quote(c.engine + (std::string(knob) == kMapDefault ? "" : fmt::format(" ({})", knob))));
       }
     }
     std::sort(front.begin(), front.end());
     if (!front.empty())
       cmd += fmt::format("{} u 1:2 w lp pt 6 ps 2.4 lw 1 dt 3 lc rgb '#000000' t 'Pareto front', ", S.block(front));
     if (cmd.empty()) continue;
-    S.gp << fmt::format("set title {}\nset ylabel {}\nplot {}\n", gnuplot_quote(panel["scenario"].get<std::string>()),
-                        gnuplot_quote(panel["error_label"].get<std::string>()), cmd.substr(0, cmd.size() - 2));
+    S.gp << fmt::format("set title {}\nset ylabel {}\nplot {}\n", gnuplot_quote(panel.scenario),
+                        gnuplot_quote(panel.error_label), cmd.substr(0, cmd.size() - 2));
   }
   S.gp << "unset multiplot\n";
-  files.push_back({"sweeps", file, map["title"]});
+  files.push_back({"sweeps", file, map.title});
 }
 
 }  // namespace
 
-std::vector<PlotFile> write_plots(const json& results, const std::filesystem::path& out) {
+std::vector<PlotFile> write_plots(const SuiteResults& results, const std::filesystem::path& out) {
   std::filesystem::create_directories(out / "plots");
   Script S;
   std::vector<PlotFile> files;
@@ -378,15 +372,16 @@ std::vector<PlotFile> write_plots(const json& results, const std::filesystem::pa
     return it == colors.end() ? std::string("#808080") : it->second;
   };
   plot_runs(S, files, results, color_of);
-  for (const auto& sw : results.value("sweeps", json::array())) {
-    const std::string file = fmt::format("plots/sweep-{}.svg", safe(sw["name"].get<std::string>()));
-    if (sw.value("kind", "") == "outcomes")
-      plot_outcomes(S, sw, file);
-    else if (!plot_sweep(S, sw, file, color_of))
-      continue;
-    files.push_back({"sweeps", file, sw["title"]});
+  for (const Sweep& sw : results.sweeps) {
+    const std::string file = fmt::format("plots/sweep-{}.svg", safe(sw.name));
+    if (plot_sweep(S, sw, file, color_of)) files.push_back({"sweeps", file, sw.title});
   }
-  for (const auto& map : results.value("maps", json::array())) plot_map(S, files, map, color_of);
+  if (results.outcomes) {
+    const std::string file = fmt::format("plots/sweep-{}.svg", safe(results.outcomes->name));
+    plot_outcomes(S, *results.outcomes, file);
+    files.push_back({"sweeps", file, results.outcomes->title});
+  }
+  for (const SpeedMap& map : results.maps) plot_map(S, files, map, color_of);
 
   run_script(S, out / "plots");
   return files;

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "input/suite_result.hpp"
+
 namespace liftcheck {
 
 struct PlotFile {
@@ -17,7 +19,7 @@ struct PlotFile {
 /// Writes plots/plots.gp and runs gnuplot on it (no shell: gnuplot is spawned with a fixed argument
 /// vector in the plots folder, and every name in the script is quoted as gnuplot data). Throws
 /// std::runtime_error if gnuplot cannot be started or fails.
-std::vector<PlotFile> write_plots(const nlohmann::json& results, const std::filesystem::path& out_dir);
+std::vector<PlotFile> write_plots(const SuiteResults& results, const std::filesystem::path& out_dir);
 
 /// The walk of `liftcheck tune` (its tune.json) as out_dir/plots/tune.svg: each run's worst error
 /// over its tolerance against its cost, passing runs apart from failing ones, the default and the

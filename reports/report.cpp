@@ -2,6 +2,7 @@
 
 #include <chrono>
 #include <fmt/format.h>
+#include <malloc.h>
 #include <mutex>
 #include <set>
 #include <thread>
@@ -30,18 +31,18 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 
 /// Renders every run's snapshots and frame strip into out/snapshots in def.threads threads, and
 /// lists them (in run order), the problems and the GL version in `report`.
-void write_snapshots(json& results, const std::filesystem::path& out, const ReportDef& def, json& report) {
-  const json& runs = results["runs"];
-  std::vector<json> shots(runs.size(), json::array()), strips(runs.size(), json::array());
+void write_snapshots(const SuiteResults& results, const std::filesystem::path& out, const ReportDef& def,
+                     ReportInfo& report) {
+  const std::vector<RunResult>& runs = results.runs;
+  std::vector<std::vector<ReportFile>> shots(runs.size()), strips(runs.size());
   std::vector<std::string> errors;
   std::string gl_version;
   std::mutex mu;
   bool out_of_memory = false;
   std::map<std::string, render::Color> ink;  // each configuration's colour, from the context
-  for (const auto& e : results["context"].value("engines", json::array()))
-    ink[e["name"].get<std::string>()] = render::color_from_hex(e.value("color", ""));
-  const auto ink_of = [&](const json& r) {
-    const auto it = ink.find(r["engine"].get<std::string>());
+  for (const auto& e : results.context.engines) ink[e.name] = render::color_from_hex(e.color);
+  const auto ink_of = [&](const RunResult& r) {
+    const auto it = ink.find(r.engine);
     return it == ink.end() ? render::colors::kUnknown : it->second;
   };
   // The start is the scenario's: every configuration starts from the same pose (to a few mm where
@@ -49,16 +50,17 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
   std::set<std::string> seen;
   std::vector<bool> draw_start(runs.size(), false);
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    const json& d = runs[i].value("details", json::object());
-    const bool traced = d.is_object() && d.contains("trace") && d["trace"].is_array() && d["trace"].size() >= 2;
-    draw_start[i] = traced && seen.insert(runs[i]["scenario"].get<std::string>()).second;
+    const nlohmann::json& d = runs[i].details;
+    const auto tr = d.find("trace");
+    const bool traced = tr != d.end() && tr->is_array() && tr->size() >= 2;
+    draw_start[i] = traced && seen.insert(runs[i].scenario).second;
   }
   const int threads = std::max(1, def.threads);  // 0 or fewer: one thread (a stride of 0 never ends)
   const auto draw = [&](int id) {
     render::Renderer renderer;
     for (std::size_t i = id; i < runs.size(); i += static_cast<std::size_t>(threads)) {
-      const json& r = runs[i];
-      const std::string base = fmt::format("snapshots/{}__{}", file_safe(r["scenario"]), file_safe(r["engine"]));
+      const RunResult& r = runs[i];
+      const std::string base = fmt::format("snapshots/{}__{}", file_safe(r.scenario), file_safe(r.engine));
       try {
         for (const auto& s : render::snapshots_for(r, ink_of(r))) {
           if (s.tag == "start" && !draw_start[i]) continue;
@@ -66,11 +68,7 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
           render::Image img = renderer.render(s.scene);
           for (const auto& in : s.insets) render::paste(img, renderer.render(in.scene), in.x_px, in.y_px);
           render::write_png(out / file, img);
-          shots[i].push_back({{"scenario", r["scenario"]},
-                              {"engine", r["engine"]},
-                              {"tag", s.tag},
-                              {"file", file},
-                              {"caption", s.caption}});
+          shots[i].push_back({"", r.scenario, r.engine, s.tag, file, s.caption, s.caption});
         }
         const render::Strip st = render::strip_for(r, ink_of(r));
         if (!st.frames.empty()) {
@@ -78,15 +76,16 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
           for (const auto& f : st.frames) frames.push_back(renderer.render(f));
           const std::string file = base + "__strip.png";
           render::write_png(out / file, render::tile(frames, st.per_row));
-          strips[i].push_back(
-              {{"scenario", r["scenario"]}, {"engine", r["engine"]}, {"file", file}, {"caption", st.caption}});
+          strips[i].push_back({"", r.scenario, r.engine, "strip", file, st.caption, "frame strip"});
         }
+        // glibc keeps the freed images of each thread in its arena: returned here, the renderer's
+        // peak stays near its live heap (docs/performance.md) instead of growing by an arena a thread.
+        malloc_trim(0);
       } catch (const std::bad_alloc&) {
         throw;  // the renderer's limit: the report stops (below)
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(mu);
-        errors.push_back(fmt::format("snapshots of {} on {}: {}", r["scenario"].get<std::string>(),
-                                     r["engine"].get<std::string>(), e.what()));
+        errors.push_back(fmt::format("snapshots of {} on {}: {}", r.scenario, r.engine, e.what()));
       }
     }
     std::lock_guard<std::mutex> lock(mu);
@@ -107,45 +106,41 @@ void write_snapshots(json& results, const std::filesystem::path& out, const Repo
   for (auto& t : pool) t.join();
   if (out_of_memory) throw std::bad_alloc();
   for (std::size_t i = 0; i < runs.size(); ++i) {
-    for (auto& s : shots[i]) report["snapshots"].push_back(s);
-    for (auto& s : strips[i]) report["strips"].push_back(s);
+    for (auto& s : shots[i]) report.snapshots.push_back(std::move(s));
+    for (auto& s : strips[i]) report.strips.push_back(std::move(s));
   }
-  for (auto& e : errors) report["errors"].push_back(e);
-  report["gl_version"] = gl_version;
+  for (auto& e : errors) report.errors.push_back(std::move(e));
+  report.gl_version = gl_version;
 }
 
 }  // namespace
 
-void write_report(json& results, const std::filesystem::path& out, const ReportDef& def) {
+void write_report(SuiteResults& results, const std::filesystem::path& out, const ReportDef& def) {
   const auto t0 = std::chrono::steady_clock::now();
-  json report{
-      {"snapshots", json::array()}, {"strips", json::array()}, {"plots", json::array()}, {"errors", json::array()}};
+  ReportInfo report;
   std::filesystem::create_directories(out / "snapshots");
 
   if (def.snapshots) write_snapshots(results, out, def, report);
-  report["snapshots_s"] = seconds_since(t0);
+  report.snapshots_s = seconds_since(t0);
 
   const auto tp = std::chrono::steady_clock::now();
   if (def.plots) {
     try {
       for (const auto& p : write_plots(results, out))
-        report["plots"].push_back({{"group", p.group}, {"file", p.file}, {"caption", p.caption}});
+        report.plots.push_back({p.group, "", "", "", p.file, p.caption, p.caption});
     } catch (const std::bad_alloc&) {
       throw;  // past the renderer's memory limit: the whole report stops
     } catch (const std::exception& e) {
-      report["errors"].push_back(fmt::format("plots: {}", e.what()));
+      report.errors.push_back(fmt::format("plots: {}", e.what()));
     }
   }
-  report["plots_s"] = seconds_since(tp);
-  report["report_s"] = seconds_since(t0);
-  results["report"] = report;
+  report.plots_s = seconds_since(tp);
+  report.report_s = seconds_since(t0);
+  results.report = report;
 
-  std::vector<std::string> scenarios;
-  for (const auto& r : results["runs"])
-    if (std::find(scenarios.begin(), scenarios.end(), r["scenario"].get<std::string>()) == scenarios.end())
-      scenarios.push_back(r["scenario"]);
-  for (const auto& sc : scenarios) write_file_atomic(out / scenario_page(sc), scenario_html(results, sc));
-  results["report"]["report_s"] = seconds_since(t0);
+  for (const auto& sc : results.scenario_order())
+    write_file_atomic(out / scenario_page(sc), scenario_html(results, sc));
+  results.report->report_s = seconds_since(t0);
   write_file_atomic(out / "index.html", index_html(results));
 }
 

@@ -1,9 +1,9 @@
 // Writes the report folder from results.json: snapshots (OSMesa, PNG), plots (gnuplot, SVG) and
-// HTML pages. Adds a "report" block to the results listing every file it wrote.
+// HTML pages. Sets the results' report: every file it wrote.
 #pragma once
 
 #include <filesystem>
-#include <nlohmann/json.hpp>
+#include "input/suite_result.hpp"
 
 namespace liftcheck {
 
@@ -13,8 +13,8 @@ struct ReportDef {
   int threads = 2;  ///< rendering threads, one OSMesa context each (below 1: one)
 };
 
-/// Never throws for a failed picture or plot: the failure is listed in results["report"]["errors"]
+/// Never throws for a failed picture or plot: the failure is listed in the results' report errors
 /// and shown on the index. Throws std::runtime_error only when the HTML cannot be written.
-void write_report(nlohmann::json& results, const std::filesystem::path& out, const ReportDef& def = {});
+void write_report(SuiteResults& results, const std::filesystem::path& out, const ReportDef& def = {});
 
 }  // namespace liftcheck

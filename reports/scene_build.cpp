@@ -69,12 +69,17 @@ struct CarGeom {
   bool parallel = false;  ///< four wheels steered in parallel (params steering = parallel)
 };
 
-CarGeom geom_of(const json& run) {
-  const json& p = run["params"];
-  const double R = p["R"].get<double>(), l = p["l"].get<double>();
+CarGeom geom_of(const RunResult& run) {
+  const Params& p = run.params;
+  const double R = p.num("R"), l = p.num("l");
   // Records from before the parameters existed: the tricycle with its track of 0.8 l.
-  const double track = p.contains("track") ? p["track"].get<double>() : 0.8 * l;
-  return {R, l, track, 0.3 * R, p.value("wheels", "3") == "4", p.value("steering", "ackermann") == "parallel"};
+  const double track = p.has("track") ? p.num("track") : 0.8 * l;
+  return {R,
+          l,
+          track,
+          0.3 * R,
+          p.has("wheels") && p.str("wheels") == "4",
+          p.has("steering") && p.str("steering") == "parallel"};
 }
 
 Vec2 front_of(const json& row) { return {row[3].get<double>(), row[4].get<double>()}; }
@@ -143,14 +148,14 @@ void add_paths(Scene& s, const json& trace, std::size_t upto, const CarGeom& g, 
   s.lines.push_back(r);
 }
 
-Scene car_scene(const json& run, const Color& ink, double t, bool full_paths) {
+Scene car_scene(const RunResult& run, const Color& ink, double t, bool full_paths) {
   Scene s;
   const CarGeom g = geom_of(run);
-  const json& tr = run["details"][detail_key::kTrace];
+  const json& tr = run.details[detail_key::kTrace];
   const std::size_t k = row_at(tr, t);
   Bounds b;
-  if (run["details"].contains(detail_key::kReference)) {
-    const json& ref = run["details"][detail_key::kReference];
+  if (run.details.contains(detail_key::kReference)) {
+    const json& ref = run.details[detail_key::kReference];
     add_paths(s, ref, full_paths ? ref.size() : row_at(ref, t), g, Color{0.55f, 0.55f, 0.55f, 0.55f}, 7.0f, &b);
   }
   add_paths(s, tr, full_paths ? tr.size() : k, g, ink, 2.0f, &b);
@@ -158,18 +163,16 @@ Scene car_scene(const json& run, const Color& ink, double t, bool full_paths) {
   b.add(front_of(tr[k]), g.l * 0.6);
   b.add(rear_of(tr[k], g.l), g.l * 0.6);
   frame(s, b);
-  add_legend(s,
-             fmt::format("{} · {} · t = {:.2f} s", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
-                         tr[k][0].get<double>()),
-             run["engine"], ink, "exact lift of the commanded path");
+  add_legend(s, fmt::format("{} · {} · t = {:.2f} s", run.scenario, run.engine, tr[k][0].get<double>()), run.engine,
+             ink, "exact lift of the commanded path");
   return s;
 }
 
 // ---- disks ---------------------------------------------------------------------------------
 
-Scene disk_scene(const json& run, const Color& ink, double t, const std::string& moment) {
+Scene disk_scene(const RunResult& run, const Color& ink, double t, const std::string& moment) {
   Scene s;
-  const json& d = run["details"];
+  const json& d = run.details;
   const json& tr = d[detail_key::kTrace];
   const std::size_t k = row_at(tr, t);
   Bounds b;
@@ -212,22 +215,21 @@ Scene disk_scene(const json& run, const Color& ink, double t, const std::string&
     s.markers.push_back({0.5 * (cM(tr[kc]) + cN(tr[kc])), 0.25, colors::kContact});
   }
   frame(s, b, 0.08);
-  add_legend(s,
-             fmt::format("{} · {} · {} t = {:.2f} s", run["scenario"].get<std::string>(),
-                         run["engine"].get<std::string>(), moment, tr[k][0].get<double>()),
-             run["engine"], ink,
-             d.contains("after_contact") ? "exact lift (21), after contact the exact response; dashed: exact M"
-                                         : "exact lift (21); dashed: exact M");
+  add_legend(s, fmt::format("{} · {} · {} t = {:.2f} s", run.scenario, run.engine, moment, tr[k][0].get<double>()),
+             run.engine, ink,
+             d.contains(detail_key::kAfterContact)
+                 ? "exact lift (21), after contact the exact response; dashed: exact M"
+                 : "exact lift (21); dashed: exact M");
   return s;
 }
 
 /// car.covariance: every start of the manoeuvre (turned and shifted by E(2)) with its path, the start
 /// pose faint and the end pose solid.
-Scene covariance_scene(const json& run, const Color& ink) {
+Scene covariance_scene(const RunResult& run, const Color& ink) {
   Scene s;
   const CarGeom g = geom_of(run);
   Bounds b;
-  for (const auto& r : run["details"][detail_key::kRuns]) {
+  for (const auto& r : run.details[detail_key::kRuns]) {
     const json& tr = r[detail_key::kTrace];
     if (!tr.is_array() || tr.empty()) continue;
     add_paths(s, tr, tr.size(), g, ink, 2.0f, &b);
@@ -235,10 +237,8 @@ Scene covariance_scene(const json& run, const Color& ink) {
     add_car(s, tr.back(), rear_spin(tr, tr.size() - 1, g), g);
   }
   frame(s, b, 0.05);
-  add_legend(s,
-             fmt::format("{} · {} · {} starts", run["scenario"].get<std::string>(), run["engine"].get<std::string>(),
-                         run["details"][detail_key::kRuns].size()),
-             run["engine"], ink, "(faint: start poses)");
+  add_legend(s, fmt::format("{} · {} · {} starts", run.scenario, run.engine, run.details[detail_key::kRuns].size()),
+             run.engine, ink, "(faint: start poses)");
   return s;
 }
 
@@ -265,25 +265,26 @@ void add_pose_marks(Scene& s, const json& row, double half_m, const Color& c, fl
 /// compares M's path with; the lift's path through N would not apply there.
 json own_reference(const json& d) {
   const json& ref = d[detail_key::kReference];
-  const auto ac = d.find("after_contact");
-  if (ac == d.end() || !ac->is_object() || !ac->contains("reference") || !(*ac)["reference"].is_array() ||
-      (*ac)["reference"].empty() || !ac->value("from_t_s", json()).is_number())
+  const auto ac = d.find(detail_key::kAfterContact);
+  if (ac == d.end() || !ac->is_object() || !ac->contains(detail_key::kReference) ||
+      !(*ac)[detail_key::kReference].is_array() || (*ac)[detail_key::kReference].empty() ||
+      !ac->contains(detail_key::kFromT) || !(*ac)[detail_key::kFromT].is_number())
     return ref;
-  const double from = (*ac)["from_t_s"].get<double>();
+  const double from = (*ac)[detail_key::kFromT].get<double>();
   json rows = json::array();
   for (const auto& r : ref)
     if (r[0].get<double>() < from) rows.push_back(r);
-  for (const auto& r : (*ac)["reference"]) rows.push_back(r);
+  for (const auto& r : (*ac)[detail_key::kReference]) rows.push_back(r);
   return rows;
 }
 
-Inset end_pose_inset(const json& run, const Color& ink, const Scene& main) {
+Inset end_pose_inset(const RunResult& run, const Color& ink, const Scene& main) {
   Inset in;
   Scene& s = in.scene;
   s.width_px = 300, s.height_px = 225;
   in.x_px = main.width_px - s.width_px - 14, in.y_px = 14;
-  const json& tr = run["details"][detail_key::kTrace];
-  const json& ref = run["details"].contains(detail_key::kReference) ? run["details"][detail_key::kReference] : tr;
+  const json& tr = run.details[detail_key::kTrace];
+  const json& ref = run.details.contains(detail_key::kReference) ? run.details[detail_key::kReference] : tr;
   const Vec2 fe = front_of(tr.back()), fx = front_of(ref.back());
   const double offset = (fe - fx).norm();
   const double half = inset_half_height_m(offset, s.height_px);
@@ -313,23 +314,23 @@ double inset_half_height_m(double offset_m, int height_px) {
   return offset * 0.5 * height_px / drawn_px;  // the view spans 2 half over height_px
 }
 
-std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
+std::vector<Snapshot> snapshots_for(const RunResult& run, const Color& ink) {
   std::vector<Snapshot> out;
-  if (!run.contains("details") || !run["details"].is_object()) return out;
-  if (run["details"].value(detail_key::kDrawing, "") == detail_key::kDrawingStarts &&
-      run["details"].contains(detail_key::kRuns)) {
+  if (!run.details.is_object()) return out;
+  if (run.details.value(detail_key::kDrawing, "") == detail_key::kDrawingStarts &&
+      run.details.contains(detail_key::kRuns)) {
     out.push_back({"end", "all starts (turned over the full circle, every other one shifted) and their paths",
                    covariance_scene(run, ink)});
     return out;
   }
-  if (!run["details"].contains(detail_key::kTrace)) return out;
-  const json& tr = run["details"][detail_key::kTrace];
+  if (!run.details.contains(detail_key::kTrace)) return out;
+  const json& tr = run.details[detail_key::kTrace];
   if (!tr.is_array() || tr.size() < 2) return out;
   const double t0 = tr.front()[0].get<double>(), t1 = tr.back()[0].get<double>();
-  if (parse_vehicle(run.value("vehicle", "")) == Vehicle::kDisks) {
+  if (run.vehicle == Vehicle::kDisks) {
     out.push_back({"start", "start", disk_scene(run, ink, t0, "start")});
-    if (run["details"][detail_key::kTContactMeasured].is_number()) {
-      const double tc = run["details"][detail_key::kTContactMeasured].get<double>();
+    if (run.details[detail_key::kTContactMeasured].is_number()) {
+      const double tc = run.details[detail_key::kTContactMeasured].get<double>();
       out.push_back({"contact", fmt::format("first contact, t = {:.3f} s", tc), disk_scene(run, ink, tc, "contact")});
     }
     out.push_back({"end", "end", disk_scene(run, ink, t1, "end")});
@@ -343,15 +344,15 @@ std::vector<Snapshot> snapshots_for(const json& run, const Color& ink) {
   return out;
 }
 
-Strip strip_for(const json& run, const Color& ink) {
+Strip strip_for(const RunResult& run, const Color& ink) {
   Strip st;
   // A parking cycle records its number of steps: a frame at the start and after each step.
-  if (!run.contains("details") || !run["details"].is_object() || !run["details"].contains(detail_key::kSteps) ||
-      !run["details"].contains(detail_key::kTrace))
+  if (!run.details.is_object() || !run.details.contains(detail_key::kSteps) ||
+      !run.details.contains(detail_key::kTrace))
     return st;
-  const json& tr = run["details"][detail_key::kTrace];
+  const json& tr = run.details[detail_key::kTrace];
   const CarGeom g = geom_of(run);
-  const int n = run["details"][detail_key::kSteps].get<int>() + 1;
+  const int n = run.details[detail_key::kSteps].get<int>() + 1;
   Bounds b;
   for (const auto& row : tr) b.add(front_of(row), 1.2 * g.R), b.add(rear_of(row, g.l), 0.5 * g.track + 1.2 * g.R);
   for (int i = 0; i < n; ++i) {
@@ -372,7 +373,7 @@ Strip strip_for(const json& run, const Color& ink) {
   add_car(s, tr.back(), rear_spin(tr, tr.size() - 1, g), g);
   const Vec2 p0 = front_of(tr.front()), p1 = front_of(tr.back());
   const double shift = (p1 - p0).norm();
-  const json& ex = run["details"][detail_key::kErrors][detail_key::kCommandedLiftEnd];
+  const json& ex = run.details[detail_key::kErrors][detail_key::kCommandedLiftEnd];
   const Vec2 pe(ex[0].get<double>(), ex[1].get<double>());
   // The magnification is a power of ten that keeps the longer arrow (exact or engine) within half
   // the tie rod, so that both stay in the frame.
@@ -388,7 +389,7 @@ Strip strip_for(const json& run, const Color& ink) {
   st.caption = fmt::format(
       "{} steps of the cycle; last frame: the start pose (faint) and the net shift of the front axle, "
       "magnified ×{:g} (grey: exact holonomy, colour: {})",
-      n - 1, mag, run["engine"].get<std::string>());
+      n - 1, mag, run.engine);
   st.per_row = 6;
   return st;
 }

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "input/run_result.hpp"
 #include "reports/scene.hpp"
 
 namespace liftcheck::render {
@@ -27,7 +28,7 @@ struct Snapshot {
 /// tie rod, front wheel's heading), magnified about the exact front-axle centre so that the offset
 /// between them is drawn at a length that grows with its decade (inset_half_height_m), with its
 /// own scale bar.
-Inset end_pose_inset(const nlohmann::json& run, const Color& ink, const Scene& main);
+Inset end_pose_inset(const RunResult& run, const Color& ink, const Scene& main);
 
 /// What a run is measured against, as rows like its trace (kReference; for the disks, after the
 /// engine's first contact, the exact inelastic response from that contact on).
@@ -48,8 +49,8 @@ struct Strip {
 
 /// Snapshots for one run record (none when the record has no trace), its traces drawn in `ink`
 /// (the configuration's colour from the results' context).
-std::vector<Snapshot> snapshots_for(const nlohmann::json& run, const Color& ink);
+std::vector<Snapshot> snapshots_for(const RunResult& run, const Color& ink);
 /// The frame strip of a parking-cycle run (car.cycle, car.iterated, car.iterated-beta); empty frames otherwise.
-Strip strip_for(const nlohmann::json& run, const Color& ink);
+Strip strip_for(const RunResult& run, const Color& ink);
 
 }  // namespace liftcheck::render

@@ -189,7 +189,7 @@ nlohmann::json error_split(const car::CarDef& c, const std::vector<car::TimedCon
 void add_load(Outcome& o, const CarEngine& engine) {
   const GroundLoad g = engine.ground_load();
   if (!g.absent_why.empty()) {
-    o.details["ground_load"] = {{"not_measured", g.absent_why}};
+    o.details[detail_key::kGroundLoad] = {{detail_key::kNotMeasured, g.absent_why}};
     return;
   }
   o.values["load_at_rest"] = {.expected = g.weight_normal_N, .measured = g.rest_normal_N};

@@ -256,102 +256,116 @@ std::vector<ParamSpec> slide_params(ParamSpec direction, const char* held) {
 
 }  // namespace
 
-std::vector<Scenario> slope_scenarios() {
+namespace {
+
+Scenario slope_scenario() {
+  // Default geometry: the slope falls towards +y (slope_dir 0), the car heads along +x (phi 0),
+  // across the slope. One lap at car.circle's 2 m/s on the 2.09 m circle of beta0 = 0.5 is 6.6 s
+  // (the lateral 1.9 m/s^2 and gravity's downhill 2.9 m/s^2 well inside mu g cos(slope) = 9.4
+  // m/s^2): with the 3 s park and the ramps the run steps 11.8 s.
   return {
-      // Default geometry: the slope falls towards +y (slope_dir 0), the car heads along +x (phi 0),
-      // across the slope. One lap at car.circle's 2 m/s on the 2.09 m circle of beta0 = 0.5 is 6.6 s
-      // (the lateral 1.9 m/s^2 and gravity's downhill 2.9 m/s^2 well inside mu g cos(slope) = 9.4
-      // m/s^2): with the 3 s park and the ramps the run steps 11.8 s.
-      {.name = "car.slope",
-       .vehicle = Vehicle::kCar,
-       .summary =
-           "On ground inclined by `slope` (gravity tilted; tan(slope) < mu) the no-slip constraint (3.3) does not see "
-           "gravity: the car parked across the slope with its wheels held must not move (creep), then its "
-           "fixed-steering "
-           "circle must keep the radius l/sin(beta0) and close every lap without drifting downhill.",
-       .equations = "(3.3), (4.1), appendix D",
-       .params = with_defaults(
-           with(car_params("0.5"),
-                {number("slope", "0.3", "rad", "tilt of gravity against the ground's normal (tan(slope) < mu)", 0.0,
-                        false, 1.4),
-                 number("slope_dir", "0", "rad",
-                        "direction of the tilt axis in the ground plane (downhill is this turned by +90 degrees)"),
-                 number("park", "3", "s",
-                        "parked with the wheels held before driving (creep measured over its last two thirds)", 0.5,
-                        false, 1e3),
-                 number("laps", "1", "1", "laps of the circle after the park", 0.5, false, 100.0)}),
-           {{"speed", "2.0"}, {"accel", "2.0"}}),
-       .metrics = {abs_("creep_speed", "m/s", 1e-12, 1e-6,
-                        "parked across the slope, wheels held: the farthest either axle centre gets from where it "
-                        "stood, over the last two thirds of the park, per second (regularised friction creeps)"),
-                   rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path on the slope"),
-                   rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path on the slope"),
-                   abs_("drift_per_lap", "m", 1e-9, 1e-3,
-                        "downhill displacement of the front-axle centre from the start of the laps to their end, less "
-                        "the exact lift's (none over whole laps), per lap"),
-                   abs_("final_offset", "m", 1e-9, 1e-3,
-                        "front-axle centre at the end against the exact lift (no creep, whole laps)"),
-                   SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, HOLD_REST, MOMENTUM, TRACE_PATH,
-                   TRACE_SHAPE, STEER_LAG, DRIVE_LAG},
-       .run_car = run_slope,
-       .headline = {.metrics = {"creep_speed"}, .label = "creep", .unit = "µm/s", .scale = 1e6}},
-      // Default: a 0.5 rad slope (tan 0.546) with mu = 0.3 (friction angle 0.29 rad): a = 2.12 m/s^2;
-      // the car heads along +x, across the slope falling towards +y, so it slides along its axles.
-      {.name = "car.coulomb",
-       .vehicle = Vehicle::kCar,
-       .summary =
-           "Coulomb's law: on a slope steeper than the friction angle the car, wheels locked, slides down like a block "
-           "with s(t) = g (sin(slope) - mu cos(slope)) t^2 / 2, which measures the engine's clock, its tilted gravity "
-           "and its "
-           "effective friction coefficient at once (the no-slip lift does not apply: the analytic engine is skipped).",
-       .equations = "Coulomb friction; (3.3) does not hold",
-       .params = slide_params(number("slope_dir", "0", "rad",
-                                     "direction of the tilt axis in the ground plane (downhill is this turned by +90 "
-                                     "degrees)"),
-                              "the wheels locked"),
-       .metrics =
-           {rel("slide_accel", "m/s^2", 1e-9, 2e-3,
-                "downhill acceleration of the centre of mass, fitted over the slide, against g (sin(slope) - mu "
-                "cos(slope))"),
-            rel("slide_accel_across", "m/s^2", 1e-9, 5e-3,
-                "acceleration across the slope, relative to the exact downhill one (0: the slide goes straight down)"),
-            abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
-            SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, MOMENTUM},
-       .run_car = run_coulomb,
-       .needs_contact_dynamics = true,
-       .headline = {.metrics = {"slide_accel"}, .label = "slide acceleration"}},
-      // Default: car.coulomb's slope and friction (a = 2.12 m/s^2), the car braked and turned so that
-      // the fall line makes 40 degrees with its axles: a per-axis friction pyramid slides at 1.06
-      // m/s^2 down and 0.32 m/s^2 across (models/slide.hpp).
-      {.name = "car.yawed-slide",
-       .vehicle = Vehicle::kCar,
-       .summary =
-           "Coulomb's law is isotropic: the car, every wheel held (the front by its servos, the rear by the engine's "
-           "own brake), on a slope steeper than the friction angle with the fall line at `yaw` to its axles, slides "
-           "straight down at g (sin(slope) - mu cos(slope)) like a block, as it does along its axles. A per-axis "
-           "friction pyramid grips harder off its axes and pushes the car sideways (its figures are in the run's "
-           "record).",
-       .equations = "Coulomb friction (isotropic); (3.3) does not hold",
-       .params = slide_params(
-           number("yaw", "0.6981317007977318", "rad",
-                  "angle from the car's axles to the fall line, towards its heading (40 degrees)", -3.2, false, 3.2),
-           "every wheel braked"),
-       .metrics =
-           {rel("slide_accel", "m/s^2", 1e-9, 2e-3,
-                "acceleration of the centre of mass down the fall line, fitted over the slide, against g (sin(slope) "
-                "- mu cos(slope)) (a per-axis pyramid: about half)"),
-            rel("slide_accel_across", "m/s^2", 1e-9, 5e-3,
-                "acceleration across the fall line, relative to the exact downhill one (0: Coulomb's law pushes "
-                "nothing across the slide)"),
-            abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
-            rel("brake_hold", "m/s", 1e-9, 1e-2,
-                "the fastest wheel's mean rolling speed over the drive (|omega . axle| x hub height), relative to the "
-                "exact slide's mean speed: 0 where the brakes and servos hold every wheel"),
-            SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, MOMENTUM},
-       .run_car = run_yawed_slide,
-       .needs_contact_dynamics = true,
-       .needs_brakes = true,
-       .headline = {.metrics = {"slide_accel"}, .label = "yawed slide acceleration"}}};
+      .name = "car.slope",
+      .vehicle = Vehicle::kCar,
+      .summary =
+          "On ground inclined by `slope` (gravity tilted; tan(slope) < mu) the no-slip constraint (3.3) does not see "
+          "gravity: the car parked across the slope with its wheels held must not move (creep), then its "
+          "fixed-steering "
+          "circle must keep the radius l/sin(beta0) and close every lap without drifting downhill.",
+      .equations = "(3.3), (4.1), appendix D",
+      .params = with_defaults(
+          with(car_params("0.5"),
+               {number("slope", "0.3", "rad", "tilt of gravity against the ground's normal (tan(slope) < mu)", 0.0,
+                       false, 1.4),
+                number("slope_dir", "0", "rad",
+                       "direction of the tilt axis in the ground plane (downhill is this turned by +90 degrees)"),
+                number("park", "3", "s",
+                       "parked with the wheels held before driving (creep measured over its last two thirds)", 0.5,
+                       false, 1e3),
+                number("laps", "1", "1", "laps of the circle after the park", 0.5, false, 100.0)}),
+          {{"speed", "2.0"}, {"accel", "2.0"}}),
+      .metrics = {abs_("creep_speed", "m/s", 1e-12, 1e-6,
+                       "parked across the slope, wheels held: the farthest either axle centre gets from where it "
+                       "stood, over the last two thirds of the park, per second (regularised friction creeps)"),
+                  rel("front_radius", "m", 1e-9, 1e-4, "fitted radius of the front-axle centre's path on the slope"),
+                  rel("rear_radius", "m", 1e-9, 1e-4, "fitted radius of the rear-axle centre's path on the slope"),
+                  abs_("drift_per_lap", "m", 1e-9, 1e-3,
+                       "downhill displacement of the front-axle centre from the start of the laps to their end, less "
+                       "the exact lift's (none over whole laps), per lap"),
+                  abs_("final_offset", "m", 1e-9, 1e-3,
+                       "front-axle centre at the end against the exact lift (no creep, whole laps)"),
+                  SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, LOAD_REST, LOAD_DRIVE, HOLD_REST, MOMENTUM, TRACE_PATH,
+                  TRACE_SHAPE, STEER_LAG, DRIVE_LAG},
+      .run_car = run_slope,
+      .headline = {.metrics = {"creep_speed"}, .label = "creep", .unit = "µm/s", .scale = 1e6}};
 }
+
+Scenario coulomb_scenario() {
+  // Default: a 0.5 rad slope (tan 0.546) with mu = 0.3 (friction angle 0.29 rad): a = 2.12 m/s^2;
+  // the car heads along +x, across the slope falling towards +y, so it slides along its axles.
+  return {
+      .name = "car.coulomb",
+      .vehicle = Vehicle::kCar,
+      .summary =
+          "Coulomb's law: on a slope steeper than the friction angle the car, wheels locked, slides down like a block "
+          "with s(t) = g (sin(slope) - mu cos(slope)) t^2 / 2, which measures the engine's clock, its tilted gravity "
+          "and its "
+          "effective friction coefficient at once (the no-slip lift does not apply: the analytic engine is skipped).",
+      .equations = "Coulomb friction; (3.3) does not hold",
+      .params = slide_params(number("slope_dir", "0", "rad",
+                                    "direction of the tilt axis in the ground plane (downhill is this turned by +90 "
+                                    "degrees)"),
+                             "the wheels locked"),
+      .metrics =
+          {rel("slide_accel", "m/s^2", 1e-9, 2e-3,
+               "downhill acceleration of the centre of mass, fitted over the slide, against g (sin(slope) - mu "
+               "cos(slope))"),
+           rel("slide_accel_across", "m/s^2", 1e-9, 5e-3,
+               "acceleration across the slope, relative to the exact downhill one (0: the slide goes straight down)"),
+           abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
+           SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, MOMENTUM},
+      .run_car = run_coulomb,
+      .needs_contact_dynamics = true,
+      .headline = {.metrics = {"slide_accel"}, .label = "slide acceleration"}};
+}
+
+Scenario yawed_slide_scenario() {
+  // Default: car.coulomb's slope and friction (a = 2.12 m/s^2), the car braked and turned so that
+  // the fall line makes 40 degrees with its axles: a per-axis friction pyramid slides at 1.06
+  // m/s^2 down and 0.32 m/s^2 across (models/slide.hpp).
+  return {
+      .name = "car.yawed-slide",
+      .vehicle = Vehicle::kCar,
+      .summary =
+          "Coulomb's law is isotropic: the car, every wheel held (the front by its servos, the rear by the engine's "
+          "own brake), on a slope steeper than the friction angle with the fall line at `yaw` to its axles, slides "
+          "straight down at g (sin(slope) - mu cos(slope)) like a block, as it does along its axles. A per-axis "
+          "friction pyramid grips harder off its axes and pushes the car sideways (its figures are in the run's "
+          "record).",
+      .equations = "Coulomb friction (isotropic); (3.3) does not hold",
+      .params = slide_params(
+          number("yaw", "0.6981317007977318", "rad",
+                 "angle from the car's axles to the fall line, towards its heading (40 degrees)", -3.2, false, 3.2),
+          "every wheel braked"),
+      .metrics =
+          {rel("slide_accel", "m/s^2", 1e-9, 2e-3,
+               "acceleration of the centre of mass down the fall line, fitted over the slide, against g (sin(slope) "
+               "- mu cos(slope)) (a per-axis pyramid: about half)"),
+           rel("slide_accel_across", "m/s^2", 1e-9, 5e-3,
+               "acceleration across the fall line, relative to the exact downhill one (0: Coulomb's law pushes "
+               "nothing across the slide)"),
+           abs_("heading_change", "rad", 1e-9, 1e-2, "heading change over the slide (a block slides without turning)"),
+           rel("brake_hold", "m/s", 1e-9, 1e-2,
+               "the fastest wheel's mean rolling speed over the drive (|omega . axle| x hub height), relative to the "
+               "exact slide's mean speed: 0 where the brakes and servos hold every wheel"),
+           SLIP_ALONG, SLIP_ACROSS, SLIP_RMS, MOMENTUM},
+      .run_car = run_yawed_slide,
+      .needs_contact_dynamics = true,
+      .needs_brakes = true,
+      .headline = {.metrics = {"slide_accel"}, .label = "yawed slide acceleration"}};
+}
+
+}  // namespace
+
+std::vector<Scenario> slope_scenarios() { return {slope_scenario(), coulomb_scenario(), yawed_slide_scenario()}; }
 
 }  // namespace liftcheck

@@ -16,6 +16,10 @@ inline constexpr char kReference[] = "reference";
 /// What kReference is when it is not the exact lift, for the pictures' titles ("the exact
 /// Coulomb slide"); absent: the exact lift.
 inline constexpr char kReferenceLabel[] = "reference_label";
+/// The disks after the engine's first contact: {kFromT: the contact's time, kReference: the exact
+/// inelastic response from there, as rows like the trace}.
+inline constexpr char kAfterContact[] = "after_contact";
+inline constexpr char kFromT[] = "from_t_s";  ///< in kAfterContact
 
 // ---- car ------------------------------------------------------------------------------------
 /// The end-pose split {kCommandedLiftEnd, "realized_lift_end", "engine_end", kActuationError,
@@ -24,6 +28,9 @@ inline constexpr char kErrors[] = "errors";
 inline constexpr char kCommandedLiftEnd[] = "commanded_lift_end";  ///< in kErrors: the exact lift's end pose
 inline constexpr char kActuationError[] = "actuation_error_m";     ///< in kErrors
 inline constexpr char kContactError[] = "contact_error_m";         ///< in kErrors
+/// The ground's load from the engine's own contact forces, or {kNotMeasured: why} without them.
+inline constexpr char kGroundLoad[] = "ground_load";
+inline constexpr char kNotMeasured[] = "not_measured";  ///< in kGroundLoad
 /// A parking cycle's number of steps: the frame strip shows a frame after each.
 inline constexpr char kSteps[] = "steps";
 /// Several drives of one scenario: an array of objects, each with its own kTrace.

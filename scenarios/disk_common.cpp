@@ -373,40 +373,29 @@ const MetricDef final_d = abs_("final_distance", "m", 1e-8, 1e-2, "|c_M - c_N| a
 const MetricDef min_d = abs_("min_distance", "m", 1e-8, 1e-2, "closest approach |c_M - c_N| (runs without contact)");
 }  // namespace
 
+namespace {
+
+/// A metric of the engine's bookkeeping against itself, in metres: held to its own round-off (1e-9
+/// m in float64, scaled with the precision it declares: MetricDef::bookkeeping).
+MetricDef bookkeeping_m(const std::string& name, const std::string& help) {
+  return {name, "m", TolKind::kAbsolute, {{TolRole::kDefault, 1e-9}}, help, {}, true};
+}
+
+}  // namespace
+
 std::vector<MetricDef> disk_metrics(std::vector<MetricDef> extra, double analytic_path_tol) {
   std::vector<MetricDef> all{
       kCollision,
       kTContact,
       abs_("path_error", "m", 1e-8, 1e-2, "largest distance of c_M from the reference up to the first contact"),
       // The engine's own contact log against its own reported positions: exact for any engine.
-      {"n_path_error",
-       "m",
-       TolKind::kAbsolute,
-       {{TolRole::kDefault, 1e-9}},
-       "largest distance of N, as the engine moved it, from its path",
-       {},
-       true},
-      {"contact_missed",
-       "m",
-       TolKind::kAbsolute,
-       {{TolRole::kDefault, 1e-9}},
-       "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact",
-       {},
-       true},
-      {"contact_report_gap",
-       "m",
-       TolKind::kAbsolute,
-       {{TolRole::kDefault, 1e-9}},
-       "largest gap |c_M - c_N| - 2 on a state the engine's collision pass reported in contact",
-       {},
-       true},
-      {"contact_depth_error",
-       "m",
-       TolKind::kAbsolute,
-       {{TolRole::kDefault, 1e-9}},
-       "largest difference between the depth the engine's contacts report and the overlap of its bodies",
-       {},
-       true},
+      bookkeeping_m("n_path_error", "largest distance of N, as the engine moved it, from its path"),
+      bookkeeping_m("contact_missed",
+                    "largest overlap 2 - |c_M - c_N| on a state the engine's collision pass reported free of contact"),
+      bookkeeping_m("contact_report_gap",
+                    "largest gap |c_M - c_N| - 2 on a state the engine's collision pass reported in contact"),
+      bookkeeping_m("contact_depth_error",
+                    "largest difference between the depth the engine's contacts report and the overlap of its bodies"),
       abs_("overlap_growth", "m", 0.0, 0.1,
            "growth of the overlap over the step after the first contact; tolerance in steps of closing travel"),
       abs_("penetration_max", "m", 0.0, kPenetrationSteps,
@@ -417,14 +406,10 @@ std::vector<MetricDef> disk_metrics(std::vector<MetricDef> extra, double analyti
       // Round-off: float64 positions of at most 100 m carry 1.4e-14 m of it per step (float32: a few
       // 1e-7 m at 10 m, so the floor scales with the declared precision); a motor one step late is
       // off by the change of its command times dt (2 mm on the first step from rest at 2 m/s).
-      {"step_displacement",
-       "m",
-       TolKind::kAbsolute,
-       {{TolRole::kDefault, 1e-9}},
-       "largest |step displacement of M - v_cmd dt| over the free steps before the first contact (not the step in "
-       "which the engine's contact stops M at touching)",
-       {},
-       true},
+      bookkeeping_m(
+          "step_displacement",
+          "largest |step displacement of M - v_cmd dt| over the free steps before the first contact (not the step in "
+          "which the engine's contact stops M at touching)"),
       // Farber's disks are planar vehicles whose velocity is commanded: M does not turn. An engine
       // that leaves its spin free lets friction between the disks roll M on N instead of moving it
       // (disks.oblique with M-N friction: M's path within 3.4e-4 m of the frictionless response).

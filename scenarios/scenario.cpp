@@ -29,58 +29,42 @@ double MetricDef::floor_for(TolRole role) const {
   return 0.0;
 }
 
-namespace {
-
-nlohmann::json by_role(const std::map<TolRole, double>& values) {
-  nlohmann::json j = nlohmann::json::object();
-  for (const auto& [role, v] : values) j[to_string(role)] = v;
-  return j;
-}
-
-}  // namespace
-
-nlohmann::json Metric::to_json() const {
-  nlohmann::json j = {{"expected", expected},   {"measured", measured},
-                      {"abs_error", abs_error}, {"rel_error", rel_error},
-                      {"tolerance", tolerance}, {"tolerance_kind", kind == TolKind::kRelative ? "rel" : "abs"},
-                      {"unit", unit},           {"pass", pass}};
-  if (floor > 0.0) j["floor"] = floor;
-  if (informational) j["informational"] = true;
-  return j;
-}
-
-nlohmann::json Headline::to_json() const {
-  return {{"metrics", metrics}, {"label", label}, {"unit", unit}, {"scale", scale}, {"per_step", per_step}};
-}
-
 const MetricDef* Scenario::metric(const std::string& n) const {
   for (const auto& m : metrics)
     if (m.name == n) return &m;
   return nullptr;
 }
 
-nlohmann::json Scenario::to_json() const {
-  nlohmann::json ps = nlohmann::json::array();
-  for (const auto& p : params) ps.push_back(p.to_json());
-  nlohmann::json ms = nlohmann::json::array();
+namespace {
+
+std::map<std::string, double> by_role(const std::map<TolRole, double>& values) {
+  std::map<std::string, double> out;
+  for (const auto& [role, v] : values) out[to_string(role)] = v;
+  return out;
+}
+
+}  // namespace
+
+ScenarioInfo Scenario::info() const {
+  ScenarioInfo s;
+  s.name = name;
+  s.vehicle = vehicle;
+  s.summary = summary;
+  s.equations = equations;
+  static const char* kinds[] = {"number", "integer", "vec2", "choice"};
+  for (const auto& p : params)
+    s.params.push_back({p.key, kinds[static_cast<int>(p.kind)], p.default_text, p.unit, p.help});
   for (const auto& m : metrics)
-    ms.push_back({{"name", m.name},
-                  {"unit", m.unit},
-                  {"tolerance_kind", m.kind == TolKind::kRelative ? "rel" : "abs"},
-                  {"tolerance", by_role(m.tolerance)},
-                  {"floor", by_role(m.floor)},
-                  {"help", m.help},
-                  {"reference_only", m.reference_only}});
-  return {{"name", name},
-          {"vehicle", vehicle},
-          {"summary", summary},
-          {"equations", equations},
-          {"params", ps},
-          {"metrics", ms},
-          {"needs_contact_dynamics", needs_contact_dynamics},
-          {"needs_brakes", needs_brakes},
-          {"negative_control", negative_control},
-          {"headline", headline.to_json()}};
+    s.metrics.push_back({m.name, m.unit, m.help, m.kind, by_role(m.tolerance), by_role(m.floor), m.reference_only});
+  if (needs_contact_dynamics) s.needs.push_back("contact_dynamics");
+  if (needs_brakes) s.needs.push_back("brakes");
+  s.negative_control = negative_control;
+  s.headline_metrics = headline.metrics;
+  s.headline_label = headline.label;
+  s.headline_unit = headline.unit;
+  s.headline_scale = headline.scale;
+  s.headline_per_step = headline.per_step;
+  return s;
 }
 
 const Scenario* find_scenario(const std::string& name) {

@@ -11,12 +11,12 @@
 
 #include "engines/vehicle.hpp"
 #include "input/params.hpp"
+#include "input/run_result.hpp"    // Metric, TolKind
+#include "input/suite_result.hpp"  // ScenarioInfo
 #include "input/vehicle.hpp"
 #include "scenarios/details.hpp"
 
 namespace liftcheck {
-
-enum class TolKind { kRelative, kAbsolute };
 
 /// Whose tolerance a metric's definition gives: the exact model's (the reference configuration) or
 /// every engine's.
@@ -71,19 +71,6 @@ struct Outcome {
   nlohmann::json details = nlohmann::json::object();
 };
 
-/// A scored metric of a run record.
-struct Metric {
-  std::string name, unit;
-  double expected, measured, abs_error, rel_error, tolerance;
-  TolKind kind;
-  bool pass;
-  double floor = 0.0;          ///< absolute floor of a relative metric (0: none)
-  bool informational = false;  ///< shown only: not a pass, not a fail
-  /// The error its tolerance is compared with: relative or absolute, by kind.
-  double compared_error() const { return kind == TolKind::kRelative ? rel_error : abs_error; }
-  nlohmann::json to_json() const;
-};
-
 /// The figure a scenario is read by at a glance: the engine's own error on the quantity the
 /// scenario is about (a radius, a holonomy against the exact one, a creep, a contact time, a
 /// penetration), never a check of the paper's leading-order approximation. The shown value is the
@@ -95,7 +82,6 @@ struct Headline {
   std::string unit;   ///< unit of the shown figure: "" (a ratio), "mm", "µm/s", "steps"
   double scale = 1.0;
   bool per_step = false;
-  nlohmann::json to_json() const;
 };
 
 /// One car drive that more than one scenario judges (car.slip and car.beyond-grip judge the same
@@ -130,7 +116,8 @@ struct Scenario {
   Headline headline = {};
 
   const MetricDef* metric(const std::string& name) const;
-  nlohmann::json to_json() const;
+  /// The scenario as the results record it.
+  ScenarioInfo info() const;
 };
 
 /// The vehicles a run may drive, owned by whoever runs it; only the one of the scenario's kind is

@@ -87,9 +87,9 @@ python3 - "$tmp/report/junit.xml" <<'PY' && passes=$((passes + 1)) || { echo "FA
 import sys, xml.etree.ElementTree as ET
 root = ET.parse(sys.argv[1]).getroot()
 # 12 runs (car.slip, car.coulomb, car.yawed-slide and car.beyond-grip skipped: no contact forces), the 7 car sweeps' gates
-# on the one engine, and liftcheck's own two cases (the baseline, the report)
-assert root.tag == "testsuites" and root.get("tests") == "21" and root.get("failures") == "0", root.attrib
-assert len(root.findall("testsuite")) == 20
+# on the one engine, the configuration's standing, and liftcheck's own two cases (the baseline, the report)
+assert root.tag == "testsuites" and root.get("tests") == "22" and root.get("failures") == "0", root.attrib
+assert len(root.findall("testsuite")) == 21
 assert len([s for s in root.findall("testsuite") if s.get("name").startswith("sweep.")]) == 7
 # every run's test case carries its own metrics, worst first; a true skip says so by its type
 case = next(c for c in root.iter("testcase") if c.get("classname") == "car.circle" and c.get("name") == "analytic")
@@ -122,6 +122,9 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 r = next(r for r in d["runs"] if r["scenario"] == "car.cycle")
 r.update(status="fail", verdict="fail", as_expected=False, message="out of tolerance: dx")
+m = r["metrics"]["dx"]  # a fail has a failing metric: dx's error 1e4 times its tolerance
+e = 1e4 * m["tolerance"] * (abs(m["expected"]) if m["tolerance_kind"] == "rel" else 1.0)
+m.update(measured=m["expected"] + e, abs_error=e, rel_error=e / abs(m["expected"]), **{"pass": False})
 json.dump(d, open(sys.argv[2], "w"))
 PY
 check diff-regression 1 "$bin" diff "$tmp/report/results.json" "$tmp/worse.json"
@@ -169,10 +172,10 @@ python3 - "$tmp/out" "$tmp/copy" <<'PY' && passes=$((passes + 1)) || { echo "FAI
 import json, os, sys
 es = json.load(open(sys.argv[1]))
 copy = os.path.realpath(sys.argv[2]) + "/outside/"
-outside = [e for e in es if "outside" in e]
+outside = [e for e in es if "registration" in e]
 assert len(outside) >= 5, [e["name"] for e in es]
 for e in outside:
-    o = e["outside"]
+    o = e
     assert o["registration"].startswith(copy + "suite/") and o["registration"].endswith(e["name"] + ".json"), (e["name"], o)
     assert o["adapter"].startswith(copy) and o["adapter"].endswith(".mjs") and os.path.isfile(o["adapter"]), (e["name"], o)
     assert e["library"] != "unavailable", (e["name"], e["settings"])
@@ -300,6 +303,27 @@ check baseline-write 0 "$bin" validate --filter car.circle --engines bullet --no
 check baseline-worse 1 "$bin" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/base.json" --set iterations=3 --out "$tmp/bl2"
 grep -q "^REGRESSION car.circle on bullet: pass -> fail" "$tmp/out" && grep -q "^worse      car.circle on bullet: heading_residual measured .* (was .*), 12.5 of tolerance (was 0.122)" "$tmp/out" \
   && grep -q "Against the baseline" "$tmp/bl2/summary.md" && passes=$((passes + 1)) || { echo "FAIL baseline worse"; cat "$tmp/out"; fails=$((fails + 1)); }
+# The gate sees a known failure grown 1.5 times within its listing's ceiling (the default
+# --worse-factor is 1.25): ode-quick's car.circle slip_along_max divided by 1.5 in a copy of the
+# committed baseline fails, naming both figures; divided by 1.2 it is reported as moved, and passes.
+for f in 1.5 1.2; do
+  python3 - "$(dirname "$0")/../data/baselines/default.json" "$tmp/bq$f.json" "$f" <<'PY'
+import json, sys
+b = json.load(open(sys.argv[1]))
+runs = [r for r in b["runs"] if r["engine"] == "ode-quick" and r["scenario"] == "car.circle" and r["params"]["wheels"] == "3"]
+assert len(runs) == 1, len(runs)
+m = runs[0]["metrics"]["slip_along_max"]
+m["abs_error"] /= float(sys.argv[3]); m["measured"] /= float(sys.argv[3])
+json.dump(b, open(sys.argv[2], "w"))
+PY
+done
+check baseline-1.5 1 "$bin" validate --engines ode-quick --filter car.circle --no-sweeps --no-report --baseline "$tmp/bq1.5.json" --out "$tmp/bq15"
+grep -q "^worse      car.circle on ode-quick: slip_along_max measured 0.006745 (was 0.004497), 67.5 of tolerance (was 45)" "$tmp/out" \
+  && passes=$((passes + 1)) || { echo "FAIL baseline 1.5x"; cat "$tmp/out"; fails=$((fails + 1)); }
+check baseline-1.2 0 "$bin" validate --engines ode-quick --filter car.circle --no-sweeps --no-report --baseline "$tmp/bq1.2.json" --out "$tmp/bq12"
+grep -q "^moved      car.circle on ode-quick: slip_along_max" "$tmp/out" && grep -q "moved \*\*car.circle on ode-quick\*\*" "$tmp/bq12/summary.md" \
+  && passes=$((passes + 1)) || { echo "FAIL baseline 1.2x moved"; cat "$tmp/out"; fails=$((fails + 1)); }
+check baseline-unchanged 0 "$bin" validate --engines ode-quick --filter car.circle --no-sweeps --no-report --baseline "$(dirname "$0")/../data/baselines/default.json" --out "$tmp/bq0"
 bad_input baseline-malformed "is not JSON" validate --filter car.circle --engines bullet --no-sweeps --no-report --baseline "$tmp/broken.json" --out "$tmp/bl3"
 
 # Shards: three shares of a suite (runs and sweep points dealt out), merged, equal one unsharded
@@ -462,7 +486,9 @@ write("bad-status", lambda e: e["runs"][0].update(status="great"))
 write("metrics-list", lambda e: e["runs"][2].update(metrics=[1, 2]))
 write("runs-object", lambda e: e.update(runs={}))
 write("run-number", lambda e: e["runs"].insert(0, 7))
-write("null-error", lambda e: first_metric(e).update(rel_error=None))
+write("null-error", lambda e: (first_metric(e).update(rel_error=None, **{"pass": False}),
+                                e["runs"][0].update(status="fail", verdict="fail", as_expected=False)))
+write("null-error-pass", lambda e: first_metric(e).update(rel_error=None))
 PY
 bad_input diff-missing-field "$tmp/no-rel.json: runs[0].metrics.front_radius: missing 'rel_error'" diff "$tmp/no-rel.json" "$tmp/report/results.json"
 bad_input diff-wrong-type "$tmp/str-tol.json: runs[0].metrics.front_radius: 'tolerance' is a string, not a number or null" diff "$tmp/report/results.json" "$tmp/str-tol.json"
@@ -472,7 +498,9 @@ bad_input diff-metrics-list "$tmp/metrics-list.json: runs[2]: 'metrics' is an ar
 bad_input diff-runs-object "$tmp/runs-object.json: 'runs' is an object, not an array" diff "$tmp/runs-object.json" "$tmp/report/results.json"
 bad_input diff-run-number "$tmp/run-number.json: runs[0]: is a number, not an object" diff "$tmp/run-number.json" "$tmp/report/results.json"
 bad_input baseline-missing-field "$tmp/no-rel.json: runs[0].metrics.front_radius: missing 'rel_error'" validate --filter car.circle --engines analytic --no-sweeps --no-report --baseline "$tmp/no-rel.json" --out "$tmp/bl4"
-# A non-finite error is written as null: such a file is read and compared, not refused.
+# A non-finite error is written as null: such a file is read and compared, not refused; a null
+# error marked as passing is refused (a fail marked pass).
+bad_input diff-null-error-pass "null-error-pass.json: runs[0].metrics.front_radius: 'pass' is true but its relative error nan is over its tolerance" diff "$tmp/report/results.json" "$tmp/null-error-pass.json"
 check diff-null-error 1 "$bin" diff "$tmp/report/results.json" "$tmp/null-error.json"
 grep -q "^worse      car.circle on analytic: front_radius " "$tmp/out" && passes=$((passes + 1)) || { echo "FAIL null error not compared"; cat "$tmp/out"; fails=$((fails + 1)); }
 printf 't,alpha,beta,x,y,phi\n0,0,0,0,0,0\n0.01,0,0,1e400,0,0\n' >"$tmp/huge.csv"

@@ -9,10 +9,12 @@
 #include <cstring>
 #include <fmt/format.h>
 #include <iostream>
+#include <map>
 #include <optional>
 
 #include "harness/external.hpp"
 #include "harness/runner.hpp"
+#include "input/results_codec.hpp"
 #include "models/slide.hpp"
 
 using namespace liftcheck;
@@ -61,11 +63,11 @@ TEST_P(Conformance, DefaultRunIsAsExpected) {
   for (const auto& m : r.metrics)
     std::cout << "  " << m.name << ": expected " << m.expected << " measured " << m.measured << " err "
               << m.compared_error() << " tol " << m.tolerance << "\n";
-  EXPECT_TRUE(r.as_expected()) << r.verdict() << ": " << r.message;
+  EXPECT_TRUE(r.as_expected()) << to_string(r.verdict()) << ": " << r.message;
   if (s->negative_control) {
     // A negative control must be listed, and fail through the metrics built to see slip (present,
     // and out of tolerance), not through an engine error.
-    ASSERT_NE(r.known, nullptr) << "negative control not listed in the expectations for " << engine;
+    ASSERT_TRUE(r.expectation.has_value()) << "negative control not listed in the expectations for " << engine;
     EXPECT_EQ(r.status, Status::kFail) << r.message;
     int slip_metrics = 0;
     for (const auto& m : r.metrics)
@@ -84,7 +86,7 @@ TEST_P(AnyConfiguration, SameInputsSameNumbers) {
   for (const char* name : {"car.cycle", "disks.repel"}) {
     const Scenario* s = find_scenario(name);
     if (lacks(*e, {.vehicle = s->vehicle}) != Lack::kNothing) continue;
-    const auto a = run_scenario(*s, *e).to_json(), b = run_scenario(*s, *e).to_json();
+    const auto a = encode_run(run_scenario(*s, *e)), b = encode_run(run_scenario(*s, *e));
     EXPECT_EQ(a["metrics"], b["metrics"]) << name;
     EXPECT_EQ(a["details"]["trace"], b["details"]["trace"]) << name;
   }
@@ -125,27 +127,25 @@ TEST_P(AnyConfiguration, ForwardIsPositiveAlphaAndLeftIsPositiveBeta) {
 // tilt or got its size wrong: here gravity tilted by 0.3 rad on all but frictionless level ground
 // (mu = 1e-4) must make the parked car, wheels held, slide downhill as a block does, at
 // a = g (sin 0.3 - mu cos 0.3) = 2.899 m/s^2 (the normal forces have no component along the
-// ground), within 5%, with a damping the engine applies by default turned off. An engine that
-// dropped the tilt would stand still; gravity 10% off is twice the tolerance. Measured: every
-// configuration within 0.4% (DART's +0.32% the farthest) but cannon-es's two, 3.1% short: its
-// friction bound of mu g m per step (a force of mu g m / dt) holds the car back even at mu = 1e-4,
-// the finding car.coulomb lists. Smaller mu does not isolate gravity further: at 1e-5
-// mujoco-noslip's wheels blow up.
-TEST_P(AnyConfiguration, TiltedGravityIsFelt) {
-  const EngineInfo* e = find_engine(GetParam());
-  ASSERT_NE(e, nullptr);
-  if (lacks(*e, {.vehicle = Vehicle::kCar, .contact_dynamics = true}) != Lack::kNothing)
-    GTEST_SKIP() << GetParam() << " has no car with contact forces";
+// ground), within 1%, with a damping the engine applies by default turned off. An engine that
+// dropped the tilt would stand still; gravity 2% off is twice the tolerance. Measured: every
+// configuration within 0.4% (DART's +0.32% the farthest) but cannon-es's two, listed below.
+struct SlideOnTilt {
+  double a_mps2 = 0.0, block_mps2 = 0.0;
+  double downhill_share = 0.0;  ///< the part of the displacement that points downhill
+};
+
+SlideOnTilt slide_on_tilt(const EngineInfo& e, double mu) {
   const double slope = 0.3, slope_dir = 0.4, hold_s = 2.0;
   CarSetup setup;
-  setup.mu = 1e-4;  // a block's a = g (sin - mu cos) is 0.03% short of g sin; mu = 0 is outside every scenario's range
+  setup.mu = mu;
   setup.gravity_dir_W = {-std::sin(slope_dir) * std::sin(slope), std::cos(slope_dir) * std::sin(slope),
                          -std::cos(slope)};
   const Eigen::Vector2d downhill(-std::sin(slope_dir), std::cos(slope_dir));
-  Settings settings = e->defaults(Vehicle::kCar);
-  for (const SettingSpec& k : e->knobs)
+  Settings settings = e.defaults(Vehicle::kCar);
+  for (const SettingSpec& k : e.knobs)
     if (k.vehicle == Vehicle::kCar && k.role == SettingRole::kDamping) settings[k.key] = 0.0;  // gravity alone
-  auto car = e->make_car(settings);
+  auto car = e.make_car(settings);
   const car::Config q0{0.0, 0.3, 0.0, 0.0, slope_dir};  // across the slope
   car->reset(setup, q0);
   const auto trace = car->drive(car::BasePath({{0.0, 0.0, hold_s}}, 0.0, q0.beta_rad, setup.drive));
@@ -159,15 +159,53 @@ TEST_P(AnyConfiguration, TiltedGravityIsFelt) {
     return Eigen::Vector2d(it->q.x_m - q0.x_m, it->q.y_m - q0.y_m).dot(downhill);
   };
   const double T_s = trace.back().t_s - trace.front().t_s;
-  ASSERT_GT(T_s, 1.9);
+  EXPECT_GT(T_s, 1.9);
   const Eigen::Vector2d moved(trace.back().q.x_m - trace.front().q.x_m, trace.back().q.y_m - trace.front().q.y_m);
-  const double a_mps2 = 4.0 *
-                        (s_at(trace.back().t_s) - 2.0 * s_at(trace.front().t_s + 0.5 * T_s) + s_at(trace.front().t_s)) /
-                        (T_s * T_s);
-  const double block_mps2 = setup.gravity_mps2 * (std::sin(slope) - setup.mu * std::cos(slope));
-  EXPECT_NEAR(a_mps2, block_mps2, 0.05 * block_mps2)
-      << GetParam() << " did not slide down an all but frictionless slope as gravity pulls";
-  EXPECT_GT(moved.dot(downhill), 0.99 * moved.norm()) << GetParam() << " moved, but not downhill";
+  SlideOnTilt r;
+  r.a_mps2 = 4.0 * (s_at(trace.back().t_s) - 2.0 * s_at(trace.front().t_s + 0.5 * T_s) + s_at(trace.front().t_s)) /
+             (T_s * T_s);
+  r.block_mps2 = setup.gravity_mps2 * (std::sin(slope) - setup.mu * std::cos(slope));
+  r.downhill_share = moved.dot(downhill) / moved.norm();
+  return r;
+}
+
+/// A configuration whose slide falls short of the block's by more than 1%: its measured shortfall,
+/// and the experiment that shows the cause (the same slide at a tenth of the friction coefficient).
+struct TiltListing {
+  double shortfall;  ///< 1 - a / a_block at mu = 1e-4, measured
+  const char* reason;
+};
+// cannon-es bounds each friction equation by mu g m (g its frictionGravity or gravity, m the
+// reduced mass; Narrowphase.createFrictionEquationsFromContact) and GSSolver compares that bound
+// with the impulse of a step (the force is the impulse over dt), so the friction it allows is
+// mu g m / dt, a thousand times mu g m at 1 ms: it holds the slide back even at mu = 1e-4. The
+// experiment: at mu = 1e-5 the shortfall falls below 1% (the bound is proportional to mu, the pull
+// of gravity is not).
+const std::map<std::string, TiltListing> kTiltListed = {
+    {"cannon", {0.031, "cannon-es's friction bound mu g m per equation holds the slide back"}},
+    {"cannon-accurate", {0.031, "cannon-es's friction bound mu g m per equation holds the slide back"}},
+};
+
+TEST_P(AnyConfiguration, TiltedGravityIsFelt) {
+  const EngineInfo* e = find_engine(GetParam());
+  ASSERT_NE(e, nullptr);
+  if (lacks(*e, {.vehicle = Vehicle::kCar, .contact_dynamics = true}) != Lack::kNothing)
+    GTEST_SKIP() << GetParam() << " has no car with contact forces";
+  const SlideOnTilt r = slide_on_tilt(*e, 1e-4);
+  EXPECT_GT(r.downhill_share, 0.99) << GetParam() << " moved, but not downhill";
+  const auto listed = kTiltListed.find(GetParam());
+  if (listed == kTiltListed.end()) {
+    EXPECT_NEAR(r.a_mps2, r.block_mps2, 0.01 * r.block_mps2)
+        << GetParam() << " did not slide down an all but frictionless slope as gravity pulls";
+    return;
+  }
+  // Listed: the shortfall is as measured (within a quarter of it), and the experiment holds.
+  const double shortfall = 1.0 - r.a_mps2 / r.block_mps2;
+  EXPECT_NEAR(shortfall, listed->second.shortfall, 0.25 * listed->second.shortfall)
+      << GetParam() << ": " << listed->second.reason;
+  const SlideOnTilt tenth = slide_on_tilt(*e, 1e-5);
+  EXPECT_NEAR(tenth.a_mps2, tenth.block_mps2, 0.01 * tenth.block_mps2)
+      << GetParam() << ": at a tenth of mu the shortfall should fall below 1% (" << listed->second.reason << ")";
 }
 
 // Newton's third law at the ground, where the engine's contact report gives forces: the default
@@ -238,7 +276,7 @@ TEST(FrictionLaw, OdeAndBulletSlideAtThePerAxisPyramidsFigures) {
   for (const char* name : {"ode", "bullet"}) {
     const EngineInfo* e = find_engine(name);
     ASSERT_NE(e, nullptr);
-    const nlohmann::json r = run_scenario(*s, *e).to_json();
+    const nlohmann::json r = encode_run(run_scenario(*s, *e));
     ASSERT_EQ(r["status"], "fail") << name << ": " << r["message"];
     const auto measured = [&](const nlohmann::json& run, const char* k) {
       return run["metrics"][k]["measured"].get<double>();
@@ -249,7 +287,7 @@ TEST(FrictionLaw, OdeAndBulletSlideAtThePerAxisPyramidsFigures) {
     EXPECT_NEAR(measured(r, "slide_accel_across"), box.across_mps2, 1e-3 * std::abs(box.across_mps2)) << name;
     EXPECT_NEAR(r["details"]["axis_pyramid_accel_mps2"]["along"].get<double>(), box.along_mps2, 1e-12);
     const nlohmann::json aligned =
-        run_scenario(*s, *e, {{"friction_dirs", "world"}, {"phi", "0.6981317007977318"}}).to_json();
+        encode_run(run_scenario(*s, *e, {{"friction_dirs", "world"}, {"phi", "0.6981317007977318"}}));
     EXPECT_EQ(aligned["status"], "pass") << name << ": " << aligned["message"];
     EXPECT_NEAR(measured(aligned, "slide_accel"), cone, 1e-5 * cone) << name;
   }
@@ -410,9 +448,9 @@ TEST_P(AnyConfiguration, EveryDeclaredSettingChangesAResult) {
     const Overrides base = k.vehicle == Vehicle::kCar ? Overrides{{"drive", "3"}} : Overrides{};
     const RunRecord ra = run_scenario(*sc, *e, base);
     ASSERT_NE(ra.status, Status::kError) << ra.message;
-    const nlohmann::json a = ra.to_json();
+    const nlohmann::json a = encode_run(ra);
     ASSERT_TRUE(a["details"].contains("trace")) << sc->name << " keeps no trace";
-    EXPECT_EQ(a["settings"][k.key], k.default_text);
+    EXPECT_EQ(ra.settings.at(k.key), k.default_text);
     const std::vector<std::string> others = other_values(k);
     ASSERT_FALSE(others.empty()) << k.key;
     std::string tried, changed_by;
@@ -430,8 +468,8 @@ TEST_P(AnyConfiguration, EveryDeclaredSettingChangesAResult) {
       // or blows up on must not pass for one that acts.
       EXPECT_NE(rb->status, Status::kError) << k.key << " = " << other << ": " << rb->message;
       if (rb->status == Status::kError) continue;
-      const nlohmann::json b = rb->to_json();
-      EXPECT_EQ(b["settings"][k.key], other);
+      const nlohmann::json b = encode_run(*rb);
+      EXPECT_EQ(rb->settings.at(k.key), other);
       tried.append(" ").append(other);
       // The drawn trace (9 digits) or any metric's measured figure (full precision).
       if (a["details"]["trace"] != b["details"]["trace"] || a["metrics"] != b["metrics"]) {
@@ -522,10 +560,11 @@ TEST_P(FourWheels, AsExpectedAndNoWorseThanTheTricycleUnlessListed) {
   for (const auto& m : r4.metrics)
     std::cout << "  " << m.name << ": expected " << m.expected << " measured " << m.measured << " err "
               << m.compared_error() << " tol " << m.tolerance << "\n";
-  EXPECT_EQ(r4.params["wheels"], "4");
-  EXPECT_TRUE(r4.as_expected()) << r4.verdict() << ": " << r4.message;
+  ASSERT_TRUE(r4.params.has("wheels"));
+  EXPECT_EQ(r4.params.str("wheels"), "4");
+  EXPECT_TRUE(r4.as_expected()) << to_string(r4.verdict()) << ": " << r4.message;
   const RunRecord r3 = run_scenario(*s, *e);
-  EXPECT_TRUE(r3.status != Status::kPass || r4.status == Status::kPass || r4.known != nullptr)
+  EXPECT_TRUE(r3.status != Status::kPass || r4.status == Status::kPass || r4.expectation.has_value())
       << "the tricycle passes, the four-wheel car does not (" << r4.message << "), and the expectations do not say why";
   // Four wheels report the slip of four contacts (the analytic lift has none).
   const std::size_t slipping = r4.details.contains("wheel_slip") ? r4.details["wheel_slip"].size() : 0u;
@@ -551,7 +590,8 @@ TEST_P(PerEngine, ParallelSteeringScrubs) {
     GTEST_SKIP() << GetParam() << " has no four-wheel car with contacts";
   const RunRecord r = run_scenario(*find_scenario("car.circle"), *e, {{"wheels", "4"}, {"steering", "parallel"}});
   ASSERT_EQ(r.status, Status::kFail) << r.message;
-  ASSERT_NE(r.known, nullptr) << "parallel steering on " << GetParam() << " is not listed in the expectations";
+  ASSERT_TRUE(r.expectation.has_value()) << "parallel steering on " << GetParam()
+                                         << " is not listed in the expectations";
   EXPECT_TRUE(r.as_expected()) << r.message;
   const auto scrub =
       std::find_if(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return m.name == "slip_across_max"; });

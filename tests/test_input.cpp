@@ -3,13 +3,16 @@
 #include <gtest/gtest.h>
 
 #include <fmt/format.h>
+#include <functional>
 
 #include "input/read_file.hpp"
-#include "input/record_view.hpp"
+#include "input/results_codec.hpp"
+#include "input/results_diff.hpp"
 #include "input/results_file.hpp"
+#include "input/standing.hpp"
 #include "input/suggest.hpp"
 #include "input/trace.hpp"
-#include "input/results_diff.hpp"
+#include "results_fixture.hpp"
 
 using namespace liftcheck;
 
@@ -25,24 +28,39 @@ std::string error_of(F&& f) {
   return "";
 }
 
-/// The full reader's error on `text`; the index reader of `diff` (no document) must give the same.
-std::string results_error(const std::string& text) {
+/// A results document of `runs` (run records as JSON), everything else a suite holds made valid.
+nlohmann::json document_of(const nlohmann::json& runs) {
+  SuiteResults empty = fixture::suite_of_every_kind();
+  empty.runs.clear();
+  nlohmann::json doc = encode_results(empty);
+  doc["runs"] = runs;
+  return doc;
+}
+
+/// The full reader's error on a document of `runs`; the index reader of `diff` must give the same.
+std::string runs_error(const nlohmann::json& runs) {
+  const std::string text = document_of(runs).dump();
   const std::string full = error_of([&] { parse_results(text, "base.json"); });
   EXPECT_EQ(error_of([&] { parse_results_index(text, "base.json"); }), full)
       << "the readers disagree on: " << text.substr(0, 300);
   return full;
 }
+/// The index reader's error on `text` (a document of any shape).
+std::string index_error(const std::string& text) {
+  return error_of([&] { parse_results_index(text, "base.json"); });
+}
 std::string trace_error(const std::string& text, Vehicle vehicle = Vehicle::kCar) {
   return error_of([&] { parse_trace(text, "trace.csv", vehicle); });
 }
 
-const char* kMetric =
-    R"({"expected": 1, "measured": 1.1, "abs_error": 0.1, "rel_error": 0.1, "tolerance": 0.01, "tolerance_kind": "rel", "pass": false})";
+/// The run records of the fixture's suite, as results.json writes them.
+nlohmann::json runs_of_every_kind() { return encode_results(fixture::suite_of_every_kind())["runs"]; }
 
-std::string results_with(const std::string& metric, const std::string& run_extra = "") {
-  return fmt::format(
-      R"({{"runs": [{{"scenario": "car.circle", "engine": "ode", "status": "fail", "message": "m"{}, "metrics": {{"front_radius": {}}}}}]}})",
-      run_extra, metric);
+/// The run record of `scenario` on `engine` among `runs`.
+nlohmann::json& run_in(nlohmann::json& runs, const std::string& scenario, const std::string& engine) {
+  for (auto& r : runs)
+    if (r["scenario"] == scenario && r["engine"] == engine) return r;
+  throw std::logic_error("no such run");
 }
 
 }  // namespace
@@ -72,42 +90,44 @@ TEST(Suggest, NearestOnlyWhenNear) {
   EXPECT_EQ(did_you_mean("x", {}), "");
 }
 
-TEST(ResultsFile, AcceptsWhatDiffReads) {
-  const nlohmann::json j = parse_results(results_with(kMetric), "base.json");
-  EXPECT_EQ(j["runs"].size(), 1u);
-  // liftcheck writes a non-finite error as null: read, and compared as an infinite error.
-  const nlohmann::json head = parse_results(
-      results_with(
-          R"({"measured": null, "abs_error": null, "rel_error": null, "tolerance": 0.01, "tolerance_kind": "rel"})"),
-      "head.json");
-  const nlohmann::json d = diff_results(j, head);
-  ASSERT_EQ(d["worse"].size(), 1u) << d.dump();
-  EXPECT_EQ(d["worse"][0]["metric"], "front_radius");
-  EXPECT_NO_THROW(diff_text(d));
-  EXPECT_EQ(results_error(R"({"runs": []})"), "");
+// A suite written and read back is the same suite: every field of every record, the verdicts
+// decided again and agreeing with the written ones.
+TEST(ResultsFile, ReadsBackWhatItWrites) {
+  const SuiteResults suite = fixture::suite_of_every_kind();
+  const std::string text = results_text(suite);
+  const SuiteResults back = parse_results(text, "r.json");
+  ASSERT_EQ(back.runs.size(), suite.runs.size());
+  for (std::size_t i = 0; i < suite.runs.size(); ++i) {
+    EXPECT_EQ(encode_run(back.runs[i]), encode_run(suite.runs[i])) << i;
+    EXPECT_EQ(back.runs[i].verdict(), suite.runs[i].verdict()) << i;
+  }
+  EXPECT_EQ(results_text(back), text);
+  // Summarised from the records read, whatever the file's summary says.
+  nlohmann::json doc = nlohmann::json::parse(text);
+  doc["summary"]["total"] = 528;
+  doc["summary"]["unexpected"] = 0;
+  EXPECT_EQ(summarize(parse_results(doc.dump(), "r.json")).total, static_cast<int>(suite.runs.size()));
+  EXPECT_EQ(summarize(parse_results(doc.dump(), "r.json")).runs_unexpected, 3);
 }
 
 // results.json keeps each distinct reference trace once; reading it back gives every run its own.
 TEST(ResultsFile, SharedReferencesReadBackAsWritten) {
   const nlohmann::json lift = nlohmann::json::array({{0.0, 1.0}, {0.5, 1.25}}), slide = {{0.0, 2.0}};
-  nlohmann::json doc = nlohmann::json::parse(results_with(kMetric));
-  nlohmann::json run = doc["runs"][0];
-  doc["runs"] = nlohmann::json::array();
-  for (const nlohmann::json* ref : {&lift, &slide, &lift}) {
-    run["details"] = {{"reference", *ref}, {"trace", *ref}};
-    doc["runs"].push_back(run);
-  }
-  run.erase("details");
-  doc["runs"].push_back(run);  // a run without details
-  const nlohmann::json written = doc;
-  share_references(doc);
+  SuiteResults suite = fixture::suite_of_every_kind();
+  suite.runs.resize(4);
+  suite.runs[0].details = {{"reference", lift}, {"trace", lift}};
+  suite.runs[1].details = {{"reference", slide}, {"trace", slide}};
+  suite.runs[2].details = {{"reference", lift}, {"trace", lift}};  // suite.runs[3]: no details
+  const nlohmann::json doc = nlohmann::json::parse(results_text(suite));
   ASSERT_EQ(doc["shared_references"].size(), 2u);
   EXPECT_EQ(doc["runs"][2]["details"]["reference"], (nlohmann::json{{"shared", 0}}));
   EXPECT_EQ(doc["runs"][1]["details"]["reference"], (nlohmann::json{{"shared", 1}}));
   EXPECT_EQ(doc["runs"][2]["details"]["trace"], lift);  // only the reference is shared
-  EXPECT_EQ(parse_results(doc.dump(), "r.json"), written);
-  doc["runs"][1]["details"]["reference"]["shared"] = 2;
-  EXPECT_EQ(error_of([&] { parse_results(doc.dump(), "r.json"); }),
+  const SuiteResults back = parse_results(doc.dump(), "r.json");
+  for (std::size_t i = 0; i < 4; ++i) EXPECT_EQ(back.runs[i].details, suite.runs[i].details) << i;
+  nlohmann::json bad = doc;
+  bad["runs"][1]["details"]["reference"]["shared"] = 2;
+  EXPECT_EQ(error_of([&] { parse_results(bad.dump(), "r.json"); }),
             "r.json: runs[1].details.reference: 'shared' must be an index into 'shared_references' (below 2), not 2");
 }
 
@@ -118,70 +138,117 @@ TEST(ResultsFile, DrawnTracesThinOnce) {
                               std::size_t{480}, std::size_t{4001}}) {
     nlohmann::json rows = nlohmann::json::array();
     for (std::size_t i = 0; i < n; ++i) rows.push_back({0.001 * i, 1.0 / 3.0 + i, 2.0});
-    nlohmann::json doc = {{"runs", {{{"details", {{"trace", rows}, {"runs", {{{"trace", rows}}}}}}}}}};
-    thin_drawn_traces(doc);
-    const nlohmann::json& kept = doc["runs"][0]["details"]["trace"];
+    nlohmann::json details = {{"trace", rows}, {"runs", {{{"trace", rows}}}}};
+    thin_drawn_traces(details);
+    const nlohmann::json& kept = details["trace"];
     EXPECT_LE(kept.size(), kDrawnRows) << n;
     EXPECT_EQ(kept.size(), n <= kDrawnRows ? n : kept.size()) << n;
     EXPECT_EQ(kept.front()[0], 0.0);
     EXPECT_DOUBLE_EQ(kept.back()[0].get<double>(), 0.001 * (n - 1)) << n;
     EXPECT_EQ(kept.front()[1], 0.333333333);  // 9 significant digits
-    EXPECT_EQ(doc["runs"][0]["details"]["runs"][0]["trace"], kept);
-    const nlohmann::json once = doc;
-    thin_drawn_traces(doc);
-    EXPECT_EQ(doc, once) << n;
+    EXPECT_EQ(details["runs"][0]["trace"], kept);
+    const nlohmann::json once = details;
+    thin_drawn_traces(details);
+    EXPECT_EQ(details, once) << n;
   }
 }
 
 TEST(ResultsFile, NamesFileFieldAndProblem) {
-  EXPECT_EQ(results_error("{").find('\n'), std::string::npos);  // one line
-  EXPECT_EQ(results_error("{").rfind("base.json: is not JSON (parse error at line 1, column 2", 0), 0u)
-      << results_error("{");
-  EXPECT_EQ(results_error("[]"),
-            "base.json: is not a liftcheck results file (the top level is an array, not an object)");
-  EXPECT_EQ(results_error("{}"), "base.json: is not a liftcheck results file (no \"runs\")");
-  EXPECT_EQ(results_error(R"({"runs": 3})"), "base.json: 'runs' is a number, not an array");
-  EXPECT_EQ(results_error(R"({"runs": [null]})"), "base.json: runs[0]: is null, not an object");
-  EXPECT_EQ(results_error(R"({"runs": [{"engine": "ode", "status": "pass"}]})"),
-            "base.json: runs[0]: missing 'scenario'");
-  EXPECT_EQ(results_error(R"({"runs": [{"scenario": 1, "engine": "ode", "status": "pass"}]})"),
-            "base.json: runs[0]: 'scenario' is a number, not a string");
-  EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "ode", "status": "ok"}]})"),
-            "base.json: runs[0]: 'status' is 'ok', not one of pass|fail|error|skip");
-  EXPECT_EQ(results_error(results_with(kMetric, R"(, "as_expected": "yes")")),
-            "base.json: runs[0]: 'as_expected' is a string, not a boolean");
-  EXPECT_EQ(results_error(results_with(kMetric, R"(, "verdict": 0)")),
-            "base.json: runs[0]: 'verdict' is a number, not a string");
-  std::string m = kMetric;
-  const auto without = [&](const std::string& key) {
-    nlohmann::json j = nlohmann::json::parse(m);
-    j.erase(key);
-    return j.dump();
+  EXPECT_EQ(index_error("{").find('\n'), std::string::npos);  // one line
+  EXPECT_EQ(index_error("{").rfind("base.json: is not JSON (parse error at line 1, column 2", 0), 0u)
+      << index_error("{");
+  EXPECT_EQ(index_error("[]"), "base.json: is not a liftcheck results file (the top level is an array, not an object)");
+  EXPECT_EQ(index_error("{}"), "base.json: is not a liftcheck results file (no \"runs\")");
+  EXPECT_EQ(index_error(R"({"runs": 3})"), "base.json: 'runs' is a number, not an array");
+  EXPECT_EQ(runs_error({nullptr}), "base.json: runs[0]: is null, not an object");
+  nlohmann::json runs = runs_of_every_kind();
+  const auto broken = [&](const std::function<void(nlohmann::json&)>& change) {
+    nlohmann::json copy = runs;
+    change(run_in(copy, "s.one", "alpha"));
+    return runs_error(copy);
   };
-  const auto with = [&](const std::string& key, const nlohmann::json& v) {
-    nlohmann::json j = nlohmann::json::parse(m);
-    j[key] = v;
-    return j.dump();
-  };
-  EXPECT_EQ(results_error(results_with(without("rel_error"))),
-            "base.json: runs[0].metrics.front_radius: missing 'rel_error'");
-  EXPECT_EQ(results_error(results_with(without("tolerance_kind"))),
-            "base.json: runs[0].metrics.front_radius: missing 'tolerance_kind'");
-  EXPECT_EQ(results_error(results_with(with("tolerance_kind", "relative"))),
-            "base.json: runs[0].metrics.front_radius: 'tolerance_kind' is 'relative', not one of rel|abs");
-  EXPECT_EQ(results_error(results_with(with("tolerance", "0.1"))),
-            "base.json: runs[0].metrics.front_radius: 'tolerance' is a string, not a number or null");
-  EXPECT_EQ(results_error(results_with(with("floor", nullptr))),
-            "base.json: runs[0].metrics.front_radius: 'floor' is null, not a number");
-  EXPECT_EQ(results_error(results_with(with("informational", 1))),
-            "base.json: runs[0].metrics.front_radius: 'informational' is a number, not a boolean");
-  EXPECT_EQ(results_error(results_with("[]")), "base.json: runs[0].metrics.front_radius: is an array, not an object");
+  const std::string at = "base.json: runs[5]";
+  EXPECT_EQ(broken([](auto& r) { r.erase("scenario"); }), at + ": missing 'scenario'");
+  EXPECT_EQ(broken([](auto& r) { r["scenario"] = 1; }), at + ": 'scenario' is a number, not a string");
+  EXPECT_EQ(broken([](auto& r) { r["status"] = "ok"; }),
+            at + ": 'status' is 'ok', not one of pass|fail|error|skip (s.one on alpha)");
+  EXPECT_EQ(broken([](auto& r) { r["as_expected"] = "yes"; }),
+            at + ": 'as_expected' is a string, not a boolean (s.one on alpha)");
+  EXPECT_EQ(broken([](auto& r) { r["verdict"] = 0; }), at + ": 'verdict' is a number, not a string (s.one on alpha)");
+  const std::string metric = at + ".metrics.a";
+  EXPECT_EQ(broken([](auto& r) { r["metrics"]["b"].erase("rel_error"); }),
+            at + ".metrics.b: missing 'rel_error' (s.one on alpha)");
+  EXPECT_EQ(broken([](auto& r) { r["metrics"]["a"].erase("tolerance_kind"); }),
+            metric + ": missing 'tolerance_kind' (s.one on alpha)");
+  EXPECT_EQ(broken([](auto& r) { r["metrics"]["a"]["tolerance_kind"] = "relative"; }),
+            metric + ": 'tolerance_kind' is 'relative', not one of rel|abs (s.one on alpha)");
+  EXPECT_EQ(broken([](auto& r) { r["metrics"]["a"]["tolerance"] = "0.1"; }),
+            metric + ": 'tolerance' is a string, not a number or null (s.one on alpha)");
+  EXPECT_EQ(broken([](auto& r) { r["metrics"]["a"]["floor"] = nullptr; }),
+            metric + ": 'floor' is null, not a number (s.one on alpha)");
+  EXPECT_EQ(broken([](auto& r) { r["metrics"]["a"]["informational"] = 1; }),
+            metric + ": 'informational' is a number, not a boolean (s.one on alpha)");
+  EXPECT_EQ(broken([](auto& r) { r["metrics"]["a"] = nlohmann::json::array(); }),
+            at + ".metrics: 'a' is an array, not an object (s.one on alpha)");
   // An absolute metric needs no relative error.
-  m = with("tolerance_kind", "abs");
-  EXPECT_EQ(results_error(results_with(without("rel_error"))), "");
+  EXPECT_EQ(broken([](auto& r) { r["metrics"]["a"].erase("rel_error"); }), "");
   // A name with a line break is shown on one line.
-  EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "metrics": {"a\nb": 1}}]})"),
-            "base.json: runs[0].metrics.a?b: is a number, not an object");
+  EXPECT_EQ(broken([](auto& r) { r["metrics"]["a\nb"] = 1; }),
+            at + ".metrics: 'a?b' is a number, not an object (s.one on alpha)");
+}
+
+// Nothing a verdict depends on is defaulted, and no field may contradict the others: each is
+// refused with one line naming the file, the run and the field.
+TEST(ResultsFile, RefusesAVerdictItsFieldsDoNotGive) {
+  nlohmann::json runs = runs_of_every_kind();
+  const auto broken = [&](const std::string& sc, const std::string& engine,
+                          const std::function<void(nlohmann::json&)>& change) {
+    nlohmann::json copy = runs;
+    change(run_in(copy, sc, engine));
+    return runs_error(copy);
+  };
+  // A passing run set to fail with its as_expected dropped: refused by the missing field, not
+  // shown as expected; with it kept, by the status its metrics do not give.
+  EXPECT_EQ(broken("s.one", "ref",
+                   [](auto& r) {
+                     r["status"] = "fail", r["verdict"] = "fail";
+                     r.erase("as_expected");
+                   }),
+            "base.json: runs[0]: missing 'as_expected' (s.one on ref)");
+  EXPECT_EQ(broken("s.one", "ref", [](auto& r) { r["status"] = "fail", r["verdict"] = "fail"; }),
+            "base.json: runs[0]: 'status' is 'fail' but every counted metric passes (s.one on ref)");
+  EXPECT_EQ(broken("s.one", "ref", [](auto& r) { r.erase("as_expected"); }),
+            "base.json: runs[0]: missing 'as_expected' (s.one on ref)");
+  EXPECT_EQ(broken("s.one", "ref", [](auto& r) { r.erase("verdict"); }),
+            "base.json: runs[0]: missing 'verdict' (s.one on ref)");
+  EXPECT_EQ(broken("s.one", "ref", [](auto& r) { r.erase("negative_control"); }),
+            "base.json: runs[0]: missing 'negative_control' (s.one on ref)");
+  EXPECT_EQ(broken("s.one", "beta", [](auto& r) { r["as_expected"] = true; }),
+            "base.json: runs[10]: 'as_expected' is true but its status without a listing gives false (s.one on beta)");
+  EXPECT_EQ(broken("s.one", "alpha", [](auto& r) { r["verdict"] = "fail"; }),
+            "base.json: runs[5]: 'verdict' is 'fail' but its fields give 'known failure' (s.one on alpha)");
+  // A ceiling the figure exceeds: the listing no longer gives a known failure.
+  EXPECT_EQ(broken("s.one", "alpha", [](auto& r) { r["expectation"]["metrics"]["a"] = 1e-3; }),
+            "base.json: runs[5]: 'as_expected' is true but its listing gives false (s.one on alpha)");
+  EXPECT_EQ(broken("s.one", "alpha", [](auto& r) { r["metrics"]["a"]["pass"] = true; }),
+            "base.json: runs[5].metrics.a: 'pass' is true but its absolute error 0.003 is over its tolerance 0.001 "
+            "(s.one on alpha)");
+  EXPECT_EQ(broken("s.two", "ref", [](auto& r) { r["status"] = "fail"; }),
+            "base.json: runs[1]: 'status' is 'fail' but every counted metric passes (s.two on ref)");
+  EXPECT_EQ(broken("s.control", "alpha", [](auto& r) { r["negative_control"] = false; }),
+            "base.json: runs[9]: 'as_expected' is true but its status without a listing gives false (s.control on "
+            "alpha)");
+  // A run given twice, whatever its figures: one run, two positions.
+  nlohmann::json twice = runs;
+  twice.push_back(run_in(twice, "s.one", "ref"));
+  twice.back()["metrics"]["a"]["measured"] = 2e-9, twice.back()["metrics"]["a"]["abs_error"] = 2e-9;
+  EXPECT_EQ(runs_error(twice), "base.json: runs[15] repeats runs[0]: s.one on ref is one run, given twice");
+  // A file of an older format is named as such.
+  nlohmann::json old = document_of(runs);
+  old.erase("liftcheck_results");
+  EXPECT_EQ(error_of([&] { parse_results(old.dump(), "old.json"); }),
+            "old.json: is in the results format 1 of another liftcheck; this one reads format 2 (write it again with "
+            "this liftcheck's validate)");
 }
 
 TEST(Trace, CsvNamesLineColumnAndProblem) {
@@ -243,7 +310,9 @@ TEST(Trace, JsonNamesRowColumnAndProblem) {
 TEST(Trace, DeepJsonIsRefusedNotACrash) {
   const std::string deep = std::string(300000, '[') + std::string(300000, ']');
   EXPECT_EQ(trace_error(deep, Vehicle::kDisks), "trace.csv: JSON nested deeper than 64 levels");
-  EXPECT_EQ(results_error("{\"runs\": " + deep + "}"), "base.json: JSON nested deeper than 64 levels");
+  EXPECT_EQ(index_error("{\"runs\": " + deep + "}"), "base.json: JSON nested deeper than 64 levels");
+  EXPECT_EQ(error_of([&] { parse_results("{\"runs\": " + deep + "}", "base.json"); }),
+            "base.json: JSON nested deeper than 64 levels");
   const std::string ok = std::string(60, '[') + std::string(60, ']');
   EXPECT_EQ(trace_error(ok, Vehicle::kDisks),
             "trace.csv: row 1 is not an object with the columns t, cMx, cMy, cNx, cNy");
@@ -253,19 +322,19 @@ TEST(Trace, DeepJsonIsRefusedNotACrash) {
 // keeps the depth limit; a key repeated in one object is refused (the last would silently win, so
 // a baseline ending in "runs": [] compared nothing and passed).
 TEST(JsonReader, DuplicateKeysAreRefusedWithTheirPlace) {
-  EXPECT_EQ(results_error(results_with(kMetric) + "x").rfind("base.json: is not JSON", 0), 0u);
-  const std::string text = results_with(kMetric);
+  const std::string text = document_of(runs_of_every_kind()).dump();
+  EXPECT_EQ(index_error(text + "x").rfind("base.json: is not JSON", 0), 0u);
   const std::string twice = text.substr(0, text.size() - 1) + R"(, "runs": []})";
-  EXPECT_EQ(results_error(twice),
+  EXPECT_EQ(index_error(twice),
             "base.json: the top level: the key 'runs' appears twice in one object (which one is meant?)");
-  EXPECT_EQ(
-      results_error(
-          R"({"runs": [{}, {"scenario": "a", "engine": "e", "status": "pass", "metrics": {"m": {"unit": "m", "unit": "s"}}}]})"),
-      "base.json: runs[1].metrics.m: the key 'unit' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(error_of([&] { parse_results(twice, "base.json"); }), index_error(twice));
+  EXPECT_EQ(index_error(R"({"runs": [{}, {"scenario": "a", "metrics": {"m": {"unit": "m", "unit": "s"}}}]})"),
+            "base.json: runs[1].metrics.m: the key 'unit' appears twice in one object (which one is meant?)");
   EXPECT_EQ(trace_error(R"([{"t": 0, "t": 1}])", Vehicle::kDisks),
             "trace.csv: [0]: the key 't' appears twice in one object (which one is meant?)");
   // The same key in two objects is no repetition.
-  EXPECT_EQ(results_error(R"({"runs": [], "context": {"runs": 1}})"), "");
+  EXPECT_EQ(index_error(R"({"liftcheck_results": 2, "runs": [], "context": {"runs": 1}})").find("appears twice"),
+            std::string::npos);
   const std::string ok = std::string(64, '[') + std::string(64, ']');
   EXPECT_EQ(error_of([&] { parse_json_text(ok, "f"); }), "");
   EXPECT_EQ(error_of([&] { parse_json_text("[" + ok + "]", "f"); }), "f: JSON nested deeper than 64 levels");
@@ -319,141 +388,118 @@ TEST(Names, Utf8) {
 }
 
 // `diff` reads a file into an index of what it compares (no document): every check of the full
-// reader holds, with the same message, and the first one the full reader reports is the one
-// reported (a syntax error anywhere before a run's field, a run before a later one, the top level
-// before any run, a run's own fields before its metrics, its metrics in name order).
+// reader holds on the runs, with the same message, and the first bad run is the one reported.
 TEST(ResultsIndex, RefusesWhatTheFullReaderRefusesWithItsMessage) {
-  const std::string bad_run = R"({"scenario": 1, "engine": "e", "status": "pass"})";
-  EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, {"x": 1, "x": 2}]})"),
-            "base.json: runs[1]: the key 'x' appears twice in one object (which one is meant?)");
-  EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, 1]} x)").rfind("base.json: is not JSON", 0), 0u);
-  EXPECT_EQ(results_error(R"({"runs": [)" + bad_run + R"(, 1]})"),
-            "base.json: runs[0]: 'scenario' is a number, not a string");
-  EXPECT_EQ(results_error(R"({"runs": [1, )" + bad_run + "]}"), "base.json: runs[0]: is a number, not an object");
-  EXPECT_EQ(results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "scenario": "t"}]})"),
-            "base.json: runs[0]: the key 'scenario' appears twice in one object (which one is meant?)");
-  EXPECT_EQ(
-      results_error(results_with(R"({"pass": true, "pass": false})")),
-      "base.json: runs[0].metrics.front_radius: the key 'pass' appears twice in one object (which one is meant?)");
-  EXPECT_EQ(
-      results_error(R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "metrics": {"z": 1, "a": []}}]})"),
-      "base.json: runs[0].metrics.a: is an array, not an object");
-  EXPECT_EQ(results_error(R"({"runs": [{"metrics": [], "scenario": "s", "status": "pass"}]})"),
-            "base.json: runs[0]: missing 'engine'");
-  EXPECT_EQ(
-      results_error(
-          R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "metrics": {"m": {"tolerance_kind": "abs", "tolerance": 1, "abs_error": 0}}}]})"),
-      "base.json: runs[0].metrics.m: missing 'measured'");
-  EXPECT_EQ(results_error(R"({"runs": 1, "x": {"runs": [1]}})"), "base.json: 'runs' is a number, not an array");
-  EXPECT_EQ(results_error(R"({"context": {"runs": [1]}})"), "base.json: is not a liftcheck results file (no \"runs\")");
-  EXPECT_EQ(results_error(R"("runs")"),
+  nlohmann::json runs = runs_of_every_kind();
+  nlohmann::json bad = runs;
+  bad[3]["scenario"] = 1;
+  bad[7]["status"] = "great";
+  EXPECT_EQ(runs_error(bad), "base.json: runs[3]: 'scenario' is a number, not a string");
+  EXPECT_EQ(index_error(R"({"runs": [{"x": 1, "x": 2}]})"),
+            "base.json: runs[0]: the key 'x' appears twice in one object (which one is meant?)");
+  EXPECT_EQ(index_error(R"({"runs": [1]} x)").rfind("base.json: is not JSON", 0), 0u);
+  nlohmann::json numbered = document_of(runs);
+  numbered["runs"] = nlohmann::json::array({1, {{"x", 1}}});
+  EXPECT_EQ(index_error(numbered.dump()), "base.json: runs[0]: is a number, not an object");
+  EXPECT_EQ(index_error(R"({"liftcheck_results": 2, "runs": []})"), "base.json: missing 'context'");
+  EXPECT_EQ(index_error(R"({"runs": 1, "x": {"runs": [1]}})"), "base.json: 'runs' is a number, not an array");
+  EXPECT_EQ(index_error(R"({"context": {"runs": [1]}})"), "base.json: is not a liftcheck results file (no \"runs\")");
+  EXPECT_EQ(index_error(R"("runs")"),
             "base.json: is not a liftcheck results file (the top level is a string, not an object)");
-  EXPECT_EQ(results_error(""), error_of([] { parse_json_text("", "base.json"); }));
-  std::string many = R"({"runs": [{"scenario": "s", "engine": "e", "status": "pass", "params": {)";
-  for (int i = 0; i < 40; ++i) many += fmt::format(R"("k{}": {}, )", i, i);
-  EXPECT_EQ(results_error(many + R"("k7": 0}}]})"),
-            "base.json: runs[0].params: the key 'k7' appears twice in one object (which one is meant?)");
-  EXPECT_EQ(results_error(many + R"("k40": 0}}]})"), "");
+  EXPECT_EQ(index_error(""), error_of([] { parse_json_text("", "base.json"); }));
+  nlohmann::json dup = runs;
+  std::string text = document_of(dup).dump();
+  const std::string needle = "\"metrics\":{\"a\":{";
+  text.insert(text.find(needle) + needle.size(), "\"pass\":true,");
+  EXPECT_EQ(error_of([&] { parse_results_index(text, "base.json"); }),
+            "base.json: runs[0].metrics.a: the key 'pass' appears twice in one object (which one is meant?)");
 }
 
-// The index gives the diff the full reader's document gives, finding for finding.
+namespace {
+
+/// The diff of two suites, from their indexes as `diff` reads them and from the typed results.
+std::pair<ResultsDiff, ResultsDiff> both_diffs(const SuiteResults& base, const SuiteResults& head) {
+  const ResultsDiff typed = diff_results(index_of(base), index_of(head));
+  const ResultsDiff indexed =
+      diff_results(parse_results_index(results_text(base), "b"), parse_results_index(results_text(head), "h"));
+  return {typed, indexed};
+}
+
+}  // namespace
+
+// The index gives the diff the typed results give, finding for finding.
 TEST(ResultsIndex, DiffsAsTheDocumentDoes) {
-  const auto run = [](const std::string& scenario, const std::string& engine, const std::string& status,
-                      const std::string& rest) {
-    return fmt::format(R"({{"scenario": "{}", "engine": "{}", "status": "{}"{}}})", scenario, engine, status, rest);
-  };
-  const std::string m1 =
-      R"(, "metrics": {"b": {"measured": 2, "abs_error": 0.5, "tolerance": 0.01, "tolerance_kind": "abs"}, )"
-      R"("a": {"measured": 1.5e300, "abs_error": 1, "rel_error": null, "tolerance": 1, "tolerance_kind": "rel", "floor": 2}})";
-  const std::string m2 =
-      R"(, "message": "boom", "verdict": "known failure", "as_expected": true, "metrics": {"a": {"measured": null, "abs_error": 1e-9, )"
-      R"("rel_error": 1e-9, "tolerance": 1, "tolerance_kind": "rel"}, "b": {"measured": 3, "abs_error": 1e-6, "tolerance": 0.01, "tolerance_kind": "abs", "informational": false}})";
-  const std::string base = "{\"runs\": [" + run("s2", "ode", "pass", m2) + "," + run("s1", "ode", "fail", m1) + "," +
-                           run("s1", "ode", "pass", m2) + "," + run("s3", "x", "skip", "") + "," +
-                           run("s0", "e", "error", R"(, "metrics": {})") + "]}";
-  const std::string head = "{\"runs\": [" + run("s1", "ode", "fail", m1 + R"(, "message": "worse")") + "," +
-                           run("s2", "ode", "pass", m1) + "," + run("s4", "y", "pass", m2) + "," +
-                           run("s0", "e", "pass", m2) + "," + run("s0", "e", "error", R"(, "metrics": {})") + "]}";
-  for (const auto& [b, h] : {std::pair{base, head}, std::pair{head, base}, std::pair{base, base}}) {
-    const nlohmann::json from_documents = diff_results(parse_results(b, "b"), parse_results(h, "h"));
-    const nlohmann::json from_indexes = diff_results(parse_results_index(b, "b"), parse_results_index(h, "h"));
-    EXPECT_EQ(from_indexes.dump(), from_documents.dump());
-    EXPECT_EQ(diff_text(from_indexes), diff_text(from_documents));
+  const SuiteResults base = fixture::suite_of_every_kind();
+  SuiteResults head = base;
+  head.runs[0] = fixture::run("s.one", "ref", {fixture::metric("a", TolKind::kAbsolute, 0.0, 5e-3, 1e-3)});
+  head.runs.erase(head.runs.begin() + 2);
+  head.runs.push_back(fixture::run("s.new", "ref", {fixture::metric("a", TolKind::kAbsolute, 0.0, 1e-9, 1e-3)}));
+  const SuiteResults* h0 = &head;
+  for (const auto& [b, h] : {std::pair{&base, h0}, std::pair{h0, &base}, std::pair{&base, &base}}) {
+    const auto [typed, indexed] = both_diffs(*b, *h);
+    EXPECT_EQ(encode_diff(indexed).dump(), encode_diff(typed).dump());
+    EXPECT_EQ(diff_text(indexed), diff_text(typed));
   }
-  const nlohmann::json d = diff_results(parse_results_index(base, "b"), parse_results_index(head, "h"));
-  EXPECT_EQ(d["regressions"].size(), 1u) << d.dump();  // s1 on ode: the later record (pass) wins in base
-  EXPECT_EQ(d["added"].size(), 1u);
-  EXPECT_EQ(d["removed"].size(), 1u);
-  EXPECT_FALSE(d["worse"].empty());
+  const ResultsDiff d = both_diffs(base, head).second;
+  EXPECT_EQ(d.regressions.size(), 1u) << encode_diff(d).dump();  // s.one on ref: pass -> fail
+  EXPECT_EQ(d.added.size(), 1u);
+  EXPECT_EQ(d.removed.size(), 1u);
+  EXPECT_FALSE(d.worse.empty());
 }
 
 // A change between two records made with different parameters or settings says so, whichever
 // reader read them, and a measured figure prints to 4 significant digits, not 17.
 TEST(ResultsIndex, DiffNamesTheSettingsThatDiffer) {
-  const std::string metric =
-      R"("metrics": {"m": {"measured": %M, "abs_error": %E, "tolerance": 0.01, "tolerance_kind": "abs"}})";
-  const auto run = [&](const std::string& status, const std::string& params, const std::string& settings,
-                       const std::string& measured, const std::string& error) {
-    std::string m = metric;
-    m.replace(m.find("%M"), 2, measured);
-    m.replace(m.find("%E"), 2, error);
-    return fmt::format(R"({{"runs": [{{"scenario": "car.circle", "engine": "ode-quick", "status": "{}", )"
-                       R"("params": {}, "settings": {}, {}}}]}})",
-                       status, params, settings, m);
-  };
-  const std::string base =
-      run("pass", R"({"dt": 0.001, "speed": 2})", R"({"iterations": "20"})", "0.12345678901234567", "1e-5");
-  const std::string head =
-      run("fail", R"({"dt": 0.002, "speed": 2})", R"({"iterations": "5", "w": "1"})", "0.2345678901234567", "0.5");
-  const nlohmann::json from_documents = diff_results(parse_results(base, "b"), parse_results(head, "h"));
-  const nlohmann::json d = diff_results(parse_results_index(base, "b"), parse_results_index(head, "h"));
-  EXPECT_EQ(d.dump(), from_documents.dump());
-  ASSERT_EQ(d["regressions"].size(), 1u) << d.dump();
-  EXPECT_EQ(d["regressions"][0]["settings_differ"],
-            nlohmann::json({"dt 0.001 -> 0.002", "iterations 20 -> 5", "w (none) -> 1"}));
+  SuiteResults base = fixture::suite_of_every_kind(), head = base;
+  base.runs = {fixture::run("car.circle", "ode-quick",
+                            {fixture::metric("m", TolKind::kAbsolute, 0.0, 0.12345678901234567 * 1e-4, 0.01)})};
+  base.runs[0].settings = {{"iterations", "20"}};
+  head.runs = {fixture::run("car.circle", "ode-quick",
+                            {fixture::metric("m", TolKind::kAbsolute, 0.0, 0.2345678901234567 * 2, 0.01)})};
+  head.runs[0].params = Params::from_json({{"dt", 0.002}, {"wheels", "3"}});
+  head.runs[0].settings = {{"iterations", "5"}, {"w", "1"}};
+  head.runs[0].judge();
+  const auto [typed, d] = both_diffs(base, head);
+  EXPECT_EQ(encode_diff(d).dump(), encode_diff(typed).dump());
+  ASSERT_EQ(d.regressions.size(), 1u) << encode_diff(d).dump();
+  EXPECT_EQ(d.regressions[0].settings_differ,
+            (std::vector<std::string>{"dt 0.001 -> 0.002", "iterations 20 -> 5", "w (none) -> 1"}));
   const std::string text = diff_text(d);
-  EXPECT_NE(text.find("REGRESSION car.circle on ode-quick: pass -> fail () [settings differ: dt 0.001 -> 0.002, "
-                      "iterations 20 -> 5, w (none) -> 1]"),
-            std::string::npos)
+  EXPECT_NE(text.find("REGRESSION car.circle on ode-quick: pass -> fail () [settings differ"), std::string::npos)
       << text;
-  EXPECT_NE(text.find("m measured 0.2346 (was 0.1235), 50 of tolerance (was 0.001) [settings differ:"),
+  EXPECT_NE(text.find("m measured 0.4691 (was 1.235e-05), 46.9 of tolerance (was 0.00123) [settings differ:"),
             std::string::npos)
       << text;
   // The same run made alike on both sides names nothing.
-  const nlohmann::json same = diff_results(parse_results_index(base, "b"), parse_results_index(base, "b"));
-  EXPECT_EQ(diff_text(same).find("settings differ"), std::string::npos);
+  EXPECT_EQ(diff_text(both_diffs(base, base).second).find("settings differ"), std::string::npos);
 }
 
-// The typed view every reader of a record goes through: the compared error by the tolerance's
-// kind, its ratio (floor included), a null figure as infinite, informational metrics not counted.
-TEST(RecordView, ComparedErrorRatioAndCounting) {
-  const nlohmann::json rec = nlohmann::json::parse(R"({"scenario": "car.circle", "status": "fail", "metrics": {
-    "radius": {"expected": 2.0, "measured": 2.01, "abs_error": 0.01, "rel_error": 0.005, "tolerance": 0.002, "tolerance_kind": "rel", "pass": false},
-    "drift":  {"expected": 0.0, "measured": 3e-4, "abs_error": 3e-4, "rel_error": null, "tolerance": 1e-3, "tolerance_kind": "abs", "pass": true, "floor": 1e-3},
-    "creep":  {"expected": 0.0, "measured": 0.5, "abs_error": 0.5, "rel_error": null, "tolerance": 0.1, "tolerance_kind": "abs", "floor": 2.0, "pass": false},
-    "lost":   {"expected": 1.0, "measured": null, "abs_error": null, "rel_error": null, "tolerance": 0.1, "tolerance_kind": "abs", "pass": false},
-    "shown":  {"expected": 1.0, "measured": 1.5, "abs_error": 0.5, "rel_error": 0.5, "tolerance": 0.1, "tolerance_kind": "rel", "pass": false, "informational": true}}})");
-  const liftcheck::RecordView r(rec);
-  EXPECT_EQ(r.verdict(), "fail");  // a file from before verdicts: its status
-  ASSERT_TRUE(r.has("radius"));
-  EXPECT_FALSE(r.has("heading"));
-  const liftcheck::MetricView radius = r.metric("radius"), drift = r.metric("drift"), creep = r.metric("creep");
-  EXPECT_TRUE(radius.relative());
-  EXPECT_DOUBLE_EQ(radius.compared_error(), 0.005);  // rel_error, not abs_error 0.01
-  EXPECT_DOUBLE_EQ(radius.ratio(), 2.5);
-  EXPECT_FALSE(drift.relative());
+// The figures every reader of a metric uses: the compared error by the tolerance's kind, its ratio
+// (floor included), a lost figure as infinite, informational metrics not counted.
+TEST(Metric, ComparedErrorRatioAndCounting) {
+  using fixture::metric;
+  const Metric radius = metric("radius", TolKind::kRelative, 2.0, 2.01, 0.002);
+  Metric drift = metric("drift", TolKind::kAbsolute, 0.0, 3e-4, 1e-3);
+  drift.floor = 1e-3;
+  Metric creep = metric("creep", TolKind::kAbsolute, 0.0, 0.5, 0.1);
+  creep.floor = 2.0;
+  creep.pass = creep.passes_by_figures();
+  Metric lost = metric("lost", TolKind::kAbsolute, 1.0, NAN, 0.1);
+  const Metric shown = metric("shown", TolKind::kRelative, 1.0, 1.5, 0.1, "1", true);
+  EXPECT_NEAR(radius.compared_error(), 0.005, 1e-15);  // rel_error, not abs_error 0.01
+  EXPECT_NEAR(radius.ratio(), 2.5, 1e-12);
+  EXPECT_FALSE(radius.pass);
   EXPECT_DOUBLE_EQ(drift.compared_error(), 3e-4);
   EXPECT_DOUBLE_EQ(drift.ratio(), 0.3);   // abs 3e-4 over the floor 1e-3 is 0.3 too
   EXPECT_DOUBLE_EQ(creep.ratio(), 0.25);  // 5 against the tolerance, 0.25 against the floor 2.0
-  EXPECT_TRUE(std::isnan(r.metric("lost").compared_error()));
-  EXPECT_TRUE(std::isinf(r.metric("lost").ratio()));  // a lost figure fails, never passes
-  EXPECT_TRUE(r.metric("lost").written_compared_error().is_null());
-  EXPECT_FALSE(r.metric("shown").counted());
-  EXPECT_TRUE(radius.counted());
-  int counted = 0;
-  r.each_metric([&](const std::string&, const liftcheck::MetricView& m) { counted += m.counted() && !m.pass(); });
-  EXPECT_EQ(counted, 3);  // radius, creep, lost
-  const nlohmann::json point = radius.point_figures();
-  EXPECT_DOUBLE_EQ(point.at("rel_error").get<double>(), 0.005);
-  EXPECT_DOUBLE_EQ(liftcheck::MetricView(point).rel_error(), 0.005);  // a sweep's point reads the same way
+  EXPECT_TRUE(creep.passes_by_figures());
+  EXPECT_TRUE(std::isnan(lost.compared_error()));
+  EXPECT_TRUE(std::isinf(lost.ratio()));  // a lost figure fails, never passes
+  EXPECT_FALSE(lost.passes_by_figures());
+  EXPECT_FALSE(shown.counted());
+  const RunResult r = fixture::run("car.circle", "ode", {radius, drift, creep, lost, shown});
+  EXPECT_EQ(r.failed_metrics(), (std::vector<std::string>{"radius", "lost"}));
+  EXPECT_EQ(r.metrics_worst_first().front()->name, "lost");
+  EXPECT_TRUE(std::isinf(r.worst_ratio()));
+  EXPECT_EQ(encode_metric(lost)["measured"], nullptr);  // a lost figure is written as null
 }

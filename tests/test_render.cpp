@@ -5,7 +5,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
+#include <vector>
 
 #include <GL/osmesa.h>
 
@@ -17,8 +19,20 @@
 #include <cmath>
 
 using namespace liftcheck::render;
+using liftcheck::Params;
+using liftcheck::RunResult;
 
 namespace {
+
+/// A run's record as the snapshots read it: its scenario, configuration, vehicle, parameters and details.
+RunResult drawn_run(const std::string& scenario, liftcheck::Vehicle vehicle, const nlohmann::json& params,
+                    const nlohmann::json& details) {
+  RunResult r;
+  r.scenario = scenario, r.engine = "ode", r.vehicle = vehicle;
+  r.params = Params::from_json(params);
+  r.details = details;
+  return r;
+}
 
 /// Top-down 200 x 160 view of [-1.25, 1.25] x [-1, 1]: 80 px per metre, y up.
 Scene known_scene() {
@@ -121,12 +135,9 @@ TEST(Render, WritesAPng) {
 // tricycle draws three.
 TEST(Render, FourWheelRunDrawsFourWheels) {
   const double beta = 0.3, l = 1.0, track = 0.8;
-  nlohmann::json run = {
-      {"scenario", "car.circle"},
-      {"engine", "ode"},
-      {"vehicle", "car"},
-      {"params", {{"R", 0.3}, {"l", l}, {"track", track}, {"wheels", "4"}, {"steering", "ackermann"}}},
-      {"details", {{"trace", {{0.0, 0.0, beta, 0.0, 0.0, 0.0}, {1.0, 1.0, beta, 0.3, 0.05, 0.1}}}}}};
+  nlohmann::json params = {{"R", 0.3}, {"l", l}, {"track", track}, {"wheels", "4"}, {"steering", "ackermann"}};
+  const nlohmann::json details = {{"trace", {{0.0, 0.0, beta, 0.0, 0.0, 0.0}, {1.0, 1.0, beta, 0.3, 0.05, 0.1}}}};
+  RunResult run = drawn_run("car.circle", liftcheck::Vehicle::kCar, params, details);
   const auto four = snapshots_for(run, Color{0, 0, 1, 1});
   ASSERT_FALSE(four.empty());
   const auto& wheels = four.front().scene.wheels;
@@ -136,7 +147,8 @@ TEST(Render, FourWheelRunDrawsFourWheels) {
   EXPECT_NEAR(wheels[1].heading_rad, std::atan(l / (c + 0.5 * track / l)), 1e-12);  // right: outer
   EXPECT_NEAR((wheels[0].centre - wheels[1].centre).norm(), track, 1e-12);
   EXPECT_NEAR(wheels[0].centre.y(), 0.5 * track, 1e-12);
-  run["params"]["wheels"] = "3";
+  params["wheels"] = "3";
+  run.params = Params::from_json(params);
   EXPECT_EQ(snapshots_for(run, Color{0, 0, 1, 1}).front().scene.wheels.size(), 3u);
 }
 
@@ -149,11 +161,8 @@ TEST(Render, EndInsetShowsAMillimetreOffset) {
   for (const double offset_m : {31e-6, 1e-3, 4e-3, 0.03, 0.0337, 0.05}) {
     const nlohmann::json reference = {{0.0, 0.0, 0.3, 0.0, 0.0, 0.0}, {1.0, 1.0, 0.3, 0.3, 0.0, 0.0}};
     const nlohmann::json trace = {{0.0, 0.0, 0.3, 0.0, 0.0, 0.0}, {1.0, 1.0, 0.3, 0.3, offset_m, 0.0}};
-    const nlohmann::json run = {{"scenario", "car.circle"},
-                                {"engine", "ode"},
-                                {"vehicle", "car"},
-                                {"params", {{"R", 0.3}, {"l", 1.0}}},
-                                {"details", {{"trace", trace}, {"reference", reference}}}};
+    const RunResult run = drawn_run("car.circle", liftcheck::Vehicle::kCar, {{"R", 0.3}, {"l", 1.0}},
+                                    {{"trace", trace}, {"reference", reference}});
     const auto shots = snapshots_for(run, Color{0, 0, 1, 1});
     const auto end = std::find_if(shots.begin(), shots.end(), [](const Snapshot& s) { return s.tag == "end"; });
     ASSERT_NE(end, shots.end());
@@ -199,8 +208,7 @@ TEST(Render, DisksAfterContactAgainstTheExactResponse) {
   EXPECT_EQ(exact[2], response[0]);
   EXPECT_EQ(exact[4], response[2]);
   EXPECT_EQ(own_reference({{"reference", lift}}), lift);  // no contact: the lift
-  const nlohmann::json run = {
-      {"scenario", "disks.oblique"}, {"engine", "ode"}, {"vehicle", "disks"}, {"details", details}};
+  const RunResult run = drawn_run("disks.oblique", liftcheck::Vehicle::kDisks, nlohmann::json::object(), details);
   const auto shots = snapshots_for(run, Color{0, 0, 1, 1});
   const auto end = std::find_if(shots.begin(), shots.end(), [](const Snapshot& s) { return s.tag == "end"; });
   ASSERT_NE(end, shots.end());
@@ -256,21 +264,21 @@ TEST(Plots, QuotesNamesAsData) {
 
 namespace {
 
+using liftcheck::Expectation;
+using liftcheck::Metric;
+using liftcheck::Status;
+using liftcheck::SuiteResults;
+using liftcheck::TolKind;
+
 /// A configuration named with a '|' and an error message with a line break and an ANSI escape:
 /// summary.md keeps its lines and its table's columns, junit.xml holds no character XML forbids.
-nlohmann::json odd_results() {
-  nlohmann::json run = {{"scenario", "car.circle"},
-                        {"engine", "a|b"},
-                        {"status", "error"},
-                        {"verdict", "error"},
-                        {"as_expected", false},
-                        {"wall_s", 0.1},
-                        {"metrics", nlohmann::json::object()},
-                        {"message", "boom\nFAIL forged | \x1b[2J"}};
-  return {{"summary", {{"total", 1}, {"error", 1}, {"unexpected", 1}}},
-          {"context", {{"engines", {{{"name", "a|b"}}}}}},
-          {"runs", {run}},
-          {"sweeps", nlohmann::json::array()}};
+SuiteResults odd_results() {
+  RunResult run = liftcheck::error_result("car.circle", "a|b", liftcheck::Vehicle::kCar, "boom\nFAIL forged | \x1b[2J");
+  run.wall_s = 0.1;
+  SuiteResults results;
+  results.context.engines.push_back({.name = "a|b"});
+  results.runs = {run};
+  return results;
 }
 
 TEST(Escape, SummaryMarkdownKeepsItsLinesAndColumns) {
@@ -297,39 +305,46 @@ TEST(Escape, JunitHoldsNoControlCharacter) {
       << xml;  // a line break is allowed in XML
 }
 
-/// A metric record as results.json holds it: an absolute tolerance.
-nlohmann::json metric(double measured, double tolerance) {
-  return {{"expected", 0.0},        {"measured", measured},    {"abs_error", measured},        {"rel_error", nullptr},
-          {"tolerance", tolerance}, {"tolerance_kind", "abs"}, {"pass", measured <= tolerance}};
+/// A metric as score() gives it: an absolute tolerance, expected 0.
+Metric metric(const std::string& name, double measured, double tolerance) {
+  Metric m;
+  m.name = name, m.kind = TolKind::kAbsolute, m.expected = 0.0, m.measured = measured;
+  m.abs_error = measured, m.tolerance = tolerance;
+  m.pass = m.passes_by_figures();
+  return m;
+}
+
+/// A run of `scenario` on `engine` ending in `status` with `message`, judged against `listing`.
+RunResult judged_run(const std::string& scenario, const std::string& engine, Status status, const std::string& message,
+                     std::vector<Metric> metrics = {}, std::optional<Expectation> listing = std::nullopt) {
+  RunResult r;
+  r.scenario = scenario, r.engine = engine, r.status = status, r.message = message;
+  r.metrics = std::move(metrics);
+  r.expectation = std::move(listing);
+  r.judge();
+  return r;
 }
 
 // junit.xml counts errors and failures only where validate would exit 1: a listed known failure,
 // even an error record, is a <skipped type="known-failure">, a run that does not apply a
 // <skipped type="not-applicable">; a failure's message and each case's metrics go worst first.
 TEST(Junit, ErrorsAndFailuresOnlyWhereNotAsExpected) {
-  const nlohmann::json known_error = {{"scenario", "car.slope"},
-                                      {"engine", "e1"},
-                                      {"status", "error"},
-                                      {"verdict", "known failure"},
-                                      {"as_expected", true},
-                                      {"message", "blew up"},
-                                      {"expectation", {{"reason", "listed"}}}};
-  const nlohmann::json skip = {{"scenario", "car.slip"}, {"engine", "e1"},      {"status", "skip"},
-                               {"verdict", "skip"},      {"as_expected", true}, {"message", "no forces"}};
-  const nlohmann::json fail = {{"scenario", "car.circle"},
-                               {"engine", "e2"},
-                               {"status", "fail"},
-                               {"verdict", "fail"},
-                               {"as_expected", false},
-                               {"message", "out of tolerance"},
-                               {"metrics", {{"a_small", metric(2.0, 1.0)}, {"b_large", metric(30.0, 1.0)}}}};
-  nlohmann::json results = {{"runs", {known_error, skip}}, {"sweeps", nlohmann::json::array()}};
+  // An error listed by the start of its message (its reason "listed"), a true skip, a failure not listed.
+  const RunResult known_error = judged_run("car.slope", "e1", Status::kError, "blew up", {},
+                                           Expectation{.error = "blew", .reason = "listed", .measured = "an error"});
+  ASSERT_EQ(known_error.verdict(), liftcheck::Verdict::kKnownFailure);
+  const RunResult skip = judged_run("car.slip", "e1", Status::kSkip, "no forces");
+  const RunResult fail = judged_run("car.circle", "e2", Status::kFail, "out of tolerance",
+                                    {metric("a_small", 2.0, 1.0), metric("b_large", 30.0, 1.0)});
+  ASSERT_EQ(fail.verdict(), liftcheck::Verdict::kFail);
+  SuiteResults results;
+  results.runs = {known_error, skip};
   std::string xml = liftcheck::junit_xml(results);
   EXPECT_NE(xml.find("errors=\"0\">"), std::string::npos) << xml;
   EXPECT_EQ(xml.find("<error"), std::string::npos) << xml;
   EXPECT_NE(xml.find("<skipped type=\"known-failure\" message=\"known failure: listed\"/>"), std::string::npos);
   EXPECT_NE(xml.find("<skipped type=\"not-applicable\" message=\"no forces\"/>"), std::string::npos);
-  results["runs"].push_back(fail);
+  results.runs.push_back(fail);
   xml = liftcheck::junit_xml(results);
   EXPECT_NE(xml.find("failures=\"1\" errors=\"0\">"), std::string::npos) << xml;
   const std::size_t large = xml.find("b_large: expected"), small = xml.find("a_small: expected");
@@ -348,12 +363,17 @@ TEST(Junit, ErrorsAndFailuresOnlyWhereNotAsExpected) {
 // validate exits 1 on a baseline regression or a report it could not build: junit.xml fails a case
 // for each, so its root counts are zero exactly when validate exits 0.
 TEST(Junit, BaselineRegressionsAndReportErrorsAreFailures) {
-  nlohmann::json results = {{"runs", nlohmann::json::array()}, {"sweeps", nlohmann::json::array()}};
+  SuiteResults results;
   std::string xml = liftcheck::junit_xml(results);
   EXPECT_NE(xml.find("<testsuites name=\"liftcheck\" tests=\"2\" failures=\"0\" errors=\"0\">"), std::string::npos)
       << xml;
-  results["summary"] = {{"baseline_problems", 3}};
-  results["report"] = {{"errors", {"plots: gnuplot died"}}};
+  // Three regressions against the baseline (what the summary counts as its problems), a plot that failed.
+  liftcheck::BaselineComparison baseline{.file = "baseline.json", .worse_factor = 10.0};
+  for (const char* engine : {"e1", "e2", "e3"})
+    baseline.diff.regressions.push_back({.scenario = "car.circle", .engine = engine, .from = "pass", .to = "fail"});
+  ASSERT_EQ(baseline.diff.problems(), 3);
+  results.baseline = baseline;
+  results.report = liftcheck::ReportInfo{.errors = {"plots: gnuplot died"}};
   xml = liftcheck::junit_xml(results);
   EXPECT_NE(xml.find("<testsuites name=\"liftcheck\" tests=\"2\" failures=\"2\" errors=\"0\">"), std::string::npos)
       << xml;

@@ -18,6 +18,7 @@
 #include "harness/suite_results.hpp"
 #include "harness/worker_pool.hpp"
 #include "harness/sweeps.hpp"
+#include "input/results_codec.hpp"
 #include "scenarios/disk_scenarios.hpp"
 #include "models/holonomy.hpp"
 #include "reports/report.hpp"
@@ -165,8 +166,8 @@ TEST(Runner, NonPhysicalCombinationIsAnInputError) {
 }
 
 TEST(Runner, RecordsAreDeterministic) {
-  const auto a = run_scenario(*find_scenario("car.iterated"), *find_engine("analytic")).to_json();
-  const auto b = run_scenario(*find_scenario("car.iterated"), *find_engine("analytic")).to_json();
+  const auto a = encode_run(run_scenario(*find_scenario("car.iterated"), *find_engine("analytic")));
+  const auto b = encode_run(run_scenario(*find_scenario("car.iterated"), *find_engine("analytic")));
   EXPECT_EQ(a["metrics"], b["metrics"]);
   EXPECT_EQ(a["details"], b["details"]);
 }
@@ -236,42 +237,44 @@ TEST(Sweeps, GateNamesEveryProblem) {
   for (const auto& k : known_sweep_failures())
     if (k.sweep == "error_vs_speed" && k.engine == "ode" && k.x == 3.5) ceiling = k.metrics.at("front_radius");
   ASSERT_GT(ceiling, 0.01);  // 3.5 m/s on ode is a listed failure: past the grip limit the circle opens
-  nlohmann::json entry{{"engine", "ode"},
-                       {"points",
-                        {{{"x", 1.0}, {"status", "pass"}, {"message", ""}, {"failed", nlohmann::json::array()}},
-                         {{"x", 3.5},
-                          {"status", "fail"},
-                          {"message", "out of tolerance: front_radius"},
-                          {"failed", {"front_radius"}},
-                          {"errors", {{"front_radius", 0.5 * ceiling}}}}}}};
-  EXPECT_TRUE(gate_sweep_entry(sw, entry)) << entry["gate"].dump();
-  EXPECT_EQ(entry["gate"]["points_known_failure"], 1);
-  entry["points"][1]["errors"]["front_radius"] = 10.0 * ceiling;
+  SweepEngine entry;
+  entry.engine = "ode";
+  SweepPoint slow, fast;
+  slow.x = 1.0, slow.status = Status::kPass;
+  fast.x = 3.5, fast.status = Status::kFail, fast.message = "out of tolerance: front_radius";
+  fast.failed = {"front_radius"};
+  fast.errors = {{"front_radius", 0.5 * ceiling}};
+  entry.points = {slow, fast};
+  const auto problems = [&] { return fmt::format("{}", fmt::join(entry.gate.problems, "; ")); };
+  SweepPoint& listed = entry.points[1];
+  EXPECT_TRUE(gate_sweep_entry(sw, entry)) << problems();
+  EXPECT_EQ(entry.gate.points_known_failure, 1);
+  listed.errors["front_radius"] = 10.0 * ceiling;
   EXPECT_FALSE(gate_sweep_entry(sw, entry));  // listed, but ten times worse than its ceiling: a regression
-  entry["points"][1]["errors"]["front_radius"] = 0.5 * ceiling;
-  entry["points"][1]["failed"] = {"front_radius", "base_closure"};
+  listed.errors["front_radius"] = 0.5 * ceiling;
+  listed.failed = {"front_radius", "base_closure"};
   EXPECT_FALSE(gate_sweep_entry(sw, entry));  // listed, but now failing a metric the list does not name
-  entry["points"][1]["failed"] = {"front_radius"};
-  entry["points"][1]["status"] = "pass";
+  listed.failed = {"front_radius"};
+  listed.status = Status::kPass;
   EXPECT_FALSE(gate_sweep_entry(sw, entry));  // listed, but passes: the file is no longer true
-  entry["points"][1]["status"] = "error";
+  listed.status = Status::kError;
   EXPECT_FALSE(gate_sweep_entry(sw, entry));
   // Past the grip limit the car must slide: a listed point failing only in its heading (a car that
   // kept its grip) is not the listed failure.
-  entry["points"][1]["status"] = "fail";
-  entry["points"][1]["failed"] = {"heading_residual"};
-  entry["points"][1]["errors"] = {{"heading_residual", 1.0}};
+  listed.status = Status::kFail;
+  listed.failed = {"heading_residual"};
+  listed.errors = {{"heading_residual", 1.0}};
   SweepDef speed_sweep = sw;
   speed_sweep.marker = 3.155, speed_sweep.slide_past_marker = true;
   EXPECT_TRUE(gate_sweep_entry(sw, entry));  // without the rule, any listed failure would do
   EXPECT_FALSE(gate_sweep_entry(speed_sweep, entry));
-  EXPECT_NE(entry["gate"]["problems"].dump().find("kept its grip"), std::string::npos) << entry["gate"].dump();
-  entry["points"][1]["failed"] = {"front_radius"};
-  entry["points"][1]["errors"] = {{"front_radius", 0.5 * ceiling}};
-  EXPECT_TRUE(gate_sweep_entry(speed_sweep, entry)) << entry["gate"].dump();
-  entry["points"][0]["status"] = "fail";
+  EXPECT_NE(problems().find("kept its grip"), std::string::npos) << problems();
+  listed.failed = {"front_radius"};
+  listed.errors = {{"front_radius", 0.5 * ceiling}};
+  EXPECT_TRUE(gate_sweep_entry(speed_sweep, entry)) << problems();
+  entry.points[0].status = Status::kFail;
   EXPECT_FALSE(gate_sweep_entry(sw, entry));  // 1 m/s is not listed
-  EXPECT_EQ(entry["gate"]["points_unexpected"], 1);
+  EXPECT_EQ(entry.gate.points_unexpected, 1);
 
   SweepDef fit;
   fit.name = "slope";
@@ -279,12 +282,19 @@ TEST(Sweeps, GateNamesEveryProblem) {
   fit.loglog_fit = true;
   fit.slope_expected = 2.0;
   fit.slope_band = 0.05;
-  nlohmann::json good{{"engine", "x"}, {"points", nlohmann::json::array()}, {"fit", {{"slope", 1.98}}}};
-  nlohmann::json bad{{"engine", "x"}, {"points", nlohmann::json::array()}, {"fit", {{"slope", 1.9}}}};
-  nlohmann::json none{{"engine", "x"}, {"points", nlohmann::json::array()}, {"fit", {{"slope", nullptr}}}};
+  const auto fitted = [](double slope) {
+    SweepEngine e;
+    e.engine = "x";
+    e.fit = SweepFit{.slope = slope};
+    return e;
+  };
+  SweepEngine good = fitted(1.98), bad = fitted(1.9), none = fitted(NAN);
   EXPECT_TRUE(gate_sweep_entry(fit, good));
   EXPECT_FALSE(gate_sweep_entry(fit, bad));
   EXPECT_FALSE(gate_sweep_entry(fit, none));
+  SweepEngine unfitted;  // no fit at all: no slope either
+  unfitted.engine = "x";
+  EXPECT_FALSE(gate_sweep_entry(fit, unfitted));
 }
 
 // A known failure is no blanket: a run must fail only in its listed metrics, each no worse than its
@@ -297,7 +307,7 @@ TEST(Expectations, AKnownFailureThatWorsensIsAFailure) {
   RunRecord r;
   r.scenario = "car.circle";
   r.engine = "bullet-raycast";
-  r.known = k;
+  r.expectation = expectation_of(*k);
   r.status = Status::kFail;
   // Every listed metric failing at half its ceiling: the failure as known.
   for (const auto& [name, c] : k->metrics) {
@@ -305,30 +315,38 @@ TEST(Expectations, AKnownFailureThatWorsensIsAFailure) {
     if (name == "front_radius") m.kind = TolKind::kRelative;
     r.metrics.push_back(m);
   }
-  const auto front =
-      std::find_if(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return m.name == "front_radius"; });
+  const auto front = [&] {
+    return std::find_if(r.metrics.begin(), r.metrics.end(), [](const Metric& m) { return m.name == "front_radius"; });
+  };
+  r.judge();
   EXPECT_TRUE(r.as_expected());
-  EXPECT_EQ(r.verdict(), "known failure");
-  front->rel_error = 2.0 * ceiling;  // twice worse than its ceiling
+  EXPECT_EQ(r.verdict(), Verdict::kKnownFailure);
+  EXPECT_STREQ(to_string(r.verdict()), "known failure");
+  front()->rel_error = 2.0 * ceiling;  // twice worse than its ceiling
+  r.judge();
   EXPECT_FALSE(r.as_expected());
-  EXPECT_EQ(r.verdict(), "fail");
-  ASSERT_EQ(r.beyond_known().size(), 1u);
-  EXPECT_NE(r.beyond_known()[0].find("above its known ceiling"), std::string::npos) << r.beyond_known()[0];
-  front->rel_error = 0.5 * ceiling;
+  EXPECT_EQ(r.verdict(), Verdict::kFail);
+  ASSERT_EQ(r.decision.beyond.size(), 1u);
+  EXPECT_NE(r.decision.beyond[0].find("above its known ceiling"), std::string::npos) << r.decision.beyond[0];
+  front()->rel_error = 0.5 * ceiling;
   r.metrics.push_back(
       {"slip_along_max", "m/s", 0.0, 1.0, 1.0, INFINITY, 1e-4, TolKind::kAbsolute, false});  // not listed
+  r.judge();
   EXPECT_FALSE(r.as_expected());
   r.metrics.pop_back();
-  const Metric dropped = *front;  // a listed metric no longer measured hides its failure
-  r.metrics.erase(front);
+  const Metric dropped = *front();  // a listed metric no longer measured hides its failure
+  r.metrics.erase(front());
+  r.judge();
   EXPECT_FALSE(r.as_expected());
-  ASSERT_EQ(r.beyond_known().size(), 1u);
-  EXPECT_NE(r.beyond_known()[0].find("not measured"), std::string::npos) << r.beyond_known()[0];
+  ASSERT_EQ(r.decision.beyond.size(), 1u);
+  EXPECT_NE(r.decision.beyond[0].find("not measured"), std::string::npos) << r.decision.beyond[0];
   r.metrics.push_back(dropped);
+  r.judge();
   EXPECT_TRUE(r.as_expected());
   r.status = Status::kPass;
   for (auto& m : r.metrics) m.pass = true;
-  EXPECT_EQ(r.verdict(), "unexpected pass");
+  r.judge();
+  EXPECT_EQ(r.verdict(), Verdict::kUnexpectedPass);
   EXPECT_FALSE(r.as_expected());
 }
 
@@ -435,7 +453,7 @@ TEST(Expectations, EveryNamedCauseHasAnExperiment) {
   ASSERT_FALSE(listed_reasons().empty());
   for (const ListedReason& l : listed_reasons()) {
     const std::string where = fmt::format("{}{} on {}", l.sweep ? "sweep " : "", l.scenario, l.engine);
-    if (!is_negative_control(l.reason)) {
+    if (!l.negative_control) {
       EXPECT_TRUE(!l.evidence.empty() || !l.cause_not_shown.empty())
           << where << ": its reason names no experiment (nor the ones tried): " << l.reason;
     }
@@ -488,6 +506,25 @@ TEST(Expectations, EveryNamedCauseHasAnExperiment) {
   }
 }
 
+// A negative control is data: every listing of a scenario that declares itself one says so, and a
+// listing that says so on another scenario is a variant of its run (its params, or a sweep's
+// point), never its default run. The reason's words decide nothing.
+TEST(Expectations, NegativeControlsAreDeclared) {
+  int controls = 0;
+  for (const ListedReason& l : listed_reasons()) {
+    const std::string where = fmt::format("{}{} on {}", l.sweep ? "sweep " : "", l.scenario, l.engine);
+    const Scenario* s = l.sweep ? nullptr : find_scenario(l.scenario);
+    if (s && s->negative_control) {
+      EXPECT_TRUE(l.negative_control) << where << ": its scenario is a negative control; the listing must say so";
+    }
+    if (l.negative_control && !(s && s->negative_control)) {
+      EXPECT_TRUE(l.sweep || !l.params.empty()) << where << ": a negative control on the scenario's default run";
+    }
+    controls += l.negative_control;
+  }
+  EXPECT_GE(controls, 20);  // car.slip on every configuration with a car, at least
+}
+
 // An informational metric (expected and measured from the same computation) is shown but never
 // counted: it neither passes a run nor fails it, and a run with nothing else is no pass.
 TEST(Runner, InformationalMetricsAreNotCounted) {
@@ -523,11 +560,15 @@ TEST(Runner, InformationalMetricsAreNotCounted) {
 TEST(Report, ZeroThreadsRenderOnOne) {
   const EngineInfo& analytic = *find_engine("analytic");
   for (int threads : {0, -3}) {
-    std::vector<RunRecord> runs{run_scenario(*find_scenario("car.circle"), analytic),
-                                run_scenario(*find_scenario("disks.copy"), analytic)};
+    SuiteResults suite;
+    suite.context = context_of({&analytic}, 0.0);
+    for (const char* name : {"car.circle", "disks.copy"}) {
+      suite.runs.push_back(run_scenario(*find_scenario(name), analytic));
+      suite.scenarios.push_back(find_scenario(name)->info());
+    }
     // Shared with the writer: if it never finishes, the test fails without leaving it a dangling reference.
-    const auto shared = std::make_shared<nlohmann::json>(results_json(runs, context_json({&analytic}, 0.0)));
-    const nlohmann::json& results = *shared;
+    const auto shared = std::make_shared<SuiteResults>(std::move(suite));
+    const SuiteResults& results = *shared;
     const auto dir =
         std::filesystem::temp_directory_path() / fmt::format("liftcheck-report-threads-{}-{}", threads, ::getpid());
     std::filesystem::remove_all(dir);
@@ -541,10 +582,10 @@ TEST(Report, ZeroThreadsRenderOnOne) {
       p.set_value();
     }).detach();
     ASSERT_EQ(finished.wait_for(std::chrono::seconds(60)), std::future_status::ready) << "threads = " << threads;
-    EXPECT_EQ(results["report"]["errors"].size(), 0u) << results["report"]["errors"].dump();
-    EXPECT_GE(results["report"]["snapshots"].size(), 4u);
-    for (const auto& s : results["report"]["snapshots"])
-      EXPECT_TRUE(std::filesystem::exists(dir / s["file"].get<std::string>())) << s;
+    ASSERT_TRUE(results.report.has_value());
+    EXPECT_EQ(results.report->errors.size(), 0u) << fmt::format("{}", fmt::join(results.report->errors, "; "));
+    EXPECT_GE(results.report->snapshots.size(), 4u);
+    for (const ReportFile& s : results.report->snapshots) EXPECT_TRUE(std::filesystem::exists(dir / s.file)) << s.file;
     std::filesystem::remove_all(dir);
   }
 }
@@ -643,7 +684,7 @@ TEST(SharedDrive, RecordsEqualTheRunsMadeAlone) {
   const std::vector<RunRecord> shared = run_shared_drive({resolve_run(beyond, ode, {}), resolve_run(slip, ode, {})});
   ASSERT_EQ(shared.size(), 2u);
   for (const auto& [i, s] : {std::pair{0, &beyond}, std::pair{1, &slip}}) {
-    const nlohmann::json alone = run_scenario(*s, ode).to_json(), both = shared[static_cast<size_t>(i)].to_json();
+    const nlohmann::json alone = encode_run(run_scenario(*s, ode)), both = encode_run(shared[static_cast<size_t>(i)]);
     EXPECT_EQ(alone["metrics"], both["metrics"]) << s->name;
     EXPECT_EQ(alone["details"], both["details"]) << s->name;
     EXPECT_EQ(alone["status"], both["status"]) << s->name;
@@ -682,30 +723,28 @@ TEST(SharedDrive, PlannedOnceAndItsRecordsShared) {
     for (size_t i : shard_share(plan, k, 3)) EXPECT_TRUE(dealt.insert(i).second);
   EXPECT_EQ(dealt, std::set<size_t>(makers.begin(), makers.end()));
   // The makers' records, one with its judges' records and one from a worker that died.
-  std::map<std::string, nlohmann::json> records;
-  const nlohmann::json died{{"scenario", plan.items[makers[1]].scenario->name},
-                            {"status", "error"},
-                            {"message", "the engine ended its process (killed by signal 9)"}};
+  Records records;
+  const RunResult died = error_record(plan.items[makers[1]], "the engine ended its process (killed by signal 9)");
   records[plan.items[makers[0]].key] = run_item(plan.items[makers[0]]);
   records[plan.items[makers[1]].key] = died;
-  ASSERT_TRUE(records[plan.items[makers[0]].key].contains("shared"));
+  ASSERT_FALSE(records[plan.items[makers[0]].key].shared.empty());
   take_shared_records(plan, records);
   EXPECT_EQ(records.size(), 4u);
   for (size_t j : judges) {
-    const nlohmann::json& rec = records.at(plan.items[j].key);
-    EXPECT_EQ(rec["scenario"], plan.items[j].scenario->name);
-    EXPECT_EQ(rec["engine"], plan.items[j].engine->name);
+    const RunResult& rec = records.at(plan.items[j].key);
+    EXPECT_EQ(rec.scenario, plan.items[j].scenario->name);
+    EXPECT_EQ(rec.engine, plan.items[j].engine->name);
     if (plan.items[j].judges_drive_of == static_cast<long>(makers[1])) {
-      EXPECT_EQ(rec["status"], "error");
-      EXPECT_EQ(rec["message"], died["message"]);
+      EXPECT_EQ(rec.status, Status::kError);
+      EXPECT_EQ(rec.message, died.message);
     } else {
-      EXPECT_NE(rec["status"], "error");
+      EXPECT_NE(rec.status, Status::kError);
     }
   }
-  for (size_t m : makers) EXPECT_FALSE(records.at(plan.items[m].key).contains("shared"));
-  const nlohmann::json budget = simulated_budget(plan, records);
-  EXPECT_NEAR(budget["by_configuration"][plan.items[makers[0]].engine->name]["total_s"].get<double>(),
-              records.at(plan.items[makers[0]].key)["simulated_s"].get<double>(), 1e-6);  // one drive, counted once
+  for (size_t m : makers) EXPECT_TRUE(records.at(plan.items[m].key).shared.empty());
+  const SimulatedBudget budget = simulated_budget(plan, records);
+  EXPECT_NEAR(budget.configuration_total_s.at(plan.items[makers[0]].engine->name),
+              records.at(plan.items[makers[0]].key).simulated_s, 1e-6);  // one drive, counted once
 }
 
 // A run is resolved once, when its item is made; the worker gets the values, unrounded, and runs
@@ -734,8 +773,8 @@ TEST(SuitePlan, AWorkerRunsTheRunResolvedInThePlan) {
   const SuiteItem bad = planned_item(SuiteItem::kRun, "b", *find_scenario("car.circle"), ode, {{"w", "7"}});
   ASSERT_FALSE(bad.run);
   EXPECT_NE(bad.resolve_error.find("'w'"), std::string::npos) << bad.resolve_error;
-  const nlohmann::json rec = run_item(item_from_request(nlohmann::json::parse(item_request(bad).dump())));
-  EXPECT_EQ(rec.at("status"), "error");
-  EXPECT_EQ(rec.at("message"), bad.resolve_error);
-  EXPECT_TRUE(rec.value("input_error", false));
+  const RunResult rec = run_item(item_from_request(nlohmann::json::parse(item_request(bad).dump())));
+  EXPECT_EQ(rec.status, Status::kError);
+  EXPECT_EQ(rec.message, bad.resolve_error);
+  EXPECT_TRUE(rec.input_error);
 }

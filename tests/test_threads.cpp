@@ -17,6 +17,7 @@
 #include <fmt/format.h>
 
 #include "harness/runner.hpp"
+#include "input/results_codec.hpp"
 
 using namespace liftcheck;
 
@@ -30,12 +31,12 @@ struct Job {
   std::string label() const { return fmt::format("{} on {}", scenario->name, engine->name); }
 };
 
-/// Fields of RunRecord::to_json that measure the clock, not the simulation.
+/// Fields of a run's record (encode_run) that measure the clock, not the simulation.
 const char* const kTimingFields[] = {"wall_s", "engine_s"};
 
 /// The record's JSON without its timing fields.
 std::string record_json(const Job& job) {
-  nlohmann::json j = run_scenario(*job.scenario, *job.engine, job.overrides).to_json();
+  nlohmann::json j = encode_run(run_scenario(*job.scenario, *job.engine, job.overrides));
   for (const char* key : kTimingFields) j.erase(key);
   return j.dump();
 }

@@ -8,6 +8,7 @@
 
 #include "engines/engine.hpp"
 #include "harness/tune.hpp"
+#include "input/run_result.hpp"
 #include "scenarios/scenario.hpp"
 
 namespace liftcheck {
@@ -31,23 +32,43 @@ std::vector<TuneDimension> two_dimensions() {
   return tune_dimensions(s, e, nullptr);
 }
 
+/// A run's record as a formula engine gives it: one absolute metric "m" whose error is `worst`
+/// times its tolerance (1), so that the record's worst ratio is `worst`; a pass when it is within.
+RunResult formula_record(double worst, double simulated_s, double wall_s) {
+  RunResult r;
+  r.scenario = "test.formula", r.engine = "formula";
+  Metric m;
+  m.name = "m", m.kind = TolKind::kAbsolute, m.expected = 0.0, m.measured = worst;
+  m.abs_error = worst, m.tolerance = 1.0;
+  m.pass = m.passes_by_figures();
+  r.metrics = {m};
+  r.status = m.pass ? Status::kPass : Status::kFail;
+  r.simulated_s = simulated_s, r.wall_s = wall_s;
+  r.judge();
+  return r;
+}
+
+/// An error record (no metrics) that took `wall_s`.
+RunResult error_run(const std::string& message, double wall_s) {
+  RunResult r = error_result("test.formula", "formula", Vehicle::kCar, message);
+  r.wall_s = wall_s;
+  return r;
+}
+
 /// A formula engine: its worst error over tolerance and its cost from the change, as a record.
 struct FormulaEngine {
   std::function<double(double iterations, double dt)> worst;
   /// The clock's error on a run's cost (1: none).
   std::function<double(double iterations)> noise = [](double) { return 1.0; };
   int runs = 0;
-  std::vector<nlohmann::json> operator()(const std::vector<Overrides>& changes) {
-    std::vector<nlohmann::json> out;
+  std::vector<RunResult> operator()(const std::vector<Overrides>& changes) {
+    std::vector<RunResult> out;
     for (const Overrides& c : changes) {
       std::map<std::string, double> v{{"iterations", 20.0}, {"dt", 1e-3}};
       for (const auto& [k, x] : c) v[k] = std::strtod(x.c_str(), nullptr);
       const double w = worst(v["iterations"], v["dt"]);
       // The cost: proportional to iterations per step and steps per second (8 s simulated).
-      out.push_back({{"status", w <= 1.0 ? "pass" : "fail"},
-                     {"worst_ratio", w},
-                     {"simulated_s", 8.0},
-                     {"wall_s", 8.0 * 1e-6 * v["iterations"] / v["dt"] * noise(v["iterations"])}});
+      out.push_back(formula_record(w, 8.0, 8.0 * 1e-6 * v["iterations"] / v["dt"] * noise(v["iterations"])));
       ++runs;
     }
     return out;
@@ -120,13 +141,10 @@ TEST(Tune, NothingPassesGivesTheClosestAfterCombining) {
 TuneResult two_passes(double cost_a, double cost_b) {
   const std::map<std::string, double> cost{{"a=1", cost_a}, {"b=1", cost_b}};
   const TuneRunner run = [&](const std::vector<Overrides>& changes) {
-    std::vector<nlohmann::json> out;
+    std::vector<RunResult> out;
     for (const Overrides& c : changes) {
       const bool dflt = c.empty();
-      out.push_back({{"status", dflt ? "fail" : "pass"},
-                     {"worst_ratio", dflt ? 2.0 : 0.5},
-                     {"simulated_s", 1.0},
-                     {"wall_s", dflt ? 1e-3 : cost.at(change_text(c)) * 1e-3}});
+      out.push_back(formula_record(dflt ? 2.0 : 0.5, 1.0, dflt ? 1e-3 : cost.at(change_text(c)) * 1e-3));
     }
     return out;
   };
@@ -164,17 +182,17 @@ TEST(Tune, EveryRunIsJudgedAgainstTheDefaultsTolerances) {
   // A metric whose tolerance grows with dt (1e-5 at 1 ms): at 2 ms the error 1.5e-5 is within the
   // run's own 2e-5 and the run says pass, but against the default's 1e-5 it fails (1.5 times).
   const TuneRunner run = [](const std::vector<Overrides>& changes) {
-    std::vector<nlohmann::json> out;
+    std::vector<RunResult> out;
     for (const Overrides& c : changes) {
       const double dt = c.empty() ? 1e-3 : std::strtod(c[0].second.c_str(), nullptr);
       const double err = dt > 1e-3 ? 1.5e-5 : 2e-5 * std::pow(dt / 1e-3, 3), tol = 1e-5 * dt / 1e-3;
-      out.push_back(
-          {{"status", err <= tol ? "pass" : "fail"},
-           {"worst_ratio", err / tol},
-           {"simulated_s", 1.0},
-           {"wall_s", 1e-6 / dt},
-           {"metrics",
-            {{"m", {{"abs_error", err}, {"tolerance", tol}, {"tolerance_kind", "abs"}, {"pass", err <= tol}}}}}});
+      RunResult r = formula_record(err, 1.0, 1e-6 / dt);  // the metric "m": error err against tolerance tol
+      r.metrics[0].tolerance = tol;
+      r.metrics[0].pass = r.metrics[0].passes_by_figures();
+      r.status = r.metrics[0].pass ? Status::kPass : Status::kFail;
+      r.judge();
+      EXPECT_DOUBLE_EQ(r.worst_ratio(), err / tol);
+      out.push_back(r);
     }
     return out;
   };
@@ -184,7 +202,7 @@ TEST(Tune, EveryRunIsJudgedAgainstTheDefaultsTolerances) {
   const auto at_2ms = std::find_if(r.walked.begin(), r.walked.end(),
                                    [](const TuneStep& s) { return change_text(s.change) == "dt=0.002"; });
   ASSERT_NE(at_2ms, r.walked.end()) << "the ladder tries dt = 2 ms";
-  EXPECT_EQ(at_2ms->record["status"], "pass");
+  EXPECT_EQ(at_2ms->record.status, Status::kPass);
   EXPECT_FALSE(at_2ms->pass);
   EXPECT_NEAR(at_2ms->worst_ratio, 1.5, 1e-12);
   // The default fails (2e-5 against 1e-5); 0.5 ms passes (2.5e-6 against its 5e-6), and the
@@ -210,9 +228,7 @@ TEST(Tune, IterationCountsAddAndNoneMakesARunFree) {
     e.knobs.push_back(k);
   }
   const TuneRunner run = [](const std::vector<Overrides>& changes) {
-    std::vector<nlohmann::json> out(changes.size(),
-                                    {{"status", "fail"}, {"worst_ratio", 2.0}, {"simulated_s", 1.0}, {"wall_s", 1.0}});
-    return out;
+    return std::vector<RunResult>(changes.size(), formula_record(2.0, 1.0, 1.0));
   };
   const TuneResult r = tune(tune_dimensions(s, e, nullptr), TuneDef{.budget_runs = 40}, run);
   const auto model_of = [&](const std::string& text) {
@@ -238,13 +254,13 @@ TEST(Tune, ABudgetCutShort) {
 TEST(Tune, AnErrorIsNoPassAndNoCloser) {
   // Runs above 100 iterations end in an error record: never the answer, never the closest.
   const TuneRunner run = [](const std::vector<Overrides>& changes) {
-    std::vector<nlohmann::json> out;
+    std::vector<RunResult> out;
     for (const Overrides& c : changes) {
       const double it = c.empty() ? 20.0 : std::strtod(c[0].second.c_str(), nullptr);
       if (c.size() == 1 && c[0].first == "iterations" && it > 100.0)
-        out.push_back({{"status", "error"}, {"message", "timed out"}, {"simulated_s", 0.0}, {"wall_s", 30.0}});
+        out.push_back(error_run("timed out", 30.0));
       else
-        out.push_back({{"status", "fail"}, {"worst_ratio", 3.0 - it / 100.0}, {"simulated_s", 1.0}, {"wall_s", 1e-3}});
+        out.push_back(formula_record(3.0 - it / 100.0, 1.0, 1e-3));
     }
     return out;
   };
@@ -255,7 +271,7 @@ TEST(Tune, AnErrorIsNoPassAndNoCloser) {
   EXPECT_EQ(change_text(r.walked[r.closest].change), "iterations=80");
   int errors = 0;
   for (const TuneStep& s : r.walked) {
-    const bool error = s.record["status"] == "error";
+    const bool error = s.record.status == Status::kError;
     errors += error;
     EXPECT_TRUE(!error || (std::isinf(s.worst_ratio) && std::isnan(s.cost_ms_per_s))) << change_text(s.change);
   }
@@ -267,13 +283,13 @@ TEST(Tune, ADefaultRunThatErrorsStopsTheSearch) {
   // but there are no default tolerances to judge it against: the walk stops at the default.
   int runs = 0;
   const TuneRunner run = [&runs](const std::vector<Overrides>& changes) {
-    std::vector<nlohmann::json> out;
+    std::vector<RunResult> out;
     for (const Overrides& c : changes) {
       ++runs;
       if (c.empty())
-        out.push_back({{"status", "error"}, {"message", "timed out"}, {"simulated_s", 0.0}, {"wall_s", 30.0}});
+        out.push_back(error_run("timed out", 30.0));
       else
-        out.push_back({{"status", "pass"}, {"worst_ratio", 0.5}, {"simulated_s", 1.0}, {"wall_s", 1e-3}});
+        out.push_back(formula_record(0.5, 1.0, 1e-3));
     }
     return out;
   };

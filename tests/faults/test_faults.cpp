@@ -538,14 +538,14 @@ std::vector<RunRecord> validate(const EngineInfo& e) {
 }
 
 /// The runs not as expected, and whether `metric` failed in `scenario`.
-struct Verdict {
+struct Flagged {
   int unexpected = 0;
   bool metric_failed = false;
   std::string summary;
 };
 
-Verdict judge(const EngineInfo& e, const std::string& scenario, const std::string& metric) {
-  Verdict v;
+Flagged judge(const EngineInfo& e, const std::string& scenario, const std::string& metric) {
+  Flagged v;
   for (const RunRecord& r : validate(e)) {
     if (r.status == Status::kSkip) continue;
     // A negative control fails on every engine with contact dynamics: the expectations list it for
@@ -561,10 +561,10 @@ Verdict judge(const EngineInfo& e, const std::string& scenario, const std::strin
         if (m.name == metric && !m.pass) {
           std::cout << "  " << e.description << ": " << metric << " in " << scenario << " error " << m.compared_error()
                     << " (" << (m.kind == TolKind::kRelative ? "relative" : "absolute") << ") against tolerance "
-                    << m.tolerance << (r.known ? " (a listed known failure of the configuration it breaks)" : "")
+                    << m.tolerance << (r.expectation ? " (a listed known failure of the configuration it breaks)" : "")
                     << "\n";
-          bool beyond = r.known == nullptr;
-          for (const auto& b : r.beyond_known()) beyond = beyond || b.substr(0, b.find(' ')) == metric;
+          bool beyond = !r.expectation.has_value();
+          for (const auto& b : r.decision.beyond) beyond = beyond || b.substr(0, b.find(' ')) == metric;
           v.metric_failed = v.metric_failed || beyond;
         }
   }
@@ -573,7 +573,7 @@ Verdict judge(const EngineInfo& e, const std::string& scenario, const std::strin
 
 /// The fault is flagged by validate, and `metric` in `scenario` is among what flags it.
 void expect_flagged(const EngineInfo& e, const std::string& scenario, const std::string& metric) {
-  const Verdict v = judge(e, scenario, metric);
+  const Flagged v = judge(e, scenario, metric);
   EXPECT_GT(v.unexpected, 0) << e.description << " slipped through every scenario";
   EXPECT_TRUE(v.metric_failed) << e.description << ": " << metric << " in " << scenario
                                << " did not flag it; flagged:\n"
@@ -583,7 +583,7 @@ void expect_flagged(const EngineInfo& e, const std::string& scenario, const std:
 }  // namespace
 
 TEST(Faults, DiskEngineWithoutPhysics) {
-  const Verdict v = judge(disk_fault("no-physics", [] { return std::make_unique<NoPhysicsDisks>(); }), "disks.repel",
+  const Flagged v = judge(disk_fault("no-physics", [] { return std::make_unique<NoPhysicsDisks>(); }), "disks.repel",
                           "penetration_max");
   // Every disk scenario in which the disks meet must fail it (without contact, an engine that
   // realises the commanded velocity exactly is indistinguishable from placing M by hand).
@@ -651,10 +651,10 @@ TEST(Faults, SlipWorseThanAKnownFailureIsFlagged) {
   // And car.circle itself, a listed known failure on ode-quick, is what flags it: its slip is
   // above the ceiling the expectations give.
   const RunRecord r = run_scenario(*find_scenario("car.circle"), e);
-  ASSERT_NE(r.known, nullptr);
+  ASSERT_TRUE(r.expectation.has_value());
   EXPECT_FALSE(r.as_expected()) << r.message;
   bool above = false;
-  for (const auto& p : r.beyond_known())
+  for (const auto& p : r.decision.beyond)
     above = above ||
             (p.substr(0, p.find(' ')) == "slip_along_max" && p.find("above its known ceiling") != std::string::npos);
   EXPECT_TRUE(above) << r.message;
@@ -821,10 +821,10 @@ TEST(Faults, AContactReportThatBreaksIsAnError) {
 
 // The unbroken engine passes the same judgement: the faults, not the suite, are what fail.
 TEST(Faults, TheUnbrokenEnginePasses) {
-  const Verdict disks =
+  const Flagged disks =
       judge(disk_fault("ode-disks", [] { return std::make_unique<OdeDisks>(); }), "disks.repel", "penetration_max");
   EXPECT_EQ(disks.unexpected, 0) << disks.summary;
-  const Verdict car = judge(car_fault(
+  const Flagged car = judge(car_fault(
                                 "ode-car", [] { return std::make_unique<OdeCar>(ode_defaults()); }, "ode"),
                             "car.circle", "heading_residual");
   EXPECT_EQ(car.unexpected, 0) << car.summary;

@@ -48,8 +48,8 @@ const Metric& metric(const RunRecord& r, const std::string& name) {
 /// The metric fails in the run and, where the run is a listed known failure of `cannon`, beyond its listing.
 bool flagged(const RunRecord& r, const std::string& name) {
   if (metric(r, name).pass) return false;
-  if (!r.known) return true;
-  for (const std::string& b : r.beyond_known())
+  if (!r.expectation) return true;
+  for (const std::string& b : r.decision.beyond)
     if (b.substr(0, b.find(' ')) == name) return true;
   return false;
 }
@@ -67,7 +67,7 @@ void print(const char* what, const RunRecord& r, const std::string& name) {
   const Metric& m = metric(r, name);
   std::cout << "  " << what << ": " << name << " in " << r.scenario << " error " << m.compared_error()
             << " against tolerance " << m.tolerance << (m.pass ? " (pass)" : " (fail)")
-            << (r.known ? " (a listed known failure of cannon)" : "") << "\n";
+            << (r.expectation ? " (a listed known failure of cannon)" : "") << "\n";
 }
 
 }  // namespace
@@ -100,7 +100,7 @@ TEST(OutsideFaults, CannonPoseReportedOneStepLate) {
   std::cout << "  the stale pose adds " << added_m
             << " m; flagged beyond cannon's listing: " << (flagged(stale, "realized_lift_error") ? "yes" : "no")
             << "\n";
-  const double step_m = clean.params["speed"].get<double>() * clean.params["dt"].get<double>();
+  const double step_m = clean.params.num("speed") * clean.params.num("dt");
   // The lag adds its projection on the direction of cannon's own departure from the lift (67 mm
   // since its constraints' SPOOK is for dt and its motors are sized to the grip): half a step and more.
   EXPECT_GT(added_m, 0.4 * step_m);

@@ -7,6 +7,7 @@
 
 #include "input/params.hpp"
 #include "input/results_file.hpp"
+#include "input/results_codec.hpp"
 #include "input/results_diff.hpp"
 
 using namespace liftcheck;
@@ -21,20 +22,23 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   } catch (const InputError& e) {
     index_error = e.what();
   }
-  nlohmann::json j;
+  SuiteResults results;
   try {
-    j = parse_results(text, "fuzz.json");
+    results = parse_results(text, "fuzz.json");
   } catch (const InputError& e) {
     if (index_error != e.what()) __builtin_trap();
     return 0;
   }
   if (!index_error.empty()) __builtin_trap();
-  if (diff_results(index, index) != diff_results(j, j)) __builtin_trap();
-  const nlohmann::json empty{{"runs", nlohmann::json::array()}};
-  const nlohmann::json& doc = j;
-  using Pair = std::pair<const nlohmann::json*, const nlohmann::json*>;
-  for (const auto& [base, head] : {Pair{&doc, &doc}, Pair{&empty, &doc}, Pair{&doc, &empty}}) {
-    const nlohmann::json d = diff_results(*base, *head);
+  // And what it accepts, the index reader reads as the full reader's results give it: the same
+  // diff against itself and against an empty file, both ways.
+  const ResultsIndex full = index_of(results), empty;
+  using Pair = std::pair<const ResultsIndex*, const ResultsIndex*>;
+  for (const auto& [base, head] : {Pair{&index, &index}, Pair{&empty, &index}, Pair{&index, &empty}}) {
+    const ResultsDiff d = diff_results(*base, *head);
+    const ResultsIndex* full_base = base == &empty ? &empty : &full;
+    const ResultsIndex* full_head = head == &empty ? &empty : &full;
+    if (encode_diff(d) != encode_diff(diff_results(*full_base, *full_head))) __builtin_trap();
     (void)diff_text(d);
   }
   return 0;
