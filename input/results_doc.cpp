@@ -1,5 +1,6 @@
 // results.json as a whole: the scenarios, the report's files, the baseline's diff, the simulated
 // budget, and the document that holds them with the runs, sweeps and maps.
+#include <cmath>
 #include <fmt/format.h>
 
 #include "input/results_codec.hpp"
@@ -11,9 +12,12 @@ using json = nlohmann::json;
 
 json encode_scenario(const ScenarioInfo& s) {
   json params = json::array();
-  for (const auto& p : s.params)
-    params.push_back(
-        {{"key", p.key}, {"kind", p.kind}, {"default", p.default_text}, {"unit", p.unit}, {"help", p.help}});
+  for (const auto& p : s.params) {
+    json j{{"key", p.key}, {"kind", p.kind}, {"default", p.default_text}, {"unit", p.unit}, {"help", p.help}};
+    if (std::isfinite(p.min)) j["min"] = p.min, j["min_exclusive"] = p.min_exclusive;
+    if (std::isfinite(p.max)) j["max"] = p.max;
+    params.push_back(j);
+  }
   json metrics = json::array();
   for (const auto& m : s.metrics)
     metrics.push_back({{"name", m.name},
@@ -49,7 +53,9 @@ ScenarioInfo decode_scenario(const JsonIn& in) {
   s.equations = in.str("equations");
   for (std::size_t i = 0; i < in.arr("params").size(); ++i) {
     const JsonIn p = in.element("params", i);
-    s.params.push_back({p.str("key"), p.str("kind"), p.str("default"), p.str("unit"), p.str("help")});
+    s.params.push_back({p.str("key"), p.str("kind"), p.str("default"), p.str("unit"), p.str("help"),
+                        p.has("min") ? p.num("min") : NAN, p.has("max") ? p.num("max") : NAN,
+                        p.boolean_or("min_exclusive", false)});
   }
   for (std::size_t i = 0; i < in.arr("metrics").size(); ++i) {
     const JsonIn m = in.element("metrics", i);

@@ -4,6 +4,7 @@
 // summary and diff is built from it and recomputes what it shows (input/standing.hpp).
 #pragma once
 
+#include <cmath>
 #include <map>
 #include <optional>
 #include <string>
@@ -203,6 +204,8 @@ struct SpeedMap {
 struct ScenarioInfo {
   struct Param {
     std::string key, kind, default_text, unit, help;
+    double min = NAN, max = NAN;  ///< a number's bounds where it has them (NaN: none)
+    bool min_exclusive = false;
   };
   struct MetricInfo {
     std::string name, unit, help;

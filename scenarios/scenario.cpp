@@ -1,5 +1,6 @@
 #include "scenarios/scenario.hpp"
 
+#include <cmath>
 #include <fmt/format.h>
 
 namespace liftcheck {
@@ -53,7 +54,8 @@ ScenarioInfo Scenario::info() const {
   s.equations = equations;
   static const char* kinds[] = {"number", "integer", "vec2", "choice"};
   for (const auto& p : params)
-    s.params.push_back({p.key, kinds[static_cast<int>(p.kind)], p.default_text, p.unit, p.help});
+    s.params.push_back({p.key, kinds[static_cast<int>(p.kind)], p.default_text, p.unit, p.help,
+                        std::isfinite(p.min) ? p.min : NAN, std::isfinite(p.max) ? p.max : NAN, p.min_exclusive});
   for (const auto& m : metrics)
     s.metrics.push_back({m.name, m.unit, m.help, m.kind, by_role(m.tolerance), by_role(m.floor), m.reference_only});
   if (needs_contact_dynamics) s.needs.push_back("contact_dynamics");
