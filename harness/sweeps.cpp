@@ -335,7 +335,11 @@ SweepPoint sweep_point(const SweepDef& s, double x, const RunResult& rec) {
 }  // namespace
 
 void trim_to_point(RunResult& r) {
-  for (const char* big : {detail_key::kTrace, detail_key::kReference, detail_key::kContactLog}) r.details.erase(big);
+  // A point keeps its scalar details, the fields a sweep records and the outcome grid reads; the
+  // traces, contact logs and per-wheel tables of its run (half of results.json) are its run's.
+  if (!r.details.is_object()) return;
+  for (auto it = r.details.begin(); it != r.details.end();)
+    it = it->is_structured() ? r.details.erase(it) : std::next(it);
 }
 
 std::vector<PointRun> sweep_runs(const SweepDef& s, const std::vector<const EngineInfo*>& engines) {

@@ -54,7 +54,7 @@ struct PointRun {
   const EngineInfo* engine = nullptr;
   Overrides overrides;
 };
-/// A point run's record as stored (results.json "points"): the run record without its traces,
+/// A point run's record as stored (results.json "points"): the run record with its scalar details only,
 /// which is all the sweeps, the outcome sweep and the map read.
 void trim_to_point(RunResult& r);
 /// The stored record of a point run by its key (throws std::out_of_range when it is missing).

@@ -94,7 +94,13 @@ std::string standing_line(const Standing& s) {
   }
   const std::string counts = counts_text(s);
   if (!s.worst) return counts + (s.reference ? " &middot; the reference" : " &middot; passes all it runs");
-  return fmt::format("{} &middot; worst <span class=\"worst\">{}</span>", counts, esc(s.worst_text()));
+  // The row names the worst failure's figure and scenario; its metric is in the title (the line
+  // must fit its column: tests/screenshot_check.py), as summary.md prints it whole.
+  const std::string shown = std::isfinite(s.worst_figure.ratio) && s.worst->status != Status::kError
+                                ? times_text(s.worst_figure.ratio) + " " + s.worst->scenario
+                                : s.worst_text();
+  return fmt::format("{} &middot; worst <span class=\"worst\" title=\"{}\">{}</span>", counts, esc(s.worst_text()),
+                     esc(shown));
 }
 
 /// A scenario's column head: its name (breaking after dots and hyphens) over its headline's label.
