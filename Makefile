@@ -117,9 +117,11 @@ tune-table: build
 	python3 tests/tools/tune_table.py --liftcheck $(BUILD_DIR)/liftcheck --budget 16 --jobs $(JOBS)
 
 # What the README shows, from the current build: the run block, the suite's counts (from the
-# committed baseline) and the tune figure; `ctest -R readme` fails when they differ.
-readme: build
+# committed baseline), the tune figure and the screenshot of the report's first screen (of
+# `make validate`'s report); `ctest -R readme` fails when the block or the counts differ.
+readme: build report-check
 	python3 tests/readme_check.py $(BUILD_DIR)/liftcheck README.md data/baselines/default.json --write
+	cp $(BUILD_DIR)/report-screenshot.png docs/report.png
 
 bench: build
 	./$(BUILD_DIR)/liftcheck_bench --benchmark_out=$(BUILD_DIR)/bench.json --benchmark_out_format=json

@@ -97,8 +97,10 @@ json encode_results(const SuiteResults& r) {
     j["baseline"] = {{"file", r.baseline->file},
                      {"worse_factor", r.baseline->worse_factor},
                      {"diff", encode_diff(r.baseline->diff)}};
-  j["points"] = encode_points(r.points, RecordForm::kResults);
+  // The points' records are what merge assembles a shard's sweeps from; a whole suite's sweeps,
+  // outcome grid and map hold what its pages and a diff read (the baseline keeps its points).
   if (r.shard) {
+    j["points"] = encode_points(r.points, RecordForm::kResults);
     j["shard"] = encode_shard(*r.shard);
     j["plan"] = {{"selection", r.shard->selection}, {"keys", r.shard->keys}};
   }
