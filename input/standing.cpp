@@ -90,6 +90,11 @@ std::string Standing::worst_text() const {
   return fmt::format("{} {} {}", times_text(worst_figure.ratio), worst->scenario, worst_figure.metric);
 }
 
+std::string Standing::worst_short_text() const {
+  if (!worst || worst->status == Status::kError || !std::isfinite(worst_figure.ratio)) return worst_text();
+  return times_text(worst_figure.ratio) + " " + worst->scenario;
+}
+
 std::string Standing::counts_text() const {
   std::string t = fmt::format("{} pass, {} known, {} skip", pass, known, skip);
   if (unexpected > 0) t += fmt::format(", {} not as expected", unexpected);

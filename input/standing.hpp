@@ -56,6 +56,9 @@ struct Standing {
   /// Its worst failure in text: "249× car.yawed-slide slide_accel", "an error (listed) in car.slope",
   /// "87 against a zero tolerance in car.beyond-grip slide_shortfall"; "" when it has none.
   std::string worst_text() const;
+  /// The worst failure's multiple and scenario ("395× car.covariance"), where it has a finite one;
+  /// worst_text() otherwise: the index row, which must fit its column.
+  std::string worst_short_text() const;
   /// "19 pass, 3 known, 0 skip" and, when some are, "2 not as expected".
   std::string counts_text() const;
 };

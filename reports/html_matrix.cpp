@@ -96,11 +96,8 @@ std::string standing_line(const Standing& s) {
   if (!s.worst) return counts + (s.reference ? " &middot; the reference" : " &middot; passes all it runs");
   // The row names the worst failure's figure and scenario; its metric is in the title (the line
   // must fit its column: tests/screenshot_check.py), as summary.md prints it whole.
-  const std::string shown = std::isfinite(s.worst_figure.ratio) && s.worst->status != Status::kError
-                                ? times_text(s.worst_figure.ratio) + " " + s.worst->scenario
-                                : s.worst_text();
   return fmt::format("{} &middot; worst <span class=\"worst\" title=\"{}\">{}</span>", counts, esc(s.worst_text()),
-                     esc(shown));
+                     esc(s.worst_short_text()));
 }
 
 /// A scenario's column head: its name (breaking after dots and hyphens) over its headline's label.
